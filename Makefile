@@ -1,0 +1,48 @@
+# AOCS: the two commands of the README.
+#   make sil   - install everything, build, run the main job
+#   make test  - install everything, build every configuration, run every test
+# Other targets are the pieces they are made of.
+
+VENV      := .venv
+PY        := $(VENV)/bin/python
+PRESETS   := host host-float cortex-m4f cortex-m7
+JOBS      ?= 2
+
+.PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
+        py-test static-analysis no-malloc size-report demo clean
+
+setup:
+	@scripts/setup.sh
+
+build: $(addprefix build-,$(PRESETS))
+
+build-%: setup
+	@cmake --preset $* >/dev/null
+	@cmake --build --preset $* -j $(JOBS)
+
+unit-test: build-host build-host-float
+	ctest --preset host -j $(JOBS)
+	ctest --preset host-float -j $(JOBS)
+
+static-analysis: setup
+	@scripts/static-analysis.sh
+
+no-malloc: build
+	@scripts/check-no-malloc.sh
+
+py-test: build-host
+	@scripts/run-pytest.sh
+
+size-report: build-cortex-m4f build-cortex-m7
+	@scripts/size-report.sh
+
+demo: build-host
+	@build/host/firmware/port/posix/aocs_demo
+
+test: build unit-test static-analysis no-malloc py-test
+	@echo "make test: all checks passed"
+
+sil: build-host demo
+
+clean:
+	rm -rf build

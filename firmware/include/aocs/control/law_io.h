@@ -1,0 +1,47 @@
+/*
+ * Inputs shared by every law (SPEC 2: "every law takes the same inputs").
+ * Each law module exposes:
+ *   aocs_status_t aocs_<law>_init(aocs_<law>_t *law, const aocs_<law>_config_t *cfg);
+ *       validates every config value (own status per failure), copies it,
+ *       resets the law's state; on failure the law stays unusable
+ *       (step returns AOCS_ERR_NOT_INITIALISED).
+ *   aocs_status_t aocs_<law>_step(aocs_<law>_t *law, const aocs_att_input_t *in,
+ *                                 aocs_vec3_t *u_out);
+ *       pure apart from the law's own state; on any error *u_out is set to
+ *       zero and a status is returned, so the output is never NaN.
+ *   #define AOCS_<LAW>_BUDGET_NS  declared host timing budget of one step.
+ */
+#ifndef AOCS_CONTROL_LAW_IO_H
+#define AOCS_CONTROL_LAW_IO_H
+
+#include "aocs/attitude.h"
+
+/* Attitude laws. Frames: q_BN body w.r.t. inertial; rates in B. */
+typedef struct {
+    aocs_quat_t q_BN;      /* estimated attitude */
+    aocs_vec3_t w_BN_B;    /* estimated body rate, rad/s */
+    aocs_quat_t qd_DN;     /* target attitude */
+    aocs_vec3_t wd_B;      /* target rate in B, rad/s (we = w - wd, SPEC 1) */
+    aocs_vec3_t wd_dot_B;  /* target angular acceleration in B, rad/s^2 */
+    real_t dt_s;           /* control period, s (> 0) */
+} aocs_att_input_t;
+
+/* Orbit (station keeping) laws, SPEC 2.8 state order. */
+typedef struct {
+    aocs_vec3_t vel_mps;   /* [du dv dw] inertial velocity in rotating frame, m/s */
+    aocs_vec3_t pos_m;     /* [dx dy dz] position error, m */
+    real_t dt_s;
+} aocs_orbit_input_t;
+
+/*
+ * Common input validation for attitude laws: finite everywhere
+ * (AOCS_ERR_INPUT_NOT_FINITE), dt > 0 (AOCS_ERR_DT_INVALID), both
+ * quaternions of unit norm within AOCS_QUAT_UNIT_TOL (AOCS_ERR_QUAT_NOT_UNIT).
+ * Implemented in src/control/law_io.c.
+ */
+aocs_status_t aocs_att_input_check(const aocs_att_input_t *in);
+aocs_status_t aocs_orbit_input_check(const aocs_orbit_input_t *in);
+
+#define AOCS_QUAT_UNIT_TOL AOCS_R(1.0e-3)
+
+#endif /* AOCS_CONTROL_LAW_IO_H */

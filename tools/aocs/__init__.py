@@ -1,0 +1,1 @@
+"""AOCS desktop tools: the `aocs` CLI, gain design, metrics, plots, reports."""
