@@ -48,7 +48,8 @@ aocs_quat_t aocs_dcm_to_quat(aocs_mat3_t a);   /* Shepperd's method, q4 >= 0 */
  * Gibbs (CRP) rho = q_vec / q4. Uses the short-rotation representative
  * (flips q when q4 < 0). AOCS_ERR_CRP_SINGULAR when |q4| is so small that
  * rho is not representable (|q4| <= AOCS_CRP_Q4_MIN, documented in
- * docs/conventions.md); out is then untouched.
+ * docs/conventions.md), AOCS_ERR_INPUT_NOT_FINITE for NaN/Inf input,
+ * AOCS_ERR_NULL_ARG for a NULL rho; out is untouched on every error.
  */
 aocs_status_t aocs_quat_to_crp(aocs_quat_t q, aocs_vec3_t *rho);
 aocs_quat_t aocs_crp_to_quat(aocs_vec3_t rho); /* [rho;1]/sqrt(1+|rho|^2) */
@@ -69,7 +70,15 @@ aocs_mat3_t aocs_mrp_b_matrix(aocs_vec3_t sigma);
 /* sigmadot = G(sigma) w */
 aocs_vec3_t aocs_mrp_derivative(aocs_vec3_t sigma, aocs_vec3_t w);
 
-/* Below this |q4| the Gibbs vector is declared singular (|rho| > ~1e8). */
+/*
+ * Below this |q4| the Gibbs vector is declared singular. Double: |rho| > ~1e8.
+ * Float: a computed qe4 carries ~6e-8 of rounding, so the limit sits well
+ * above it (|rho| > ~1e6) and the singular case is still detected.
+ */
+#if defined(AOCS_REAL_IS_FLOAT)
+#define AOCS_CRP_Q4_MIN AOCS_R(1.0e-6)
+#else
 #define AOCS_CRP_Q4_MIN AOCS_R(1.0e-8)
+#endif
 
 #endif /* AOCS_ATTITUDE_H */

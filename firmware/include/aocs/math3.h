@@ -46,9 +46,11 @@ aocs_mat3_t aocs_mat3_outer(aocs_vec3_t a, aocs_vec3_t b);       /* a b^T */
 real_t aocs_mat3_det(aocs_mat3_t a);
 int aocs_mat3_is_finite(aocs_mat3_t a);
 /*
- * Inverse by adjugate; AOCS_ERR_INERTIA_SINGULAR when |det| is below
- * a relative threshold (det <= eps * prod of row norms * 1e3 style check),
- * out untouched on error.
+ * Inverse by adjugate after scaling each row by its largest element.
+ * AOCS_ERR_INERTIA_SINGULAR when |det| <= 1e3 eps * (product of the scaled
+ * row norms) (a unit-free test from Hadamard's inequality),
+ * AOCS_ERR_PARAM_NOT_FINITE for NaN/Inf input, AOCS_ERR_NULL_ARG for a NULL
+ * out; out untouched on error (docs/conventions.md).
  */
 aocs_status_t aocs_mat3_inverse(aocs_mat3_t a, aocs_mat3_t *out);
 /*

@@ -84,6 +84,7 @@ typedef enum {
     AOCS_ERR_INPUT_STALE,
     AOCS_ERR_INPUT_MISSING,
     AOCS_ERR_RATE_INVALID,         /* executive: control rate not usable */
+    AOCS_ERR_INPUT_INVALID,        /* a sensor validity flag is off */
     AOCS_STATUS_COUNT              /* number of codes, keep last */
 } aocs_status_t;
 
