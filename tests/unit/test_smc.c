@@ -1,0 +1,769 @@
+/*
+ * smc (SPEC 2.4, Crassidis-Vadali-Markley 2000):
+ *   s = we + Lambda sign(qe4) qe_vec,
+ *   u = J (-Lambda sign(qe4) d/dt(qe_vec) + wd_dot) + w x (J w) - J G sat(s, eps).
+ * Proves: the torque equals the SPEC formula evaluated independently in
+ * double (own Shuster product, own cross products) outside the layer
+ * (IRASSI data), inside the layer (full symmetric inertia, per-axis gains,
+ * precondition asserted), with qe4 < 0, plus two states worked by hand; a
+ * positive error about +x with zero rate gives u_x < 0; q and -q (and qd,
+ * -qd) give the same torque; along closed-loop RK4 runs (IRASSI inertia and
+ * the full gao_mrp inertia) V = 0.5 s^T s decreases with
+ * Vdot = -sum G_i s_i sat(s_i) (outside the layer -sum G_i |s_i|); every
+ * invalid config (inertia codes, gains, boundary layer), every non-finite
+ * input field, a non-unit quaternion, a bad dt, an overflowing torque and a
+ * step before init are rejected with their own status and a zero torque.
+ */
+#include "test_support.h"
+#include <string.h>
+#include "aocs/control/smc.h"
+
+/* ---- independent double-precision reference (SPEC 1), no firmware math ---- */
+typedef struct {
+    double q[4]; /* scalar last */
+} dq_t;
+
+/* Shuster product (Markley & Crassidis eq. 2.82): A(q (x) p) = A(q) A(p) */
+static dq_t dq_mul(dq_t q, dq_t p)
+{
+    dq_t r;
+    r.q[0] = p.q[3] * q.q[0] + q.q[3] * p.q[0] - (q.q[1] * p.q[2] - q.q[2] * p.q[1]);
+    r.q[1] = p.q[3] * q.q[1] + q.q[3] * p.q[1] - (q.q[2] * p.q[0] - q.q[0] * p.q[2]);
+    r.q[2] = p.q[3] * q.q[2] + q.q[3] * p.q[2] - (q.q[0] * p.q[1] - q.q[1] * p.q[0]);
+    r.q[3] = q.q[3] * p.q[3] - (q.q[0] * p.q[0] + q.q[1] * p.q[1] + q.q[2] * p.q[2]);
+    return r;
+}
+
+static dq_t dq_inv(dq_t q)
+{
+    dq_t r = {{-q.q[0], -q.q[1], -q.q[2], q.q[3]}};
+    return r;
+}
+
+static dq_t dq_normalize(dq_t q)
+{
+    double n = sqrt(q.q[0] * q.q[0] + q.q[1] * q.q[1] + q.q[2] * q.q[2] + q.q[3] * q.q[3]);
+    dq_t r = {{q.q[0] / n, q.q[1] / n, q.q[2] / n, q.q[3] / n}};
+    return r;
+}
+
+/* rotation by angle_rad about the axis (ax, ay, az), normalised here */
+static dq_t dq_axis_angle(double ax, double ay, double az, double angle_rad)
+{
+    double n = sqrt(ax * ax + ay * ay + az * az);
+    double s = sin(0.5 * angle_rad) / n;
+    dq_t r = {{ax * s, ay * s, az * s, cos(0.5 * angle_rad)}};
+    return r;
+}
+
+/* 3-2-1: A = R1(roll) R2(pitch) R3(yaw), so q = q_x (x) q_y (x) q_z */
+static dq_t dq_euler321_deg(double yaw, double pitch, double roll)
+{
+    const double d2r = 3.14159265358979323846 / 180.0;
+    return dq_mul(dq_axis_angle(1, 0, 0, roll * d2r),
+                  dq_mul(dq_axis_angle(0, 1, 0, pitch * d2r), dq_axis_angle(0, 0, 1, yaw * d2r)));
+}
+
+/* the value the firmware actually sees, back in double */
+static dq_t dq_from_real(aocs_quat_t q)
+{
+    dq_t r = {{(double)q.q[0], (double)q.q[1], (double)q.q[2], (double)q.q[3]}};
+    return r;
+}
+
+static aocs_quat_t dq_to_real(dq_t q)
+{
+    return aocs_quat_make((real_t)q.q[0], (real_t)q.q[1], (real_t)q.q[2], (real_t)q.q[3]);
+}
+
+static aocs_vec3_t dv_to_real(const double v[3])
+{
+    return aocs_vec3_make((real_t)v[0], (real_t)v[1], (real_t)v[2]);
+}
+
+static void dv_from_real(aocs_vec3_t a, double v[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        v[i] = (double)a.v[i];
+    }
+}
+
+static double dv_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void dv_cross(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+typedef struct {
+    double m[3][3];
+} dmat_t;
+
+static void dm_mul_vec(const dmat_t *a, const double x[3], double out[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        out[i] = a->m[i][0] * x[0] + a->m[i][1] * x[1] + a->m[i][2] * x[2];
+    }
+}
+
+/* inverse by adjugate (test inertias are well conditioned) */
+static dmat_t dm_inv(const dmat_t *a)
+{
+    const double(*m)[3] = a->m;
+    dmat_t r;
+    double c[3][3];
+    c[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    c[0][1] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    c[0][2] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    c[1][0] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+    c[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+    c[1][2] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+    c[2][0] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+    c[2][1] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+    c[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    double det = m[0][0] * c[0][0] + m[0][1] * c[0][1] + m[0][2] * c[0][2];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            r.m[i][j] = c[j][i] / det;
+        }
+    }
+    return r;
+}
+
+static aocs_att_input_t make_input(dq_t q, const double w[3], dq_t qd, const double wd[3],
+                                   const double wd_dot[3], double dt)
+{
+    aocs_att_input_t in;
+    in.q_BN = dq_to_real(q);
+    in.w_BN_B = dv_to_real(w);
+    in.qd_DN = dq_to_real(qd);
+    in.wd_B = dv_to_real(wd);
+    in.wd_dot_B = dv_to_real(wd_dot);
+    in.dt_s = (real_t)dt;
+    return in;
+}
+
+/* k-th scalar field of the input in declaration order (18 fields, dt last) */
+#define N_INPUT_FIELDS 18
+static real_t *input_field(aocs_att_input_t *in, int k)
+{
+    real_t *p = NULL;
+    if (k < 4) {
+        p = &in->q_BN.q[k];
+    } else if (k < 7) {
+        p = &in->w_BN_B.v[k - 4];
+    } else if (k < 11) {
+        p = &in->qd_DN.q[k - 7];
+    } else if (k < 14) {
+        p = &in->wd_B.v[k - 11];
+    } else if (k < 17) {
+        p = &in->wd_dot_B.v[k - 14];
+    } else {
+        p = &in->dt_s;
+    }
+    return p;
+}
+
+/* every component exactly zero (and finite) */
+static void assert_vec3_is_zero(aocs_vec3_t u)
+{
+    for (int i = 0; i < 3; ++i) {
+        assert_true(isfinite((double)u.v[i]) && !(fabs((double)u.v[i]) > 0.0));
+    }
+}
+
+/* |a_i - b_i| <= tol * scale for each i: scale is the size of the terms summed */
+static void assert_vec3_close_scaled(aocs_vec3_t a, const double b[3], double tol, double scale)
+{
+    for (int i = 0; i < 3; ++i) {
+        if (!(fabs((double)a.v[i] - b[i]) <= tol * scale)) {
+            print_error("component %d: got %.17g expected %.17g (tol %.3g scale %.3g)\n", i,
+                        (double)a.v[i], b[i], tol, scale);
+            fail();
+        }
+    }
+}
+
+/* ---- closed loop: J wdot = -w x Jw + u, qdot = 0.5 Xi(q) w (SPEC 1), RK4 ---- */
+typedef aocs_status_t (*torque_fn_t)(void *ctx, dq_t q, const double w[3], double u[3]);
+
+typedef struct {
+    dmat_t j;
+    dmat_t jinv;
+} plant_t;
+
+static void plant_init(plant_t *p, const dmat_t *j)
+{
+    p->j = *j;
+    p->jinv = dm_inv(j);
+}
+
+/* state derivative with the law evaluated on the stage state (continuous feedback) */
+static void plant_deriv(const plant_t *p, torque_fn_t law, void *ctx, dq_t q, const double w[3],
+                        dq_t *qdot, double wdot[3])
+{
+    double u[3];
+    double h[3];
+    double wxh[3];
+    double rhs[3];
+    assert_int_equal(law(ctx, dq_normalize(q), w, u), AOCS_OK);
+    dm_mul_vec(&p->j, w, h);
+    dv_cross(w, h, wxh);
+    for (int i = 0; i < 3; ++i) {
+        rhs[i] = -wxh[i] + u[i];
+    }
+    dm_mul_vec(&p->jinv, rhs, wdot);
+    /* Xi(q) w = [q4 w + q_vec x w; -q_vec . w] */
+    double qv[3] = {q.q[0], q.q[1], q.q[2]};
+    double qxw[3];
+    dv_cross(qv, w, qxw);
+    for (int i = 0; i < 3; ++i) {
+        qdot->q[i] = 0.5 * (q.q[3] * w[i] + qxw[i]);
+    }
+    qdot->q[3] = -0.5 * dv_dot(qv, w);
+}
+
+static void plant_rk4(const plant_t *p, torque_fn_t law, void *ctx, dq_t *q, double w[3], double h)
+{
+    dq_t kq[4];
+    double kw[4][3];
+    dq_t qs = *q;
+    double ws[3] = {w[0], w[1], w[2]};
+    const double c[4] = {0.0, 0.5, 0.5, 1.0};
+    for (int s = 0; s < 4; ++s) {
+        if (s > 0) {
+            for (int i = 0; i < 4; ++i) {
+                qs.q[i] = q->q[i] + c[s] * h * kq[s - 1].q[i];
+            }
+            for (int i = 0; i < 3; ++i) {
+                ws[i] = w[i] + c[s] * h * kw[s - 1][i];
+            }
+        }
+        plant_deriv(p, law, ctx, qs, ws, &kq[s], kw[s]);
+    }
+    for (int i = 0; i < 4; ++i) {
+        q->q[i] += h / 6.0 * (kq[0].q[i] + 2.0 * kq[1].q[i] + 2.0 * kq[2].q[i] + kq[3].q[i]);
+    }
+    for (int i = 0; i < 3; ++i) {
+        w[i] += h / 6.0 * (kw[0][i] + 2.0 * kw[1][i] + 2.0 * kw[2][i] + kw[3][i]);
+    }
+    *q = dq_normalize(*q);
+}
+
+/* IRASSI inertia (SPEC 4) */
+static const dmat_t J_IRASSI = {{{2059.5, 0.0, 0.0}, {0.0, 5954.2, 0.0}, {0.0, 0.0, 5974.3}}};
+
+/* ---- Lyapunov check along a closed-loop run ---- */
+typedef void (*lyap_fn_t)(void *ctx, dq_t q, const double w[3], double *v, double *vdot_expected);
+
+#define LYAP_MAX_STEPS 4000
+static double lyap_v[LYAP_MAX_STEPS + 1];
+static double lyap_vdot[LYAP_MAX_STEPS + 1];
+
+/*
+ * Integrates n_steps of size h from (q0, w0); asserts V strictly decreasing
+ * at every step and the central difference of V equal to the analytic Vdot
+ * within rtol of the largest |Vdot| of the run. Returns the final V / V(0).
+ */
+static double check_lyapunov(const plant_t *p, torque_fn_t law, lyap_fn_t lyap, void *ctx, dq_t q0,
+                             const double w0[3], double h, int n_steps, double rtol)
+{
+    dq_t q = q0;
+    double w[3] = {w0[0], w0[1], w0[2]};
+    double vdot_max = 0.0;
+    assert_true(n_steps <= LYAP_MAX_STEPS);
+    lyap(ctx, q, w, &lyap_v[0], &lyap_vdot[0]);
+    for (int n = 1; n <= n_steps; ++n) {
+        plant_rk4(p, law, ctx, &q, w, h);
+        lyap(ctx, q, w, &lyap_v[n], &lyap_vdot[n]);
+        if (!(lyap_v[n] < lyap_v[n - 1])) {
+            print_error("V did not decrease at step %d: %.17g -> %.17g\n", n, lyap_v[n - 1], lyap_v[n]);
+            fail();
+        }
+        assert_true(lyap_vdot[n] <= 0.0);
+        if (fabs(lyap_vdot[n]) > vdot_max) {
+            vdot_max = fabs(lyap_vdot[n]);
+        }
+    }
+    double err_max = 0.0;
+    for (int n = 1; n < n_steps; ++n) {
+        double num = (lyap_v[n + 1] - lyap_v[n - 1]) / (2.0 * h);
+        double err = fabs(num - lyap_vdot[n]);
+        if (err > err_max) {
+            err_max = err;
+        }
+        if (!(err <= rtol * vdot_max)) {
+            print_error("Vdot mismatch at step %d: numeric %.10g analytic %.10g (max |Vdot| %.3g)\n", n, num,
+                        lyap_vdot[n], vdot_max);
+            fail();
+        }
+    }
+    print_message("  Lyapunov: V %.6g -> %.6g, max |Vdot| %.4g, max Vdot error %.3g (%.2g relative)\n",
+                  lyap_v[0], lyap_v[n_steps], vdot_max, err_max, err_max / vdot_max);
+    return lyap_v[n_steps] / lyap_v[0];
+}
+
+/* ---- law-specific reference ---- */
+static const double ZERO3[3] = {0.0, 0.0, 0.0};
+static const double PI = 3.14159265358979323846;
+/* gao_mrp inertia (SPEC 4) */
+static const dmat_t J_GAO = {{{42.0, 1.8, -1.5}, {1.8, 25.0, -1.2}, {-1.5, -1.2, 61.8}}};
+
+typedef struct {
+    dmat_t j;
+    double lambda[3];
+    double g[3];
+    double eps[3];
+} smc_ref_cfg_t;
+
+static const smc_ref_cfg_t CFG_IRASSI = {{{{2059.5, 0.0, 0.0}, {0.0, 5954.2, 0.0}, {0.0, 0.0, 5974.3}}},
+                                         {1.0, 1.0, 1.0},
+                                         {0.05, 0.05, 0.05},
+                                         {0.02, 0.02, 0.02}};
+static const smc_ref_cfg_t CFG_GAO = {{{{42.0, 1.8, -1.5}, {1.8, 25.0, -1.2}, {-1.5, -1.2, 61.8}}},
+                                      {1.0, 0.5, 2.0},
+                                      {0.05, 0.1, 0.02},
+                                      {0.02, 0.05, 0.03}};
+
+static aocs_smc_config_t to_config(const smc_ref_cfg_t *r)
+{
+    aocs_smc_config_t c;
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            c.inertia.m[i][k] = (real_t)r->j.m[i][k];
+        }
+    }
+    c.lambda = dv_to_real(r->lambda);
+    c.g = dv_to_real(r->g);
+    c.eps = dv_to_real(r->eps);
+    return c;
+}
+
+/* reference config as the firmware sees it (rounded to real_t) */
+static smc_ref_cfg_t seen_by_firmware(const smc_ref_cfg_t *r)
+{
+    aocs_smc_config_t c = to_config(r);
+    smc_ref_cfg_t out;
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            out.j.m[i][k] = (double)c.inertia.m[i][k];
+        }
+    }
+    dv_from_real(c.lambda, out.lambda);
+    dv_from_real(c.g, out.g);
+    dv_from_real(c.eps, out.eps);
+    return out;
+}
+
+static double ref_sat(double s, double eps)
+{
+    double r;
+    if (fabs(s) <= eps) {
+        r = s / eps;
+    } else {
+        r = (s > 0.0) ? 1.0 : -1.0;
+    }
+    return r;
+}
+
+/* surface s = we + Lambda sign(qe4) qe_vec */
+static void ref_surface(const smc_ref_cfg_t *c, dq_t qe, const double we[3], double s[3])
+{
+    double sgn = (qe.q[3] >= 0.0) ? 1.0 : -1.0;
+    for (int i = 0; i < 3; ++i) {
+        s[i] = we[i] + c->lambda[i] * sgn * qe.q[i];
+    }
+}
+
+/* SPEC 2.4 in double on the values the firmware sees; returns the term scale, s out */
+static double smc_expected(const aocs_smc_config_t *cfg, const aocs_att_input_t *in, double u[3], double s[3])
+{
+    smc_ref_cfg_t tmp;
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            tmp.j.m[i][k] = (double)cfg->inertia.m[i][k];
+        }
+    }
+    dv_from_real(cfg->lambda, tmp.lambda);
+    dv_from_real(cfg->g, tmp.g);
+    dv_from_real(cfg->eps, tmp.eps);
+    const smc_ref_cfg_t *c = &tmp;
+
+    dq_t qe = dq_mul(dq_from_real(in->q_BN), dq_inv(dq_from_real(in->qd_DN)));
+    double sgn = (qe.q[3] >= 0.0) ? 1.0 : -1.0;
+    double w[3];
+    double wd[3];
+    double wd_dot[3];
+    dv_from_real(in->w_BN_B, w);
+    dv_from_real(in->wd_B, wd);
+    dv_from_real(in->wd_dot_B, wd_dot);
+    double we[3] = {w[0] - wd[0], w[1] - wd[1], w[2] - wd[2]};
+    ref_surface(c, qe, we, s);
+    double qv[3] = {qe.q[0], qe.q[1], qe.q[2]};
+    double qv_x_we[3];
+    dv_cross(qv, we, qv_x_we);
+    double a[3];
+    for (int i = 0; i < 3; ++i) {
+        double qdot_i = 0.5 * (qe.q[3] * we[i] + qv_x_we[i]);
+        a[i] = -c->lambda[i] * sgn * qdot_i + wd_dot[i] - c->g[i] * ref_sat(s[i], c->eps[i]);
+    }
+    double ja[3];
+    double h[3];
+    double wxh[3];
+    dm_mul_vec(&c->j, a, ja);
+    dm_mul_vec(&c->j, w, h);
+    dv_cross(w, h, wxh);
+    double scale = 1.0;
+    for (int i = 0; i < 3; ++i) {
+        u[i] = ja[i] + wxh[i];
+        double t = fabs(w[(i + 1) % 3] * h[(i + 2) % 3]) + fabs(w[(i + 2) % 3] * h[(i + 1) % 3]);
+        for (int k = 0; k < 3; ++k) {
+            t += fabs(c->j.m[i][k] * a[k]);
+        }
+        scale = (t > scale) ? t : scale;
+    }
+    return scale;
+}
+
+static aocs_smc_t make_law(const smc_ref_cfg_t *r)
+{
+    aocs_smc_t law;
+    aocs_smc_config_t cfg = to_config(r);
+    memset(&law, 0, sizeof law);
+    assert_int_equal(aocs_smc_init(&law, &cfg), AOCS_OK);
+    return law;
+}
+
+/* returns the surface of the state so callers can assert where it lies */
+static void check_state(const smc_ref_cfg_t *r, aocs_att_input_t in, double s[3])
+{
+    aocs_smc_t law = make_law(r);
+    aocs_smc_config_t cfg = to_config(r);
+    aocs_vec3_t u = aocs_vec3_make(AOCS_R(123.0), AOCS_R(123.0), AOCS_R(123.0));
+    double expected[3];
+    double scale = smc_expected(&cfg, &in, expected, s);
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
+    assert_vec3_close_scaled(u, expected, TOL_TIGHT, scale);
+}
+
+static void test_known_states(void **state)
+{
+    (void)state;
+    double s[3];
+    dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
+    /* IRASSI geometry, all three components outside the layer */
+    const double w1[3] = {0.01, -0.02, 0.03};
+    const double wd1[3] = {0.001, 0.0, -0.002};
+    const double wdd1[3] = {1e-4, -2e-4, 0.0};
+    check_state(&CFG_IRASSI, make_input(dq_euler321_deg(14.0, 14.0, 14.0), w1, qd, wd1, wdd1, 0.1), s);
+    for (int i = 0; i < 3; ++i) {
+        assert_true(fabs(s[i]) > CFG_IRASSI.eps[i]);
+    }
+
+    /* inside the layer on every axis: 0.4 deg error, small rates, full inertia */
+    dq_t q2 = dq_mul(dq_axis_angle(1.0, 2.0, -1.5, 0.4 * PI / 180.0), qd);
+    const double w2[3] = {0.002, -0.001, 0.003};
+    const double wd2[3] = {0.001, 0.0005, 0.0};
+    const double wdd2[3] = {0.0, 1e-4, -1e-4};
+    check_state(&CFG_GAO, make_input(q2, w2, qd, wd2, wdd2, 0.1), s);
+    for (int i = 0; i < 3; ++i) {
+        assert_true(fabs(s[i]) < CFG_GAO.eps[i]);
+    }
+
+    /* qe4 < 0 (250 deg) with rates: mixed inside / outside, full inertia */
+    dq_t q3 = dq_mul(dq_axis_angle(1.0, -2.0, 0.5, 250.0 * PI / 180.0), qd);
+    assert_true(dq_mul(q3, dq_inv(qd)).q[3] < -0.5);
+    const double w3[3] = {0.3, -0.51, 0.2};
+    check_state(&CFG_GAO, make_input(q3, w3, qd, ZERO3, ZERO3, 0.1), s);
+}
+
+static void test_by_hand(void **state)
+{
+    (void)state;
+    /* J = diag(2 3 4), Lambda = I, G = 0.5 I, eps = 0.1; qe = [0.5 0 0 cos 30]
+       (a) w = 0: s = [0.5 0 0], sat = [1 0 0], u = -J G sat = [-1 0 0]
+       (b) w = [0.05 0 0]: qedot_x = 0.5 cos30 0.05 = 0.0216506351, w x Jw = 0,
+           u_x = 2 (-0.0216506351 - 0.5) = -1.0433012702 */
+    const smc_ref_cfg_t c = {{{{2.0, 0.0, 0.0}, {0.0, 3.0, 0.0}, {0.0, 0.0, 4.0}}},
+                             {1.0, 1.0, 1.0},
+                             {0.5, 0.5, 0.5},
+                             {0.1, 0.1, 0.1}};
+    aocs_smc_t law = make_law(&c);
+    aocs_att_input_t in;
+    in.q_BN = aocs_quat_make(AOCS_R(0.5), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.86602540378443865));
+    in.qd_DN = aocs_quat_identity();
+    in.w_BN_B = aocs_vec3_zero();
+    in.wd_B = aocs_vec3_zero();
+    in.wd_dot_B = aocs_vec3_zero();
+    in.dt_s = AOCS_R(0.1);
+    aocs_vec3_t u;
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
+    const double ua[3] = {-1.0, 0.0, 0.0};
+    assert_vec3_close_scaled(u, ua, TOL_TIGHT, 1.0);
+    in.w_BN_B = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.0), AOCS_R(0.0));
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
+    const double ub[3] = {-1.0433012701892219, 0.0, 0.0};
+    assert_vec3_close_scaled(u, ub, TOL_TIGHT, 1.1);
+}
+
+static void test_sign_convention(void **state)
+{
+    (void)state;
+    aocs_smc_t law = make_law(&CFG_IRASSI);
+    dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
+    const double angles_deg[3] = {0.1, 10.0, 170.0};
+    for (int k = 0; k < 3; ++k) {
+        dq_t q = dq_mul(dq_axis_angle(1.0, 0.0, 0.0, angles_deg[k] * PI / 180.0), qd);
+        aocs_att_input_t in = make_input(q, ZERO3, qd, ZERO3, ZERO3, 0.1);
+        aocs_vec3_t u;
+        assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
+        assert_true(u.v[0] < AOCS_R(0.0));
+        assert_true(fabs((double)u.v[1]) <= 1e-3 * fabs((double)u.v[0]));
+        assert_true(fabs((double)u.v[2]) <= 1e-3 * fabs((double)u.v[0]));
+    }
+}
+
+static void test_q_and_minus_q_same_torque(void **state)
+{
+    (void)state;
+    aocs_smc_t law = make_law(&CFG_GAO);
+    test_rng_t rng = {0x9E3779B97F4A7C15ULL};
+    for (int k = 0; k < 200; ++k) {
+        aocs_att_input_t in;
+        in.q_BN = test_random_quat(&rng);
+        in.qd_DN = test_random_quat(&rng);
+        in.w_BN_B = test_random_vec3(&rng, 0.1);
+        in.wd_B = test_random_vec3(&rng, 0.01);
+        in.wd_dot_B = test_random_vec3(&rng, 0.001);
+        in.dt_s = AOCS_R(0.1);
+        aocs_vec3_t u_ref;
+        assert_int_equal(aocs_smc_step(&law, &in, &u_ref), AOCS_OK);
+        for (int flip = 1; flip < 4; ++flip) {
+            aocs_att_input_t in2 = in;
+            for (int i = 0; i < 4; ++i) {
+                if ((flip & 1) != 0) {
+                    in2.q_BN.q[i] = -in.q_BN.q[i];
+                }
+                if ((flip & 2) != 0) {
+                    in2.qd_DN.q[i] = -in.qd_DN.q[i];
+                }
+            }
+            aocs_vec3_t u2;
+            assert_int_equal(aocs_smc_step(&law, &in2, &u2), AOCS_OK);
+            assert_vec3_close(u2, u_ref, TOL_TIGHT * 100.0);
+        }
+    }
+}
+
+/* ---- Lyapunov ---- */
+typedef struct {
+    aocs_smc_t law;
+    smc_ref_cfg_t ref; /* as seen by the firmware */
+    dq_t qd;
+    int outside; /* steps with every |s_i| > eps_i */
+} smc_ctx_t;
+
+static aocs_status_t smc_torque(void *vctx, dq_t q, const double w[3], double u[3])
+{
+    smc_ctx_t *c = (smc_ctx_t *)vctx;
+    aocs_att_input_t in = make_input(q, w, c->qd, ZERO3, ZERO3, 0.01);
+    aocs_vec3_t uv;
+    aocs_status_t st = aocs_smc_step(&c->law, &in, &uv);
+    dv_from_real(uv, u);
+    return st;
+}
+
+/* SPEC 2.4: closed loop sdot_i = -G_i sat(s_i), so V = 0.5 s^T s, Vdot = -sum G_i s_i sat(s_i) */
+static void smc_lyap(void *vctx, dq_t q, const double w[3], double *v, double *vdot)
+{
+    smc_ctx_t *c = (smc_ctx_t *)vctx;
+    dq_t qe = dq_mul(q, dq_inv(c->qd));
+    double s[3];
+    ref_surface(&c->ref, qe, w, s);
+    *v = 0.5 * dv_dot(s, s);
+    *vdot = 0.0;
+    int out = 1;
+    for (int i = 0; i < 3; ++i) {
+        *vdot -= c->ref.g[i] * s[i] * ref_sat(s[i], c->ref.eps[i]);
+        out = out && (fabs(s[i]) > c->ref.eps[i]);
+    }
+    c->outside += out;
+}
+
+static void test_lyapunov(void **state)
+{
+    (void)state;
+    static smc_ctx_t ctx;
+    plant_t plant;
+    const double w0[3] = {0.01, -0.02, 0.015};
+
+    /* IRASSI large slew, 3 s: starts outside the layer on every axis */
+    plant_init(&plant, &J_IRASSI);
+    ctx.law = make_law(&CFG_IRASSI);
+    ctx.ref = seen_by_firmware(&CFG_IRASSI);
+    ctx.qd = dq_euler321_deg(30.0, -20.0, 1.0);
+    ctx.outside = 0;
+    double ratio = check_lyapunov(&plant, smc_torque, smc_lyap, &ctx, dq_euler321_deg(14.0, 14.0, 14.0), w0, 0.01,
+                                  300, 2e-3);
+    assert_true(ratio < 0.7);
+    assert_true(ctx.outside > 100);
+
+    /* full inertia, 40 deg error with rates, 8 s: crosses into the layer; stops while
+       V / V0 > 1e-6 so float rounding of qe (~6e-8) stays well below |s| */
+    plant_init(&plant, &J_GAO);
+    ctx.law = make_law(&CFG_GAO);
+    ctx.ref = seen_by_firmware(&CFG_GAO);
+    ctx.qd = dq_euler321_deg(-10.0, 5.0, 20.0);
+    ctx.outside = 0;
+    dq_t q0 = dq_mul(dq_axis_angle(0.3, 1.0, -0.2, 40.0 * PI / 180.0), ctx.qd);
+    const double w1[3] = {0.05, -0.02, 0.03};
+    ratio = check_lyapunov(&plant, smc_torque, smc_lyap, &ctx, q0, w1, 0.01, 800, 2e-3);
+    assert_true(ratio < 0.01);
+    assert_true(ctx.outside > 10);
+}
+
+/* ---- rejection paths ---- */
+static aocs_att_input_t some_input(void)
+{
+    const double w[3] = {0.01, 0.02, 0.03};
+    return make_input(dq_euler321_deg(14.0, 14.0, 14.0), w, dq_euler321_deg(30.0, -20.0, 1.0), ZERO3, ZERO3, 0.1);
+}
+
+static void expect_init_fails(aocs_smc_config_t cfg, aocs_status_t expected)
+{
+    aocs_smc_t law = make_law(&CFG_GAO);
+    aocs_att_input_t in = some_input();
+    aocs_vec3_t u = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
+    assert_int_equal(aocs_smc_init(&law, &cfg), expected);
+    /* a failed init leaves the law unusable even after a good one */
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_NOT_INITIALISED);
+    assert_vec3_is_zero(u);
+}
+
+static void test_invalid_config(void **state)
+{
+    (void)state;
+    const double bad_nf[3] = {NAN, INFINITY, -INFINITY};
+    const double bad_np[3] = {0.0, -0.0, -0.5};
+    for (int i = 0; i < 3; ++i) {
+        for (int b = 0; b < 3; ++b) {
+            aocs_smc_config_t cfg = to_config(&CFG_GAO);
+            cfg.lambda.v[i] = (real_t)bad_nf[b];
+            expect_init_fails(cfg, AOCS_ERR_PARAM_NOT_FINITE);
+            cfg = to_config(&CFG_GAO);
+            cfg.g.v[i] = (real_t)bad_nf[b];
+            expect_init_fails(cfg, AOCS_ERR_PARAM_NOT_FINITE);
+            cfg = to_config(&CFG_GAO);
+            cfg.eps.v[i] = (real_t)bad_nf[b];
+            expect_init_fails(cfg, AOCS_ERR_PARAM_NOT_FINITE);
+            cfg = to_config(&CFG_GAO);
+            cfg.inertia.m[i][(i + b) % 3] = (real_t)bad_nf[b];
+            expect_init_fails(cfg, AOCS_ERR_PARAM_NOT_FINITE);
+
+            cfg = to_config(&CFG_GAO);
+            cfg.lambda.v[i] = (real_t)bad_np[b];
+            expect_init_fails(cfg, AOCS_ERR_GAIN_NOT_POSITIVE);
+            cfg = to_config(&CFG_GAO);
+            cfg.g.v[i] = (real_t)bad_np[b];
+            expect_init_fails(cfg, AOCS_ERR_GAIN_NOT_POSITIVE);
+            cfg = to_config(&CFG_GAO);
+            cfg.eps.v[i] = (real_t)bad_np[b];
+            expect_init_fails(cfg, AOCS_ERR_BOUNDARY_LAYER_NOT_POSITIVE);
+        }
+    }
+    /* inertia codes come from aocs_mat3_check_inertia */
+    aocs_smc_config_t cfg = to_config(&CFG_GAO);
+    cfg.inertia.m[0][1] = AOCS_R(5.0); /* m[1][0] stays 1.8 */
+    expect_init_fails(cfg, AOCS_ERR_INERTIA_NOT_SYMMETRIC);
+    cfg = to_config(&CFG_GAO);
+    cfg.inertia.m[1][1] = AOCS_R(-25.0);
+    expect_init_fails(cfg, AOCS_ERR_INERTIA_NOT_POS_DEF);
+    cfg = to_config(&CFG_GAO);
+    cfg.inertia = aocs_mat3_zero();
+    aocs_status_t zero_code = aocs_mat3_check_inertia(cfg.inertia);
+    assert_int_not_equal(zero_code, AOCS_OK);
+    expect_init_fails(cfg, zero_code);
+
+    aocs_smc_t law;
+    cfg = to_config(&CFG_GAO);
+    assert_int_equal(aocs_smc_init(NULL, &cfg), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_smc_init(&law, NULL), AOCS_ERR_NULL_ARG);
+}
+
+static void test_step_rejections(void **state)
+{
+    (void)state;
+    aocs_att_input_t good = some_input();
+    aocs_vec3_t u;
+
+    aocs_smc_t law;
+    memset(&law, 0, sizeof law);
+    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
+    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
+    assert_vec3_is_zero(u);
+    memset(&law, 0xA5, sizeof law);
+    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
+    assert_vec3_is_zero(u);
+
+    law = make_law(&CFG_IRASSI);
+    assert_int_equal(aocs_smc_step(NULL, &good, &u), AOCS_ERR_NULL_ARG);
+    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
+    assert_int_equal(aocs_smc_step(&law, NULL, &u), AOCS_ERR_NULL_ARG);
+    assert_vec3_is_zero(u);
+    assert_int_equal(aocs_smc_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
+
+    const double bad[3] = {NAN, INFINITY, -INFINITY};
+    for (int k = 0; k < N_INPUT_FIELDS; ++k) {
+        for (int b = 0; b < 3; ++b) {
+            aocs_att_input_t in = good;
+            *input_field(&in, k) = (real_t)bad[b];
+            u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
+            aocs_status_t expected = (k == N_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
+            assert_int_equal(aocs_smc_step(&law, &in, &u), expected);
+            assert_vec3_is_zero(u);
+        }
+    }
+    aocs_att_input_t in = good;
+    in.q_BN.q[3] *= AOCS_R(1.1);
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
+    assert_vec3_is_zero(u);
+    in = good;
+    in.qd_DN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0));
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
+    assert_vec3_is_zero(u);
+    in = good;
+    in.dt_s = AOCS_R(0.0);
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
+    in.dt_s = AOCS_R(-0.1);
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
+    assert_vec3_is_zero(u);
+    /* finite rates whose gyroscopic term w x Jw overflows */
+    in = good;
+    in.w_BN_B = aocs_vec3_make(AOCS_SQRT(AOCS_REAL_MAX), AOCS_SQRT(AOCS_REAL_MAX), AOCS_R(0.0));
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_vec3_is_zero(u);
+    in.w_BN_B = aocs_vec3_make(AOCS_REAL_MAX / AOCS_R(2.0), AOCS_R(0.0), AOCS_R(0.0));
+    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_vec3_is_zero(u);
+    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_OK);
+    assert_true(aocs_vec3_is_finite(u) != 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_known_states),
+        cmocka_unit_test(test_by_hand),
+        cmocka_unit_test(test_sign_convention),
+        cmocka_unit_test(test_q_and_minus_q_same_torque),
+        cmocka_unit_test(test_lyapunov),
+        cmocka_unit_test(test_invalid_config),
+        cmocka_unit_test(test_step_rejections),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
