@@ -1,0 +1,298 @@
+/*
+ * Fixed-rate executive: owns one control period (ARCHITECTURE.md "data
+ * path"): check the inputs, pick the mode, run the selected law, saturate,
+ * time the step against its budget, report counters.
+ *
+ *   aocs_exec_config_default(&cfg);        fill defaults, then set the law,
+ *   cfg.law = AOCS_LAW_QUAT_PD;            its config, limits, period
+ *   cfg.laws.quat_pd = ...;
+ *   aocs_exec_init(&exec, &cfg);           validates everything
+ *   loop: aocs_exec_step(&exec, &in, &out) (lockstep: one call per sensor sample)
+ *   aocs_exec_select(&exec, law, &target)  run-time command (SIL command message)
+ *
+ * Real-time mode adds the period timer (absolute deadlines, no drift):
+ *   aocs_exec_timer_init(&tmr, period_ns, first_deadline_ns);
+ *   loop: aocs_hal_sleep_until_ns(deadline);
+ *         aocs_exec_timer_period_start(&tmr, aocs_hal_time_ns(), &deadline);
+ *         aocs_exec_step(...) or aocs_exec_step_no_input(...) when no sample came.
+ *
+ * Modes: STANDBY (zero command), NOMINAL (selected law), SAFE (attitude:
+ * u = -k_safe w within the limits; orbit: zero force). The executive enters
+ * SAFE on an invalid, stale or missing input or a law error, and returns to
+ * the requested mode after recover_good_samples consecutive good samples
+ * (a good sample: valid, fresh, no gap, and the law evaluates without error;
+ * in SAFE the law is evaluated in the shadow to know that).
+ *
+ * The saturated command never exceeds the limits, whatever happens: NaN or
+ * Inf from anywhere gives a zero command.
+ */
+#ifndef AOCS_EXECUTIVE_H
+#define AOCS_EXECUTIVE_H
+
+#include <stdint.h>
+
+#include "aocs/types.h"
+#include "aocs/math3.h"
+#include "aocs/attitude.h"
+#include "aocs/control/law_io.h"
+#include "aocs/control/crp_linear.h"
+#include "aocs/control/quat_pd.h"
+#include "aocs/control/quat_nlpd.h"
+#include "aocs/control/smc.h"
+#include "aocs/control/lqr_quat.h"
+#include "aocs/control/hinf.h"
+#include "aocs/control/mrp_sat.h"
+#include "aocs/control/orbit_lqr.h"
+
+/* ---- law identifiers (law_table.c) ---- */
+typedef enum {
+    AOCS_LAW_NONE = 0,          /* no law: STANDBY */
+    AOCS_LAW_CRP_LINEAR,        /* "crp_linear"    SPEC 2.1 */
+    AOCS_LAW_QUAT_PD,           /* "quat_pd"       SPEC 2.2 */
+    AOCS_LAW_QUAT_NLPD_NEG,     /* "quat_nlpd_neg" SPEC 2.3, (1 - qe.qe) */
+    AOCS_LAW_QUAT_NLPD_POS,     /* "quat_nlpd_pos" SPEC 2.3, (1 + qe.qe) */
+    AOCS_LAW_SMC,               /* "smc"           SPEC 2.4 */
+    AOCS_LAW_LQR_QUAT,          /* "lqr_quat"      SPEC 2.5 */
+    AOCS_LAW_HINF,              /* "hinf"          SPEC 2.6 */
+    AOCS_LAW_MRP_SAT_LINEAR,    /* "mrp_sat"       SPEC 2.7, linear saturations */
+    AOCS_LAW_MRP_SAT_TANH,      /* "mrp_sat_tanh"  SPEC 2.7, generalised (tanh) */
+    AOCS_LAW_ORBIT_LQR,         /* "orbit_lqr"     SPEC 2.8, force not torque */
+    AOCS_LAW_COUNT
+} aocs_law_id_t;
+
+/* CLI name of a law ("quat_pd"); "none" for AOCS_LAW_NONE, "unknown" when out of range. Total. */
+const char *aocs_law_name(aocs_law_id_t law);
+
+/*
+ * Law id from its CLI name (exact, case-sensitive; "none" gives
+ * AOCS_LAW_NONE). AOCS_ERR_UNKNOWN_LAW (and *law untouched) for any other
+ * string, AOCS_ERR_NULL_ARG for NULL pointers.
+ */
+aocs_status_t aocs_law_from_name(const char *name, aocs_law_id_t *law);
+
+/* 1 for the orbit law (input pos/vel, output force), 0 otherwise. Total. */
+int aocs_law_is_orbit(aocs_law_id_t law);
+
+/* Declared host budget of one step of the law, ns (AOCS_<LAW>_BUDGET_NS). Total (0 if unknown). */
+uint64_t aocs_law_budget_ns(aocs_law_id_t law);
+
+/* ---- modes ---- */
+typedef enum {
+    AOCS_EXEC_MODE_STANDBY = 0, /* zero command */
+    AOCS_EXEC_MODE_NOMINAL,     /* selected law */
+    AOCS_EXEC_MODE_SAFE,        /* rate damping (attitude) / zero force (orbit) */
+    AOCS_EXEC_MODE_COUNT
+} aocs_exec_mode_t;
+
+/* "standby", "nominal", "safe"; "unknown" when out of range. Total. */
+const char *aocs_exec_mode_name(aocs_exec_mode_t mode);
+
+/* Where time comes from (ARCHITECTURE.md): the sensor message (lockstep) or the HAL clock. */
+typedef enum {
+    AOCS_EXEC_CLOCK_LOCKSTEP = 0, /* the sensor sample is the tick; HAL clock only times the step */
+    AOCS_EXEC_CLOCK_REALTIME      /* sample age is also checked against aocs_hal_time_ns() */
+} aocs_exec_clock_t;
+
+/* Validity flags of aocs_exec_input_t.valid (set by the sensor adapter). */
+#define AOCS_EXEC_VALID_ATT   (1u << 0) /* q_BN usable */
+#define AOCS_EXEC_VALID_RATE  (1u << 1) /* w_BN_B usable */
+#define AOCS_EXEC_VALID_ORBIT (1u << 2) /* pos_m, vel_mps usable */
+
+/* Target held by the executive (attitude laws; the orbit law regulates to zero). */
+typedef struct {
+    aocs_quat_t qd_DN;      /* target attitude, unit */
+    aocs_vec3_t wd_B;       /* target rate, rad/s */
+    aocs_vec3_t wd_dot_B;   /* target angular acceleration, rad/s^2 */
+} aocs_exec_target_t;
+
+/* One config of each law; only the one selected (at init or by select) must be valid. */
+typedef struct {
+    aocs_crp_linear_config_t crp_linear;
+    aocs_quat_pd_config_t quat_pd;
+    aocs_quat_nlpd_config_t quat_nlpd;   /* variant is forced by the law id (NEG/POS) */
+    aocs_smc_config_t smc;
+    aocs_lqr_quat_config_t lqr_quat;
+    aocs_hinf_config_t hinf;
+    aocs_mrp_sat_config_t mrp_sat;       /* variant is forced by the law id (LINEAR/TANH) */
+    aocs_orbit_lqr_config_t orbit_lqr;
+} aocs_exec_law_configs_t;
+
+typedef struct {
+    real_t period_s;              /* control period, s; rounded to whole us (>= 1 us, <= 1000 s) */
+    aocs_law_id_t law;            /* initial law; AOCS_LAW_NONE starts in STANDBY */
+    aocs_exec_target_t target;    /* initial target */
+    aocs_exec_law_configs_t laws;
+    aocs_vec3_t u_max_axis;       /* per-axis limit, N m (N); all 0 = unused, else all > 0 */
+    real_t u_max_norm;            /* limit of |u|_2; 0 = unused. At least one limit must be set. */
+    real_t k_safe;                /* safe-mode damping gain, N m s/rad, > 0 */
+    uint32_t recover_good_samples;/* M: consecutive good samples to leave SAFE, >= 1 */
+    uint32_t missing_max_periods; /* N: a gap of >= N missed samples enters SAFE, >= 1 */
+    uint64_t stale_timeout_ns;    /* real-time mode: max age (HAL now - sensor time), > 0 there */
+    uint64_t budget_ns;           /* step budget override; 0 = the law's AOCS_<LAW>_BUDGET_NS */
+    aocs_exec_clock_t clock;
+} aocs_exec_config_t;
+
+/* One sensor sample (lockstep: one per control period). */
+typedef struct {
+    uint32_t tick;                /* frame counter of the sample; gaps count as missing samples */
+    uint64_t t_sensor_ns;         /* sensor time, ns; must advance. Real-time mode: HAL time base */
+    uint32_t valid;               /* AOCS_EXEC_VALID_* flags */
+    aocs_quat_t q_BN;             /* estimated attitude */
+    aocs_vec3_t w_BN_B;           /* estimated body rate, rad/s */
+    aocs_vec3_t pos_m;            /* orbit: position error [dx dy dz], m (SPEC 2.8) */
+    aocs_vec3_t vel_mps;          /* orbit: velocity [du dv dw], m/s (SPEC 2.8) */
+} aocs_exec_input_t;
+
+/* Event counters (saturate at UINT32_MAX, never wrap). */
+typedef struct {
+    uint32_t steps;               /* step and step_no_input calls that produced an output */
+    uint32_t invalid;             /* samples with NaN/Inf, non-unit q, or a needed validity flag off */
+    uint32_t stale;               /* samples whose time did not advance or is older than the timeout */
+    uint32_t missing;             /* missed samples (tick gaps and periods without a sample) */
+    uint32_t law_error;           /* law step returned an error (e.g. CRP singular) */
+    uint32_t overrun;             /* step time > budget */
+    uint32_t mode_transitions;    /* every change of the actual mode */
+    uint32_t saturated;           /* steps whose command was limited (or zeroed for NaN) */
+    uint32_t select_accepted;
+    uint32_t select_rejected;     /* unknown law, invalid target, invalid law config */
+    uint64_t step_time_max_ns;    /* largest step time seen */
+} aocs_exec_counters_t;
+
+typedef struct {
+    aocs_vec3_t u_cmd;            /* saturated command: torque N m (force N for orbit_lqr) */
+    aocs_vec3_t u_unsat;          /* command before saturation (law or safe-mode output) */
+    aocs_law_id_t law;            /* selected law */
+    aocs_exec_mode_t mode;        /* actual mode of this step */
+    aocs_status_t law_status;     /* status of the law step (AOCS_OK when not run) */
+    aocs_status_t input_status;   /* AOCS_OK or why the sample was rejected (INPUT_*, QUAT_NOT_UNIT) */
+    int saturated;                /* 1 when u_cmd != u_unsat */
+    int overrun;                  /* 1 when step_time_ns > budget_ns */
+    uint64_t step_time_ns;        /* HAL time around law + saturation */
+    uint32_t step_cycles;         /* aocs_hal_cycles() difference (0 where the platform has none) */
+    uint64_t budget_ns;
+    uint32_t tick;                /* tick of the sample (last tick for step_no_input) */
+    aocs_exec_counters_t counters;
+} aocs_exec_output_t;
+
+/* Law states, one of each so a rejected select leaves the active one untouched. */
+typedef struct {
+    aocs_crp_linear_t crp_linear;
+    aocs_quat_pd_t quat_pd;
+    aocs_quat_nlpd_t quat_nlpd_neg;
+    aocs_quat_nlpd_t quat_nlpd_pos;
+    aocs_smc_t smc;
+    aocs_lqr_quat_t lqr_quat;
+    aocs_hinf_t hinf;
+    aocs_mrp_sat_t mrp_sat_linear;
+    aocs_mrp_sat_t mrp_sat_tanh;
+    aocs_orbit_lqr_t orbit_lqr;
+} aocs_exec_law_states_t;
+
+typedef struct {
+    /* cached configuration */
+    aocs_exec_config_t cfg;
+    uint64_t period_ns;
+    /* internal state */
+    aocs_exec_law_states_t states;
+    aocs_law_id_t law;            /* selected law */
+    aocs_exec_target_t target;
+    aocs_exec_mode_t mode;        /* actual mode */
+    aocs_exec_mode_t requested;   /* STANDBY or NOMINAL, what SAFE returns to */
+    uint32_t good_run;            /* consecutive good samples while in SAFE */
+    uint32_t missing_run;         /* consecutive periods without a sample (step_no_input) */
+    int have_sample;              /* a previous sample exists (tick/time reference valid) */
+    uint32_t last_tick;
+    uint64_t last_t_sensor_ns;
+    aocs_vec3_t last_u_cmd;       /* held by step_no_input below the missing threshold */
+    aocs_exec_counters_t counters;
+    int initialised;
+} aocs_exec_t;
+
+/*
+ * Defaults: period 0.1 s, AOCS_LAW_NONE, identity target, no limits set
+ * (the caller must set one), k_safe 1, M = 10, N = 3, stale timeout
+ * 2 periods, no budget override, lockstep. Law configs zeroed (invalid).
+ * Total (no-op on NULL).
+ */
+void aocs_exec_config_default(aocs_exec_config_t *cfg);
+
+/*
+ * Validates the config and initialises the selected law with its config.
+ * Status: AOCS_ERR_NULL_ARG; AOCS_ERR_RATE_INVALID (period not finite or out
+ * of range); AOCS_ERR_UNKNOWN_LAW; AOCS_ERR_TARGET_INVALID (non-finite or
+ * non-unit qd, non-finite wd/wd_dot); AOCS_ERR_PARAM_NOT_FINITE (limit,
+ * k_safe); AOCS_ERR_SAT_LIMIT_NOT_POSITIVE (negative limit, mixed zero and
+ * non-zero per-axis limits, or no limit set); AOCS_ERR_GAIN_NOT_POSITIVE
+ * (k_safe <= 0, M or N == 0, real-time stale timeout == 0);
+ * AOCS_ERR_MODE_INVALID (clock out of range); else the law init's own status.
+ * On any error exec is left not initialised (step returns
+ * AOCS_ERR_NOT_INITIALISED with a zero command).
+ */
+aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg);
+
+/*
+ * Run-time command: select law (AOCS_LAW_NONE = STANDBY) and target (NULL
+ * keeps the current target). A new law is (re)initialised from the stored
+ * config. Rejected, counted in select_rejected, and nothing changed on:
+ * AOCS_ERR_UNKNOWN_LAW, AOCS_ERR_TARGET_INVALID, or the law init's status.
+ * Selecting a law requests NOMINAL; if the executive is in SAFE it stays
+ * there until the recovery rule is met. Selecting NONE enters STANDBY at once.
+ */
+aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_exec_target_t *target);
+
+/*
+ * One control step on a sensor sample. Returns AOCS_OK when a command was
+ * produced (whatever the mode: a rejected input is reported in
+ * out->input_status and handled by SAFE, not by an error return);
+ * AOCS_ERR_NULL_ARG / AOCS_ERR_NOT_INITIALISED otherwise (then *out, if
+ * given, holds a zero command).
+ */
+aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_exec_output_t *out);
+
+/*
+ * Real-time mode: the period ended without a sample. Counts one missing
+ * sample; below N consecutive missing periods the last command is held
+ * (zero-order hold), from N on the executive is in SAFE with a zero command
+ * (no fresh rate to damp). input_status = AOCS_ERR_INPUT_MISSING.
+ */
+aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out);
+
+/* Counters so far (zeroed struct on NULL args). Total. */
+aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec);
+
+/* ---- real-time period timer (timing.c), pure integer arithmetic ---- */
+typedef struct {
+    uint64_t period_ns;
+    uint64_t t0_ns;               /* ideal start of period 0 */
+    uint64_t k;                   /* index of the next period to start */
+    uint64_t periods;             /* periods started */
+    uint64_t slips;               /* periods skipped because the start came a period or more late */
+    int64_t jitter_last_ns;       /* actual start - ideal start of the last period */
+    uint64_t jitter_max_abs_ns;
+    real_t jitter_ms_ns2;         /* running mean of jitter^2, ns^2 */
+} aocs_exec_timer_t;
+
+/*
+ * Ideal start of period k is t0 + k * period (absolute: no drift).
+ * AOCS_ERR_NULL_ARG, AOCS_ERR_RATE_INVALID when period_ns == 0.
+ */
+aocs_status_t aocs_exec_timer_init(aocs_exec_timer_t *tmr, uint64_t period_ns, uint64_t t0_ns);
+
+/*
+ * Records that a period started at now_ns: jitter = now - ideal start; when
+ * now is one or more whole periods late those periods are counted as slips
+ * and skipped (the phase is kept). Writes the absolute deadline of the next
+ * period start (t0 + (k+1) * period) to *next_deadline_ns.
+ */
+aocs_status_t aocs_exec_timer_period_start(aocs_exec_timer_t *tmr, uint64_t now_ns, uint64_t *next_deadline_ns);
+
+/* RMS of the recorded jitter, ns (0 before the first period). Total. */
+real_t aocs_exec_timer_jitter_rms_ns(const aocs_exec_timer_t *tmr);
+
+/* Period in ns from seconds, rounded to whole microseconds; AOCS_ERR_RATE_INVALID when out of [1 us, 1000 s]. */
+aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns);
+
+/* Host budget of safe/standby steps (no law), ns. */
+#define AOCS_EXEC_SAFE_BUDGET_NS 2000u
+
+#endif /* AOCS_EXECUTIVE_H */

@@ -1,0 +1,44 @@
+/*
+ * Private interface between the executive's source files (law_table.c,
+ * mode.c, executive.c). Not part of the public API.
+ */
+#ifndef AOCS_EXEC_INTERNAL_H
+#define AOCS_EXEC_INTERNAL_H
+
+#include "aocs/executive.h"
+
+/* Initialise the state of one law from its stored config (variants forced by id). */
+aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec_law_configs_t *cfgs,
+                                 aocs_law_id_t law);
+
+/* One law step; u zeroed on any error (AOCS_ERR_UNKNOWN_LAW for NONE/out of range). */
+aocs_status_t aocs_exec_law_step(aocs_exec_law_states_t *states, aocs_law_id_t law,
+                                 const aocs_att_input_t *att, const aocs_orbit_input_t *orbit,
+                                 aocs_vec3_t *u);
+
+/* 1 when law is a real law id (not NONE, not out of range). */
+int aocs_exec_law_is_valid(aocs_law_id_t law);
+
+/* Input check for the selected law: AOCS_OK or the reason (flags, NaN, non-unit q). */
+aocs_status_t aocs_exec_input_check(aocs_law_id_t law, const aocs_exec_input_t *in);
+
+/* Target check: finite, unit qd (AOCS_ERR_TARGET_INVALID). */
+aocs_status_t aocs_exec_target_check(const aocs_exec_target_t *target);
+
+/* Safe-mode command before saturation: -k_safe w (attitude, valid rate), else zero. */
+aocs_vec3_t aocs_exec_safe_command(const aocs_exec_config_t *cfg, aocs_law_id_t law,
+                                   const aocs_exec_input_t *in);
+
+/*
+ * Apply the actuator limits of cfg; the result is finite and within every
+ * enabled limit, also when u is NaN/Inf. *saturated = 1 when changed.
+ */
+aocs_vec3_t aocs_exec_saturate(const aocs_exec_config_t *cfg, aocs_vec3_t u, int *saturated);
+
+/* Limit-config check (see aocs_exec_init). */
+aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg);
+
+/* Counter increment that sticks at the maximum instead of wrapping. */
+void aocs_exec_count(uint32_t *counter, uint32_t n);
+
+#endif /* AOCS_EXEC_INTERNAL_H */

@@ -1,0 +1,380 @@
+/*
+ * The fixed-rate executive: config validation, run-time selection, and the
+ * control step (check inputs, choose the mode, run the law, saturate, time).
+ * Mode rules are documented in aocs/executive.h.
+ */
+#include <stddef.h>
+#include <string.h>
+
+#include "aocs/hal.h"
+#include "exec_internal.h"
+
+/* Half the tick range: a tick "gap" larger than this is a tick that went backwards. */
+#define TICK_BACKWARDS 0x80000000u
+
+const char *aocs_exec_mode_name(aocs_exec_mode_t mode)
+{
+    const char *name = "unknown";
+    if (mode == AOCS_EXEC_MODE_STANDBY) {
+        name = "standby";
+    } else if (mode == AOCS_EXEC_MODE_NOMINAL) {
+        name = "nominal";
+    } else if (mode == AOCS_EXEC_MODE_SAFE) {
+        name = "safe";
+    } else {
+        name = "unknown";
+    }
+    return name;
+}
+
+void aocs_exec_config_default(aocs_exec_config_t *cfg)
+{
+    if (cfg != NULL) {
+        (void)memset(cfg, 0, sizeof(*cfg));
+        cfg->period_s = AOCS_R(0.1);
+        cfg->law = AOCS_LAW_NONE;
+        cfg->target.qd_DN = aocs_quat_identity();
+        cfg->target.wd_B = aocs_vec3_zero();
+        cfg->target.wd_dot_B = aocs_vec3_zero();
+        cfg->u_max_axis = aocs_vec3_zero();
+        cfg->u_max_norm = AOCS_R(0.0);
+        cfg->k_safe = AOCS_R(1.0);
+        cfg->recover_good_samples = 10u;
+        cfg->missing_max_periods = 3u;
+        cfg->stale_timeout_ns = 200000000u; /* 2 periods of 0.1 s */
+        cfg->budget_ns = 0u;
+        cfg->clock = AOCS_EXEC_CLOCK_LOCKSTEP;
+    }
+}
+
+static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *period_ns)
+{
+    aocs_status_t st = aocs_exec_period_to_ns(cfg->period_s, period_ns);
+    if (st != AOCS_OK) {
+        /* period_to_ns already says RATE_INVALID */
+    } else if (((int)cfg->law < 0) || (cfg->law >= AOCS_LAW_COUNT)) {
+        st = AOCS_ERR_UNKNOWN_LAW;
+    } else if ((cfg->clock != AOCS_EXEC_CLOCK_LOCKSTEP) && (cfg->clock != AOCS_EXEC_CLOCK_REALTIME)) {
+        st = AOCS_ERR_MODE_INVALID;
+    } else if (aocs_exec_target_check(&cfg->target) != AOCS_OK) {
+        st = AOCS_ERR_TARGET_INVALID;
+    } else if (!AOCS_IS_FINITE(cfg->k_safe)) {
+        st = AOCS_ERR_PARAM_NOT_FINITE;
+    } else if (!(cfg->k_safe > AOCS_R(0.0))) {
+        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else if ((cfg->recover_good_samples == 0u) || (cfg->missing_max_periods == 0u)) {
+        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else if ((cfg->clock == AOCS_EXEC_CLOCK_REALTIME) && (cfg->stale_timeout_ns == 0u)) {
+        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else {
+        st = aocs_exec_limits_check(cfg);
+    }
+    return st;
+}
+
+static void set_mode(aocs_exec_t *exec, aocs_exec_mode_t mode)
+{
+    if (exec->mode != mode) {
+        exec->mode = mode;
+        aocs_exec_count(&exec->counters.mode_transitions, 1u);
+    }
+    exec->good_run = 0u;
+}
+
+aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    uint64_t period_ns = 0u;
+    if (exec != NULL) {
+        /* any failure below leaves exec cleanly not initialised */
+        (void)memset(exec, 0, sizeof(*exec));
+        exec->initialised = 0;
+    }
+    if ((exec == NULL) || (cfg == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else {
+        st = config_check(cfg, &period_ns);
+        if ((st == AOCS_OK) && (cfg->law != AOCS_LAW_NONE)) {
+            st = aocs_exec_law_init(&exec->states, &cfg->laws, cfg->law);
+        }
+        if (st == AOCS_OK) {
+            exec->cfg = *cfg;
+            exec->period_ns = period_ns;
+            exec->law = cfg->law;
+            exec->target = cfg->target;
+            exec->requested = (cfg->law == AOCS_LAW_NONE) ? AOCS_EXEC_MODE_STANDBY : AOCS_EXEC_MODE_NOMINAL;
+            exec->mode = exec->requested;
+            exec->last_u_cmd = aocs_vec3_zero();
+            exec->initialised = 1;
+        }
+    }
+    return st;
+}
+
+aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_exec_target_t *target)
+{
+    aocs_status_t st = AOCS_OK;
+    if (exec == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (exec->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        if (((int)law < 0) || (law >= AOCS_LAW_COUNT)) {
+            st = AOCS_ERR_UNKNOWN_LAW;
+        } else if ((target != NULL) && (aocs_exec_target_check(target) != AOCS_OK)) {
+            st = AOCS_ERR_TARGET_INVALID;
+        } else if ((law != AOCS_LAW_NONE) && (law != exec->law)) {
+            /* one state per law: a failing init leaves the active law untouched */
+            st = aocs_exec_law_init(&exec->states, &exec->cfg.laws, law);
+        } else {
+            st = AOCS_OK;
+        }
+        if (st == AOCS_OK) {
+            if (target != NULL) {
+                exec->target = *target;
+            }
+            if (law != exec->law) {
+                /* good samples seen with the previous law prove nothing about this one */
+                exec->good_run = 0u;
+            }
+            exec->law = law;
+            if (law == AOCS_LAW_NONE) {
+                exec->requested = AOCS_EXEC_MODE_STANDBY;
+                set_mode(exec, AOCS_EXEC_MODE_STANDBY);
+            } else {
+                exec->requested = AOCS_EXEC_MODE_NOMINAL;
+                if (exec->mode == AOCS_EXEC_MODE_STANDBY) {
+                    set_mode(exec, AOCS_EXEC_MODE_NOMINAL);
+                }
+                /* from SAFE: only the recovery rule returns to NOMINAL */
+            }
+            aocs_exec_count(&exec->counters.select_accepted, 1u);
+        } else {
+            aocs_exec_count(&exec->counters.select_rejected, 1u);
+        }
+    }
+    return st;
+}
+
+/*
+ * Sample freshness: ticks and sensor time must advance; a tick gap counts
+ * the samples that never came. Updates the tick/time reference unless the
+ * sample is stale (a stale sample must not move the reference backwards).
+ */
+static aocs_status_t sample_timing_check(aocs_exec_t *exec, const aocs_exec_input_t *in)
+{
+    aocs_status_t st = AOCS_OK;
+    if (exec->have_sample != 0) {
+        uint32_t gap = in->tick - exec->last_tick; /* modulo 2^32: the counter may wrap */
+        if ((gap == 0u) || (gap >= TICK_BACKWARDS) || (in->t_sensor_ns <= exec->last_t_sensor_ns)) {
+            st = AOCS_ERR_INPUT_STALE;
+        } else if (gap > 1u) {
+            /* periods already reported by step_no_input are not counted twice */
+            if ((gap - 1u) > exec->missing_run) {
+                aocs_exec_count(&exec->counters.missing, (gap - 1u) - exec->missing_run);
+            }
+            if ((gap - 1u) >= exec->cfg.missing_max_periods) {
+                st = AOCS_ERR_INPUT_MISSING;
+            }
+        } else {
+            st = AOCS_OK;
+        }
+    }
+    if ((st == AOCS_OK) && (exec->cfg.clock == AOCS_EXEC_CLOCK_REALTIME)) {
+        /* real time: the sample's age against the HAL clock (same time base) */
+        uint64_t now = aocs_hal_time_ns();
+        if ((now > in->t_sensor_ns) && ((now - in->t_sensor_ns) > exec->cfg.stale_timeout_ns)) {
+            st = AOCS_ERR_INPUT_STALE;
+        }
+    }
+    if (st != AOCS_ERR_INPUT_STALE) {
+        exec->have_sample = 1;
+        exec->last_tick = in->tick;
+        exec->last_t_sensor_ns = in->t_sensor_ns;
+    }
+    return st;
+}
+
+static void finish_output(aocs_exec_t *exec, aocs_exec_output_t *out, uint64_t budget)
+{
+    out->law = exec->law;
+    out->mode = exec->mode;
+    out->budget_ns = budget;
+    out->overrun = 0;
+    if (out->step_time_ns > budget) {
+        out->overrun = 1;
+        aocs_exec_count(&exec->counters.overrun, 1u);
+    }
+    if (out->step_time_ns > exec->counters.step_time_max_ns) {
+        exec->counters.step_time_max_ns = out->step_time_ns;
+    }
+    if (out->saturated != 0) {
+        aocs_exec_count(&exec->counters.saturated, 1u);
+    }
+    aocs_exec_count(&exec->counters.steps, 1u);
+    exec->last_u_cmd = out->u_cmd;
+    out->counters = exec->counters;
+}
+
+static void zero_output(aocs_exec_output_t *out)
+{
+    (void)memset(out, 0, sizeof(*out));
+    out->u_cmd = aocs_vec3_zero();
+    out->u_unsat = aocs_vec3_zero();
+    out->law = AOCS_LAW_NONE;
+    out->mode = AOCS_EXEC_MODE_STANDBY;
+    out->law_status = AOCS_OK;
+    out->input_status = AOCS_OK;
+}
+
+static uint64_t step_budget(const aocs_exec_t *exec)
+{
+    uint64_t budget = exec->cfg.budget_ns;
+    if (budget == 0u) {
+        budget = (exec->mode == AOCS_EXEC_MODE_NOMINAL) ? aocs_law_budget_ns(exec->law)
+                                                        : (uint64_t)AOCS_EXEC_SAFE_BUDGET_NS;
+    }
+    return budget;
+}
+
+aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_exec_output_t *out)
+{
+    aocs_status_t st = AOCS_OK;
+    if (out != NULL) {
+        zero_output(out);
+    }
+    if ((exec == NULL) || (in == NULL) || (out == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (exec->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        aocs_status_t in_st;
+        aocs_status_t law_st = AOCS_OK;
+        aocs_vec3_t u_law = aocs_vec3_zero();
+        aocs_att_input_t att;
+        aocs_orbit_input_t orbit;
+        uint64_t t_start;
+        uint32_t c_start;
+        int good;
+        int sat = 0;
+
+        out->tick = in->tick;
+        in_st = sample_timing_check(exec, in);
+        if (in_st == AOCS_OK) {
+            in_st = aocs_exec_input_check(exec->law, in);
+        }
+        if ((in_st == AOCS_ERR_INPUT_NOT_FINITE) || (in_st == AOCS_ERR_QUAT_NOT_UNIT) ||
+            (in_st == AOCS_ERR_INPUT_INVALID)) {
+            aocs_exec_count(&exec->counters.invalid, 1u);
+        } else if (in_st == AOCS_ERR_INPUT_STALE) {
+            aocs_exec_count(&exec->counters.stale, 1u);
+        } else {
+            /* missing samples were counted by the timing check, OK needs nothing */
+        }
+
+        att.q_BN = in->q_BN;
+        att.w_BN_B = in->w_BN_B;
+        att.qd_DN = exec->target.qd_DN;
+        att.wd_B = exec->target.wd_B;
+        att.wd_dot_B = exec->target.wd_dot_B;
+        att.dt_s = exec->cfg.period_s;
+        orbit.pos_m = in->pos_m;
+        orbit.vel_mps = in->vel_mps;
+        orbit.dt_s = exec->cfg.period_s;
+
+        t_start = aocs_hal_time_ns();
+        c_start = aocs_hal_cycles();
+        /* the law also runs in SAFE (output unused) so recovery needs a law that works */
+        if ((in_st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
+            law_st = aocs_exec_law_step(&exec->states, exec->law, &att, &orbit, &u_law);
+            if (law_st != AOCS_OK) {
+                aocs_exec_count(&exec->counters.law_error, 1u);
+            }
+        }
+        good = 0;
+        if ((in_st == AOCS_OK) && (law_st == AOCS_OK)) {
+            good = 1;
+        }
+
+        if (exec->requested == AOCS_EXEC_MODE_NOMINAL) {
+            if (good == 0) {
+                set_mode(exec, AOCS_EXEC_MODE_SAFE);
+            } else if (exec->mode == AOCS_EXEC_MODE_SAFE) {
+                exec->good_run += 1u;
+                if (exec->good_run >= exec->cfg.recover_good_samples) {
+                    set_mode(exec, AOCS_EXEC_MODE_NOMINAL);
+                }
+            } else {
+                /* NOMINAL and good: stay */
+            }
+        }
+
+        if (exec->mode == AOCS_EXEC_MODE_NOMINAL) {
+            out->u_unsat = u_law;
+        } else if (exec->mode == AOCS_EXEC_MODE_SAFE) {
+            out->u_unsat = aocs_exec_safe_command(&exec->cfg, exec->law, in);
+        } else {
+            out->u_unsat = aocs_vec3_zero();
+        }
+        out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        out->step_time_ns = aocs_hal_time_ns() - t_start;
+        out->step_cycles = aocs_hal_cycles() - c_start;
+
+        out->saturated = sat;
+        out->law_status = law_st;
+        out->input_status = in_st;
+        finish_output(exec, out, step_budget(exec));
+        if (in_st != AOCS_ERR_INPUT_STALE) {
+            exec->missing_run = 0u; /* the tick reference moved past the counted periods */
+        }
+    }
+    return st;
+}
+
+aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out)
+{
+    aocs_status_t st = AOCS_OK;
+    if (out != NULL) {
+        zero_output(out);
+    }
+    if ((exec == NULL) || (out == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (exec->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        uint64_t t_start = aocs_hal_time_ns();
+        uint32_t c_start = aocs_hal_cycles();
+        int sat = 0;
+        aocs_exec_count(&exec->missing_run, 1u);
+        aocs_exec_count(&exec->counters.missing, 1u);
+        if (exec->mode == AOCS_EXEC_MODE_STANDBY) {
+            out->u_unsat = aocs_vec3_zero();
+        } else if ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (exec->missing_run < exec->cfg.missing_max_periods)) {
+            /* zero-order hold of the last command over a short gap */
+            out->u_unsat = exec->last_u_cmd;
+        } else {
+            set_mode(exec, AOCS_EXEC_MODE_SAFE);
+            out->u_unsat = aocs_vec3_zero(); /* no fresh rate to damp */
+        }
+        out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        out->step_time_ns = aocs_hal_time_ns() - t_start;
+        out->step_cycles = aocs_hal_cycles() - c_start;
+        out->saturated = sat;
+        out->tick = exec->last_tick;
+        out->law_status = AOCS_OK;
+        out->input_status = AOCS_ERR_INPUT_MISSING;
+        finish_output(exec, out, step_budget(exec));
+    }
+    return st;
+}
+
+aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec)
+{
+    aocs_exec_counters_t c;
+    if (exec != NULL) {
+        c = exec->counters;
+    } else {
+        (void)memset(&c, 0, sizeof(c));
+    }
+    return c;
+}
