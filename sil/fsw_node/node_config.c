@@ -1,0 +1,391 @@
+/*
+ * fsw_node configuration parser (docs/wire-contract.md). Table driven: each
+ * key names a field of aocs_node_config_t, how many numbers it takes and the
+ * sign rule checked here, so an error message can always name the key. The
+ * executive's own init still validates everything (ordering rules, inertia).
+ */
+#include "node_config.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum {
+    KIND_REAL,     /* n real_t values at offset */
+    KIND_DOUBLE,   /* one double at offset (node settings) */
+    KIND_U32,      /* one uint32_t */
+    KIND_U64,      /* one uint64_t */
+    KIND_SECONDS_NS, /* seconds given, uint64_t ns stored */
+    KIND_LAW,      /* law name -> aocs_law_id_t */
+    KIND_RUN_MODE, /* lockstep | realtime */
+    KIND_STRING,   /* char[AOCS_NODE_URL_MAX] */
+    KIND_INERTIA   /* 3 (diagonal) or 9 (row-major) values */
+} key_kind_t;
+
+typedef enum {
+    RULE_ANY,      /* finite */
+    RULE_POS,      /* finite and > 0 */
+    RULE_NONNEG    /* finite and >= 0 */
+} key_rule_t;
+
+typedef struct {
+    const char *name;
+    key_kind_t kind;
+    size_t offset;
+    unsigned count;    /* values for KIND_REAL */
+    key_rule_t rule;
+    const char *help;  /* shown in errors: unit / meaning */
+} key_def_t;
+
+#define OFF(member) offsetof(aocs_node_config_t, member)
+
+static const key_def_t KEYS[] = {
+    {"law", KIND_LAW, OFF(exec.law), 1u, RULE_ANY, "law name (executive.h), none = standby"},
+    {"mode", KIND_RUN_MODE, OFF(run_mode), 1u, RULE_ANY, "lockstep | realtime"},
+    {"control_period_s", KIND_REAL, OFF(exec.period_s), 1u, RULE_POS, "s"},
+    {"target_q", KIND_REAL, OFF(exec.target.qd_DN), 4u, RULE_ANY, "4 numbers, scalar last, unit"},
+    {"target_w", KIND_REAL, OFF(exec.target.wd_B), 3u, RULE_ANY, "rad/s, 3 numbers"},
+    {"target_w_dot", KIND_REAL, OFF(exec.target.wd_dot_B), 3u, RULE_ANY, "rad/s^2, 3 numbers"},
+    {"u_max_axis", KIND_REAL, OFF(exec.u_max_axis), 3u, RULE_NONNEG, "N m (N) per axis, 3 numbers"},
+    {"u_max_norm", KIND_REAL, OFF(exec.u_max_norm), 1u, RULE_NONNEG, "N m (N), 0 = unused"},
+    {"k_safe", KIND_REAL, OFF(exec.k_safe), 1u, RULE_POS, "N m s/rad"},
+    {"recover_good_samples", KIND_U32, OFF(exec.recover_good_samples), 1u, RULE_POS, "count >= 1"},
+    {"missing_max_periods", KIND_U32, OFF(exec.missing_max_periods), 1u, RULE_POS, "count >= 1"},
+    {"stale_timeout_s", KIND_SECONDS_NS, OFF(exec.stale_timeout_ns), 1u, RULE_POS, "s"},
+    {"budget_ns", KIND_U64, OFF(exec.budget_ns), 1u, RULE_NONNEG, "ns, 0 = the law's budget"},
+    {"idle_timeout_s", KIND_DOUBLE, OFF(idle_timeout_s), 1u, RULE_POS, "s"},
+    {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none"},
+    {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s"},
+    {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL"},
+    {"inertia", KIND_INERTIA, OFF(exec.laws.smc.inertia), 1u, RULE_ANY,
+     "kg m^2: 3 numbers (diagonal) or 9 (row-major)"},
+    {"crp_linear.k1", KIND_REAL, OFF(exec.laws.crp_linear.k1), 1u, RULE_POS, "N m s/rad"},
+    {"crp_linear.k2", KIND_REAL, OFF(exec.laws.crp_linear.k2), 1u, RULE_POS, "N m"},
+    {"quat_pd.kp", KIND_REAL, OFF(exec.laws.quat_pd.kp), 1u, RULE_POS, "N m"},
+    {"quat_pd.kd", KIND_REAL, OFF(exec.laws.quat_pd.kd), 1u, RULE_POS, "N m s/rad"},
+    {"quat_nlpd.kp", KIND_REAL, OFF(exec.laws.quat_nlpd.kp), 1u, RULE_POS, "N m"},
+    {"quat_nlpd.kd", KIND_REAL, OFF(exec.laws.quat_nlpd.kd), 1u, RULE_POS, "N m s/rad"},
+    {"smc.lambda", KIND_REAL, OFF(exec.laws.smc.lambda), 3u, RULE_POS, "diagonal of Lambda, 3 numbers"},
+    {"smc.g", KIND_REAL, OFF(exec.laws.smc.g), 3u, RULE_POS, "diagonal of G, 3 numbers"},
+    {"smc.eps", KIND_REAL, OFF(exec.laws.smc.eps), 3u, RULE_POS, "boundary layers, 3 numbers"},
+    {"lqr_quat.k", KIND_REAL, OFF(exec.laws.lqr_quat.k), 18u, RULE_ANY,
+     "3x6 gain, 18 numbers row-major, columns qe_vec then we"},
+    {"hinf.k", KIND_REAL, OFF(exec.laws.hinf.k), 18u, RULE_ANY,
+     "3x6 gain u = K x, 18 numbers row-major, columns phi theta psi then rates"},
+    {"mrp_sat.k", KIND_REAL, OFF(exec.laws.mrp_sat.k), 1u, RULE_POS, "N m s"},
+    {"mrp_sat.lambda", KIND_REAL, OFF(exec.laws.mrp_sat.lambda), 1u, RULE_POS, "attitude gain"},
+    {"mrp_sat.u_max", KIND_REAL, OFF(exec.laws.mrp_sat.u_max), 1u, RULE_POS, "N m, bound on |u|_2"},
+    {"mrp_sat.l1", KIND_REAL, OFF(exec.laws.mrp_sat.l1), 3u, RULE_POS, "S1 linear zone, 3 numbers"},
+    {"mrp_sat.m1", KIND_REAL, OFF(exec.laws.mrp_sat.m1), 3u, RULE_POS, "S1 bound, 3 numbers"},
+    {"mrp_sat.l2", KIND_REAL, OFF(exec.laws.mrp_sat.l2), 3u, RULE_POS, "S2 linear zone, 3 numbers"},
+    {"mrp_sat.m2", KIND_REAL, OFF(exec.laws.mrp_sat.m2), 3u, RULE_POS, "S2 bound, 3 numbers"},
+    {"orbit_lqr.k", KIND_REAL, OFF(exec.laws.orbit_lqr.k), 18u, RULE_ANY,
+     "3x6 gain F = -K x, 18 numbers row-major, columns du dv dw then dx dy dz"},
+};
+
+#define KEY_COUNT (sizeof(KEYS) / sizeof(KEYS[0]))
+
+static void set_err(char *err, size_t err_size, const char *fmt, ...)
+{
+    va_list ap;
+    if ((err == NULL) || (err_size == 0u)) {
+        return;
+    }
+    va_start(ap, fmt);
+    (void)vsnprintf(err, err_size, fmt, ap);
+    va_end(ap);
+}
+
+static const key_def_t *find_key(const char *key)
+{
+    size_t i;
+    for (i = 0u; i < KEY_COUNT; ++i) {
+        if (strcmp(KEYS[i].name, key) == 0) {
+            return &KEYS[i];
+        }
+    }
+    return NULL;
+}
+
+/* Splits value into up to max finite numbers; returns the count or -1 (bad token in *bad). */
+static int parse_numbers(const char *value, double *out, unsigned max, const char **bad)
+{
+    const char *p = value;
+    int n = 0;
+    for (;;) {
+        char *end = NULL;
+        double x;
+        while ((*p != '\0') && (isspace((unsigned char)*p) || (*p == ','))) {
+            ++p;
+        }
+        if (*p == '\0') {
+            break;
+        }
+        errno = 0;
+        x = strtod(p, &end);
+        if ((end == p) || (errno == ERANGE) || !isfinite(x) ||
+            ((*end != '\0') && !isspace((unsigned char)*end) && (*end != ','))) {
+            *bad = p;
+            return -1;
+        }
+        if ((unsigned)n >= max) {
+            *bad = p;
+            return -2;
+        }
+        out[n] = x;
+        ++n;
+        p = end;
+    }
+    return n;
+}
+
+static int check_rule(const key_def_t *k, double x, char *err, size_t err_size)
+{
+    if ((k->rule == RULE_POS) && !(x > 0.0)) {
+        set_err(err, err_size, "key '%s': value %g must be > 0 (%s)", k->name, x, k->help);
+        return 1;
+    }
+    if ((k->rule == RULE_NONNEG) && !(x >= 0.0)) {
+        set_err(err, err_size, "key '%s': value %g must be >= 0 (%s)", k->name, x, k->help);
+        return 1;
+    }
+    return 0;
+}
+
+static int set_numeric(aocs_node_config_t *cfg, const key_def_t *k, const char *value, char *err,
+                       size_t err_size)
+{
+    double vals[18];
+    const char *bad = NULL;
+    unsigned want = (k->kind == KIND_REAL) ? k->count : ((k->kind == KIND_INERTIA) ? 9u : 1u);
+    int n = parse_numbers(value, vals, want, &bad);
+    unsigned i;
+    unsigned char *base = (unsigned char *)cfg + k->offset;
+
+    if (n == -1) {
+        set_err(err, err_size, "key '%s': '%s' is not a finite number (%s)", k->name, bad, k->help);
+        return 1;
+    }
+    if (n == -2) {
+        set_err(err, err_size, "key '%s': too many values (%s)", k->name, k->help);
+        return 1;
+    }
+    if (k->kind == KIND_INERTIA) {
+        aocs_mat3_t j = aocs_mat3_zero();
+        if (n == 3) {
+            for (i = 0u; i < 3u; ++i) {
+                j.m[i][i] = (real_t)vals[i];
+            }
+        } else if (n == 9) {
+            for (i = 0u; i < 9u; ++i) {
+                j.m[i / 3u][i % 3u] = (real_t)vals[i];
+            }
+        } else {
+            set_err(err, err_size, "key '%s': %d values given (%s)", k->name, n, k->help);
+            return 1;
+        }
+        memcpy(base, &j, sizeof(j));
+        return 0;
+    }
+    if ((unsigned)n != want) {
+        set_err(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", k->name, n, want, k->help);
+        return 1;
+    }
+    for (i = 0u; i < want; ++i) {
+        if (check_rule(k, vals[i], err, err_size) != 0) {
+            return 1;
+        }
+    }
+    switch (k->kind) {
+    case KIND_REAL:
+        for (i = 0u; i < want; ++i) {
+            real_t r = (real_t)vals[i];
+            memcpy(base + (size_t)i * sizeof(real_t), &r, sizeof(r));
+        }
+        break;
+    case KIND_DOUBLE:
+        memcpy(base, &vals[0], sizeof(double));
+        break;
+    case KIND_U32: {
+        uint32_t u;
+        if ((vals[0] > 4294967295.0) || (floor(vals[0]) < vals[0])) {
+            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", k->name, vals[0], k->help);
+            return 1;
+        }
+        u = (uint32_t)vals[0];
+        memcpy(base, &u, sizeof(u));
+        break;
+    }
+    case KIND_U64: {
+        uint64_t u;
+        if ((vals[0] > 1.8e19) || (floor(vals[0]) < vals[0])) {
+            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", k->name, vals[0], k->help);
+            return 1;
+        }
+        u = (uint64_t)vals[0];
+        memcpy(base, &u, sizeof(u));
+        break;
+    }
+    case KIND_SECONDS_NS: {
+        uint64_t u;
+        if (vals[0] > 1.0e9) {
+            set_err(err, err_size, "key '%s': %g s is out of range (%s)", k->name, vals[0], k->help);
+            return 1;
+        }
+        u = (uint64_t)(vals[0] * 1.0e9 + 0.5);
+        memcpy(base, &u, sizeof(u));
+        break;
+    }
+    default:
+        set_err(err, err_size, "key '%s': internal error (kind)", k->name);
+        return 1;
+    }
+    return 0;
+}
+
+int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
+                         size_t err_size)
+{
+    const key_def_t *k = find_key(key);
+    if (k == NULL) {
+        set_err(err, err_size, "unknown key '%s'", key);
+        return 1;
+    }
+    if (value[0] == '\0') {
+        set_err(err, err_size, "key '%s': empty value (%s)", key, k->help);
+        return 1;
+    }
+    switch (k->kind) {
+    case KIND_LAW: {
+        aocs_law_id_t law = AOCS_LAW_NONE;
+        if (aocs_law_from_name(value, &law) != AOCS_OK) {
+            set_err(err, err_size, "key 'law': unknown law '%s'", value);
+            return 1;
+        }
+        cfg->exec.law = law;
+        return 0;
+    }
+    case KIND_RUN_MODE:
+        if (strcmp(value, "lockstep") == 0) {
+            cfg->run_mode = AOCS_NODE_RUN_LOCKSTEP;
+        } else if (strcmp(value, "realtime") == 0) {
+            cfg->run_mode = AOCS_NODE_RUN_REALTIME;
+        } else {
+            set_err(err, err_size, "key 'mode': '%s' is neither lockstep nor realtime", value);
+            return 1;
+        }
+        return 0;
+    case KIND_STRING:
+        if (strlen(value) >= AOCS_NODE_URL_MAX) {
+            set_err(err, err_size, "key '%s': longer than %u characters", key, AOCS_NODE_URL_MAX - 1u);
+            return 1;
+        }
+        (void)snprintf(cfg->lcm_url, sizeof(cfg->lcm_url), "%s", value);
+        return 0;
+    default:
+        return set_numeric(cfg, k, value, err, err_size);
+    }
+}
+
+static void config_defaults(aocs_node_config_t *cfg)
+{
+    memset(cfg, 0, sizeof(*cfg));
+    aocs_exec_config_default(&cfg->exec);
+    cfg->run_mode = AOCS_NODE_RUN_LOCKSTEP;
+    cfg->idle_timeout_s = 5.0;
+    cfg->run_timeout_s = 0.0;
+    cfg->status_period_s = 1.0;
+    cfg->lcm_url[0] = '\0';
+}
+
+/* strips leading/trailing blanks in place, returns the start */
+static char *trim(char *s)
+{
+    char *end;
+    while ((*s != '\0') && isspace((unsigned char)*s)) {
+        ++s;
+    }
+    end = s + strlen(s);
+    while ((end > s) && isspace((unsigned char)end[-1])) {
+        --end;
+    }
+    *end = '\0';
+    return s;
+}
+
+int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
+{
+    FILE *f;
+    char line[1024];
+    char msg[AOCS_NODE_ERR_MAX];
+    unsigned char seen[KEY_COUNT];
+    unsigned lineno = 0u;
+    int rc = 0;
+
+    config_defaults(cfg);
+    memset(seen, 0, sizeof(seen));
+    f = fopen(path, "r");
+    if (f == NULL) {
+        set_err(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        return 1;
+    }
+    while ((rc == 0) && (fgets(line, (int)sizeof(line), f) != NULL)) {
+        char *s;
+        char *eq;
+        char *key;
+        char *value;
+        char *hash;
+        const key_def_t *k;
+        ++lineno;
+        if ((strchr(line, '\n') == NULL) && !feof(f)) {
+            set_err(err, err_size, "%s:%u: line longer than %u characters", path, lineno,
+                    (unsigned)sizeof(line) - 2u);
+            rc = 1;
+            break;
+        }
+        hash = strchr(line, '#');
+        if (hash != NULL) {
+            *hash = '\0';
+        }
+        s = trim(line);
+        if (*s == '\0') {
+            continue;
+        }
+        eq = strchr(s, '=');
+        if (eq == NULL) {
+            set_err(err, err_size, "%s:%u: expected 'key = value', got '%s'", path, lineno, s);
+            rc = 1;
+            break;
+        }
+        *eq = '\0';
+        key = trim(s);
+        value = trim(eq + 1);
+        k = find_key(key);
+        if ((k != NULL) && (seen[k - KEYS] != 0u)) {
+            set_err(err, err_size, "%s:%u: key '%s' given twice", path, lineno, key);
+            rc = 1;
+            break;
+        }
+        if (aocs_node_config_set(cfg, key, value, msg, sizeof(msg)) != 0) {
+            set_err(err, err_size, "%s:%u: %s", path, lineno, msg);
+            rc = 1;
+            break;
+        }
+        seen[k - KEYS] = 1u;
+    }
+    if ((rc == 0) && ferror(f)) {
+        set_err(err, err_size, "%s: read error", path);
+        rc = 1;
+    }
+    (void)fclose(f);
+    if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {
+        /* default: a sample older than two control periods is stale */
+        double p = (double)cfg->exec.period_s;
+        cfg->exec.stale_timeout_ns = (p > 0.0) && (p < 1.0e6) ? (uint64_t)(2.0e9 * p + 0.5) : 0u;
+    }
+    return rc;
+}

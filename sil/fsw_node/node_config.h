@@ -1,0 +1,45 @@
+/*
+ * fsw_node configuration: a flat `key = value` text file written by the
+ * runner from a scenario (format and keys: docs/wire-contract.md,
+ * "fsw_node configuration"). Host code (SIL only), not firmware.
+ */
+#ifndef AOCS_FSW_NODE_CONFIG_H
+#define AOCS_FSW_NODE_CONFIG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aocs/executive.h"
+
+typedef enum {
+    AOCS_NODE_RUN_LOCKSTEP = 0, /* each AOCS_SENSORS message is one tick */
+    AOCS_NODE_RUN_REALTIME = 1  /* absolute-deadline loop at the control rate */
+} aocs_node_run_mode_t;
+
+#define AOCS_NODE_URL_MAX 256u
+#define AOCS_NODE_ERR_MAX 512u
+
+typedef struct {
+    aocs_exec_config_t exec;      /* executive config (law, gains, limits, period) */
+    aocs_node_run_mode_t run_mode;
+    double idle_timeout_s;        /* lockstep: exit after this long without sensor frames, > 0 */
+    double run_timeout_s;         /* whole run limit, s; 0 = none */
+    double status_period_s;       /* heartbeat period on AOCS_STATUS, > 0 */
+    char lcm_url[AOCS_NODE_URL_MAX]; /* empty = LCM default (udpm, ttl=0) */
+} aocs_node_config_t;
+
+/*
+ * Fills defaults (docs/wire-contract.md), then reads `path`. Returns 0 on
+ * success; otherwise non-zero with a message naming the file, line and key
+ * in err (size AOCS_NODE_ERR_MAX).
+ */
+int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size);
+
+/*
+ * Parses one `key = value` line into cfg (exposed for the loader and tests).
+ * Returns 0, or non-zero with a message in err.
+ */
+int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
+                         size_t err_size);
+
+#endif /* AOCS_FSW_NODE_CONFIG_H */
