@@ -9,20 +9,25 @@ PRESETS   := host host-float cortex-m4f cortex-m7
 JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
-        py-test static-analysis no-malloc size-report demo clean
+        image-test py-test static-analysis no-malloc size-report demo clean
 
 setup:
 	@scripts/setup.sh
 
 build: $(addprefix build-,$(PRESETS))
 
-build-%: setup
+$(addprefix build-,$(PRESETS)): build-%: setup
 	@cmake --preset $* >/dev/null
 	@cmake --build --preset $* -j $(JOBS)
 
 unit-test: build-host build-host-float
 	ctest --preset host -j $(JOBS)
 	ctest --preset host-float -j $(JOBS)
+
+# the firmware image of each ARM target, run under QEMU (exit status 0 = pass)
+image-test: build-cortex-m4f build-cortex-m7
+	ctest --test-dir build/cortex-m4f/firmware/port/cortex-m --output-on-failure
+	ctest --test-dir build/cortex-m7/firmware/port/cortex-m --output-on-failure
 
 static-analysis: setup
 	@scripts/static-analysis.sh
@@ -39,7 +44,7 @@ size-report: build-cortex-m4f build-cortex-m7
 demo: build-host
 	@build/host/firmware/port/posix/aocs_demo
 
-test: build unit-test static-analysis no-malloc py-test
+test: build unit-test image-test static-analysis no-malloc py-test
 	@echo "make test: all checks passed"
 
 sil: build-host demo

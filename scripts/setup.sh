@@ -14,7 +14,7 @@ APT_PACKAGES=(
   qemu-system-arm
   cppcheck valgrind iproute2 util-linux
   python3 python3-venv
-  default-jre-headless
+  default-jdk-headless
 )
 
 missing=()
