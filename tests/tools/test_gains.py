@@ -217,6 +217,28 @@ def test_check_fails_on_tampered_copy(generated, tmp_path, capsys):
     assert "AOCS_R(447.0" in err
 
 
+def test_check_accepts_last_digit_noise_but_not_a_small_real_change(generated, tmp_path, capsys):
+    """Solver noise in the 16th digit (another BLAS) passes with a note; 2e-5 does not."""
+    for name in ("aocs_gains.h", "aocs_gains.c"):
+        shutil.copy(REPO / "firmware" / "gains" / name, tmp_path / name)
+    src = tmp_path / "aocs_gains.c"
+    text = src.read_text()
+    original = "AOCS_R(447.21359549995668)"
+    assert original in text
+    src.write_text(text.replace(original, "AOCS_R(447.21359549995691)", 1))
+    capsys.readouterr()
+    assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 0
+    assert "not bit-for-bit" in capsys.readouterr().out
+    src.write_text(text.replace(original, "AOCS_R(447.222)", 1))
+    assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 1
+    # a changed design input or word in the provenance is never noise
+    for old, new in (("lqr_quat_ref: SPEC 2.5", "lqr_quat_ref: SPEC 2.6"), ("Q = 200 I6", "Q = 201 I6"),
+                     ("scipy 1.17.1", "scipy 1.17.2")):
+        assert old in text
+        src.write_text(text.replace(old, new, 1))
+        assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 1
+
+
 def test_committed_tables_contain_provenance():
     text = (REPO / "firmware" / "gains" / "aocs_gains.c").read_text()
     for name in ("lqr_quat_ref", "lqr_quat_strong", "orbit_lqr_q1", "orbit_lqr_q01", "orbit_lqr_q10",
