@@ -32,6 +32,9 @@ const char *aocs_status_name(aocs_status_t status)
         "AOCS_ERR_INPUT_MISSING",
         "AOCS_ERR_RATE_INVALID",
         "AOCS_ERR_INPUT_INVALID",
+        "AOCS_ERR_OUTPUT_NOT_FINITE",
+        "AOCS_ERR_GAIN_TABLE_UNKNOWN",
+        "AOCS_ERR_GAIN_TABLE_WRONG_LAW",
     };
     const char *name = "AOCS_STATUS_UNKNOWN";
     if (((int)status >= 0) && (status < AOCS_STATUS_COUNT)) {

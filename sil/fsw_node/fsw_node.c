@@ -63,6 +63,7 @@ typedef struct {
     uint64_t t_start_ns;
     uint64_t t_last_sensor_ns;    /* HAL time of the last AOCS_SENSORS message */
     /* real-time mode */
+    int have_epoch;               /* rotating target: t0 mapped onto the HAL clock */
     aocs_exec_timer_t timer;
     int have_new_sample;
     aocs_lcm_sensors_t latest;
@@ -307,13 +308,29 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 }
 
 /* ---- configuration ------------------------------------------------------ */
-static const char *status_keys(aocs_status_t st)
+/* the gain keys of a law whose gain is a 3x6 table */
+static const char *gain_keys(aocs_law_id_t law)
+{
+    switch (law) {
+    case AOCS_LAW_LQR_QUAT:
+        return "lqr_quat.k / lqr_quat.table";
+    case AOCS_LAW_HINF:
+        return "hinf.k / hinf.table";
+    case AOCS_LAW_ORBIT_LQR:
+        return "orbit_lqr.k / orbit_lqr.table";
+    default:
+        return "the gains of the selected law";
+    }
+}
+
+static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
 {
     switch (st) {
     case AOCS_ERR_RATE_INVALID:
         return "control_period_s";
     case AOCS_ERR_TARGET_INVALID:
-        return "target_q / target_w / target_w_dot";
+        return "target_q / target_w / target_w_dot / target_rotation_rate (a rotating target needs target_w = "
+               "target_w_dot = 0)";
     case AOCS_ERR_SAT_LIMIT_NOT_POSITIVE:
         return "u_max_axis / u_max_norm (set at least one limit; per-axis all > 0)";
     case AOCS_ERR_GAIN_NOT_POSITIVE:
@@ -323,7 +340,7 @@ static const char *status_keys(aocs_status_t st)
     case AOCS_ERR_INERTIA_SINGULAR:
         return "inertia";
     case AOCS_ERR_GAIN_TABLE_INVALID:
-        return "lqr_quat.k";
+        return gain_keys(law);
     case AOCS_ERR_PARAM_NOT_FINITE:
         return "u_max_*, k_safe or a gain of the selected law";
     default:
@@ -344,7 +361,7 @@ static int load_config(node_t *n, const char *path)
     st = aocs_exec_init(&n->exec, &n->cfg.exec);
     if (st != AOCS_OK) {
         (void)fprintf(stderr, "fsw_node: config error: %s: the executive rejected the configuration of law '%s': %s (check %s)\n",
-                      path, aocs_law_name(n->cfg.exec.law), aocs_status_name(st), status_keys(st));
+                      path, aocs_law_name(n->cfg.exec.law), aocs_status_name(st), status_keys(st, n->cfg.exec.law));
         return 1;
     }
     n->nominal_law = n->cfg.exec.law;
@@ -446,6 +463,14 @@ static const char *run_realtime(node_t *n, int *failed)
         missed = (n->timer.slips != slips_before) ? 1 : 0;
         if (n->have_new_sample != 0) {
             aocs_exec_input_t in;
+            if (n->have_epoch == 0) {
+                /* the sensor time base is the HAL clock here: sim time 0 of the
+                 * plant (the rotating target's t0) is rx time - t_s of the first sample */
+                uint64_t t_sim_ns = aocs_node_seconds_to_ns(n->latest.t_s);
+                uint64_t t0 = (n->latest_rx_ns > t_sim_ns) ? (n->latest_rx_ns - t_sim_ns) : 0u;
+                (void)aocs_exec_set_target_epoch(&n->exec, t0);
+                n->have_epoch = 1;
+            }
             aocs_node_sensors_to_input(&n->latest, n->latest_rx_ns, &in);
             n->have_new_sample = 0;
             rc = aocs_exec_step(&n->exec, &in, &n->out);

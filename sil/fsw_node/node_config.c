@@ -23,7 +23,8 @@ typedef enum {
     KIND_LAW,      /* law name -> aocs_law_id_t */
     KIND_RUN_MODE, /* lockstep | realtime */
     KIND_STRING,   /* char[AOCS_NODE_URL_MAX] */
-    KIND_INERTIA   /* 3 (diagonal) or 9 (row-major) values */
+    KIND_INERTIA,  /* 3 (diagonal) or 9 (row-major) values */
+    KIND_GAIN_TABLE /* design name of a compiled gain table (TABLE_KEYS) */
 } key_kind_t;
 
 typedef enum {
@@ -50,6 +51,8 @@ static const key_def_t KEYS[] = {
     {"target_q", KIND_REAL, OFF(exec.target.qd_DN), 4u, RULE_ANY, "4 numbers, scalar last, unit"},
     {"target_w", KIND_REAL, OFF(exec.target.wd_B), 3u, RULE_ANY, "rad/s, 3 numbers"},
     {"target_w_dot", KIND_REAL, OFF(exec.target.wd_dot_B), 3u, RULE_ANY, "rad/s^2, 3 numbers"},
+    {"target_rotation_rate", KIND_REAL, OFF(exec.target_rotation_rate_D), 3u, RULE_ANY,
+     "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame"},
     {"u_max_axis", KIND_REAL, OFF(exec.u_max_axis), 3u, RULE_NONNEG, "N m (N) per axis, 3 numbers"},
     {"u_max_norm", KIND_REAL, OFF(exec.u_max_norm), 1u, RULE_NONNEG, "N m (N), 0 = unused"},
     {"k_safe", KIND_REAL, OFF(exec.k_safe), 1u, RULE_POS, "N m s/rad"},
@@ -74,8 +77,10 @@ static const key_def_t KEYS[] = {
     {"smc.eps", KIND_REAL, OFF(exec.laws.smc.eps), 3u, RULE_POS, "boundary layers, 3 numbers"},
     {"lqr_quat.k", KIND_REAL, OFF(exec.laws.lqr_quat.k), 18u, RULE_ANY,
      "3x6 gain, 18 numbers row-major, columns qe_vec then we"},
+    {"lqr_quat.table", KIND_GAIN_TABLE, OFF(exec.laws.lqr_quat.k), 1u, RULE_ANY, "gain table design name"},
     {"hinf.k", KIND_REAL, OFF(exec.laws.hinf.k), 18u, RULE_ANY,
      "3x6 gain u = K x, 18 numbers row-major, columns phi theta psi then rates"},
+    {"hinf.table", KIND_GAIN_TABLE, OFF(exec.laws.hinf.k), 1u, RULE_ANY, "gain table design name"},
     {"mrp_sat.k", KIND_REAL, OFF(exec.laws.mrp_sat.k), 1u, RULE_POS, "N m s"},
     {"mrp_sat.lambda", KIND_REAL, OFF(exec.laws.mrp_sat.lambda), 1u, RULE_POS, "attitude gain"},
     {"mrp_sat.u_max", KIND_REAL, OFF(exec.laws.mrp_sat.u_max), 1u, RULE_POS, "N m, bound on |u|_2"},
@@ -85,9 +90,25 @@ static const key_def_t KEYS[] = {
     {"mrp_sat.m2", KIND_REAL, OFF(exec.laws.mrp_sat.m2), 3u, RULE_POS, "S2 bound, 3 numbers"},
     {"orbit_lqr.k", KIND_REAL, OFF(exec.laws.orbit_lqr.k), 18u, RULE_ANY,
      "3x6 gain F = -K x, 18 numbers row-major, columns du dv dw then dx dy dz"},
+    {"orbit_lqr.table", KIND_GAIN_TABLE, OFF(exec.laws.orbit_lqr.k), 1u, RULE_ANY, "gain table design name"},
 };
 
 #define KEY_COUNT (sizeof(KEYS) / sizeof(KEYS[0]))
+
+/* `<law>.table` keys: the law whose gain they set, and the `<law>.k` key they exclude */
+typedef struct {
+    const char *table_key;
+    aocs_law_id_t law;
+    const char *k_key;
+} table_key_t;
+
+static const table_key_t TABLE_KEYS[] = {
+    {"lqr_quat.table", AOCS_LAW_LQR_QUAT, "lqr_quat.k"},
+    {"hinf.table", AOCS_LAW_HINF, "hinf.k"},
+    {"orbit_lqr.table", AOCS_LAW_ORBIT_LQR, "orbit_lqr.k"},
+};
+
+#define TABLE_KEY_COUNT (sizeof(TABLE_KEYS) / sizeof(TABLE_KEYS[0]))
 
 static void set_err(char *err, size_t err_size, const char *fmt, ...)
 {
@@ -98,6 +119,49 @@ static void set_err(char *err, size_t err_size, const char *fmt, ...)
     va_start(ap, fmt);
     (void)vsnprintf(err, err_size, fmt, ap);
     va_end(ap);
+}
+
+/* "a, b, c": the names of the compiled gain tables designed for law */
+static void table_names(aocs_law_id_t law, char *buf, size_t size)
+{
+    size_t used = 0u;
+    int i;
+    buf[0] = '\0';
+    for (i = 0; i < (int)AOCS_GAIN_TABLE_COUNT; ++i) {
+        aocs_gain_table_id_t t = (aocs_gain_table_id_t)i;
+        if ((aocs_gain_table_law(t) == law) && (used < size)) {
+            int n = snprintf(buf + used, size - used, "%s%s", (used > 0u) ? ", " : "", aocs_gain_table_name(t));
+            used += (n > 0) ? (size_t)n : 0u;
+        }
+    }
+}
+
+static int set_gain_table(aocs_node_config_t *cfg, const char *key, const char *value, char *err, size_t err_size)
+{
+    const table_key_t *tk = NULL;
+    aocs_gain_table_id_t table = AOCS_GAIN_TABLE_COUNT;
+    char valid[256];
+    size_t i;
+    for (i = 0u; i < TABLE_KEY_COUNT; ++i) {
+        if (strcmp(TABLE_KEYS[i].table_key, key) == 0) {
+            tk = &TABLE_KEYS[i];
+        }
+    }
+    if (tk == NULL) {
+        set_err(err, err_size, "key '%s': internal error (no gain-table law)", key);
+        return 1;
+    }
+    table_names(tk->law, valid, sizeof(valid));
+    if (aocs_gain_table_find(value, &table) != AOCS_OK) {
+        set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", key, value, valid);
+        return 1;
+    }
+    if (aocs_gain_table_apply(table, tk->law, &cfg->exec.laws) != AOCS_OK) {
+        set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)", key,
+                value, aocs_law_name(aocs_gain_table_law(table)), aocs_law_name(tk->law), valid);
+        return 1;
+    }
+    return 0;
 }
 
 static const key_def_t *find_key(const char *key)
@@ -286,6 +350,8 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
         }
         (void)snprintf(cfg->lcm_url, sizeof(cfg->lcm_url), "%s", value);
         return 0;
+    case KIND_GAIN_TABLE:
+        return set_gain_table(cfg, key, value, err, err_size);
     default:
         return set_numeric(cfg, k, value, err, err_size);
     }
@@ -322,7 +388,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     FILE *f;
     char line[1024];
     char msg[AOCS_NODE_ERR_MAX];
-    unsigned char seen[KEY_COUNT];
+    unsigned seen[KEY_COUNT]; /* line of each key, 0 = not given */
     unsigned lineno = 0u;
     int rc = 0;
 
@@ -375,13 +441,29 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
             rc = 1;
             break;
         }
-        seen[k - KEYS] = 1u;
+        seen[k - KEYS] = lineno;
     }
     if ((rc == 0) && ferror(f)) {
         set_err(err, err_size, "%s: read error", path);
         rc = 1;
     }
     (void)fclose(f);
+    if (rc == 0) {
+        size_t i;
+        for (i = 0u; i < TABLE_KEY_COUNT; ++i) {
+            unsigned line_table = seen[find_key(TABLE_KEYS[i].table_key) - KEYS];
+            unsigned line_k = seen[find_key(TABLE_KEYS[i].k_key) - KEYS];
+            if ((line_table != 0u) && (line_k != 0u)) {
+                set_err(err, err_size,
+                        "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
+                        "by table name or by value, not both",
+                        path, (line_table > line_k) ? line_table : line_k, TABLE_KEYS[i].table_key, line_table,
+                        TABLE_KEYS[i].k_key, line_k);
+                rc = 1;
+                break;
+            }
+        }
+    }
     if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {
         /* default: a sample older than two control periods is stale */
         double p = (double)cfg->exec.period_s;

@@ -5,9 +5,11 @@ quat_pd law, saturation), never read back from the node.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import random
+import re
 import signal
 import statistics
 import subprocess
@@ -23,6 +25,7 @@ REPO = Path(__file__).resolve().parents[2]
 # Wire numbering of the laws and modes (docs/wire-contract.md tables).
 LAW_QUAT_PD = 2
 LAW_CRP_LINEAR = 1
+LAW_LQR_QUAT, LAW_HINF, LAW_ORBIT_LQR = 6, 7, 10
 MODE_NOMINAL, MODE_SAFE = 1, 2
 KP, KD = 4.0, 8.0
 LIMIT = (0.5, 0.6, 0.7)
@@ -55,6 +58,23 @@ def quat_pd(q, w, qd, wd=(0.0, 0.0, 0.0)):
     qe = qmul(q, [-qd[0], -qd[1], -qd[2], qd[3]])
     sgn = 1.0 if qe[3] >= 0.0 else -1.0
     return [-KP * sgn * qe[i] - KD * (w[i] - wd[i]) for i in range(3)]
+
+
+def rotate(q, v):
+    """A(q) v (SPEC 1)."""
+    a = dcm(q)
+    return [sum(a[i][j] * v[j] for j in range(3)) for i in range(3)]
+
+
+def generated_gains() -> dict[str, list[list[float]]]:
+    """The 3x6 tables of firmware/gains/aocs_gains.c, parsed here (not through the node's lookup)."""
+    text = (REPO / "firmware/gains/aocs_gains.c").read_text()
+    tables = {}
+    for name, body in re.findall(r"const real_t aocs_gains_(\w+)_K\[3\]\[6\] = \{(.*?)\};", text, re.S):
+        nums = [float(x) for x in re.findall(r"AOCS_R\(([^)]*)\)", body)]
+        assert len(nums) == 18, name
+        tables[name] = [nums[6 * r:6 * r + 6] for r in range(3)]
+    return tables
 
 
 def clip(u, lim):
@@ -252,6 +272,112 @@ def test_commands_rejected_and_accepted(fsw_node, lcm_link, aocs_lcm, status_cod
     node.stop()
 
 
+def test_gain_tables_by_name(fsw_node, lcm_link, aocs_lcm, tol):
+    """`<law>.table = <design>` loads the generated table: torque/force = the law with that K."""
+    k = generated_gains()
+    assert {"lqr_quat_strong", "hinf_regional", "orbit_lqr_q01"} <= set(k)
+    node = fsw_node(law="lqr_quat", lqr_quat__table="lqr_quat_strong", hinf__table="hinf_regional",
+                    orbit_lqr__table="orbit_lqr_q01")
+    node.wait_ready(lcm_link)
+    s = aocs_lcm.sensors_t
+
+    # lqr_quat (SPEC 2.5): u = -K [sign(qe4) qe_vec; we], identity target; q4 < 0 exercises the sign
+    q, w = [-x for x in unit([0.01, -0.02, 0.015, 1.0])], [1e-3, -2e-3, 5e-4]
+    lcm_link.send_sensors(0, q, w)
+    r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", 1)[-1]
+    assert r.law_id == LAW_LQR_QUAT and r.status == 0
+    sgn = 1.0 if q[3] >= 0 else -1.0
+    x = [sgn * q[0], sgn * q[1], sgn * q[2]] + w
+    kk = k["lqr_quat_strong"]
+    assert_close(r.u_unsat, [-sum(kk[i][j] * x[j] for j in range(6)) for i in range(3)], tol, "lqr_quat")
+
+    # hinf (SPEC 2.6): u = +K x; zero angles, so the Euler rates are the body rates
+    lcm_link.send_command(1, law_id=LAW_HINF)
+    lcm_link.wait_for("AOCS_STATUS", 1, pred=lambda m: m.last_request == 1 and m.last_request_status == 0)
+    lcm_link.send_sensors(1, [0, 0, 0, 1], w)
+    r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", 2)[-1]
+    assert r.law_id == LAW_HINF and r.status == 0
+    kk = k["hinf_regional"]
+    assert_close(r.u_unsat, [sum(kk[i][3 + j] * w[j] for j in range(3)) for i in range(3)], tol, "hinf")
+
+    # orbit_lqr (SPEC 2.8): F = -K [vel; pos]
+    lcm_link.send_command(2, law_id=LAW_ORBIT_LQR)
+    lcm_link.wait_for("AOCS_STATUS", 1, pred=lambda m: m.last_request == 2 and m.last_request_status == 0)
+    pos, vel = [1.0, -1.0, -6.0], [0.05, -0.1, 0.35]
+    lcm_link.send_sensors(2, [0, 0, 0, 1], [0, 0, 0], pos=pos, vel=vel, valid=s.VALID_POSITION | s.VALID_VELOCITY)
+    r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", 3)[-1]
+    assert r.law_id == LAW_ORBIT_LQR and r.status == 0
+    kk, xo = k["orbit_lqr_q01"], vel + pos
+    assert_close(r.u_unsat, [-sum(kk[i][j] * xo[j] for j in range(6)) for i in range(3)], tol, "orbit_lqr")
+    node.stop()
+
+
+def _plant_target(qd0, wd):
+    """Plant.target of the geo_hinf scenario, with the target replaced by (qd0, wd)."""
+    from aocs_plant import Plant, load
+
+    sc = load("geo_hinf")
+    sc = dataclasses.replace(sc, target=dataclasses.replace(sc.target, qd0=tuple(qd0), wd=tuple(wd)))
+    return Plant(sc).target
+
+
+def _rotating_reply_check(r, q, w, qd, w_d, tol):
+    """quat_pd with the rotating target: wd_B = A(qe) w_D (SPEC 1 we = w - wd)."""
+    qe = qmul(q, [-qd[0], -qd[1], -qd[2], qd[3]])
+    n = math.sqrt(sum(x * x for x in qe))
+    wd_b = rotate([x / n for x in qe], w_d)
+    assert r.status == 0 and r.mode == MODE_NOMINAL
+    assert_close(r.u_unsat, quat_pd(q, w, qd, wd_b), tol, f"u_unsat tick={r.tick}")
+
+
+def test_rotating_target_follows_plant_target(fsw_node, lcm_link, aocs_lcm, tol, status_codes):
+    """target_rotation_rate: the node's law sees the plant's Plant.target(t) and wd_B = A(qe) w."""
+    from aocs_plant import load
+
+    geo = load("geo_hinf").target
+    # 1) geo_hinf as written: LVLH target rotating at (0, -w0, 0) from the identity
+    target = _plant_target(geo.qd0, geo.wd)
+    node = fsw_node(target_q=" ".join(repr(x) for x in geo.qd0),
+                    target_rotation_rate=" ".join(repr(x) for x in geo.wd))
+    node.wait_ready(lcm_link)
+    q, w = unit([0.004, -0.004, 0.004, 1.0]), [1e-5, -6.292115e-05, -1e-5]
+    for k, t in enumerate((0.1, 600.0, 1200.0)):
+        lcm_link.send_sensors(k, q, w, t_s=t)
+        r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", k + 1)[-1]
+        qd, wd = target(t)
+        _rotating_reply_check(r, q, w, qd, wd, tol)
+    # the target really moved: 1200 s of w0 is 5 deg of pitch, a torque change of kp sin(2.5 deg)
+    assert abs(r.u_unsat[1] - quat_pd(q, w, geo.qd0)[1]) > 0.1
+    node.stop()
+
+    # 2) a general target and rate (order of the product and frame of w matter), then a new
+    #    target by command: it becomes qd0 at the time of the last sample
+    qd0, w_d = unit([0.3, -0.2, 0.5, 0.8]), (0.02, -0.05, 0.03)
+    target = _plant_target(qd0, w_d)
+    node = fsw_node("general", target_q=" ".join(repr(x) for x in qd0),
+                    target_rotation_rate=" ".join(repr(x) for x in w_d))
+    node.wait_ready(lcm_link)
+    q, w = unit([0.25, -0.1, 0.45, 0.85]), [0.01, -0.02, 0.005]
+    for k, t in enumerate((1.0, 4.0)):
+        lcm_link.send_sensors(k, q, w, t_s=t)
+        r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", k + 1)[-1]
+        qd, wd = target(t)
+        _rotating_reply_check(r, q, w, qd, wd, tol)
+    qd1 = unit([-0.1, 0.4, 0.2, 0.9])
+    lcm_link.send_command(7, qd=qd1)
+    assert lcm_link.wait_for("AOCS_STATUS", 1, pred=lambda m: m.last_request == 7)[-1].last_request_status == 0
+    target1 = _plant_target(qd1, w_d)
+    lcm_link.send_sensors(2, q, w, t_s=6.5)
+    r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", 3)[-1]
+    qd, wd = target1(6.5 - 4.0)
+    _rotating_reply_check(r, q, w, qd, wd, tol)
+    # a fixed target rate next to a rotating target is refused
+    lcm_link.send_command(8, qd=qd1, wd=[0.001, 0, 0])
+    s = lcm_link.wait_for("AOCS_STATUS", 1, pred=lambda m: m.last_request == 8)[-1]
+    assert s.last_request_status == status_codes["AOCS_ERR_TARGET_INVALID"] and s.n_cmd_rejected == 1
+    node.stop()
+
+
 def test_lockstep_exits_after_idle_timeout(fsw_node, lcm_link):
     node = fsw_node(idle_timeout_s=0.5)
     node.wait_ready(lcm_link)
@@ -332,6 +458,21 @@ def test_realtime_rate_and_safe_mode_when_plant_stops(fsw_node, lcm_link):
         ({"mode": "sometimes"}, "'mode'"),
         ({"target_q": "0 0 0 2"}, "target_q"),
         ({"u_max_axis": "0 0 0"}, "u_max_axis"),
+        # gain tables by name: unknown name and wrong family list the valid names of that key
+        ({"law": "hinf", "hinf.table": "hinf_best"},
+         ("key 'hinf.table'", "unknown gain table 'hinf_best'", "valid names: hinf_min, hinf_regional")),
+        ({"hinf.table": "lqr_quat_ref"},
+         ("key 'hinf.table'", "designed for law lqr_quat, not hinf", "hinf_min, hinf_regional")),
+        ({"orbit_lqr.table": "hinf_min"},
+         ("key 'orbit_lqr.table'", "orbit_lqr_q1, orbit_lqr_q01, orbit_lqr_q10")),
+        ({"lqr_quat.table": "LQR_QUAT_REF"}, ("unknown gain table", "lqr_quat_ref, lqr_quat_strong")),
+        ({"lqr_quat.table": "lqr_quat_ref", "lqr_quat.k": " ".join(["1"] * 18)},
+         ("'lqr_quat.table'", "'lqr_quat.k'", "mutually exclusive")),
+        # rotating target: finite rate, and no fixed target rate next to it
+        ({"target_rotation_rate": "0 nan 0"}, "'target_rotation_rate'"),
+        ({"target_rotation_rate": "0 0"}, "'target_rotation_rate'"),
+        ({"target_rotation_rate": "0 -7.292115e-5 0", "target_w": "0 0 1e-3"},
+         ("AOCS_ERR_TARGET_INVALID", "target_rotation_rate")),
     ],
 )
 def test_bad_config_names_the_key(fsw_node_bin, tmp_path, node_config, overrides, needle):
@@ -340,7 +481,9 @@ def test_bad_config_names_the_key(fsw_node_bin, tmp_path, node_config, overrides
     path = write_config(tmp_path / "bad.cfg", cfg)
     res = subprocess.run([str(fsw_node_bin), str(path)], capture_output=True, text=True, timeout=5)
     assert res.returncode == 2
-    assert "config error" in res.stderr and needle in res.stderr, res.stderr
+    assert "config error" in res.stderr, res.stderr
+    for n in (needle,) if isinstance(needle, str) else needle:
+        assert n in res.stderr, res.stderr
 
 
 def test_missing_config_file(fsw_node_bin, tmp_path):

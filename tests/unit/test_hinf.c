@@ -6,7 +6,7 @@
  * body-rate relation itself was checked against finite differences of the
  * quaternion path (p = phidot - psidot sin theta, ...).
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "aocs/control/hinf.h"
 
@@ -19,40 +19,12 @@
 #define ANGLE_ABS_TOL 1.0e-12
 #endif
 
-typedef struct {
-    double q[4];
-} dquat_t;
+/* quaternion reference (dq_t, Shuster product, 3-2-1 quaternions): law_test_support.h */
 
-/* Shuster product, scalar last (Markley-Crassidis 2.82): A(q (x) p) = A(q) A(p) */
-static dquat_t dq_mul(dquat_t q, dquat_t p)
+/* A(qe) = R1(phi) R2(theta) R3(psi) from e = [phi theta psi] */
+static dq_t dq_321(double phi, double theta, double psi)
 {
-    dquat_t r;
-    const double *a = q.q;
-    const double *b = p.q;
-    r.q[0] = b[3] * a[0] + a[3] * b[0] - (a[1] * b[2] - a[2] * b[1]);
-    r.q[1] = b[3] * a[1] + a[3] * b[1] - (a[2] * b[0] - a[0] * b[2]);
-    r.q[2] = b[3] * a[2] + a[3] * b[2] - (a[0] * b[1] - a[1] * b[0]);
-    r.q[3] = a[3] * b[3] - (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-    return r;
-}
-
-/* rotation about body axis i by angle a: A = R_i(a) */
-static dquat_t dq_axis(int i, double a)
-{
-    dquat_t r = {{0.0, 0.0, 0.0, cos(0.5 * a)}};
-    r.q[i] = sin(0.5 * a);
-    return r;
-}
-
-/* 3-2-1: A(qe) = R1(phi) R2(theta) R3(psi) */
-static dquat_t dq_321(double phi, double theta, double psi)
-{
-    return dq_mul(dq_mul(dq_axis(0, phi), dq_axis(1, theta)), dq_axis(2, psi));
-}
-
-static aocs_quat_t to_quat(dquat_t d)
-{
-    return aocs_quat_make((real_t)d.q[0], (real_t)d.q[1], (real_t)d.q[2], (real_t)d.q[3]);
+    return dq_euler321(psi, theta, phi);
 }
 
 /* body rate of B relative to D from Euler angles and rates (3-2-1 forward relation) */
@@ -65,25 +37,18 @@ static void body_rate_from_euler(const double e[3], const double ed[3], double w
 }
 
 /* input for relative Euler state (e, ed) w.r.t. target qd rotating with wd */
-static aocs_att_input_t make_state(const double e[3], const double ed[3], dquat_t qd, const double wd[3])
+static aocs_att_input_t make_state(const double e[3], const double ed[3], dq_t qd, const double wd[3])
 {
     aocs_att_input_t in;
     double w[3];
     body_rate_from_euler(e, ed, w);
-    in.q_BN = to_quat(dq_mul(dq_321(e[0], e[1], e[2]), qd)); /* qe = q (x) qd^-1 */
-    in.qd_DN = to_quat(qd);
-    in.w_BN_B = aocs_vec3_make((real_t)(w[0] + wd[0]), (real_t)(w[1] + wd[1]), (real_t)(w[2] + wd[2]));
-    in.wd_B = aocs_vec3_make((real_t)wd[0], (real_t)wd[1], (real_t)wd[2]);
-    in.wd_dot_B = aocs_vec3_zero();
-    in.dt_s = AOCS_R(0.1);
+    for (int i = 0; i < 3; ++i) {
+        w[i] += wd[i];
+    }
+    /* qe = q (x) qd^-1 */
+    in = make_input_real(dq_to_real(dq_mul(dq_321(e[0], e[1], e[2]), qd)), dv_to_real(w), dq_to_real(qd),
+                         dv_to_real(wd));
     return in;
-}
-
-static dquat_t random_dquat(test_rng_t *rng)
-{
-    aocs_quat_t q = test_random_quat(rng);
-    dquat_t d = {{(double)q.q[0], (double)q.q[1], (double)q.q[2], (double)q.q[3]}};
-    return d;
 }
 
 static aocs_hinf_config_t random_config(test_rng_t *rng)
@@ -111,7 +76,7 @@ static void check_random_states(double angle_max, double rate_max, unsigned seed
         }
         double wd[3] = {test_rng_uniform(&rng, -1e-3, 1e-3), test_rng_uniform(&rng, -1e-3, 1e-3),
                         test_rng_uniform(&rng, -1e-3, 1e-3)};
-        aocs_att_input_t in = make_state(&x[0], &x[3], random_dquat(&rng), wd);
+        aocs_att_input_t in = make_state(&x[0], &x[3], dq_from_real(test_random_quat(&rng)), wd);
         aocs_vec3_t u;
         assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_OK);
         for (int i = 0; i < 3; ++i) {
@@ -150,13 +115,9 @@ static void test_identity_error_gives_zero(void **state)
     aocs_hinf_config_t cfg = random_config(&rng);
     assert_int_equal(aocs_hinf_init(&law, &cfg), AOCS_OK);
     for (int k = 0; k < 100; ++k) {
-        aocs_att_input_t in;
-        in.q_BN = test_random_quat(&rng);
-        in.qd_DN = in.q_BN;
-        in.w_BN_B = test_random_vec3(&rng, 0.01);
-        in.wd_B = in.w_BN_B;
-        in.wd_dot_B = aocs_vec3_zero();
-        in.dt_s = AOCS_R(0.1);
+        const aocs_quat_t q = test_random_quat(&rng);
+        const aocs_vec3_t w = test_random_vec3(&rng, 0.01);
+        aocs_att_input_t in = make_input_real(q, w, q, w);
         aocs_vec3_t u;
         assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_OK);
         /* x = 0 up to the rounding of qe4 ~ 1, qe_vec ~ eps */
@@ -177,15 +138,10 @@ static void test_pure_axis_errors(void **state)
     }
     assert_int_equal(aocs_hinf_init(&law, &cfg), AOCS_OK);
     const double a = 0.01;
-    dquat_t qd = dq_321(0.3, -0.2, 1.0); /* any target */
+    dq_t qd = dq_321(0.3, -0.2, 1.0); /* any target */
     for (int axis = 0; axis < 3; ++axis) {
-        aocs_att_input_t in;
-        in.q_BN = to_quat(dq_mul(dq_axis(axis, a), qd));
-        in.qd_DN = to_quat(qd);
-        in.w_BN_B = aocs_vec3_zero();
-        in.wd_B = aocs_vec3_zero();
-        in.wd_dot_B = aocs_vec3_zero();
-        in.dt_s = AOCS_R(0.1);
+        aocs_att_input_t in = make_input_real(dq_to_real(dq_mul(dq_axis_angle(axis == 0, axis == 1, axis == 2, a), qd)),
+                                              aocs_vec3_zero(), dq_to_real(qd), aocs_vec3_zero());
         aocs_vec3_t u;
         assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_OK);
         for (int i = 0; i < 3; ++i) {
@@ -217,7 +173,7 @@ static void test_gimbal_lock_finite(void **state)
     aocs_hinf_t law;
     aocs_hinf_config_t cfg = random_config(&rng);
     assert_int_equal(aocs_hinf_init(&law, &cfg), AOCS_OK);
-    dquat_t ident = {{0.0, 0.0, 0.0, 1.0}};
+    dq_t ident = {{0.0, 0.0, 0.0, 1.0}};
     double e[3] = {0.0, 1.5707963267948966, 0.0}; /* theta = 90 deg */
     double ed[3] = {0.0, 0.0, 0.0};
     double wd[3] = {0.0, 0.0, 0.0};
@@ -299,7 +255,7 @@ static void test_invalid_inputs_zero_output(void **state)
     in.w_BN_B.v[0] = AOCS_REAL_MAX;
     in.wd_B.v[0] = -AOCS_REAL_MAX; /* we overflows */
     u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
     assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
     assert_int_equal(aocs_hinf_step(NULL, &good, &u), AOCS_ERR_NULL_ARG);
 }

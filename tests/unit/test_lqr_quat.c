@@ -16,7 +16,7 @@
  * S > 0 since a c - b^2 = b^2 + 2 b q > 0. In the 3x6 layout k[i][i] = K_i1,
  * k[i][3+i] = K_i2, zero elsewhere.
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "aocs/control/lqr_quat.h"
 
@@ -62,66 +62,17 @@ static aocs_lqr_quat_config_t design_config(void)
     return cfg;
 }
 
-/* ---- independent quaternion reference (double, scalar last, Shuster product) ---- */
-typedef struct {
-    double q[4];
-} dquat_t;
-
-static dquat_t dq_from(aocs_quat_t a)
-{
-    dquat_t d;
-    for (int i = 0; i < 4; ++i) {
-        d.q[i] = (double)a.q[i];
-    }
-    return d;
-}
-
-/* q (x) p = [p4 qv + q4 pv - qv x pv; q4 p4 - qv.pv] (Markley-Crassidis 2.82) */
-static dquat_t dq_mul(dquat_t q, dquat_t p)
-{
-    dquat_t r;
-    const double *a = q.q;
-    const double *b = p.q;
-    r.q[0] = b[3] * a[0] + a[3] * b[0] - (a[1] * b[2] - a[2] * b[1]);
-    r.q[1] = b[3] * a[1] + a[3] * b[1] - (a[2] * b[0] - a[0] * b[2]);
-    r.q[2] = b[3] * a[2] + a[3] * b[2] - (a[0] * b[1] - a[1] * b[0]);
-    r.q[3] = a[3] * b[3] - (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-    return r;
-}
-
-static dquat_t dq_conj(dquat_t q)
-{
-    dquat_t r = {{-q.q[0], -q.q[1], -q.q[2], q.q[3]}};
-    return r;
-}
-
-static aocs_quat_t to_quat(dquat_t d)
-{
-    return aocs_quat_make((real_t)d.q[0], (real_t)d.q[1], (real_t)d.q[2], (real_t)d.q[3]);
-}
-
+/* quaternion reference (dq_t, Shuster product): law_test_support.h */
 /* x = [sign(qe4) qe_vec; we] from the inputs, evaluated here */
 static void ref_state(const aocs_att_input_t *in, double x[6])
 {
-    dquat_t qe = dq_mul(dq_from(in->q_BN), dq_conj(dq_from(in->qd_DN)));
+    dq_t qe = dq_mul(dq_from_real(in->q_BN), dq_inv(dq_from_real(in->qd_DN)));
     double n = sqrt(qe.q[0] * qe.q[0] + qe.q[1] * qe.q[1] + qe.q[2] * qe.q[2] + qe.q[3] * qe.q[3]);
     double s = (qe.q[3] < 0.0) ? -1.0 : 1.0;
     for (int i = 0; i < 3; ++i) {
         x[i] = s * qe.q[i] / n;
         x[3 + i] = (double)in->w_BN_B.v[i] - (double)in->wd_B.v[i];
     }
-}
-
-static aocs_att_input_t make_input(aocs_quat_t q, aocs_vec3_t w, aocs_quat_t qd, aocs_vec3_t wd)
-{
-    aocs_att_input_t in;
-    in.q_BN = q;
-    in.w_BN_B = w;
-    in.qd_DN = qd;
-    in.wd_B = wd;
-    in.wd_dot_B = aocs_vec3_zero();
-    in.dt_s = AOCS_R(0.1);
-    return in;
 }
 
 static void test_closed_form_are_residual(void **state)
@@ -160,13 +111,13 @@ static void test_torque_matches_formula_random(void **state)
     test_rng_t rng = {0x1234567u};
     int n_neg_q4 = 0;
     for (int k = 0; k < 2000; ++k) {
-        aocs_att_input_t in = make_input(test_random_quat(&rng), test_random_vec3(&rng, 0.1),
+        aocs_att_input_t in = make_input_real(test_random_quat(&rng), test_random_vec3(&rng, 0.1),
                                          test_random_quat(&rng), test_random_vec3(&rng, 0.05));
         aocs_vec3_t u;
         assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
         double x[6];
         ref_state(&in, x);
-        dquat_t qe = dq_mul(dq_from(in.q_BN), dq_conj(dq_from(in.qd_DN)));
+        dq_t qe = dq_mul(dq_from_real(in.q_BN), dq_inv(dq_from_real(in.qd_DN)));
         if (qe.q[3] < 0.0) {
             ++n_neg_q4;
         }
@@ -192,7 +143,7 @@ static void test_sign_conventions(void **state)
     const double half = 0.05; /* 0.1 rad about x */
     aocs_quat_t q = aocs_quat_make((real_t)sin(half), AOCS_R(0.0), AOCS_R(0.0), (real_t)cos(half));
     aocs_quat_t qneg = aocs_quat_make((real_t)-sin(half), AOCS_R(0.0), AOCS_R(0.0), (real_t)-cos(half));
-    aocs_att_input_t in = make_input(q, aocs_vec3_zero(), aocs_quat_identity(), aocs_vec3_zero());
+    aocs_att_input_t in = make_input_real(q, aocs_vec3_zero(), aocs_quat_identity(), aocs_vec3_zero());
     aocs_vec3_t u;
     aocs_vec3_t u2;
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
@@ -205,7 +156,7 @@ static void test_sign_conventions(void **state)
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u2), AOCS_OK);
     assert_vec3_close(u2, u, TOL_TIGHT);
     /* positive rate error about y: negative torque about y, -K2 * 0.01 */
-    in = make_input(aocs_quat_identity(), aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.01), AOCS_R(0.0)),
+    in = make_input_real(aocs_quat_identity(), aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.01), AOCS_R(0.0)),
                     aocs_quat_identity(), aocs_vec3_zero());
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
     assert_close(u.v[1], -(double)cfg.k[1][4] * 0.01, LAW_REL_TOL * 10.0);
@@ -214,67 +165,13 @@ static void test_sign_conventions(void **state)
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
     assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
     /* qe4 = 0 exactly (180 deg about z): sign(0) = +1, x = [0 0 1 ...] */
-    in = make_input(aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.0), AOCS_R(0.0)), aocs_vec3_zero(),
+    in = make_input_real(aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.0), AOCS_R(0.0)), aocs_vec3_zero(),
                     aocs_quat_identity(), aocs_vec3_zero());
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
     assert_close(u.v[2], -(double)cfg.k[2][2], TOL_TIGHT);
 }
 
-/* ---- closed loop: nonlinear rigid body, RK4 in double, ZOH torque ---- */
-typedef struct {
-    double q[4];
-    double w[3];
-} body_t;
-
-static void body_deriv(const body_t *s, const double u[3], body_t *d)
-{
-    const double *q = s->q;
-    const double *w = s->w;
-    /* qdot = 0.5 Xi(q) w (SPEC 1) */
-    d->q[0] = 0.5 * (q[3] * w[0] - q[2] * w[1] + q[1] * w[2]);
-    d->q[1] = 0.5 * (q[2] * w[0] + q[3] * w[1] - q[0] * w[2]);
-    d->q[2] = 0.5 * (-q[1] * w[0] + q[0] * w[1] + q[3] * w[2]);
-    d->q[3] = 0.5 * (-q[0] * w[0] - q[1] * w[1] - q[2] * w[2]);
-    /* J wdot = -w x (J w) + u, J diagonal */
-    double h[3] = {J_DIAG[0] * w[0], J_DIAG[1] * w[1], J_DIAG[2] * w[2]};
-    double wxh[3] = {w[1] * h[2] - w[2] * h[1], w[2] * h[0] - w[0] * h[2], w[0] * h[1] - w[1] * h[0]};
-    for (int i = 0; i < 3; ++i) {
-        d->w[i] = (-wxh[i] + u[i]) / J_DIAG[i];
-    }
-}
-
-static void body_axpy(const body_t *x, double a, const body_t *y, body_t *out)
-{
-    for (int i = 0; i < 4; ++i) {
-        out->q[i] = x->q[i] + a * y->q[i];
-    }
-    for (int i = 0; i < 3; ++i) {
-        out->w[i] = x->w[i] + a * y->w[i];
-    }
-}
-
-static void body_rk4(body_t *s, const double u[3], double h)
-{
-    body_t k1, k2, k3, k4, t;
-    body_deriv(s, u, &k1);
-    body_axpy(s, 0.5 * h, &k1, &t);
-    body_deriv(&t, u, &k2);
-    body_axpy(s, 0.5 * h, &k2, &t);
-    body_deriv(&t, u, &k3);
-    body_axpy(s, h, &k3, &t);
-    body_deriv(&t, u, &k4);
-    for (int i = 0; i < 4; ++i) {
-        s->q[i] += h / 6.0 * (k1.q[i] + 2.0 * k2.q[i] + 2.0 * k3.q[i] + k4.q[i]);
-    }
-    for (int i = 0; i < 3; ++i) {
-        s->w[i] += h / 6.0 * (k1.w[i] + 2.0 * k2.w[i] + 2.0 * k3.w[i] + k4.w[i]);
-    }
-    double n = sqrt(s->q[0] * s->q[0] + s->q[1] * s->q[1] + s->q[2] * s->q[2] + s->q[3] * s->q[3]);
-    for (int i = 0; i < 4; ++i) {
-        s->q[i] /= n;
-    }
-}
-
+/* ---- closed loop: nonlinear rigid body, RK4 in double, ZOH torque (law_test_support.h) ---- */
 /* V = x^T S x with the per-axis ARE solution S (the LQR Lyapunov function) */
 static double lyapunov(const double x[6])
 {
@@ -294,22 +191,20 @@ static void test_closed_loop_lyapunov_decreases(void **state)
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_OK);
 
     /* target: 20 deg about (1, -1, 2)/sqrt 6; start 3 deg about (1, 2, -1)/sqrt 6 from it */
-    const double r6 = sqrt(6.0);
-    const double ht = 0.5 * 20.0 * 3.141592653589793 / 180.0;
-    dquat_t qd = {{sin(ht) / r6, -sin(ht) / r6, 2.0 * sin(ht) / r6, cos(ht)}};
-    const double he = 0.5 * 3.0 * 3.141592653589793 / 180.0;
-    dquat_t qerr = {{sin(he) / r6, 2.0 * sin(he) / r6, -sin(he) / r6, cos(he)}};
-    dquat_t q0 = dq_mul(qerr, qd);
-    body_t s = {{q0.q[0], q0.q[1], q0.q[2], q0.q[3]}, {1e-3, -2e-3, 5e-4}};
+    const dq_t qd = dq_axis_angle(1.0, -1.0, 2.0, 20.0 * PI / 180.0);
+    const dq_t qerr = dq_axis_angle(1.0, 2.0, -1.0, 3.0 * PI / 180.0);
+    dq_t q = dq_mul(qerr, qd);
+    double w[3] = {1e-3, -2e-3, 5e-4};
+    const dmat_t j_diag = {{{J_DIAG[0], 0.0, 0.0}, {0.0, J_DIAG[1], 0.0}, {0.0, 0.0, J_DIAG[2]}}};
+    plant_t plant;
+    plant_init(&plant, &j_diag);
 
     const double dt = 0.1;
     const int substeps = 4;
     double v0 = -1.0;
     double v_prev = -1.0;
     for (int k = 0; k <= 200; ++k) { /* 20 s at 10 Hz */
-        aocs_att_input_t in = make_input(
-            aocs_quat_make((real_t)s.q[0], (real_t)s.q[1], (real_t)s.q[2], (real_t)s.q[3]),
-            aocs_vec3_make((real_t)s.w[0], (real_t)s.w[1], (real_t)s.w[2]), to_quat(qd), aocs_vec3_zero());
+        aocs_att_input_t in = make_input_real(dq_to_real(q), dv_to_real(w), dq_to_real(qd), aocs_vec3_zero());
         double x[6];
         ref_state(&in, x);
         double v = lyapunov(x);
@@ -325,9 +220,10 @@ static void test_closed_loop_lyapunov_decreases(void **state)
         }
         aocs_vec3_t u;
         assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_OK);
-        double ud[3] = {(double)u.v[0], (double)u.v[1], (double)u.v[2]};
+        double ud[3];
+        dv_from_real(u, ud);
         for (int j = 0; j < substeps; ++j) {
-            body_rk4(&s, ud, dt / substeps);
+            plant_rk4(&plant, plant_zoh_torque, ud, &q, w, dt / substeps);
         }
     }
     /* slowest closed-loop pole has real part ~ -0.14 1/s: V(20 s) well below 1 % of V(0) */
@@ -360,7 +256,7 @@ static void test_config_validation(void **state)
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_ERR_GAIN_TABLE_INVALID);
 
     /* a failed init leaves the law unusable, output zeroed */
-    aocs_att_input_t in = make_input(aocs_quat_identity(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)),
+    aocs_att_input_t in = make_input_real(aocs_quat_identity(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)),
                                      aocs_quat_identity(), aocs_vec3_zero());
     aocs_vec3_t u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
     assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_NOT_INITIALISED);
@@ -378,7 +274,7 @@ static void test_invalid_inputs_zero_output(void **state)
     aocs_lqr_quat_t law;
     aocs_lqr_quat_config_t cfg = design_config();
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_OK);
-    aocs_att_input_t good = make_input(aocs_quat_identity(), aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0)),
+    aocs_att_input_t good = make_input_real(aocs_quat_identity(), aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0)),
                                        aocs_quat_identity(), aocs_vec3_zero());
     aocs_att_input_t in;
     aocs_vec3_t u;
@@ -408,7 +304,7 @@ static void test_invalid_inputs_zero_output(void **state)
     in = good;
     in.w_BN_B.v[0] = AOCS_REAL_MAX;
     u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
     assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
     assert_int_equal(aocs_lqr_quat_step(&law, NULL, &u), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_lqr_quat_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);

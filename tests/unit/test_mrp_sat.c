@@ -6,7 +6,7 @@
  * L2 = M2 = 0.06 with uM = 0.05 rejected), closed loops on the gao_mrp body
  * and on random full inertias (the law never sees J).
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "aocs/control/mrp_sat.h"
 
@@ -26,27 +26,7 @@
 static const double UM = 0.05;
 
 /* ---------------- independent reference (double) ---------------- */
-typedef struct {
-    double q[4];
-} dquat_t;
-
-static dquat_t dq_mul(dquat_t q, dquat_t p)
-{
-    dquat_t r;
-    const double *a = q.q;
-    const double *b = p.q;
-    r.q[0] = b[3] * a[0] + a[3] * b[0] - (a[1] * b[2] - a[2] * b[1]);
-    r.q[1] = b[3] * a[1] + a[3] * b[1] - (a[2] * b[0] - a[0] * b[2]);
-    r.q[2] = b[3] * a[2] + a[3] * b[2] - (a[0] * b[1] - a[1] * b[0]);
-    r.q[3] = a[3] * b[3] - (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-    return r;
-}
-
-static dquat_t dq_from(aocs_quat_t a)
-{
-    dquat_t d = {{(double)a.q[0], (double)a.q[1], (double)a.q[2], (double)a.q[3]}};
-    return d;
-}
+/* quaternion reference (dq_t, Shuster product) and RK4 rigid body: law_test_support.h */
 
 /* linear saturation as documented in saturate.h, in double */
 static double ref_linsat(double x, double l, double m)
@@ -65,9 +45,7 @@ static double ref_linsat(double x, double l, double m)
 /* MRP of qe with |sigma| <= 1 and G(sigma) (SPEC 1) */
 static void ref_sigma_g(const aocs_att_input_t *in, double sigma[3], double g[3][3])
 {
-    dquat_t qd = dq_from(in->qd_DN);
-    dquat_t qdi = {{-qd.q[0], -qd.q[1], -qd.q[2], qd.q[3]}};
-    dquat_t qe = dq_mul(dq_from(in->q_BN), qdi);
+    dq_t qe = dq_mul(dq_from_real(in->q_BN), dq_inv(dq_from_real(in->qd_DN)));
     double n = sqrt(qe.q[0] * qe.q[0] + qe.q[1] * qe.q[1] + qe.q[2] * qe.q[2] + qe.q[3] * qe.q[3]);
     double s = (qe.q[3] < 0.0) ? -1.0 / n : 1.0 / n;
     for (int i = 0; i < 4; ++i) {
@@ -428,7 +406,7 @@ static void test_invalid_inputs_zero_output(void **state)
     in.w_BN_B.v[1] = AOCS_REAL_MAX;
     in.wd_B.v[1] = -AOCS_REAL_MAX;
     u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_mrp_sat_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_mrp_sat_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
     assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
     /* largest finite rates: still bounded */
     in = good;
@@ -446,85 +424,17 @@ static void test_invalid_inputs_zero_output(void **state)
     assert_int_equal(aocs_mrp_sat_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
 }
 
-/* ---------------- closed loop: full-inertia rigid body, RK4 in double ---------------- */
+/* ---------------- closed loop: full-inertia rigid body, RK4 in double (law_test_support.h) ---------------- */
 typedef struct {
-    double q[4];
+    dq_t q;
     double w[3];
 } body_t;
-
-typedef struct {
-    double j[3][3];
-    double jinv[3][3];
-} inertia_t;
-
-static inertia_t make_inertia(double j[3][3])
-{
-    inertia_t in;
-    double det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0]) +
-                 j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            in.j[r][c] = j[r][c];
-            /* adjugate: cofactor of (c, r) */
-            int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
-            in.jinv[r][c] = (j[r1][c1] * j[r2][c2] - j[r1][c2] * j[r2][c1]) / det;
-        }
-    }
-    return in;
-}
-
-static void body_deriv(const inertia_t *jj, const body_t *s, const double u[3], body_t *d)
-{
-    const double *q = s->q;
-    const double *w = s->w;
-    d->q[0] = 0.5 * (q[3] * w[0] - q[2] * w[1] + q[1] * w[2]);
-    d->q[1] = 0.5 * (q[2] * w[0] + q[3] * w[1] - q[0] * w[2]);
-    d->q[2] = 0.5 * (-q[1] * w[0] + q[0] * w[1] + q[3] * w[2]);
-    d->q[3] = 0.5 * (-q[0] * w[0] - q[1] * w[1] - q[2] * w[2]);
-    double h[3];
-    for (int i = 0; i < 3; ++i) {
-        h[i] = jj->j[i][0] * w[0] + jj->j[i][1] * w[1] + jj->j[i][2] * w[2];
-    }
-    double rhs[3] = {-(w[1] * h[2] - w[2] * h[1]) + u[0], -(w[2] * h[0] - w[0] * h[2]) + u[1],
-                     -(w[0] * h[1] - w[1] * h[0]) + u[2]};
-    for (int i = 0; i < 3; ++i) {
-        d->w[i] = jj->jinv[i][0] * rhs[0] + jj->jinv[i][1] * rhs[1] + jj->jinv[i][2] * rhs[2];
-    }
-}
-
-static void body_rk4(const inertia_t *jj, body_t *s, const double u[3], double h)
-{
-    body_t k[4];
-    body_t t = *s;
-    const double c[4] = {0.0, 0.5, 0.5, 1.0};
-    for (int st = 0; st < 4; ++st) {
-        if (st > 0) {
-            for (int i = 0; i < 4; ++i) {
-                t.q[i] = s->q[i] + c[st] * h * k[st - 1].q[i];
-            }
-            for (int i = 0; i < 3; ++i) {
-                t.w[i] = s->w[i] + c[st] * h * k[st - 1].w[i];
-            }
-        }
-        body_deriv(jj, &t, u, &k[st]);
-    }
-    for (int i = 0; i < 4; ++i) {
-        s->q[i] += h / 6.0 * (k[0].q[i] + 2.0 * k[1].q[i] + 2.0 * k[2].q[i] + k[3].q[i]);
-    }
-    for (int i = 0; i < 3; ++i) {
-        s->w[i] += h / 6.0 * (k[0].w[i] + 2.0 * k[1].w[i] + 2.0 * k[2].w[i] + k[3].w[i]);
-    }
-    double n = sqrt(s->q[0] * s->q[0] + s->q[1] * s->q[1] + s->q[2] * s->q[2] + s->q[3] * s->q[3]);
-    for (int i = 0; i < 4; ++i) {
-        s->q[i] /= n;
-    }
-}
 
 /* |sigma| of the short-rotation MRP of q relative to identity */
 static double sigma_norm(const body_t *s)
 {
-    double q4 = fabs(s->q[3]);
-    double v = sqrt(s->q[0] * s->q[0] + s->q[1] * s->q[1] + s->q[2] * s->q[2]);
+    double q4 = fabs(s->q.q[3]);
+    double v = sqrt(s->q.q[0] * s->q.q[0] + s->q.q[1] * s->q.q[1] + s->q.q[2] * s->q.q[2]);
     return v / (1.0 + q4);
 }
 
@@ -536,7 +446,7 @@ typedef struct {
     double w_max_seen;
 } loop_result_t;
 
-static loop_result_t run_loop(const aocs_mrp_sat_config_t *cfg, const inertia_t *jj, body_t s, double t_end)
+static loop_result_t run_loop(const aocs_mrp_sat_config_t *cfg, const plant_t *plant, body_t s, double t_end)
 {
     aocs_mrp_sat_t law;
     loop_result_t r = {-1.0, 0.0, 0.0, 0.0, 0.0};
@@ -544,12 +454,7 @@ static loop_result_t run_loop(const aocs_mrp_sat_config_t *cfg, const inertia_t 
     const double dt = 0.1; /* 10 Hz, SPEC 4 */
     const int n = (int)(t_end / dt + 0.5);
     for (int k = 0; k < n; ++k) {
-        aocs_att_input_t in;
-        in.q_BN = aocs_quat_make((real_t)s.q[0], (real_t)s.q[1], (real_t)s.q[2], (real_t)s.q[3]);
-        in.w_BN_B = aocs_vec3_make((real_t)s.w[0], (real_t)s.w[1], (real_t)s.w[2]);
-        in.qd_DN = aocs_quat_identity();
-        in.wd_B = aocs_vec3_zero();
-        in.wd_dot_B = aocs_vec3_zero();
+        aocs_att_input_t in = make_input_real(dq_to_real(s.q), dv_to_real(s.w), aocs_quat_identity(), aocs_vec3_zero());
         in.dt_s = (real_t)dt;
         aocs_vec3_t u;
         assert_int_equal(aocs_mrp_sat_step(&law, &in, &u), AOCS_OK);
@@ -558,9 +463,10 @@ static loop_result_t run_loop(const aocs_mrp_sat_config_t *cfg, const inertia_t 
         if (nu > r.u_max_seen) {
             r.u_max_seen = nu;
         }
-        double ud[3] = {(double)u.v[0], (double)u.v[1], (double)u.v[2]};
+        double ud[3];
+        dv_from_real(u, ud);
         for (int j = 0; j < 2; ++j) {
-            body_rk4(jj, &s, ud, 0.5 * dt);
+            plant_rk4(plant, plant_zoh_torque, ud, &s.q, s.w, 0.5 * dt);
         }
         for (int i = 0; i < 3; ++i) {
             if (fabs(s.w[i]) > r.w_max_seen) {
@@ -586,7 +492,7 @@ static body_t gao_initial_state(void)
     /* sigma0 = [-0.3 -0.4 0.2]: q = [2 sigma; 1 - s.s] / (1 + s.s), w0 = 0 */
     const double sg[3] = {-0.3, -0.4, 0.2};
     const double ss = sg[0] * sg[0] + sg[1] * sg[1] + sg[2] * sg[2];
-    body_t s = {{2.0 * sg[0] / (1.0 + ss), 2.0 * sg[1] / (1.0 + ss), 2.0 * sg[2] / (1.0 + ss), (1.0 - ss) / (1.0 + ss)},
+    body_t s = {{{2.0 * sg[0] / (1.0 + ss), 2.0 * sg[1] / (1.0 + ss), 2.0 * sg[2] / (1.0 + ss), (1.0 - ss) / (1.0 + ss)}},
                 {0.0, 0.0, 0.0}};
     return s;
 }
@@ -594,14 +500,15 @@ static body_t gao_initial_state(void)
 static void test_closed_loop_gao(void **state)
 {
     (void)state;
-    double jg[3][3] = {{42.0, 1.8, -1.5}, {1.8, 25.0, -1.2}, {-1.5, -1.2, 61.8}};
-    const inertia_t jj = make_inertia(jg);
+    const dmat_t jg = {{{42.0, 1.8, -1.5}, {1.8, 25.0, -1.2}, {-1.5, -1.2, 61.8}}};
+    plant_t plant;
+    plant_init(&plant, &jg);
     const body_t s0 = gao_initial_state();
     const double sigma0 = sigma_norm(&s0); /* sqrt(0.29) = 0.5385 */
     assert_close(sigma0, sqrt(0.29), 1e-12);
     for (int v = 0; v < 2; ++v) {
         aocs_mrp_sat_config_t cfg = gao_config((v == 0) ? AOCS_MRP_SAT_LINEAR : AOCS_MRP_SAT_TANH);
-        loop_result_t r = run_loop(&cfg, &jj, s0, 1000.0);
+        loop_result_t r = run_loop(&cfg, &plant, s0, 1000.0);
         print_message("gao_mrp %s: |sigma| %.4f -> %.3e at 300 s -> %.3e at 1000 s (max over last 100 s %.3e), "
                       "max |u| = %.6f, max |w_i| = %.3e (4 M1/k = %.3e)\n",
                       (v == 0) ? "linear" : "tanh", sigma0, r.sigma_300, r.sigma_end, r.sigma_max_late,
@@ -633,20 +540,20 @@ static void test_closed_loop_random_inertias(void **state)
                            {2 * (a * c - b * w), 2 * (b * c + a * w), 1 - 2 * (a * a + b * b)}};
         double d[3] = {test_rng_uniform(&rng, 5.0, 100.0), test_rng_uniform(&rng, 5.0, 100.0),
                        test_rng_uniform(&rng, 5.0, 100.0)};
-        double j[3][3];
+        dmat_t j;
         for (int r = 0; r < 3; ++r) {
             for (int cc = 0; cc < 3; ++cc) {
-                j[r][cc] = rm[r][0] * d[0] * rm[cc][0] + rm[r][1] * d[1] * rm[cc][1] + rm[r][2] * d[2] * rm[cc][2];
+                j.m[r][cc] = rm[r][0] * d[0] * rm[cc][0] + rm[r][1] * d[1] * rm[cc][1] + rm[r][2] * d[2] * rm[cc][2];
             }
         }
-        const inertia_t jj = make_inertia(j);
-        aocs_quat_t q0 = test_random_quat(&rng);
-        body_t s0 = {{(double)q0.q[0], (double)q0.q[1], (double)q0.q[2], (double)q0.q[3]},
+        plant_t plant;
+        plant_init(&plant, &j);
+        body_t s0 = {dq_from_real(test_random_quat(&rng)),
                      {test_rng_uniform(&rng, -0.02, 0.02), test_rng_uniform(&rng, -0.02, 0.02),
                       test_rng_uniform(&rng, -0.02, 0.02)}};
         double sig0 = sigma_norm(&s0);
         aocs_mrp_sat_config_t cfg = gao_config((trial % 2 == 0) ? AOCS_MRP_SAT_LINEAR : AOCS_MRP_SAT_TANH);
-        loop_result_t r = run_loop(&cfg, &jj, s0, 600.0);
+        loop_result_t r = run_loop(&cfg, &plant, s0, 600.0);
         print_message("random J %d (d = %.1f %.1f %.1f): |sigma| %.3f -> %.3e, max |u| %.6f\n", trial, d[0], d[1],
                       d[2], sig0, r.sigma_end, r.u_max_seen);
         assert_true(r.sigma_end < 0.5 * sig0 || r.sigma_end < 1e-2);

@@ -205,7 +205,7 @@ static void test_invalid_inputs_zero_output(void **state)
     in = good;
     in.vel_mps.v[1] = AOCS_REAL_MAX; /* finite, but 10 * REAL_MAX overflows */
     f = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_OUTPUT_NOT_FINITE);
     assert_true(aocs_vec3_norm_inf(f) <= AOCS_R(0.0));
     assert_int_equal(aocs_orbit_lqr_step(&law, NULL, &f), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_orbit_lqr_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);

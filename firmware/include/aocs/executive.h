@@ -25,6 +25,20 @@
  *
  * The saturated command never exceeds the limits, whatever happens: NaN or
  * Inf from anywhere gives a zero command.
+ *
+ * Guidance (guidance.c): a target frame D that rotates at the constant rate
+ * target_rotation_rate_D (rad/s, in D) relative to N. At each step, from the
+ * sensor time t (exact closed form, no accumulated drift):
+ *     qd(t) = dq(w (t - t0)) (x) qd0,  dq(theta) = [sin(|theta|/2) theta/|theta|; cos(|theta|/2)]
+ * (the solution of qd' = 0.5 Xi(qd) w, the plant's Plant.target(t)), and
+ *     wd_B = A(qe) w,            qe = q (x) qd^-1  (D's rate in B: we = w - wd_B)
+ *     wd_dot_B = wd_B x w_BN_B   (d/dt of the B components, see guidance.c)
+ * qd0 is the configured target, t0 = target_t0_ns (lockstep: sim time 0);
+ * a new target from aocs_exec_select becomes qd0 at the time of the last
+ * sample. A zero rate leaves the target exactly as given (bit for bit).
+ *
+ * Gain tables (gain_tables.c): the designs compiled into gains/aocs_gains.h
+ * by name or id, so a config can say "hinf_regional" instead of 18 numbers.
  */
 #ifndef AOCS_EXECUTIVE_H
 #define AOCS_EXECUTIVE_H
@@ -105,6 +119,31 @@ typedef struct {
     aocs_vec3_t wd_dot_B;   /* target angular acceleration, rad/s^2 */
 } aocs_exec_target_t;
 
+/* ---- compiled gain tables (gain_tables.c, gains/aocs_gains.h) ---- */
+typedef enum {
+    AOCS_GAIN_TABLE_LQR_QUAT_REF = 0, /* "lqr_quat_ref"    lqr_quat, Q = 200 I6, R = 0.001 I3 */
+    AOCS_GAIN_TABLE_LQR_QUAT_STRONG,  /* "lqr_quat_strong" lqr_quat, Q = 2000 I6, R = 1e-5 I3 */
+    AOCS_GAIN_TABLE_HINF_MIN,         /* "hinf_min"        hinf, plain minimum gamma */
+    AOCS_GAIN_TABLE_HINF_REGIONAL,    /* "hinf_regional"   hinf, with the pole-region constraint */
+    AOCS_GAIN_TABLE_ORBIT_LQR_Q1,     /* "orbit_lqr_q1"    orbit_lqr, Q = I */
+    AOCS_GAIN_TABLE_ORBIT_LQR_Q01,    /* "orbit_lqr_q01"   orbit_lqr, Q = 0.1 I */
+    AOCS_GAIN_TABLE_ORBIT_LQR_Q10,    /* "orbit_lqr_q10"   orbit_lqr, Q = 10 I */
+    AOCS_GAIN_TABLE_COUNT
+} aocs_gain_table_id_t;
+
+/* Design name of a table ("hinf_regional"); "unknown" when out of range. Total. */
+const char *aocs_gain_table_name(aocs_gain_table_id_t table);
+
+/* The law a table was designed for (LQR_QUAT, HINF or ORBIT_LQR); AOCS_LAW_NONE when out of range. Total. */
+aocs_law_id_t aocs_gain_table_law(aocs_gain_table_id_t table);
+
+/*
+ * Table id from its design name (exact, case-sensitive).
+ * AOCS_ERR_GAIN_TABLE_UNKNOWN (and *table untouched) for any other string,
+ * AOCS_ERR_NULL_ARG for NULL pointers.
+ */
+aocs_status_t aocs_gain_table_find(const char *name, aocs_gain_table_id_t *table);
+
 /* One config of each law; only the one selected (at init or by select) must be valid. */
 typedef struct {
     aocs_crp_linear_config_t crp_linear;
@@ -117,10 +156,23 @@ typedef struct {
     aocs_orbit_lqr_config_t orbit_lqr;
 } aocs_exec_law_configs_t;
 
+/*
+ * Copies the 3x6 gain of `table` into the config of `law` in *cfgs
+ * (lqr_quat.k, hinf.k or orbit_lqr.k); nothing else changes.
+ * AOCS_ERR_NULL_ARG; AOCS_ERR_GAIN_TABLE_UNKNOWN (table out of range);
+ * AOCS_ERR_GAIN_TABLE_WRONG_LAW (the table was designed for another law,
+ * *cfgs untouched). The law's init still validates the gain.
+ */
+aocs_status_t aocs_gain_table_apply(aocs_gain_table_id_t table, aocs_law_id_t law,
+                                    aocs_exec_law_configs_t *cfgs);
+
 typedef struct {
     real_t period_s;              /* control period, s; rounded to whole us (>= 1 us, <= 1000 s) */
     aocs_law_id_t law;            /* initial law; AOCS_LAW_NONE starts in STANDBY */
-    aocs_exec_target_t target;    /* initial target */
+    aocs_exec_target_t target;    /* initial target; qd0 of a rotating target */
+    aocs_vec3_t target_rotation_rate_D; /* rad/s, constant rate of D w.r.t. N in D; 0 = fixed target.
+                                     * When non-zero, target.wd_B and target.wd_dot_B must be 0 (guidance computes them). */
+    uint64_t target_t0_ns;        /* sensor time at which a rotating target equals target.qd_DN (lockstep: 0 = sim start) */
     aocs_exec_law_configs_t laws;
     aocs_vec3_t u_max_axis;       /* per-axis limit, N m (N); all 0 = unused, else all > 0 */
     real_t u_max_norm;            /* limit of |u|_2; 0 = unused. At least one limit must be set. */
@@ -167,7 +219,10 @@ typedef struct {
     aocs_status_t input_status;   /* AOCS_OK or why the sample was rejected (INPUT_*, QUAT_NOT_UNIT) */
     int saturated;                /* 1 when u_cmd != u_unsat */
     int overrun;                  /* 1 when step_time_ns > budget_ns */
-    uint64_t step_time_ns;        /* HAL time around law + saturation */
+    aocs_exec_target_t target;    /* target given to the law this step (rotating: qd(t), wd_B, wd_dot_B;
+                                   * wd_B and wd_dot_B only on a usable sample, else 0);
+                                   * all zero from step_no_input (no law runs) */
+    uint64_t step_time_ns;        /* HAL time around guidance + law + saturation */
     uint32_t step_cycles;         /* aocs_hal_cycles() difference (0 where the platform has none) */
     uint64_t budget_ns;
     uint32_t tick;                /* tick of the sample (last tick for step_no_input) */
@@ -195,7 +250,9 @@ typedef struct {
     /* internal state */
     aocs_exec_law_states_t states;
     aocs_law_id_t law;            /* selected law */
-    aocs_exec_target_t target;
+    aocs_exec_target_t target;    /* fixed target, or qd0 of a rotating one */
+    uint64_t target_t0_ns;        /* sensor time of qd0 (rotating target) */
+    int target_rotating;          /* target_rotation_rate_D is non-zero */
     aocs_exec_mode_t mode;        /* actual mode */
     aocs_exec_mode_t requested;   /* STANDBY or NOMINAL, what SAFE returns to */
     uint32_t good_run;            /* consecutive good samples while in SAFE */
@@ -220,7 +277,8 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg);
  * Validates the config and initialises the selected law with its config.
  * Status: AOCS_ERR_NULL_ARG; AOCS_ERR_RATE_INVALID (period not finite or out
  * of range); AOCS_ERR_UNKNOWN_LAW; AOCS_ERR_TARGET_INVALID (non-finite or
- * non-unit qd, non-finite wd/wd_dot); AOCS_ERR_PARAM_NOT_FINITE (limit,
+ * non-unit qd, non-finite wd/wd_dot, non-finite target_rotation_rate_D, or
+ * a rotating target with a non-zero wd/wd_dot); AOCS_ERR_PARAM_NOT_FINITE (limit,
  * k_safe); AOCS_ERR_SAT_LIMIT_NOT_POSITIVE (negative limit, mixed zero and
  * non-zero per-axis limits, or no limit set); AOCS_ERR_GAIN_NOT_POSITIVE
  * (k_safe <= 0, M or N == 0, real-time stale timeout == 0);
@@ -233,7 +291,10 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg);
 /*
  * Run-time command: select law (AOCS_LAW_NONE = STANDBY) and target (NULL
  * keeps the current target). A new law is (re)initialised from the stored
- * config. Rejected, counted in select_rejected, and nothing changed on:
+ * config. With a rotating target (cfg.target_rotation_rate_D != 0) the new
+ * target is qd0 from the time of the last sample on (t0 = that sensor time;
+ * before any sample t0 is kept), and its wd/wd_dot must be zero. Rejected,
+ * counted in select_rejected, and nothing changed on:
  * AOCS_ERR_UNKNOWN_LAW, AOCS_ERR_TARGET_INVALID, or the law init's status.
  * Selecting a law requests NOMINAL; if the executive is in SAFE it stays
  * there until the recovery rule is met. Selecting NONE enters STANDBY at once.
@@ -256,6 +317,13 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
  * (no fresh rate to damp). input_status = AOCS_ERR_INPUT_MISSING.
  */
 aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out);
+
+/*
+ * Sets t0 of a rotating target: the sensor time at which it equals its qd0
+ * (real-time mode: the sensor time base is the HAL clock, so the adapter maps
+ * the plant's time 0 onto it). AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED.
+ */
+aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns);
 
 /* Counters so far (zeroed struct on NULL args). Total. */
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec);

@@ -85,6 +85,9 @@ typedef enum {
     AOCS_ERR_INPUT_MISSING,
     AOCS_ERR_RATE_INVALID,         /* executive: control rate not usable */
     AOCS_ERR_INPUT_INVALID,        /* a sensor validity flag is off */
+    AOCS_ERR_OUTPUT_NOT_FINITE,    /* finite inputs made the law's output overflow */
+    AOCS_ERR_GAIN_TABLE_UNKNOWN,   /* no compiled gain table of that name / id */
+    AOCS_ERR_GAIN_TABLE_WRONG_LAW, /* the gain table was designed for another law */
     AOCS_STATUS_COUNT              /* number of codes, keep last */
 } aocs_status_t;
 

@@ -54,7 +54,7 @@ aocs_status_t aocs_crp_linear_step(aocs_crp_linear_t *law, const aocs_att_input_
             u = aocs_vec3_add(aocs_vec3_scale(we, -law->cfg.k1),
                               aocs_vec3_scale(rho, -law->cfg.k2));
             if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_INPUT_NOT_FINITE;
+                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
             }
         }
     }

@@ -77,7 +77,7 @@ aocs_status_t aocs_hinf_step(aocs_hinf_t *law, const aocs_att_input_t *in, aocs_
                 u.v[i] = acc;
             }
             if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_INPUT_NOT_FINITE;
+                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
             }
         }
     }

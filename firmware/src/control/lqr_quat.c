@@ -67,7 +67,7 @@ aocs_status_t aocs_lqr_quat_step(aocs_lqr_quat_t *law, const aocs_att_input_t *i
                 u.v[i] = -acc;
             }
             if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_INPUT_NOT_FINITE;
+                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
             }
         }
     }

@@ -100,7 +100,7 @@ aocs_status_t aocs_mrp_sat_step(aocs_mrp_sat_t *law, const aocs_att_input_t *in,
     if (st == AOCS_OK) {
         we = aocs_vec3_sub(in->w_BN_B, in->wd_B);
         if (aocs_vec3_is_finite(we) == 0) {
-            st = AOCS_ERR_INPUT_NOT_FINITE; /* w - wd overflowed */
+            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite w, wd: w - wd overflowed */
         }
     }
     if (st == AOCS_OK) {
@@ -137,7 +137,7 @@ aocs_status_t aocs_mrp_sat_step(aocs_mrp_sat_t *law, const aocs_att_input_t *in,
                 u = aocs_vec3_scale(aocs_mat3_tmul_vec(g, y), -MRP_SAT_TWO_OVER_SQRT3);
             }
             if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_INPUT_NOT_FINITE;
+                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
             } else {
                 /* exact-arithmetic no-op (mrp_sat.h); absorbs rounding */
                 u = aocs_sat_scale_to_norm(u, c->u_max, &guard);

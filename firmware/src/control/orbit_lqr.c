@@ -61,7 +61,7 @@ aocs_status_t aocs_orbit_lqr_step(aocs_orbit_lqr_t *law, const aocs_orbit_input_
             f.v[i] = -acc;
         }
         if (aocs_vec3_is_finite(f) == 0) {
-            st = AOCS_ERR_INPUT_NOT_FINITE;
+            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
         }
     }
     if (f_out != NULL) {

@@ -57,7 +57,7 @@ aocs_status_t aocs_quat_nlpd_step(aocs_quat_nlpd_t *law, const aocs_att_input_t 
         u = aocs_vec3_add(aocs_vec3_scale(qe_vec, -law->cfg.kp * sgn),
                           aocs_vec3_scale(we, -law->cfg.kd * rate_factor));
         if (aocs_vec3_is_finite(u) == 0) {
-            st = AOCS_ERR_INPUT_NOT_FINITE;
+            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
         }
     }
 

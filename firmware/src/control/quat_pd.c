@@ -50,7 +50,7 @@ aocs_status_t aocs_quat_pd_step(aocs_quat_pd_t *law, const aocs_att_input_t *in,
         u = aocs_vec3_add(aocs_vec3_scale(aocs_quat_vec(qe), -law->cfg.kp * sgn),
                           aocs_vec3_scale(we, -law->cfg.kd));
         if (aocs_vec3_is_finite(u) == 0) {
-            st = AOCS_ERR_INPUT_NOT_FINITE;
+            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
         }
     }
 

@@ -1,6 +1,6 @@
 /*
  * Private interface between the executive's source files (law_table.c,
- * mode.c, executive.c). Not part of the public API.
+ * mode.c, guidance.c, gain_tables.c, executive.c). Not part of the public API.
  */
 #ifndef AOCS_EXEC_INTERNAL_H
 #define AOCS_EXEC_INTERNAL_H
@@ -37,6 +37,20 @@ aocs_vec3_t aocs_exec_saturate(const aocs_exec_config_t *cfg, aocs_vec3_t u, int
 
 /* Limit-config check (see aocs_exec_init). */
 aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg);
+
+/* Rotating-target attitude qd(t) = dq(w dt) (x) qd0 (guidance.c). Total. */
+aocs_quat_t aocs_exec_guidance_attitude(aocs_quat_t qd0_DN, aocs_vec3_t w_DN_D, real_t dt_s);
+
+/*
+ * wd_B = A(qe) w, wd_dot_B = wd_B x w_BN_B for a target rotating at w (in D),
+ * qe = q (x) qd^-1 normalised (guidance.c); zero when qe cannot be
+ * normalised. NULL outputs are skipped. Total.
+ */
+void aocs_exec_guidance_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w_DN_D, aocs_vec3_t w_BN_B,
+                              aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B);
+
+/* t - t0 in seconds, negative when t < t0, without forming a huge real ns count. Total. */
+real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns);
 
 /* Counter increment that sticks at the maximum instead of wrapping. */
 void aocs_exec_count(uint32_t *counter, uint32_t n);

@@ -47,6 +47,31 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg)
     }
 }
 
+/* 1 when any component of the target rotation rate is non-zero (exact test, no tolerance) */
+static int rate_is_nonzero(aocs_vec3_t w)
+{
+    int nonzero = 0;
+    for (int i = 0; i < 3; ++i) {
+        if ((w.v[i] > AOCS_R(0.0)) || (w.v[i] < AOCS_R(0.0))) {
+            nonzero = 1;
+        }
+    }
+    return nonzero;
+}
+
+/*
+ * A rotating target brings its own wd and wd_dot (guidance.c): a fixed
+ * wd/wd_dot given as well would be ambiguous, so it is rejected.
+ */
+static aocs_status_t rotating_target_check(const aocs_exec_target_t *target, int rotating)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((rotating != 0) && ((rate_is_nonzero(target->wd_B) != 0) || (rate_is_nonzero(target->wd_dot_B) != 0))) {
+        st = AOCS_ERR_TARGET_INVALID;
+    }
+    return st;
+}
+
 static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *period_ns)
 {
     aocs_status_t st = aocs_exec_period_to_ns(cfg->period_s, period_ns);
@@ -56,7 +81,9 @@ static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *perio
         st = AOCS_ERR_UNKNOWN_LAW;
     } else if ((cfg->clock != AOCS_EXEC_CLOCK_LOCKSTEP) && (cfg->clock != AOCS_EXEC_CLOCK_REALTIME)) {
         st = AOCS_ERR_MODE_INVALID;
-    } else if (aocs_exec_target_check(&cfg->target) != AOCS_OK) {
+    } else if ((aocs_exec_target_check(&cfg->target) != AOCS_OK) ||
+               (aocs_vec3_is_finite(cfg->target_rotation_rate_D) == 0) ||
+               (rotating_target_check(&cfg->target, rate_is_nonzero(cfg->target_rotation_rate_D)) != AOCS_OK)) {
         st = AOCS_ERR_TARGET_INVALID;
     } else if (!AOCS_IS_FINITE(cfg->k_safe)) {
         st = AOCS_ERR_PARAM_NOT_FINITE;
@@ -102,6 +129,8 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
             exec->period_ns = period_ns;
             exec->law = cfg->law;
             exec->target = cfg->target;
+            exec->target_t0_ns = cfg->target_t0_ns;
+            exec->target_rotating = rate_is_nonzero(cfg->target_rotation_rate_D);
             exec->requested = (cfg->law == AOCS_LAW_NONE) ? AOCS_EXEC_MODE_STANDBY : AOCS_EXEC_MODE_NOMINAL;
             exec->mode = exec->requested;
             exec->last_u_cmd = aocs_vec3_zero();
@@ -111,7 +140,8 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
     return st;
 }
 
-aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_exec_target_t *target)
+/* AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, or AOCS_OK when exec can take a command */
+static aocs_status_t exec_ready(const aocs_exec_t *exec)
 {
     aocs_status_t st = AOCS_OK;
     if (exec == NULL) {
@@ -119,9 +149,19 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
     } else if (exec->initialised == 0) {
         st = AOCS_ERR_NOT_INITIALISED;
     } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
+aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_exec_target_t *target)
+{
+    aocs_status_t st = exec_ready(exec);
+    if (st == AOCS_OK) {
         if (((int)law < 0) || (law >= AOCS_LAW_COUNT)) {
             st = AOCS_ERR_UNKNOWN_LAW;
-        } else if ((target != NULL) && (aocs_exec_target_check(target) != AOCS_OK)) {
+        } else if ((target != NULL) && ((aocs_exec_target_check(target) != AOCS_OK) ||
+                                        (rotating_target_check(target, exec->target_rotating) != AOCS_OK))) {
             st = AOCS_ERR_TARGET_INVALID;
         } else if ((law != AOCS_LAW_NONE) && (law != exec->law)) {
             /* one state per law: a failing init leaves the active law untouched */
@@ -132,6 +172,10 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
         if (st == AOCS_OK) {
             if (target != NULL) {
                 exec->target = *target;
+                if (exec->have_sample != 0) {
+                    /* the commanded attitude is the target now: the time of the last sample */
+                    exec->target_t0_ns = exec->last_t_sensor_ns;
+                }
             }
             if (law != exec->law) {
                 /* good samples seen with the previous law prove nothing about this one */
@@ -237,6 +281,27 @@ static uint64_t step_budget(const aocs_exec_t *exec)
     return budget;
 }
 
+/*
+ * The target the law sees this step: the stored one, or for a rotating
+ * target qd(t) from the sensor time and, on a usable sample, wd_B and
+ * wd_dot_B from the measured attitude and rate (guidance.c).
+ */
+static aocs_exec_target_t guidance_target(const aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st)
+{
+    aocs_exec_target_t target = exec->target;
+    if ((exec->target_rotating != 0) && (aocs_law_is_orbit(exec->law) == 0)) {
+        const aocs_vec3_t w_D = exec->cfg.target_rotation_rate_D;
+        target.qd_DN = aocs_exec_guidance_attitude(exec->target.qd_DN, w_D,
+                                                   aocs_exec_elapsed_s(in->t_sensor_ns, exec->target_t0_ns));
+        target.wd_B = aocs_vec3_zero();
+        target.wd_dot_B = aocs_vec3_zero();
+        if (in_st == AOCS_OK) {
+            aocs_exec_guidance_rates(in->q_BN, target.qd_DN, w_D, in->w_BN_B, &target.wd_B, &target.wd_dot_B);
+        }
+    }
+    return target;
+}
+
 aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_exec_output_t *out)
 {
     aocs_status_t st = AOCS_OK;
@@ -253,6 +318,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         aocs_vec3_t u_law = aocs_vec3_zero();
         aocs_att_input_t att;
         aocs_orbit_input_t orbit;
+        aocs_exec_target_t target;
         uint64_t t_start;
         uint32_t c_start;
         int good;
@@ -272,18 +338,19 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             /* missing samples were counted by the timing check, OK needs nothing */
         }
 
+        t_start = aocs_hal_time_ns();
+        c_start = aocs_hal_cycles();
+        target = guidance_target(exec, in, in_st);
         att.q_BN = in->q_BN;
         att.w_BN_B = in->w_BN_B;
-        att.qd_DN = exec->target.qd_DN;
-        att.wd_B = exec->target.wd_B;
-        att.wd_dot_B = exec->target.wd_dot_B;
+        att.qd_DN = target.qd_DN;
+        att.wd_B = target.wd_B;
+        att.wd_dot_B = target.wd_dot_B;
         att.dt_s = exec->cfg.period_s;
         orbit.pos_m = in->pos_m;
         orbit.vel_mps = in->vel_mps;
         orbit.dt_s = exec->cfg.period_s;
 
-        t_start = aocs_hal_time_ns();
-        c_start = aocs_hal_cycles();
         /* the law also runs in SAFE (output unused) so recovery needs a law that works */
         if ((in_st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
             law_st = aocs_exec_law_step(&exec->states, exec->law, &att, &orbit, &u_law);
@@ -321,6 +388,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         out->step_cycles = aocs_hal_cycles() - c_start;
 
         out->saturated = sat;
+        out->target = target;
         out->law_status = law_st;
         out->input_status = in_st;
         finish_output(exec, out, step_budget(exec));
@@ -364,6 +432,15 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
         out->law_status = AOCS_OK;
         out->input_status = AOCS_ERR_INPUT_MISSING;
         finish_output(exec, out, step_budget(exec));
+    }
+    return st;
+}
+
+aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns)
+{
+    aocs_status_t st = exec_ready(exec);
+    if (st == AOCS_OK) {
+        exec->target_t0_ns = t0_ns;
     }
     return st;
 }

@@ -38,7 +38,7 @@ aocs_status_t aocs_crp_linear_init(aocs_crp_linear_t *law, const aocs_crp_linear
  * Commanded torque in B, N m. Errors (u_out zeroed when not NULL):
  * AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, the codes of
  * aocs_att_input_check, AOCS_ERR_CRP_SINGULAR (|qe4| <= AOCS_CRP_Q4_MIN),
- * AOCS_ERR_INPUT_NOT_FINITE when finite inputs overflow the torque.
+ * AOCS_ERR_OUTPUT_NOT_FINITE when finite inputs overflow the torque.
  */
 aocs_status_t aocs_crp_linear_step(aocs_crp_linear_t *law, const aocs_att_input_t *in,
                                    aocs_vec3_t *u_out);

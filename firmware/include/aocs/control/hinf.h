@@ -50,7 +50,7 @@ aocs_status_t aocs_hinf_init(aocs_hinf_t *law, const aocs_hinf_config_t *cfg);
 /*
  * u_out = K x. Input checked by aocs_att_input_check; on any error
  * *u_out = 0 and the status is returned; a non-finite result gives
- * AOCS_ERR_INPUT_NOT_FINITE.
+ * AOCS_ERR_OUTPUT_NOT_FINITE.
  */
 aocs_status_t aocs_hinf_step(aocs_hinf_t *law, const aocs_att_input_t *in, aocs_vec3_t *u_out);
 

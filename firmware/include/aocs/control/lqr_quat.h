@@ -38,7 +38,7 @@ aocs_status_t aocs_lqr_quat_init(aocs_lqr_quat_t *law, const aocs_lqr_quat_confi
 /*
  * u_out = -K [sign(qe4) qe_vec; we]. Input checked by aocs_att_input_check;
  * on any error *u_out = 0 and the status is returned; a non-finite result
- * (input magnitudes near REAL_MAX) gives AOCS_ERR_INPUT_NOT_FINITE.
+ * (input magnitudes near REAL_MAX) gives AOCS_ERR_OUTPUT_NOT_FINITE.
  */
 aocs_status_t aocs_lqr_quat_step(aocs_lqr_quat_t *law, const aocs_att_input_t *in, aocs_vec3_t *u_out);
 

@@ -79,8 +79,9 @@ aocs_status_t aocs_mrp_sat_init(aocs_mrp_sat_t *law, const aocs_mrp_sat_config_t
 
 /*
  * u_out = the law above, |u_out|_2 <= u_max. Input checked by
- * aocs_att_input_check (and we = w - wd must be finite); on any error
- * *u_out = 0 and the status is returned.
+ * aocs_att_input_check; finite w and wd whose difference overflows give
+ * AOCS_ERR_OUTPUT_NOT_FINITE; on any error *u_out = 0 and the status is
+ * returned.
  */
 aocs_status_t aocs_mrp_sat_step(aocs_mrp_sat_t *law, const aocs_att_input_t *in, aocs_vec3_t *u_out);
 

@@ -34,7 +34,7 @@ aocs_status_t aocs_orbit_lqr_init(aocs_orbit_lqr_t *law, const aocs_orbit_lqr_co
 /*
  * f_out = -K x. Input checked by aocs_orbit_input_check; on any error
  * *f_out = 0 and the status is returned; a non-finite result (inputs near
- * REAL_MAX) gives AOCS_ERR_INPUT_NOT_FINITE.
+ * REAL_MAX) gives AOCS_ERR_OUTPUT_NOT_FINITE.
  */
 aocs_status_t aocs_orbit_lqr_step(aocs_orbit_lqr_t *law, const aocs_orbit_input_t *in, aocs_vec3_t *f_out);
 

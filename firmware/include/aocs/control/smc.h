@@ -38,7 +38,7 @@ aocs_status_t aocs_smc_init(aocs_smc_t *law, const aocs_smc_config_t *cfg);
 /*
  * Commanded torque in B, N m. Errors (u_out zeroed when not NULL):
  * AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, the codes of
- * aocs_att_input_check, AOCS_ERR_INPUT_NOT_FINITE when finite inputs
+ * aocs_att_input_check, AOCS_ERR_OUTPUT_NOT_FINITE when finite inputs
  * overflow the torque.
  */
 aocs_status_t aocs_smc_step(aocs_smc_t *law, const aocs_att_input_t *in, aocs_vec3_t *u_out);

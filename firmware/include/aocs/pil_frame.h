@@ -1,0 +1,296 @@
+/*
+ * Processor-in-the-loop link: the versioned request/reply frames between the
+ * host bridge (sil/pil, aocs_pil.bridge) and the flight image on the target
+ * (firmware/port/cortex-m/pil_main.c). Portable C: no I/O, no allocation;
+ * the same code is unit-tested on the host (tests/unit/test_pil_frame.c) and
+ * linked into the image. docs/pil.md describes the protocol.
+ *
+ * Frame (all integers little-endian, reals IEEE-754 binary64 on the wire in
+ * both precisions):
+ *
+ *   offset  size  field
+ *   0       4     magic   AOCS_PIL_MAGIC (the bytes 'A' 'P' 'I' 'L')
+ *   4       1     version AOCS_PIL_VERSION
+ *   5       1     type    aocs_pil_type_t
+ *   6       2     length  payload bytes, <= AOCS_PIL_PAYLOAD_MAX
+ *   8       4     seq     request: sender's counter; reply: the request's seq
+ *   12      n     payload (layout per type below)
+ *   12+n    4     crc     CRC-32/ISO-HDLC (zlib's crc32) of bytes 0 .. 12+n-1
+ *
+ * A real_t is widened to binary64 when encoded and a binary64 is converted to
+ * real_t when decoded, exactly as the SIL node converts the LCM doubles
+ * (sil/fsw_node/node_wire.c), so the float image sees the same inputs as a
+ * float build of the node would.
+ */
+#ifndef AOCS_PIL_FRAME_H
+#define AOCS_PIL_FRAME_H
+
+#include <stdint.h>
+
+#include "aocs/types.h"
+#include "aocs/executive.h"
+
+#define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
+#define AOCS_PIL_VERSION 1U
+#define AOCS_PIL_HEADER_BYTES 12U
+#define AOCS_PIL_CRC_BYTES 4U
+#define AOCS_PIL_PAYLOAD_MAX 1024U
+#define AOCS_PIL_FRAME_MAX (AOCS_PIL_HEADER_BYTES + AOCS_PIL_PAYLOAD_MAX + AOCS_PIL_CRC_BYTES)
+
+/*
+ * QEMU runs the image with `-icount shift=AOCS_PIL_ICOUNT_SHIFT`: one guest
+ * instruction advances the virtual clock by 2^7 ns, so the 25 MHz SysTick of
+ * the MPS2 boards (40 ns) advances 3.2 ticks per instruction and a tick
+ * difference converts to an exact instruction count (docs/pil.md).
+ */
+#define AOCS_PIL_ICOUNT_SHIFT 7U
+
+/* Longest gain-table design name in a CONFIG frame (without the NUL). */
+#define AOCS_PIL_TABLE_NAME_MAX 31U
+
+/* Target ids of the HELLO frame. */
+#define AOCS_PIL_TARGET_HOST 0U
+#define AOCS_PIL_TARGET_CORTEX_M4F 1U
+#define AOCS_PIL_TARGET_CORTEX_M7 2U
+
+/* Payload sizes of the fixed-layout frames. */
+#define AOCS_PIL_HELLO_BYTES 28U
+#define AOCS_PIL_STEP_BYTES 120U
+#define AOCS_PIL_STEP_REPLY_BYTES 148U
+#define AOCS_PIL_SELECT_BYTES 64U
+#define AOCS_PIL_ACK_BYTES 36U
+#define AOCS_PIL_BYE_REPLY_BYTES 16U
+#define AOCS_PIL_ERROR_BYTES 16U
+
+typedef enum {
+    AOCS_PIL_T_HELLO = 1,        /* image -> host, once at boot */
+    AOCS_PIL_T_CONFIG = 2,       /* host -> image: executive configuration (field list) */
+    AOCS_PIL_T_CONFIG_ACK = 3,   /* image -> host: aocs_pil_ack_t */
+    AOCS_PIL_T_STEP = 4,         /* host -> image: one sensor sample */
+    AOCS_PIL_T_STEP_REPLY = 5,   /* image -> host: aocs_pil_step_reply_t */
+    AOCS_PIL_T_SELECT = 6,       /* host -> image: run-time law / target command */
+    AOCS_PIL_T_SELECT_ACK = 7,   /* image -> host: aocs_pil_ack_t */
+    AOCS_PIL_T_BYE = 8,          /* host -> image: end (empty); image -> host: aocs_pil_bye_t, then exit 0 */
+    AOCS_PIL_T_ERROR = 9         /* image -> host: aocs_pil_error_t, a frame it could not use */
+} aocs_pil_type_t;
+
+/* Codec and link errors (the ERROR frame carries one). */
+typedef enum {
+    AOCS_PIL_OK = 0,
+    AOCS_PIL_ERR_NULL_ARG = 1,
+    AOCS_PIL_ERR_MAGIC = 2,      /* the first 4 bytes are not AOCS_PIL_MAGIC */
+    AOCS_PIL_ERR_VERSION = 3,    /* another protocol version */
+    AOCS_PIL_ERR_LENGTH = 4,     /* payload length above AOCS_PIL_PAYLOAD_MAX or frame shorter than stated */
+    AOCS_PIL_ERR_CRC = 5,        /* CRC mismatch: the frame was corrupted */
+    AOCS_PIL_ERR_TYPE = 6,       /* unknown type, or a type the receiver does not accept */
+    AOCS_PIL_ERR_PAYLOAD = 7,    /* payload size wrong for the type, or truncated field list */
+    AOCS_PIL_ERR_BUFFER = 8,     /* output buffer too small */
+    AOCS_PIL_ERR_FIELD = 9,      /* CONFIG: unknown field id, wrong value count or out-of-range value */
+    AOCS_PIL_ERR_STATE = 10,     /* STEP or SELECT before a successful CONFIG */
+    AOCS_PIL_ERR_COUNT
+} aocs_pil_err_t;
+
+/*
+ * CONFIG fields: one per executive key of the fsw_node configuration file
+ * (docs/wire-contract.md); the node-only keys (mode, timeouts, lcm_url) stay
+ * in the bridge. Entry layout: u8 field, u8 count, then count binary64
+ * values (reals), count uint64 values (integers), or count bytes (the design
+ * name of a gain table). Fields not given keep aocs_exec_config_default().
+ */
+typedef enum {
+    AOCS_PIL_CFG_LAW = 1,                  /* u64 x1: aocs_law_id_t */
+    AOCS_PIL_CFG_PERIOD_S = 2,             /* f64 x1 */
+    AOCS_PIL_CFG_TARGET_Q = 3,             /* f64 x4 */
+    AOCS_PIL_CFG_TARGET_W = 4,             /* f64 x3 */
+    AOCS_PIL_CFG_TARGET_W_DOT = 5,         /* f64 x3 */
+    AOCS_PIL_CFG_TARGET_ROTATION_RATE = 6, /* f64 x3 */
+    AOCS_PIL_CFG_TARGET_T0_NS = 7,         /* u64 x1 */
+    AOCS_PIL_CFG_U_MAX_AXIS = 8,           /* f64 x3 */
+    AOCS_PIL_CFG_U_MAX_NORM = 9,           /* f64 x1 */
+    AOCS_PIL_CFG_K_SAFE = 10,              /* f64 x1 */
+    AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES = 11,/* u64 x1 (<= UINT32_MAX) */
+    AOCS_PIL_CFG_MISSING_MAX_PERIODS = 12, /* u64 x1 (<= UINT32_MAX) */
+    AOCS_PIL_CFG_STALE_TIMEOUT_NS = 13,    /* u64 x1 */
+    AOCS_PIL_CFG_BUDGET_INSTR = 14,        /* u64 x1: instruction budget override, 0 = the table */
+    AOCS_PIL_CFG_INERTIA = 15,             /* f64 x9, row-major (smc) */
+    AOCS_PIL_CFG_CRP_K1 = 16,              /* f64 x1 */
+    AOCS_PIL_CFG_CRP_K2 = 17,
+    AOCS_PIL_CFG_QUAT_PD_KP = 18,
+    AOCS_PIL_CFG_QUAT_PD_KD = 19,
+    AOCS_PIL_CFG_QUAT_NLPD_KP = 20,
+    AOCS_PIL_CFG_QUAT_NLPD_KD = 21,
+    AOCS_PIL_CFG_SMC_LAMBDA = 22,          /* f64 x3 */
+    AOCS_PIL_CFG_SMC_G = 23,               /* f64 x3 */
+    AOCS_PIL_CFG_SMC_EPS = 24,             /* f64 x3 */
+    AOCS_PIL_CFG_LQR_QUAT_K = 25,          /* f64 x18, row-major 3x6 */
+    AOCS_PIL_CFG_LQR_QUAT_TABLE = 26,      /* name */
+    AOCS_PIL_CFG_HINF_K = 27,              /* f64 x18 */
+    AOCS_PIL_CFG_HINF_TABLE = 28,          /* name */
+    AOCS_PIL_CFG_MRP_K = 29,               /* f64 x1 */
+    AOCS_PIL_CFG_MRP_LAMBDA = 30,          /* f64 x1 */
+    AOCS_PIL_CFG_MRP_U_MAX = 31,           /* f64 x1 */
+    AOCS_PIL_CFG_MRP_L1 = 32,              /* f64 x3 */
+    AOCS_PIL_CFG_MRP_M1 = 33,
+    AOCS_PIL_CFG_MRP_L2 = 34,
+    AOCS_PIL_CFG_MRP_M2 = 35,
+    AOCS_PIL_CFG_ORBIT_K = 36,             /* f64 x18 */
+    AOCS_PIL_CFG_ORBIT_TABLE = 37          /* name */
+} aocs_pil_cfg_field_t;
+
+/* Decoded header (magic and CRC are checked, not kept). */
+typedef struct {
+    uint8_t version;
+    uint8_t type;      /* aocs_pil_type_t value as received */
+    uint16_t length;   /* payload bytes */
+    uint32_t seq;
+} aocs_pil_header_t;
+
+/* HELLO: what the image is and whether its instruction counter is exact. */
+typedef struct {
+    uint32_t target;          /* AOCS_PIL_TARGET_* */
+    uint32_t real_bytes;      /* sizeof(real_t): 4 (float) or 8 (double) */
+    uint32_t icount_shift;    /* the shift the image converts ticks with */
+    uint32_t calib_ok;        /* 1 when the calibration loop measured exactly */
+    uint32_t calib_measured;  /* instructions measured for the calibration difference */
+    uint32_t calib_expected;  /* instructions that difference executes by construction */
+    uint32_t overhead;        /* instructions of an empty measurement, subtracted from every count */
+} aocs_pil_hello_t;
+
+/* STEP_REPLY: the executive output plus the PIL measurement of the step. */
+typedef struct {
+    uint32_t tick;            /* tick of the sample */
+    aocs_status_t step_status;/* return value of aocs_exec_step */
+    aocs_law_id_t law;        /* out.law */
+    aocs_exec_mode_t mode;    /* out.mode */
+    aocs_status_t law_status;
+    aocs_status_t input_status;
+    aocs_vec3_t u_cmd;
+    aocs_vec3_t u_unsat;
+    uint32_t saturated;       /* out.saturated != 0 */
+    uint32_t overrun;         /* instructions > budget */
+    uint32_t exact;           /* 1 when the count is exact (no SysTick wrap inside the window) */
+    uint32_t instructions;    /* aocs_exec_step, whole call */
+    uint32_t law_instructions;/* the executive's own window (guidance + law + saturation) */
+    uint32_t budget;          /* instruction budget of this step's law on this target */
+    aocs_exec_counters_t counters; /* steps .. select_rejected (step_time_max_ns not sent) */
+    uint32_t pil_overruns;    /* steps over the instruction budget so far */
+    aocs_law_id_t exec_law;   /* selected law after the step */
+    aocs_exec_mode_t exec_mode;
+} aocs_pil_step_reply_t;
+
+/* SELECT: the run-time command (aocs_exec_select). */
+typedef struct {
+    aocs_law_id_t law;
+    uint32_t has_target;      /* 1: target below is given, 0: keep the current one */
+    aocs_exec_target_t target;/* wd_dot_B is not sent (zero), as fsw_node does */
+} aocs_pil_select_t;
+
+/* CONFIG_ACK and SELECT_ACK. */
+typedef struct {
+    aocs_pil_err_t pil_err;   /* AOCS_PIL_OK, or why the field list was refused */
+    aocs_status_t status;     /* aocs_exec_init / aocs_exec_select / gain-table status */
+    uint32_t field;           /* CONFIG: the offending field id, 0 if none */
+    aocs_law_id_t exec_law;   /* selected law afterwards */
+    aocs_exec_mode_t exec_mode;
+    uint32_t select_accepted;
+    uint32_t select_rejected;
+    uint32_t budget;          /* instruction budget of the selected law */
+    uint32_t reserved;
+} aocs_pil_ack_t;
+
+/* BYE reply: end-of-run figures of the image. */
+typedef struct {
+    uint32_t stack_bytes;     /* main stack high-water mark since reset */
+    uint32_t steps;           /* STEP frames answered */
+    uint32_t instructions_max;/* largest whole-step count */
+    uint32_t frame_errors;    /* ERROR frames sent */
+} aocs_pil_bye_t;
+
+/* ERROR: a frame the image could not use (it stays in its loop). */
+typedef struct {
+    aocs_pil_err_t pil_err;
+    uint32_t type;            /* type byte received (0 if the header was unusable) */
+    uint32_t seq;             /* seq received (0 if unusable) */
+    uint32_t detail;          /* e.g. the received length or field id */
+} aocs_pil_error_t;
+
+/* CRC-32/ISO-HDLC (reflected 0x04C11DB7, init and final XOR 0xFFFFFFFF). Total (0 for NULL). */
+uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len);
+
+/*
+ * Writes header + payload + CRC into out (cap bytes); *frame_len = total.
+ * AOCS_PIL_ERR_NULL_ARG, AOCS_PIL_ERR_LENGTH (len > AOCS_PIL_PAYLOAD_MAX),
+ * AOCS_PIL_ERR_BUFFER (cap too small). payload may be NULL when len == 0.
+ */
+aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const uint8_t *payload, uint32_t len,
+                                     uint8_t *out, uint32_t cap, uint32_t *frame_len);
+
+/*
+ * Decodes and checks the first AOCS_PIL_HEADER_BYTES of a frame: magic,
+ * version, length <= AOCS_PIL_PAYLOAD_MAX (the type is not judged here).
+ */
+aocs_pil_err_t aocs_pil_header_decode(const uint8_t *buf, uint32_t len, aocs_pil_header_t *hdr);
+
+/*
+ * Checks a whole frame of len bytes: header as above, len equal to
+ * header + payload + CRC, CRC. On success *hdr is filled and the payload
+ * starts at buf + AOCS_PIL_HEADER_BYTES.
+ */
+aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_header_t *hdr);
+
+/* ---- payloads: encode writes exactly AOCS_PIL_<X>_BYTES, decode requires exactly that many ---- */
+aocs_pil_err_t aocs_pil_hello_encode(const aocs_pil_hello_t *h, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_hello_decode(const uint8_t *p, uint32_t len, aocs_pil_hello_t *h);
+
+/* STEP <-> executive input (tick, t_sensor_ns, valid flags, q, w, pos, vel). */
+aocs_pil_err_t aocs_pil_step_encode(const aocs_exec_input_t *in, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_step_decode(const uint8_t *p, uint32_t len, aocs_exec_input_t *in);
+
+aocs_pil_err_t aocs_pil_step_reply_encode(const aocs_pil_step_reply_t *r, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_step_reply_decode(const uint8_t *p, uint32_t len, aocs_pil_step_reply_t *r);
+
+aocs_pil_err_t aocs_pil_select_encode(const aocs_pil_select_t *s, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_select_decode(const uint8_t *p, uint32_t len, aocs_pil_select_t *s);
+
+aocs_pil_err_t aocs_pil_ack_encode(const aocs_pil_ack_t *a, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_ack_decode(const uint8_t *p, uint32_t len, aocs_pil_ack_t *a);
+
+aocs_pil_err_t aocs_pil_bye_encode(const aocs_pil_bye_t *b, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_bye_decode(const uint8_t *p, uint32_t len, aocs_pil_bye_t *b);
+
+aocs_pil_err_t aocs_pil_error_encode(const aocs_pil_error_t *e, uint8_t *out, uint32_t cap);
+aocs_pil_err_t aocs_pil_error_decode(const uint8_t *p, uint32_t len, aocs_pil_error_t *e);
+
+/*
+ * CONFIG field list writers (host side and tests): each appends one entry
+ * at *pos of out (cap bytes). put_reals: count binary64 values (1..18);
+ * put_u64: one integer; put_name: a gain-table design name
+ * (1..AOCS_PIL_TABLE_NAME_MAX characters, NUL-terminated in name).
+ * AOCS_PIL_ERR_BUFFER when it does not fit (out unchanged past *pos),
+ * AOCS_PIL_ERR_FIELD for a count or name length out of range.
+ */
+aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
+                                         const real_t *values, uint32_t count);
+aocs_pil_err_t aocs_pil_config_put_u64(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
+                                       uint64_t value);
+aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
+                                        const char *name);
+
+/*
+ * Applies a CONFIG field list to *cfg (which the caller has filled with
+ * aocs_exec_config_default) and *budget_instr (the override, unchanged when
+ * the field is absent). Gain tables are looked up by name in the compiled
+ * tables (aocs_gain_table_find / aocs_gain_table_apply) after all fields.
+ * Returns AOCS_PIL_OK; AOCS_PIL_ERR_PAYLOAD (truncated entry);
+ * AOCS_PIL_ERR_FIELD with *field = the entry's id (unknown id, wrong count,
+ * integer out of range, or a gain table that is unknown or of another law,
+ * then *status says which: AOCS_ERR_GAIN_TABLE_UNKNOWN / _WRONG_LAW).
+ * The executive's own checks are left to aocs_exec_init.
+ */
+aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_config_t *cfg,
+                                      uint64_t *budget_instr, uint32_t *field, aocs_status_t *status);
+
+/* "AOCS_PIL_ERR_CRC" etc.; "AOCS_PIL_ERR_UNKNOWN" out of range. Total. */
+const char *aocs_pil_err_name(aocs_pil_err_t err);
+
+#endif /* AOCS_PIL_FRAME_H */
