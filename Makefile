@@ -9,7 +9,7 @@ PRESETS   := host host-float cortex-m4f cortex-m7
 JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
-        image-test py-test static-analysis no-malloc size-report demo clean
+        image-test py-test static-analysis no-malloc size-report bench-laws demo clean
 
 setup:
 	@scripts/setup.sh
@@ -40,6 +40,10 @@ py-test: build-host
 
 size-report: build-cortex-m4f build-cortex-m7
 	@scripts/size-report.sh
+
+# per-law step time (ns) and callgrind instructions per step (docs/benchmarks.md)
+bench-laws: build-host
+	@$(PY) tools/bench/bench_laws.py --json build/host/bench_laws.json
 
 demo: build-host
 	@build/host/firmware/port/posix/aocs_demo
