@@ -10,20 +10,7 @@
 #define DEG (PI / 180.0)
 #define N_RANDOM 2000
 
-/* A(q) of SPEC 1 written out element by element, in double */
-static void ref_dcm(aocs_quat_t qr, double a[3][3])
-{
-    double q1 = D(qr.q[0]), q2 = D(qr.q[1]), q3 = D(qr.q[2]), q4 = D(qr.q[3]);
-    a[0][0] = q1 * q1 - q2 * q2 - q3 * q3 + q4 * q4;
-    a[0][1] = 2.0 * (q1 * q2 + q3 * q4);
-    a[0][2] = 2.0 * (q1 * q3 - q2 * q4);
-    a[1][0] = 2.0 * (q1 * q2 - q3 * q4);
-    a[1][1] = -q1 * q1 + q2 * q2 - q3 * q3 + q4 * q4;
-    a[1][2] = 2.0 * (q2 * q3 + q1 * q4);
-    a[2][0] = 2.0 * (q1 * q3 + q2 * q4);
-    a[2][1] = 2.0 * (q2 * q3 - q1 * q4);
-    a[2][2] = -q1 * q1 - q2 * q2 + q3 * q3 + q4 * q4;
-}
+/* ref_dcm, A(q) of SPEC 1 in double: test_support.h */
 
 /* passive elementary rotations multiplied in double: R1(roll) R2(pitch) R3(yaw) */
 static void ref_euler_dcm(double yaw, double pitch, double roll, double a[3][3])

@@ -50,6 +50,17 @@ static aocs_crp_linear_t make_law(double k1, double k2)
     return law;
 }
 
+static aocs_status_t crp_step(void *law, const aocs_att_input_t *in, aocs_vec3_t *u_out)
+{
+    return aocs_crp_linear_step((aocs_crp_linear_t *)law, in, u_out);
+}
+
+static aocs_status_t crp_init_gains(void *law, real_t k1, real_t k2)
+{
+    aocs_crp_linear_config_t cfg = {k1, k2};
+    return aocs_crp_linear_init((aocs_crp_linear_t *)law, &cfg);
+}
+
 static void check_state(double k1, double k2, aocs_att_input_t in, double tol)
 {
     aocs_crp_linear_t law = make_law(k1, k2);
@@ -129,56 +140,16 @@ static void test_sign_convention(void **state)
 {
     (void)state;
     aocs_crp_linear_t law = make_law(19.0, 13.0);
-    dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
-    const double angles_deg[3] = {0.1, 10.0, 170.0};
-    for (int k = 0; k < 3; ++k) {
-        dq_t q = dq_mul(dq_axis_angle(1.0, 0.0, 0.0, angles_deg[k] * PI / 180.0), qd);
-        aocs_att_input_t in = make_input(q, ZERO3, qd, ZERO3, ZERO3, 0.01);
-        aocs_vec3_t u;
-        assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_OK);
-        assert_true(u.v[0] < AOCS_R(0.0));
-        assert_true(fabs((double)u.v[1]) <= 1e-3 * fabs((double)u.v[0]));
-        assert_true(fabs((double)u.v[2]) <= 1e-3 * fabs((double)u.v[0]));
-    }
+    check_restoring_torque_about_x(crp_step, &law);
 }
 
 static void test_q_and_minus_q_same_torque(void **state)
 {
     (void)state;
     aocs_crp_linear_t law = make_law(19.0, 13.0);
-    test_rng_t rng = {0x9E3779B97F4A7C15ULL};
-    int tested = 0;
-    for (int k = 0; k < 200; ++k) {
-        aocs_att_input_t in;
-        in.q_BN = test_random_quat(&rng);
-        in.qd_DN = test_random_quat(&rng);
-        in.w_BN_B = test_random_vec3(&rng, 1.0);
-        in.wd_B = test_random_vec3(&rng, 0.1);
-        in.wd_dot_B = aocs_vec3_zero();
-        in.dt_s = AOCS_R(0.01);
-        /* keep away from 180 deg where rho is ill-conditioned in float */
-        if (fabs(dq_mul(dq_from_real(in.q_BN), dq_inv(dq_from_real(in.qd_DN))).q[3]) < 0.05) {
-            continue;
-        }
-        ++tested;
-        aocs_vec3_t u_ref;
-        assert_int_equal(aocs_crp_linear_step(&law, &in, &u_ref), AOCS_OK);
-        for (int flip = 1; flip < 4; ++flip) {
-            aocs_att_input_t in2 = in;
-            for (int i = 0; i < 4; ++i) {
-                if ((flip & 1) != 0) {
-                    in2.q_BN.q[i] = -in.q_BN.q[i];
-                }
-                if ((flip & 2) != 0) {
-                    in2.qd_DN.q[i] = -in.qd_DN.q[i];
-                }
-            }
-            aocs_vec3_t u2;
-            assert_int_equal(aocs_crp_linear_step(&law, &in2, &u2), AOCS_OK);
-            assert_vec3_close(u2, u_ref, TOL_TIGHT * 300.0);
-        }
-    }
-    assert_true(tested > 150);
+    /* keep away from 180 deg where rho is ill-conditioned in float */
+    const sign_sweep_t sweep = {.w_scale = 1.0, .wd_scale = 0.1, .tol = TOL_TIGHT * 300.0, .min_abs_qe4 = 0.05};
+    assert_true(check_q_sign_invariance(crp_step, &law, &sweep) > 150);
 }
 
 /* ---- Lyapunov ---- */
@@ -190,13 +161,8 @@ typedef struct {
 
 static aocs_status_t crp_torque(void *vctx, dq_t q, const double w[3], double u[3])
 {
-    crp_ctx_t *c = (crp_ctx_t *)vctx;
-    dq_t id = {{0.0, 0.0, 0.0, 1.0}};
-    aocs_att_input_t in = make_input(q, w, id, ZERO3, ZERO3, 0.01);
-    aocs_vec3_t uv;
-    aocs_status_t st = aocs_crp_linear_step(&c->law, &in, &uv);
-    dv_from_real(uv, u);
-    return st;
+    const dq_t id = {{0.0, 0.0, 0.0, 1.0}};
+    return law_torque(crp_step, &((crp_ctx_t *)vctx)->law, q, w, id, u);
 }
 
 /* SPEC 2.1: V = 0.5 w^T J w + k2 ln(1 + |rho|^2), Vdot = -k1 w^T w (J = I3 here) */
@@ -232,49 +198,13 @@ static void test_lyapunov_rtc(void **state)
     assert_true(ratio < 0.9);
 }
 
-/* ---- rejection paths ---- */
-static aocs_att_input_t some_input(void)
-{
-    const double w[3] = {0.01, 0.02, 0.03};
-    return make_input(dq_euler321_deg(14.0, 14.0, 14.0), w, dq_euler321_deg(30.0, -20.0, 1.0), ZERO3, ZERO3, 0.1);
-}
-
-static void expect_init_fails(aocs_crp_linear_config_t cfg, aocs_status_t expected)
-{
-    aocs_crp_linear_t law = make_law(1.0, 1.0);
-    aocs_att_input_t in = some_input();
-    aocs_vec3_t u = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
-    assert_int_equal(aocs_crp_linear_init(&law, &cfg), expected);
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
-}
-
+/* ---- rejection paths (law_test_support.h) ---- */
 static void test_invalid_config(void **state)
 {
     (void)state;
-    const double bad_nf[3] = {NAN, INFINITY, -INFINITY};
-    const double bad_np[3] = {0.0, -0.0, -1.0};
-    for (int which = 0; which < 2; ++which) {
-        for (int b = 0; b < 3; ++b) {
-            aocs_crp_linear_config_t cfg = {AOCS_R(19.0), AOCS_R(13.0)};
-            if (which == 0) {
-                cfg.k1 = (real_t)bad_nf[b];
-            } else {
-                cfg.k2 = (real_t)bad_nf[b];
-            }
-            expect_init_fails(cfg, AOCS_ERR_PARAM_NOT_FINITE);
-            cfg.k1 = AOCS_R(19.0);
-            cfg.k2 = AOCS_R(13.0);
-            if (which == 0) {
-                cfg.k1 = (real_t)bad_np[b];
-            } else {
-                cfg.k2 = (real_t)bad_np[b];
-            }
-            expect_init_fails(cfg, AOCS_ERR_GAIN_NOT_POSITIVE);
-        }
-    }
-    aocs_crp_linear_config_t cfg = {AOCS_R(19.0), AOCS_R(13.0)};
     aocs_crp_linear_t law;
+    check_gain_pair_rejections(crp_init_gains, crp_step, &law, 19.0, 13.0);
+    aocs_crp_linear_config_t cfg = {AOCS_R(19.0), AOCS_R(13.0)};
     assert_int_equal(aocs_crp_linear_init(NULL, &cfg), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_crp_linear_init(&law, NULL), AOCS_ERR_NULL_ARG);
 }
@@ -282,56 +212,11 @@ static void test_invalid_config(void **state)
 static void test_step_rejections(void **state)
 {
     (void)state;
-    aocs_att_input_t good = some_input();
-    aocs_vec3_t u;
-
     aocs_crp_linear_t law;
-    memset(&law, 0, sizeof law);
-    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-    assert_int_equal(aocs_crp_linear_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
-    memset(&law, 0xA5, sizeof law);
-    assert_int_equal(aocs_crp_linear_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
-
+    check_step_before_init(crp_step, &law, sizeof law);
     law = make_law(19.0, 13.0);
-    assert_int_equal(aocs_crp_linear_step(NULL, &good, &u), AOCS_ERR_NULL_ARG);
-    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-    assert_int_equal(aocs_crp_linear_step(&law, NULL, &u), AOCS_ERR_NULL_ARG);
-    assert_vec3_is_zero(u);
-    assert_int_equal(aocs_crp_linear_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
-
-    const double bad[3] = {NAN, INFINITY, -INFINITY};
-    for (int k = 0; k < N_INPUT_FIELDS; ++k) {
-        for (int b = 0; b < 3; ++b) {
-            aocs_att_input_t in = good;
-            *input_field(&in, k) = (real_t)bad[b];
-            u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-            aocs_status_t expected = (k == N_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
-            assert_int_equal(aocs_crp_linear_step(&law, &in, &u), expected);
-            assert_vec3_is_zero(u);
-        }
-    }
-    aocs_att_input_t in = good;
-    in.q_BN.q[3] *= AOCS_R(1.1);
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
-    assert_vec3_is_zero(u);
-    in = good;
-    in.qd_DN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0));
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
-    assert_vec3_is_zero(u);
-    in = good;
-    in.dt_s = AOCS_R(0.0);
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
-    in.dt_s = AOCS_R(-0.1);
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
-    assert_vec3_is_zero(u);
-    in = good;
-    in.w_BN_B = aocs_vec3_make(AOCS_REAL_MAX / AOCS_R(2.0), AOCS_R(0.0), AOCS_R(0.0));
-    assert_int_equal(aocs_crp_linear_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
-    assert_vec3_is_zero(u);
-    assert_int_equal(aocs_crp_linear_step(&law, &good, &u), AOCS_OK);
-    assert_true(aocs_vec3_is_finite(u) != 0);
+    aocs_att_input_t good = law_test_input();
+    check_step_rejections(crp_step, &law, &good);
 }
 
 int main(void)

@@ -5,7 +5,7 @@
  * finite; the lqr_quat tables must equal the closed-form ARE solution of the
  * decoupled SPEC 2.5 model.
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "gains/aocs_gains.h"
 #include "aocs/control/lqr_quat.h"
@@ -48,34 +48,16 @@ static const named_table_t all_tables[] = {
     {"hinf_regional", aocs_gains_hinf_regional_K},
 };
 
+/* law output against sign * K x: assert_gain_product (law_test_support.h), absolute floor 1e-300 */
 static void expect_kx(gain_table_t k, const double x[6], double sign, aocs_vec3_t u, double tol)
 {
-    for (int i = 0; i < 3; ++i) {
-        double e = 0.0;
-        double mag = 0.0;
-        for (int j = 0; j < 6; ++j) {
-            e += (double)k[i][j] * x[j];
-            mag += fabs((double)k[i][j] * x[j]);
-        }
-        e *= sign;
-        if (!(fabs((double)u.v[i] - e) <= tol * mag + 1e-300)) {
-            print_error("row %d: law %.17g, expected %.17g (|K||x| %.3g, tol %.3g)\n", i, (double)u.v[i], e,
-                        mag, tol);
-            fail();
-        }
-    }
+    assert_gain_product(k, x, sign, u, tol, 0.0, 1e-300);
 }
 
+/* law input at attitude q and rate w towards the identity target, wd = 0 */
 static aocs_att_input_t att_input(aocs_quat_t q, aocs_vec3_t w)
 {
-    aocs_att_input_t in;
-    in.q_BN = q;
-    in.w_BN_B = w;
-    in.qd_DN = aocs_quat_identity();
-    in.wd_B = aocs_vec3_zero();
-    in.wd_dot_B = aocs_vec3_zero();
-    in.dt_s = AOCS_R(0.1);
-    return in;
+    return make_input_real(q, w, aocs_quat_identity(), aocs_vec3_zero());
 }
 
 static void test_tables_finite(void **state)
@@ -222,20 +204,12 @@ static void test_orbit_lqr_laws(void **state)
     check_orbit(aocs_gains_orbit_lqr_q10_K);
 }
 
-/* Shuster product q (x) p = [p4 qv + q4 pv - qv x pv; q4 p4 - qv.pv] (SPEC 1), in double. */
-static void quat_mul_d(const double q[4], const double p[4], double out[4])
-{
-    out[0] = p[3] * q[0] + q[3] * p[0] - (q[1] * p[2] - q[2] * p[1]);
-    out[1] = p[3] * q[1] + q[3] * p[1] - (q[2] * p[0] - q[0] * p[2]);
-    out[2] = p[3] * q[2] + q[3] * p[2] - (q[0] * p[1] - q[1] * p[0]);
-    out[3] = q[3] * p[3] - (q[0] * p[0] + q[1] * p[1] + q[2] * p[2]);
-}
-
 /*
  * u = +K x, x = [phi theta psi phidot thetadot psidot] (SPEC 2.6).
  * (a) identity attitude, body rate we: 3-2-1 rates equal we exactly, x = [0 0 0 we].
  * (b) zero rate, attitude A = R1(phi) R2(theta) R3(psi), so q = q_x (x) q_y (x) q_z
- *     (A(q (x) p) = A(q) A(p)), x = [phi theta psi 0 0 0].
+ *     (A(q (x) p) = A(q) A(p); dq_euler321 of law_test_support.h, own Shuster
+ *     product), x = [phi theta psi 0 0 0].
  */
 static void check_hinf(gain_table_t k)
 {
@@ -260,15 +234,7 @@ static void check_hinf(gain_table_t k)
         double phi = test_rng_uniform(&rng, -0.01, 0.01);
         double theta = test_rng_uniform(&rng, -0.01, 0.01);
         double psi = test_rng_uniform(&rng, -0.01, 0.01);
-        double qx[4] = {sin(0.5 * phi), 0.0, 0.0, cos(0.5 * phi)};
-        double qy[4] = {0.0, sin(0.5 * theta), 0.0, cos(0.5 * theta)};
-        double qz[4] = {0.0, 0.0, sin(0.5 * psi), cos(0.5 * psi)};
-        double qxy[4];
-        double q[4];
-        quat_mul_d(qx, qy, qxy);
-        quat_mul_d(qxy, qz, q);
-        aocs_att_input_t in = att_input(aocs_quat_make((real_t)q[0], (real_t)q[1], (real_t)q[2], (real_t)q[3]),
-                                        aocs_vec3_zero());
+        aocs_att_input_t in = att_input(dq_to_real(dq_euler321(psi, theta, phi)), aocs_vec3_zero());
         aocs_vec3_t u;
         double x[6] = {phi, theta, psi, 0.0, 0.0, 0.0};
         assert_int_equal(aocs_hinf_step(&law, &in, &u), AOCS_OK);

@@ -4,13 +4,13 @@
  * is checked for NaN, +Inf and -Inf; dt <= 0 (and non-finite dt) gives
  * AOCS_ERR_DT_INVALID; quaternions off unit norm by more than
  * AOCS_QUAT_UNIT_TOL are rejected while small rounding passes; the documented
- * order of the checks (dt first, then finiteness, then norm) holds.
+ * order of the checks (dt first, then finiteness, then norm) holds; the
+ * shared two-gain check rejects NaN/Inf before a gain <= 0; the shared output
+ * rule passes u through on success, turns a non-finite u into
+ * AOCS_ERR_OUTPUT_NOT_FINITE, keeps an earlier error, and zeroes the output
+ * on every error.
  */
-#include "test_support.h"
-#include "aocs/control/law_io.h"
-
-#define N_ATT_FIELDS 18
-#define N_ORBIT_FIELDS 7
+#include "law_test_support.h"
 
 static aocs_att_input_t valid_att_input(void)
 {
@@ -25,25 +25,7 @@ static aocs_att_input_t valid_att_input(void)
     return in;
 }
 
-/* k-th scalar of the attitude input, in declaration order; dt is the last */
-static real_t *att_field(aocs_att_input_t *in, int k)
-{
-    real_t *p = NULL;
-    if (k < 4) {
-        p = &in->q_BN.q[k];
-    } else if (k < 7) {
-        p = &in->w_BN_B.v[k - 4];
-    } else if (k < 11) {
-        p = &in->qd_DN.q[k - 7];
-    } else if (k < 14) {
-        p = &in->wd_B.v[k - 11];
-    } else if (k < 17) {
-        p = &in->wd_dot_B.v[k - 14];
-    } else {
-        p = &in->dt_s;
-    }
-    return p;
-}
+/* field accessors input_field / orbit_input_field: law_test_support.h */
 
 static aocs_orbit_input_t valid_orbit_input(void)
 {
@@ -52,19 +34,6 @@ static aocs_orbit_input_t valid_orbit_input(void)
     in.pos_m = aocs_vec3_make(AOCS_R(50.0), AOCS_R(-100.0), AOCS_R(350.0));
     in.dt_s = AOCS_R(0.1);
     return in;
-}
-
-static real_t *orbit_field(aocs_orbit_input_t *in, int k)
-{
-    real_t *p = NULL;
-    if (k < 3) {
-        p = &in->vel_mps.v[k];
-    } else if (k < 6) {
-        p = &in->pos_m.v[k - 3];
-    } else {
-        p = &in->dt_s;
-    }
-    return p;
 }
 
 static void test_att_valid_passes(void **state)
@@ -89,11 +58,11 @@ static void test_att_every_field_non_finite(void **state)
 {
     (void)state;
     const real_t bad[3] = {(real_t)NAN, (real_t)INFINITY, -(real_t)INFINITY};
-    for (int k = 0; k < N_ATT_FIELDS; ++k) {
+    for (int k = 0; k < N_INPUT_FIELDS; ++k) {
         for (int b = 0; b < 3; ++b) {
             aocs_att_input_t in = valid_att_input();
-            *att_field(&in, k) = bad[b];
-            aocs_status_t expected = (k == N_ATT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
+            *input_field(&in, k) = bad[b];
+            aocs_status_t expected = (k == N_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
             if (aocs_att_input_check(&in) != expected) {
                 print_error("field %d, bad value %d\n", k, b);
             }
@@ -165,11 +134,11 @@ static void test_orbit(void **state)
     assert_int_equal(aocs_orbit_input_check(&in), AOCS_OK);
     assert_int_equal(aocs_orbit_input_check(NULL), AOCS_ERR_NULL_ARG);
     const real_t bad[3] = {(real_t)NAN, (real_t)INFINITY, -(real_t)INFINITY};
-    for (int k = 0; k < N_ORBIT_FIELDS; ++k) {
+    for (int k = 0; k < N_ORBIT_INPUT_FIELDS; ++k) {
         for (int b = 0; b < 3; ++b) {
             in = valid_orbit_input();
-            *orbit_field(&in, k) = bad[b];
-            aocs_status_t expected = (k == N_ORBIT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
+            *orbit_input_field(&in, k) = bad[b];
+            aocs_status_t expected = (k == N_ORBIT_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
             assert_int_equal(aocs_orbit_input_check(&in), expected);
         }
     }
@@ -178,6 +147,47 @@ static void test_orbit(void **state)
     assert_int_equal(aocs_orbit_input_check(&in), AOCS_ERR_DT_INVALID);
     in.dt_s = AOCS_R(-1.0);
     assert_int_equal(aocs_orbit_input_check(&in), AOCS_ERR_DT_INVALID);
+}
+
+/* the gain check and the output rule the laws share (law_io.h) */
+static void test_law_check_gains(void **state)
+{
+    (void)state;
+    assert_int_equal(aocs_law_check_gains(AOCS_R(1e-30), AOCS_R(4000.0)), AOCS_OK);
+    const real_t not_finite[3] = {(real_t)NAN, (real_t)INFINITY, -(real_t)INFINITY};
+    const real_t not_positive[3] = {AOCS_R(0.0), -AOCS_R(0.0), AOCS_R(-2.0)};
+    for (int b = 0; b < 3; ++b) {
+        assert_int_equal(aocs_law_check_gains(not_finite[b], AOCS_R(1.0)), AOCS_ERR_PARAM_NOT_FINITE);
+        assert_int_equal(aocs_law_check_gains(AOCS_R(1.0), not_finite[b]), AOCS_ERR_PARAM_NOT_FINITE);
+        assert_int_equal(aocs_law_check_gains(not_positive[b], AOCS_R(1.0)), AOCS_ERR_GAIN_NOT_POSITIVE);
+        assert_int_equal(aocs_law_check_gains(AOCS_R(1.0), not_positive[b]), AOCS_ERR_GAIN_NOT_POSITIVE);
+        /* finiteness is checked before the sign */
+        assert_int_equal(aocs_law_check_gains(not_positive[b], not_finite[b]), AOCS_ERR_PARAM_NOT_FINITE);
+    }
+}
+
+static void test_law_set_output(void **state)
+{
+    (void)state;
+    const aocs_vec3_t u = aocs_vec3_make(AOCS_R(1.5), AOCS_R(-2.0), AOCS_R(0.25));
+    const aocs_vec3_t u_inf = aocs_vec3_make(AOCS_R(1.0), (real_t)INFINITY, AOCS_R(0.0));
+    aocs_vec3_t out = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
+    /* success: u passed through unchanged */
+    assert_int_equal(aocs_law_set_output(AOCS_OK, u, &out), AOCS_OK);
+    assert_memory_equal(&out, &u, sizeof u);
+    /* a non-finite result under AOCS_OK: its own status and a zero output */
+    assert_int_equal(aocs_law_set_output(AOCS_OK, u_inf, &out), AOCS_ERR_OUTPUT_NOT_FINITE);
+    assert_vec3_is_zero(out);
+    /* an earlier error wins and zeroes the output, whatever u holds */
+    out = u;
+    assert_int_equal(aocs_law_set_output(AOCS_ERR_QUAT_NOT_UNIT, u, &out), AOCS_ERR_QUAT_NOT_UNIT);
+    assert_vec3_is_zero(out);
+    out = u;
+    assert_int_equal(aocs_law_set_output(AOCS_ERR_DT_INVALID, u_inf, &out), AOCS_ERR_DT_INVALID);
+    assert_vec3_is_zero(out);
+    /* no output pointer: the status alone */
+    assert_int_equal(aocs_law_set_output(AOCS_OK, u, NULL), AOCS_OK);
+    assert_int_equal(aocs_law_set_output(AOCS_OK, u_inf, NULL), AOCS_ERR_OUTPUT_NOT_FINITE);
 }
 
 int main(void)
@@ -190,6 +200,8 @@ int main(void)
         cmocka_unit_test(test_att_quat_norm),
         cmocka_unit_test(test_att_check_order),
         cmocka_unit_test(test_orbit),
+        cmocka_unit_test(test_law_check_gains),
+        cmocka_unit_test(test_law_set_output),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

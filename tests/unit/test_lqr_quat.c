@@ -62,6 +62,11 @@ static aocs_lqr_quat_config_t design_config(void)
     return cfg;
 }
 
+static aocs_status_t lqr_step(void *law, const aocs_att_input_t *in, aocs_vec3_t *u_out)
+{
+    return aocs_lqr_quat_step((aocs_lqr_quat_t *)law, in, u_out);
+}
+
 /* quaternion reference (dq_t, Shuster product): law_test_support.h */
 /* x = [sign(qe4) qe_vec; we] from the inputs, evaluated here */
 static void ref_state(const aocs_att_input_t *in, double x[6])
@@ -106,7 +111,7 @@ static void test_torque_matches_formula_random(void **state)
 {
     (void)state;
     aocs_lqr_quat_t law;
-    aocs_lqr_quat_config_t cfg = design_config();
+    const aocs_lqr_quat_config_t cfg = design_config();
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_OK);
     test_rng_t rng = {0x1234567u};
     int n_neg_q4 = 0;
@@ -121,15 +126,7 @@ static void test_torque_matches_formula_random(void **state)
         if (qe.q[3] < 0.0) {
             ++n_neg_q4;
         }
-        for (int i = 0; i < 3; ++i) {
-            double ref = 0.0;
-            double scale = 0.0;
-            for (int j = 0; j < 6; ++j) {
-                ref -= (double)cfg.k[i][j] * x[j];
-                scale += fabs((double)cfg.k[i][j] * x[j]);
-            }
-            assert_true(fabs((double)u.v[i] - ref) <= LAW_REL_TOL * scale + 1e-300);
-        }
+        assert_gain_product(cfg.k, x, -1.0, u, LAW_REL_TOL, 0.0, 1e-300); /* u = -K x */
     }
     assert_true(n_neg_q4 > 500); /* the anti-unwinding branch was exercised */
 }
@@ -256,11 +253,7 @@ static void test_config_validation(void **state)
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_ERR_GAIN_TABLE_INVALID);
 
     /* a failed init leaves the law unusable, output zeroed */
-    aocs_att_input_t in = make_input_real(aocs_quat_identity(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)),
-                                     aocs_quat_identity(), aocs_vec3_zero());
-    aocs_vec3_t u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
+    assert_step_not_initialised(lqr_step, &law);
 
     /* off-diagonal negative entries are allowed (coupled designs) */
     cfg = good;
@@ -272,42 +265,17 @@ static void test_invalid_inputs_zero_output(void **state)
 {
     (void)state;
     aocs_lqr_quat_t law;
+    check_step_before_init(lqr_step, &law, sizeof law);
     aocs_lqr_quat_config_t cfg = design_config();
     assert_int_equal(aocs_lqr_quat_init(&law, &cfg), AOCS_OK);
     aocs_att_input_t good = make_input_real(aocs_quat_identity(), aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0)),
                                        aocs_quat_identity(), aocs_vec3_zero());
-    aocs_att_input_t in;
-    aocs_vec3_t u;
-
-    const real_t bad_values[3] = {(real_t)NAN, (real_t)INFINITY, (real_t)-INFINITY};
-    for (int b = 0; b < 3; ++b) {
-        in = good;
-        in.w_BN_B.v[1] = bad_values[b];
-        u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-        assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
-        assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
-        in = good;
-        in.qd_DN.q[2] = bad_values[b];
-        u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-        assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_INPUT_NOT_FINITE);
-        assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
-    }
-    in = good;
-    in.dt_s = AOCS_R(0.0);
-    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
-    assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
-    in = good;
-    in.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.1));
-    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
-    assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
-    /* finite inputs whose torque overflows: reported, never Inf/NaN */
-    in = good;
+    /* every rejection of the law_io.h contract (law_test_support.h) */
+    check_step_rejections(lqr_step, &law, &good);
+    /* the largest finite rate: K x overflows, reported, never Inf/NaN */
+    aocs_att_input_t in = good;
     in.w_BN_B.v[0] = AOCS_REAL_MAX;
-    u = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_lqr_quat_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
-    assert_true(aocs_vec3_norm_inf(u) <= AOCS_R(0.0));
-    assert_int_equal(aocs_lqr_quat_step(&law, NULL, &u), AOCS_ERR_NULL_ARG);
-    assert_int_equal(aocs_lqr_quat_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
+    assert_step_rejects(lqr_step, &law, &in, AOCS_ERR_OUTPUT_NOT_FINITE);
 }
 
 int main(void)

@@ -4,7 +4,7 @@
  * loop on the Clohessy-Wiltshire model in Bryson's form (Landsat 8 data),
  * config and input validation.
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "aocs/control/orbit_lqr.h"
 
@@ -14,13 +14,21 @@
 #define LAW_REL_TOL 1.0e-14
 #endif
 
-static aocs_orbit_input_t make_input(aocs_vec3_t vel, aocs_vec3_t pos)
+static aocs_orbit_input_t make_orbit_input(aocs_vec3_t vel, aocs_vec3_t pos)
 {
     aocs_orbit_input_t in;
     in.vel_mps = vel;
     in.pos_m = pos;
     in.dt_s = AOCS_R(0.1);
     return in;
+}
+
+/* one step on in returns expected and overwrites a nonzero force with an exact zero */
+static void assert_orbit_rejects(aocs_orbit_lqr_t *law, const aocs_orbit_input_t *in, aocs_status_t expected)
+{
+    aocs_vec3_t f = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
+    assert_int_equal(aocs_orbit_lqr_step(law, in, &f), expected);
+    assert_vec3_is_zero(f);
 }
 
 /* decoupled PD-like gain: kv on the velocity block, kp on the position block */
@@ -37,22 +45,28 @@ static aocs_orbit_lqr_config_t pd_config(double kv, double kp)
     return cfg;
 }
 
+/* a full (coupled) random gain with a positive velocity diagonal */
+static aocs_orbit_lqr_config_t coupled_config(test_rng_t *rng)
+{
+    aocs_orbit_lqr_config_t cfg;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 6; ++j) {
+            cfg.k[i][j] = (real_t)test_rng_uniform(rng, -5.0, 5.0);
+        }
+        cfg.k[i][i] = (real_t)test_rng_uniform(rng, 10.0, 100.0);
+    }
+    return cfg;
+}
+
 static void test_force_matches_formula_random(void **state)
 {
     (void)state;
     test_rng_t rng = {0xabcdefu};
     aocs_orbit_lqr_t law;
-    aocs_orbit_lqr_config_t cfg;
-    /* a full (coupled) random gain with a positive velocity diagonal */
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 6; ++j) {
-            cfg.k[i][j] = (real_t)test_rng_uniform(&rng, -5.0, 5.0);
-        }
-        cfg.k[i][i] = (real_t)test_rng_uniform(&rng, 10.0, 100.0);
-    }
+    const aocs_orbit_lqr_config_t cfg = coupled_config(&rng);
     assert_int_equal(aocs_orbit_lqr_init(&law, &cfg), AOCS_OK);
     for (int k = 0; k < 2000; ++k) {
-        aocs_orbit_input_t in = make_input(test_random_vec3(&rng, 0.1), test_random_vec3(&rng, 500.0));
+        aocs_orbit_input_t in = make_orbit_input(test_random_vec3(&rng, 0.1), test_random_vec3(&rng, 500.0));
         double x[6];
         for (int i = 0; i < 3; ++i) {
             x[i] = (double)in.vel_mps.v[i];
@@ -60,15 +74,7 @@ static void test_force_matches_formula_random(void **state)
         }
         aocs_vec3_t f;
         assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_OK);
-        for (int i = 0; i < 3; ++i) {
-            double ref = 0.0;
-            double scale = 0.0;
-            for (int j = 0; j < 6; ++j) {
-                ref -= (double)cfg.k[i][j] * x[j];
-                scale += fabs((double)cfg.k[i][j] * x[j]);
-            }
-            assert_true(fabs((double)f.v[i] - ref) <= LAW_REL_TOL * scale);
-        }
+        assert_gain_product(cfg.k, x, -1.0, f, LAW_REL_TOL, 0.0, 0.0); /* F = -K x */
     }
 }
 
@@ -80,12 +86,12 @@ static void test_sign_pushes_back(void **state)
     assert_int_equal(aocs_orbit_lqr_init(&law, &cfg), AOCS_OK);
     aocs_vec3_t f;
     /* +10 m along-track offset: force -0.5 * 10 = -5 N along x only */
-    aocs_orbit_input_t in = make_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(10.0), AOCS_R(0.0), AOCS_R(0.0)));
+    aocs_orbit_input_t in = make_orbit_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(10.0), AOCS_R(0.0), AOCS_R(0.0)));
     assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_OK);
     assert_close(f.v[0], -5.0, TOL_TIGHT);
     assert_true(fabs((double)f.v[1]) <= 0.0 && fabs((double)f.v[2]) <= 0.0);
     /* velocity goes first in the state: +0.1 m/s in w (radial) gives -5 N in z */
-    in = make_input(aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.1)), aocs_vec3_zero());
+    in = make_orbit_input(aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.1)), aocs_vec3_zero());
     assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_OK);
     assert_close(f.v[2], -5.0, TOL_TIGHT);
     assert_true(fabs((double)f.v[0]) <= 0.0);
@@ -122,7 +128,7 @@ static void test_closed_loop_cw_landsat(void **state)
     x0n = sqrt(x0n);
     const double dt = 0.1;
     for (int k = 0; k < 30000; ++k) { /* 3000 s at 10 Hz, force held over dt (RK4) */
-        aocs_orbit_input_t in = make_input(aocs_vec3_make((real_t)x[0], (real_t)x[1], (real_t)x[2]),
+        aocs_orbit_input_t in = make_orbit_input(aocs_vec3_make((real_t)x[0], (real_t)x[1], (real_t)x[2]),
                                            aocs_vec3_make((real_t)x[3], (real_t)x[4], (real_t)x[5]));
         aocs_vec3_t f;
         assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_OK);
@@ -172,10 +178,13 @@ static void test_config_validation(void **state)
     cfg = good;
     cfg.k[2][2] = AOCS_R(-10.0);
     assert_int_equal(aocs_orbit_lqr_init(&law, &cfg), AOCS_ERR_GAIN_TABLE_INVALID);
-    aocs_orbit_input_t in = make_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)));
-    aocs_vec3_t f = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_NOT_INITIALISED);
-    assert_true(aocs_vec3_norm_inf(f) <= AOCS_R(0.0));
+    aocs_orbit_input_t in = make_orbit_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)));
+    assert_orbit_rejects(&law, &in, AOCS_ERR_NOT_INITIALISED);
+    /* never initialised: a zeroed and a garbage struct refuse to step */
+    memset(&law, 0, sizeof law);
+    assert_orbit_rejects(&law, &in, AOCS_ERR_NOT_INITIALISED);
+    memset(&law, 0xA5, sizeof law);
+    assert_orbit_rejects(&law, &in, AOCS_ERR_NOT_INITIALISED);
 }
 
 static void test_invalid_inputs_zero_output(void **state)
@@ -184,30 +193,28 @@ static void test_invalid_inputs_zero_output(void **state)
     aocs_orbit_lqr_t law;
     aocs_orbit_lqr_config_t cfg = pd_config(10.0, 1.0);
     assert_int_equal(aocs_orbit_lqr_init(&law, &cfg), AOCS_OK);
-    aocs_orbit_input_t good = make_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)));
+    aocs_orbit_input_t good = make_orbit_input(aocs_vec3_zero(), aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0)));
     aocs_orbit_input_t in;
     aocs_vec3_t f;
+    /* NaN / +Inf / -Inf in every field (dt: AOCS_ERR_DT_INVALID) */
     const real_t bad_values[3] = {(real_t)NAN, (real_t)INFINITY, (real_t)-INFINITY};
-    for (int b = 0; b < 3; ++b) {
-        in = good;
-        in.vel_mps.v[2] = bad_values[b];
-        f = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-        assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_INPUT_NOT_FINITE);
-        assert_true(aocs_vec3_norm_inf(f) <= AOCS_R(0.0));
-        in = good;
-        in.pos_m.v[0] = bad_values[b];
-        assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_INPUT_NOT_FINITE);
-        assert_true(aocs_vec3_norm_inf(f) <= AOCS_R(0.0));
+    for (int k = 0; k < N_ORBIT_INPUT_FIELDS; ++k) {
+        for (int b = 0; b < 3; ++b) {
+            in = good;
+            *orbit_input_field(&in, k) = bad_values[b];
+            assert_orbit_rejects(&law, &in, (k == N_ORBIT_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE);
+        }
     }
     in = good;
     in.dt_s = AOCS_R(-0.1);
-    assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_DT_INVALID);
+    assert_orbit_rejects(&law, &in, AOCS_ERR_DT_INVALID);
+    in.dt_s = AOCS_R(0.0);
+    assert_orbit_rejects(&law, &in, AOCS_ERR_DT_INVALID);
     in = good;
     in.vel_mps.v[1] = AOCS_REAL_MAX; /* finite, but 10 * REAL_MAX overflows */
-    f = aocs_vec3_make(AOCS_R(7.0), AOCS_R(7.0), AOCS_R(7.0));
-    assert_int_equal(aocs_orbit_lqr_step(&law, &in, &f), AOCS_ERR_OUTPUT_NOT_FINITE);
-    assert_true(aocs_vec3_norm_inf(f) <= AOCS_R(0.0));
-    assert_int_equal(aocs_orbit_lqr_step(&law, NULL, &f), AOCS_ERR_NULL_ARG);
+    assert_orbit_rejects(&law, &in, AOCS_ERR_OUTPUT_NOT_FINITE);
+    assert_orbit_rejects(&law, NULL, AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_orbit_lqr_step(NULL, &good, &f), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_orbit_lqr_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
 }
 

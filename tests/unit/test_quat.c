@@ -10,20 +10,7 @@
 #define ARCSEC_PER_RAD 206264.806
 #define PI 3.14159265358979323846
 
-/* A(q) of SPEC 1 written out element by element, in double */
-static void ref_dcm(aocs_quat_t qr, double a[3][3])
-{
-    double q1 = D(qr.q[0]), q2 = D(qr.q[1]), q3 = D(qr.q[2]), q4 = D(qr.q[3]);
-    a[0][0] = q1 * q1 - q2 * q2 - q3 * q3 + q4 * q4;
-    a[0][1] = 2.0 * (q1 * q2 + q3 * q4);
-    a[0][2] = 2.0 * (q1 * q3 - q2 * q4);
-    a[1][0] = 2.0 * (q1 * q2 - q3 * q4);
-    a[1][1] = -q1 * q1 + q2 * q2 - q3 * q3 + q4 * q4;
-    a[1][2] = 2.0 * (q2 * q3 + q1 * q4);
-    a[2][0] = 2.0 * (q1 * q3 + q2 * q4);
-    a[2][1] = 2.0 * (q2 * q3 - q1 * q4);
-    a[2][2] = -q1 * q1 - q2 * q2 + q3 * q3 + q4 * q4;
-}
+/* ref_dcm, A(q) of SPEC 1 in double: test_support.h */
 
 static void ref_matmul(double a[3][3], double b[3][3], double c[3][3])
 {

@@ -4,7 +4,7 @@
  * documented behaviour for NaN, Inf and invalid limits.
  * Expected values come from the definitions evaluated here in double.
  */
-#include "test_support.h"
+#include "law_test_support.h"
 
 #include "aocs/control/saturate.h"
 
@@ -179,19 +179,7 @@ static void test_scale_to_norm_huge_and_nonfinite(void **state)
     assert_int_equal(sat, 0);
 }
 
-/* independent evaluation of the documented linear saturation, in double */
-static double linear_ref(double x, double l, double m)
-{
-    double ax = fabs(x);
-    double s = (x > 0.0) ? 1.0 : ((x < 0.0) ? -1.0 : 0.0);
-    if (l >= m) {
-        return (ax > m) ? s * m : x;
-    }
-    if (ax <= l) {
-        return x;
-    }
-    return s * (l + (m - l) * tanh((ax - l) / (m - l)));
-}
+/* independent evaluation of the documented linear saturation, in double: ref_linear_sat (law_test_support.h) */
 
 static void test_linear_plain_clamp_when_l_equals_m(void **state)
 {
@@ -211,7 +199,7 @@ static void test_linear_values_continuity_monotonic(void **state)
     /* formula values */
     const double xs[] = {0.0, 0.01, -0.039, 0.05, -0.05, 0.07, 0.2, -3.0};
     for (size_t i = 0; i < sizeof(xs) / sizeof(xs[0]); ++i) {
-        assert_close(aocs_sat_linear((real_t)xs[i], l, m), linear_ref((double)(real_t)xs[i], (double)l, (double)m),
+        assert_close(aocs_sat_linear((real_t)xs[i], l, m), ref_linear_sat((double)(real_t)xs[i], (double)l, (double)m),
                      TOL_TIGHT);
     }
     /* continuity and unit slope at l from both sides */

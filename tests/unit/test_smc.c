@@ -146,6 +146,11 @@ static aocs_smc_t make_law(const smc_ref_cfg_t *r)
     return law;
 }
 
+static aocs_status_t smc_step(void *law, const aocs_att_input_t *in, aocs_vec3_t *u_out)
+{
+    return aocs_smc_step((aocs_smc_t *)law, in, u_out);
+}
+
 /* returns the surface of the state so callers can assert where it lies */
 static void check_state(const smc_ref_cfg_t *r, aocs_att_input_t in, double s[3])
 {
@@ -201,18 +206,12 @@ static void test_by_hand(void **state)
                              {0.5, 0.5, 0.5},
                              {0.1, 0.1, 0.1}};
     aocs_smc_t law = make_law(&c);
-    aocs_att_input_t in;
-    in.q_BN = aocs_quat_make(AOCS_R(0.5), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.86602540378443865));
-    in.qd_DN = aocs_quat_identity();
-    in.w_BN_B = aocs_vec3_zero();
-    in.wd_B = aocs_vec3_zero();
-    in.wd_dot_B = aocs_vec3_zero();
-    in.dt_s = AOCS_R(0.1);
+    aocs_att_input_t in = make_input_60deg_about_x(0.0);
     aocs_vec3_t u;
     assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
     const double ua[3] = {-1.0, 0.0, 0.0};
     assert_vec3_close_scaled(u, ua, TOL_TIGHT, 1.0);
-    in.w_BN_B = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.0), AOCS_R(0.0));
+    in = make_input_60deg_about_x(0.05);
     assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
     const double ub[3] = {-1.0433012701892219, 0.0, 0.0};
     assert_vec3_close_scaled(u, ub, TOL_TIGHT, 1.1);
@@ -222,49 +221,15 @@ static void test_sign_convention(void **state)
 {
     (void)state;
     aocs_smc_t law = make_law(&CFG_IRASSI);
-    dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
-    const double angles_deg[3] = {0.1, 10.0, 170.0};
-    for (int k = 0; k < 3; ++k) {
-        dq_t q = dq_mul(dq_axis_angle(1.0, 0.0, 0.0, angles_deg[k] * PI / 180.0), qd);
-        aocs_att_input_t in = make_input(q, ZERO3, qd, ZERO3, ZERO3, 0.1);
-        aocs_vec3_t u;
-        assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_OK);
-        assert_true(u.v[0] < AOCS_R(0.0));
-        assert_true(fabs((double)u.v[1]) <= 1e-3 * fabs((double)u.v[0]));
-        assert_true(fabs((double)u.v[2]) <= 1e-3 * fabs((double)u.v[0]));
-    }
+    check_restoring_torque_about_x(smc_step, &law);
 }
 
 static void test_q_and_minus_q_same_torque(void **state)
 {
     (void)state;
     aocs_smc_t law = make_law(&CFG_GAO);
-    test_rng_t rng = {0x9E3779B97F4A7C15ULL};
-    for (int k = 0; k < 200; ++k) {
-        aocs_att_input_t in;
-        in.q_BN = test_random_quat(&rng);
-        in.qd_DN = test_random_quat(&rng);
-        in.w_BN_B = test_random_vec3(&rng, 0.1);
-        in.wd_B = test_random_vec3(&rng, 0.01);
-        in.wd_dot_B = test_random_vec3(&rng, 0.001);
-        in.dt_s = AOCS_R(0.1);
-        aocs_vec3_t u_ref;
-        assert_int_equal(aocs_smc_step(&law, &in, &u_ref), AOCS_OK);
-        for (int flip = 1; flip < 4; ++flip) {
-            aocs_att_input_t in2 = in;
-            for (int i = 0; i < 4; ++i) {
-                if ((flip & 1) != 0) {
-                    in2.q_BN.q[i] = -in.q_BN.q[i];
-                }
-                if ((flip & 2) != 0) {
-                    in2.qd_DN.q[i] = -in.qd_DN.q[i];
-                }
-            }
-            aocs_vec3_t u2;
-            assert_int_equal(aocs_smc_step(&law, &in2, &u2), AOCS_OK);
-            assert_vec3_close(u2, u_ref, TOL_TIGHT * 100.0);
-        }
-    }
+    const sign_sweep_t sweep = {.w_scale = 0.1, .wd_scale = 0.01, .wd_dot_scale = 0.001, .tol = TOL_TIGHT * 100.0};
+    assert_int_equal(check_q_sign_invariance(smc_step, &law, &sweep), 200);
 }
 
 /* ---- Lyapunov ---- */
@@ -278,11 +243,7 @@ typedef struct {
 static aocs_status_t smc_torque(void *vctx, dq_t q, const double w[3], double u[3])
 {
     smc_ctx_t *c = (smc_ctx_t *)vctx;
-    aocs_att_input_t in = make_input(q, w, c->qd, ZERO3, ZERO3, 0.01);
-    aocs_vec3_t uv;
-    aocs_status_t st = aocs_smc_step(&c->law, &in, &uv);
-    dv_from_real(uv, u);
-    return st;
+    return law_torque(smc_step, &c->law, q, w, c->qd, u);
 }
 
 /* SPEC 2.4: closed loop sdot_i = -G_i sat(s_i), so V = 0.5 s^T s, Vdot = -sum G_i s_i sat(s_i) */
@@ -334,22 +295,13 @@ static void test_lyapunov(void **state)
     assert_true(ctx.outside > 10);
 }
 
-/* ---- rejection paths ---- */
-static aocs_att_input_t some_input(void)
-{
-    const double w[3] = {0.01, 0.02, 0.03};
-    return make_input(dq_euler321_deg(14.0, 14.0, 14.0), w, dq_euler321_deg(30.0, -20.0, 1.0), ZERO3, ZERO3, 0.1);
-}
-
+/* ---- rejection paths (law_test_support.h) ---- */
 static void expect_init_fails(aocs_smc_config_t cfg, aocs_status_t expected)
 {
     aocs_smc_t law = make_law(&CFG_GAO);
-    aocs_att_input_t in = some_input();
-    aocs_vec3_t u = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
     assert_int_equal(aocs_smc_init(&law, &cfg), expected);
     /* a failed init leaves the law unusable even after a good one */
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
+    assert_step_not_initialised(smc_step, &law);
 }
 
 static void test_invalid_config(void **state)
@@ -405,60 +357,15 @@ static void test_invalid_config(void **state)
 static void test_step_rejections(void **state)
 {
     (void)state;
-    aocs_att_input_t good = some_input();
-    aocs_vec3_t u;
-
     aocs_smc_t law;
-    memset(&law, 0, sizeof law);
-    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
-    memset(&law, 0xA5, sizeof law);
-    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_ERR_NOT_INITIALISED);
-    assert_vec3_is_zero(u);
-
+    check_step_before_init(smc_step, &law, sizeof law);
     law = make_law(&CFG_IRASSI);
-    assert_int_equal(aocs_smc_step(NULL, &good, &u), AOCS_ERR_NULL_ARG);
-    u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-    assert_int_equal(aocs_smc_step(&law, NULL, &u), AOCS_ERR_NULL_ARG);
-    assert_vec3_is_zero(u);
-    assert_int_equal(aocs_smc_step(&law, &good, NULL), AOCS_ERR_NULL_ARG);
-
-    const double bad[3] = {NAN, INFINITY, -INFINITY};
-    for (int k = 0; k < N_INPUT_FIELDS; ++k) {
-        for (int b = 0; b < 3; ++b) {
-            aocs_att_input_t in = good;
-            *input_field(&in, k) = (real_t)bad[b];
-            u = aocs_vec3_make(AOCS_R(5.0), AOCS_R(5.0), AOCS_R(5.0));
-            aocs_status_t expected = (k == N_INPUT_FIELDS - 1) ? AOCS_ERR_DT_INVALID : AOCS_ERR_INPUT_NOT_FINITE;
-            assert_int_equal(aocs_smc_step(&law, &in, &u), expected);
-            assert_vec3_is_zero(u);
-        }
-    }
+    aocs_att_input_t good = law_test_input();
+    check_step_rejections(smc_step, &law, &good);
+    /* also finite rates whose gyroscopic term w x Jw overflows */
     aocs_att_input_t in = good;
-    in.q_BN.q[3] *= AOCS_R(1.1);
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
-    assert_vec3_is_zero(u);
-    in = good;
-    in.qd_DN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0));
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_QUAT_NOT_UNIT);
-    assert_vec3_is_zero(u);
-    in = good;
-    in.dt_s = AOCS_R(0.0);
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
-    in.dt_s = AOCS_R(-0.1);
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_DT_INVALID);
-    assert_vec3_is_zero(u);
-    /* finite rates whose gyroscopic term w x Jw overflows */
-    in = good;
     in.w_BN_B = aocs_vec3_make(AOCS_SQRT(AOCS_REAL_MAX), AOCS_SQRT(AOCS_REAL_MAX), AOCS_R(0.0));
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
-    assert_vec3_is_zero(u);
-    in.w_BN_B = aocs_vec3_make(AOCS_REAL_MAX / AOCS_R(2.0), AOCS_R(0.0), AOCS_R(0.0));
-    assert_int_equal(aocs_smc_step(&law, &in, &u), AOCS_ERR_OUTPUT_NOT_FINITE);
-    assert_vec3_is_zero(u);
-    assert_int_equal(aocs_smc_step(&law, &good, &u), AOCS_OK);
-    assert_true(aocs_vec3_is_finite(u) != 0);
+    assert_step_rejects(smc_step, &law, &in, AOCS_ERR_OUTPUT_NOT_FINITE);
 }
 
 int main(void)

@@ -1,6 +1,7 @@
 /*
  * Shared helpers for the cmocka unit tests: tolerances that follow real_t,
- * a seeded random generator (repeatable on every machine), random attitudes.
+ * the SPEC 1 attitude matrix in double, a seeded random generator
+ * (repeatable on every machine), random attitudes.
  */
 #ifndef AOCS_TEST_SUPPORT_H
 #define AOCS_TEST_SUPPORT_H
@@ -46,6 +47,21 @@ static inline void assert_close_impl(double a, double b, double tol, const char 
             assert_close(a_.v[i_], b_.v[i_], (tol));                   \
         }                                                              \
     } while (0)
+
+/* A(q) of SPEC 1 written out element by element, in double (never the firmware's aocs_quat_to_dcm) */
+static inline void ref_dcm(aocs_quat_t qr, double a[3][3])
+{
+    double q1 = (double)qr.q[0], q2 = (double)qr.q[1], q3 = (double)qr.q[2], q4 = (double)qr.q[3];
+    a[0][0] = q1 * q1 - q2 * q2 - q3 * q3 + q4 * q4;
+    a[0][1] = 2.0 * (q1 * q2 + q3 * q4);
+    a[0][2] = 2.0 * (q1 * q3 - q2 * q4);
+    a[1][0] = 2.0 * (q1 * q2 - q3 * q4);
+    a[1][1] = -q1 * q1 + q2 * q2 - q3 * q3 + q4 * q4;
+    a[1][2] = 2.0 * (q2 * q3 + q1 * q4);
+    a[2][0] = 2.0 * (q1 * q3 + q2 * q4);
+    a[2][1] = 2.0 * (q2 * q3 - q1 * q4);
+    a[2][2] = -q1 * q1 - q2 * q2 + q3 * q3 + q4 * q4;
+}
 
 /* xorshift64*: deterministic, no libc state */
 typedef struct {

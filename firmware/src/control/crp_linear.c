@@ -8,15 +8,9 @@
 
 aocs_status_t aocs_crp_linear_init(aocs_crp_linear_t *law, const aocs_crp_linear_config_t *cfg)
 {
-    aocs_status_t st = AOCS_OK;
-    if ((law == NULL) || (cfg == NULL)) {
-        st = AOCS_ERR_NULL_ARG;
-    } else if (!AOCS_IS_FINITE(cfg->k1) || !AOCS_IS_FINITE(cfg->k2)) {
-        st = AOCS_ERR_PARAM_NOT_FINITE;
-    } else if (!(cfg->k1 > AOCS_R(0.0)) || !(cfg->k2 > AOCS_R(0.0))) {
-        st = AOCS_ERR_GAIN_NOT_POSITIVE;
-    } else {
-        st = AOCS_OK;
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    if ((law != NULL) && (cfg != NULL)) {
+        st = aocs_law_check_gains(cfg->k1, cfg->k2); /* SPEC 2.1: k1, k2 > 0 */
     }
     if (law != NULL) {
         if (st == AOCS_OK) {
@@ -53,14 +47,8 @@ aocs_status_t aocs_crp_linear_step(aocs_crp_linear_t *law, const aocs_att_input_
             /* SPEC 2.1: u = -k1 we - k2 rho */
             u = aocs_vec3_add(aocs_vec3_scale(we, -law->cfg.k1),
                               aocs_vec3_scale(rho, -law->cfg.k2));
-            if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-            }
         }
     }
 
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

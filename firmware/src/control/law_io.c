@@ -1,5 +1,6 @@
 /*
- * Common input validation of the control laws (law_io.h).
+ * Common input validation of the control laws (law_io.h), and the gain check
+ * and output rule the laws share.
  *
  * Order of the checks, so that every failure has one deterministic code:
  * NULL pointer, then dt (AOCS_ERR_DT_INVALID also when dt is NaN or Inf, as
@@ -66,4 +67,29 @@ aocs_status_t aocs_orbit_input_check(const aocs_orbit_input_t *in)
         }
     }
     return st;
+}
+
+aocs_status_t aocs_law_check_gains(real_t g1, real_t g2)
+{
+    aocs_status_t st = AOCS_OK;
+    if (!AOCS_IS_FINITE(g1) || !AOCS_IS_FINITE(g2)) {
+        st = AOCS_ERR_PARAM_NOT_FINITE;
+    } else if (!(g1 > AOCS_R(0.0)) || !(g2 > AOCS_R(0.0))) {
+        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
+aocs_status_t aocs_law_set_output(aocs_status_t st, aocs_vec3_t u, aocs_vec3_t *u_out)
+{
+    aocs_status_t out_st = st;
+    if ((out_st == AOCS_OK) && (aocs_vec3_is_finite(u) == 0)) {
+        out_st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
+    }
+    if (u_out != NULL) {
+        *u_out = (out_st == AOCS_OK) ? u : aocs_vec3_zero();
+    }
+    return out_st;
 }

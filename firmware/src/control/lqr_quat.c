@@ -2,6 +2,10 @@
 #include <stddef.h>
 
 #include "aocs/control/lqr_quat.h"
+#include "aocs/control/gain_matrix.h"
+
+/* set by a successful init only: a zeroed or garbage struct never steps */
+#define LQR_QUAT_INIT_MAGIC 0x4C51
 
 aocs_status_t aocs_lqr_quat_init(aocs_lqr_quat_t *law, const aocs_lqr_quat_config_t *cfg)
 {
@@ -12,25 +16,12 @@ aocs_status_t aocs_lqr_quat_init(aocs_lqr_quat_t *law, const aocs_lqr_quat_confi
     if ((law == NULL) || (cfg == NULL)) {
         st = AOCS_ERR_NULL_ARG;
     } else {
-        for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 6; ++j) {
-                if (!AOCS_IS_FINITE(cfg->k[i][j])) {
-                    st = AOCS_ERR_PARAM_NOT_FINITE;
-                }
-            }
-        }
-        if (st == AOCS_OK) {
-            for (int i = 0; i < 3; ++i) {
-                /* a stabilising K of the double-integrator-like model has
-                 * positive proportional and derivative diagonals */
-                if ((!(cfg->k[i][i] > AOCS_R(0.0))) || (!(cfg->k[i][3 + i] > AOCS_R(0.0)))) {
-                    st = AOCS_ERR_GAIN_TABLE_INVALID;
-                }
-            }
-        }
+        /* a stabilising K of the double-integrator-like model has positive
+         * proportional and derivative diagonals */
+        st = aocs_gain_matrix_check(cfg->k, AOCS_GAIN_MATRIX_POS_DIAGS);
         if (st == AOCS_OK) {
             law->cfg = *cfg;
-            law->initialised = 1;
+            law->initialised = LQR_QUAT_INIT_MAGIC;
         }
     }
     return st;
@@ -43,7 +34,7 @@ aocs_status_t aocs_lqr_quat_step(aocs_lqr_quat_t *law, const aocs_att_input_t *i
 
     if ((law == NULL) || (u_out == NULL) || (in == NULL)) {
         st = AOCS_ERR_NULL_ARG;
-    } else if (law->initialised == 0) {
+    } else if (law->initialised != LQR_QUAT_INIT_MAGIC) {
         st = AOCS_ERR_NOT_INITIALISED;
     } else {
         st = aocs_att_input_check(in);
@@ -52,27 +43,16 @@ aocs_status_t aocs_lqr_quat_step(aocs_lqr_quat_t *law, const aocs_att_input_t *i
         aocs_quat_t qe;
         st = aocs_quat_normalize(aocs_quat_error(in->q_BN, in->qd_DN), &qe);
         if (st == AOCS_OK) {
+            const aocs_lqr_quat_config_t *c = &law->cfg;
             real_t x[6];
-            /* SPEC 2.5: x = [sign(qe4) qe_vec; we] */
+            /* SPEC 2.5: x = [sign(qe4) qe_vec; we], u = -K x */
             real_t s = aocs_quat_sign_q4(qe);
             for (int i = 0; i < 3; ++i) {
                 x[i] = s * qe.q[i];
                 x[3 + i] = in->w_BN_B.v[i] - in->wd_B.v[i];
             }
-            for (int i = 0; i < 3; ++i) {
-                real_t acc = AOCS_R(0.0);
-                for (int j = 0; j < 6; ++j) {
-                    acc += law->cfg.k[i][j] * x[j];
-                }
-                u.v[i] = -acc;
-            }
-            if (aocs_vec3_is_finite(u) == 0) {
-                st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-            }
+            u = aocs_gain_matrix_mul(c->k, x, AOCS_R(-1.0));
         }
     }
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

@@ -4,6 +4,9 @@
 #include "aocs/control/mrp_sat.h"
 #include "aocs/control/saturate.h"
 
+/* set by a successful init only: a zeroed or garbage struct never steps */
+#define MRP_SAT_INIT_MAGIC 0x4D53
+
 /* 2 / sqrt 3, the factor of the chain M2 <= (2/sqrt 3) uM (mrp_sat.h) */
 #define MRP_SAT_TWO_OVER_SQRT3 AOCS_R(1.1547005383792515290)
 
@@ -79,7 +82,7 @@ aocs_status_t aocs_mrp_sat_init(aocs_mrp_sat_t *law, const aocs_mrp_sat_config_t
     }
     if (st == AOCS_OK) {
         law->cfg = *cfg;
-        law->initialised = 1;
+        law->initialised = MRP_SAT_INIT_MAGIC;
     }
     return st;
 }
@@ -92,7 +95,7 @@ aocs_status_t aocs_mrp_sat_step(aocs_mrp_sat_t *law, const aocs_att_input_t *in,
 
     if ((law == NULL) || (u_out == NULL) || (in == NULL)) {
         st = AOCS_ERR_NULL_ARG;
-    } else if (law->initialised == 0) {
+    } else if (law->initialised != MRP_SAT_INIT_MAGIC) {
         st = AOCS_ERR_NOT_INITIALISED;
     } else {
         st = aocs_att_input_check(in);
@@ -149,8 +152,5 @@ aocs_status_t aocs_mrp_sat_step(aocs_mrp_sat_t *law, const aocs_att_input_t *in,
             }
         }
     }
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

@@ -2,6 +2,10 @@
 #include <stddef.h>
 
 #include "aocs/control/orbit_lqr.h"
+#include "aocs/control/gain_matrix.h"
+
+/* set by a successful init only: a zeroed or garbage struct never steps */
+#define ORBIT_LQR_INIT_MAGIC 0x4F4C
 
 aocs_status_t aocs_orbit_lqr_init(aocs_orbit_lqr_t *law, const aocs_orbit_lqr_config_t *cfg)
 {
@@ -12,23 +16,11 @@ aocs_status_t aocs_orbit_lqr_init(aocs_orbit_lqr_t *law, const aocs_orbit_lqr_co
     if ((law == NULL) || (cfg == NULL)) {
         st = AOCS_ERR_NULL_ARG;
     } else {
-        for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 6; ++j) {
-                if (!AOCS_IS_FINITE(cfg->k[i][j])) {
-                    st = AOCS_ERR_PARAM_NOT_FINITE;
-                }
-            }
-        }
-        if (st == AOCS_OK) {
-            for (int i = 0; i < 3; ++i) {
-                if (!(cfg->k[i][i] > AOCS_R(0.0))) {
-                    st = AOCS_ERR_GAIN_TABLE_INVALID;
-                }
-            }
-        }
+        /* velocity damping: the positive diagonal every stabilising LQR gain of this model has */
+        st = aocs_gain_matrix_check(cfg->k, AOCS_GAIN_MATRIX_POS_DIAG);
         if (st == AOCS_OK) {
             law->cfg = *cfg;
-            law->initialised = 1;
+            law->initialised = ORBIT_LQR_INIT_MAGIC;
         }
     }
     return st;
@@ -41,31 +33,20 @@ aocs_status_t aocs_orbit_lqr_step(aocs_orbit_lqr_t *law, const aocs_orbit_input_
 
     if ((law == NULL) || (f_out == NULL) || (in == NULL)) {
         st = AOCS_ERR_NULL_ARG;
-    } else if (law->initialised == 0) {
+    } else if (law->initialised != ORBIT_LQR_INIT_MAGIC) {
         st = AOCS_ERR_NOT_INITIALISED;
     } else {
         st = aocs_orbit_input_check(in);
     }
     if (st == AOCS_OK) {
+        const aocs_orbit_lqr_config_t *c = &law->cfg;
         real_t x[6];
-        /* SPEC 2.8 state order: velocities first, then positions */
+        /* SPEC 2.8 state order: velocities first, then positions; F = -K x */
         for (int i = 0; i < 3; ++i) {
             x[i] = in->vel_mps.v[i];
             x[3 + i] = in->pos_m.v[i];
         }
-        for (int i = 0; i < 3; ++i) {
-            real_t acc = AOCS_R(0.0);
-            for (int j = 0; j < 6; ++j) {
-                acc += law->cfg.k[i][j] * x[j];
-            }
-            f.v[i] = -acc;
-        }
-        if (aocs_vec3_is_finite(f) == 0) {
-            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-        }
+        f = aocs_gain_matrix_mul(c->k, x, AOCS_R(-1.0));
     }
-    if (f_out != NULL) {
-        *f_out = (st == AOCS_OK) ? f : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, f, f_out);
 }

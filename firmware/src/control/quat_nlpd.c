@@ -8,17 +8,12 @@
 
 aocs_status_t aocs_quat_nlpd_init(aocs_quat_nlpd_t *law, const aocs_quat_nlpd_config_t *cfg)
 {
-    aocs_status_t st = AOCS_OK;
-    if ((law == NULL) || (cfg == NULL)) {
-        st = AOCS_ERR_NULL_ARG;
-    } else if (!AOCS_IS_FINITE(cfg->kp) || !AOCS_IS_FINITE(cfg->kd)) {
-        st = AOCS_ERR_PARAM_NOT_FINITE;
-    } else if (!(cfg->kp > AOCS_R(0.0)) || !(cfg->kd > AOCS_R(0.0))) {
-        st = AOCS_ERR_GAIN_NOT_POSITIVE;
-    } else if ((cfg->variant != AOCS_QUAT_NLPD_NEG) && (cfg->variant != AOCS_QUAT_NLPD_POS)) {
-        st = AOCS_ERR_MODE_INVALID;
-    } else {
-        st = AOCS_OK;
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    if ((law != NULL) && (cfg != NULL)) {
+        st = aocs_law_check_gains(cfg->kp, cfg->kd); /* SPEC 2.3: kp, kd > 0 */
+        if ((st == AOCS_OK) && (cfg->variant != AOCS_QUAT_NLPD_NEG) && (cfg->variant != AOCS_QUAT_NLPD_POS)) {
+            st = AOCS_ERR_MODE_INVALID;
+        }
     }
     if (law != NULL) {
         if (st == AOCS_OK) {
@@ -56,13 +51,7 @@ aocs_status_t aocs_quat_nlpd_step(aocs_quat_nlpd_t *law, const aocs_att_input_t 
                                                                       : (AOCS_R(1.0) + qq);
         u = aocs_vec3_add(aocs_vec3_scale(qe_vec, -law->cfg.kp * sgn),
                           aocs_vec3_scale(we, -law->cfg.kd * rate_factor));
-        if (aocs_vec3_is_finite(u) == 0) {
-            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-        }
     }
 
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

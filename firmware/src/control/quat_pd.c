@@ -8,15 +8,9 @@
 
 aocs_status_t aocs_quat_pd_init(aocs_quat_pd_t *law, const aocs_quat_pd_config_t *cfg)
 {
-    aocs_status_t st = AOCS_OK;
-    if ((law == NULL) || (cfg == NULL)) {
-        st = AOCS_ERR_NULL_ARG;
-    } else if (!AOCS_IS_FINITE(cfg->kp) || !AOCS_IS_FINITE(cfg->kd)) {
-        st = AOCS_ERR_PARAM_NOT_FINITE;
-    } else if (!(cfg->kp > AOCS_R(0.0)) || !(cfg->kd > AOCS_R(0.0))) {
-        st = AOCS_ERR_GAIN_NOT_POSITIVE;
-    } else {
-        st = AOCS_OK;
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    if ((law != NULL) && (cfg != NULL)) {
+        st = aocs_law_check_gains(cfg->kp, cfg->kd); /* SPEC 2.2: kp, kd > 0 */
     }
     if (law != NULL) {
         if (st == AOCS_OK) {
@@ -49,13 +43,7 @@ aocs_status_t aocs_quat_pd_step(aocs_quat_pd_t *law, const aocs_att_input_t *in,
         /* SPEC 2.2: u = -kp sign(qe4) qe_vec - kd we */
         u = aocs_vec3_add(aocs_vec3_scale(aocs_quat_vec(qe), -law->cfg.kp * sgn),
                           aocs_vec3_scale(we, -law->cfg.kd));
-        if (aocs_vec3_is_finite(u) == 0) {
-            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-        }
     }
 
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

@@ -90,13 +90,7 @@ aocs_status_t aocs_smc_step(aocs_smc_t *law, const aocs_att_input_t *in, aocs_ve
         aocs_vec3_t h = aocs_mat3_mul_vec(c->inertia, in->w_BN_B);
         /* + w x (J w) cancels the gyroscopic term of the plant */
         u = aocs_vec3_add(aocs_mat3_mul_vec(c->inertia, acc), aocs_vec3_cross(in->w_BN_B, h));
-        if (aocs_vec3_is_finite(u) == 0) {
-            st = AOCS_ERR_OUTPUT_NOT_FINITE; /* finite inputs, overflowing result */
-        }
     }
 
-    if (u_out != NULL) {
-        *u_out = (st == AOCS_OK) ? u : aocs_vec3_zero();
-    }
-    return st;
+    return aocs_law_set_output(st, u, u_out);
 }

@@ -1,5 +1,6 @@
 /*
- * Inputs shared by every law (SPEC 2: "every law takes the same inputs").
+ * Inputs shared by every law (SPEC 2: "every law takes the same inputs"),
+ * and the checks every law shares (implemented in src/control/law_io.c).
  * Each law module exposes:
  *   aocs_status_t aocs_<law>_init(aocs_<law>_t *law, const aocs_<law>_config_t *cfg);
  *       validates every config value (own status per failure), copies it,
@@ -43,5 +44,21 @@ aocs_status_t aocs_att_input_check(const aocs_att_input_t *in);
 aocs_status_t aocs_orbit_input_check(const aocs_orbit_input_t *in);
 
 #define AOCS_QUAT_UNIT_TOL AOCS_R(1.0e-3)
+
+/*
+ * Config check of the laws with two scalar gains (crp_linear k1 k2,
+ * quat_pd and quat_nlpd kp kd), first failure wins: either gain NaN/Inf
+ * (AOCS_ERR_PARAM_NOT_FINITE), either gain <= 0 (AOCS_ERR_GAIN_NOT_POSITIVE);
+ * else AOCS_OK.
+ */
+aocs_status_t aocs_law_check_gains(real_t g1, real_t g2);
+
+/*
+ * Last statement of every law step, so the contract above holds in one place:
+ * a non-finite u with st == AOCS_OK (finite inputs whose result overflowed)
+ * becomes AOCS_ERR_OUTPUT_NOT_FINITE; *u_out, when not NULL, receives u on
+ * success and zero on any error. Returns the final status.
+ */
+aocs_status_t aocs_law_set_output(aocs_status_t st, aocs_vec3_t u, aocs_vec3_t *u_out);
 
 #endif /* AOCS_CONTROL_LAW_IO_H */
