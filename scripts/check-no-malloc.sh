@@ -10,7 +10,7 @@
 # (host, host-float, cortex-m4f, cortex-m7):
 #   - every firmware static library <cfg>/firmware/**/libaocs_*.a
 #     (libaocs_fw.a and the port library): undefined and defined symbols;
-#   - the ARM image <cfg>/aocs_image.elf: every symbol the link pulled in
+#   - the ARM images <cfg>/aocs_image.elf and aocs_pil.elf: every symbol the link pulled in
 #     (newlib's printf, for example, would bring _malloc_r and _sbrk).
 # Configurations that are not built are reported and skipped; checking
 # nothing at all is an error. `make no-malloc` builds all four first.
@@ -80,12 +80,14 @@ for cfg in "${configs[@]}"; do
     check_file "$nm" "$lib"
   done
   if [ "${cfg#cortex-}" != "$cfg" ]; then
-    if [ -f "$dir/aocs_image.elf" ]; then
-      check_file "$nm" "$dir/aocs_image.elf"
-    else
-      echo "no-malloc: FAIL $dir/aocs_image.elf missing"
-      failed=1
-    fi
+    for image in aocs_image.elf aocs_pil.elf; do
+      if [ -f "$dir/$image" ]; then
+        check_file "$nm" "$dir/$image"
+      else
+        echo "no-malloc: FAIL $dir/$image missing"
+        failed=1
+      fi
+    done
   fi
 done
 

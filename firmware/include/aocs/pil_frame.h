@@ -277,10 +277,11 @@ aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *po
                                         const char *name);
 
 /*
- * Applies a CONFIG field list to *cfg (which the caller has filled with
- * aocs_exec_config_default) and *budget_instr (the override, unchanged when
- * the field is absent). Gain tables are looked up by name in the compiled
- * tables (aocs_gain_table_find / aocs_gain_table_apply) after all fields.
+ * Applies a CONFIG field list, in order, to *cfg (which the caller has
+ * filled with aocs_exec_config_default) and *budget_instr (the override,
+ * unchanged when the field is absent). A gain-table entry copies the
+ * compiled table of that name (aocs_gain_table_find / aocs_gain_table_apply)
+ * into the law's gain, as the fsw_node parser does for `<law>.table`.
  * Returns AOCS_PIL_OK; AOCS_PIL_ERR_PAYLOAD (truncated entry);
  * AOCS_PIL_ERR_FIELD with *field = the entry's id (unknown id, wrong count,
  * integer out of range, or a gain table that is unknown or of another law,

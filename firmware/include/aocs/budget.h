@@ -1,0 +1,44 @@
+/*
+ * Instruction budgets of one executive step per law and target core: the
+ * timing budget of the flight code in the unit that is measured exactly in
+ * the processor-in-the-loop image (QEMU -icount, docs/pil.md), independent
+ * of the machine that runs the emulator.
+ *
+ * A budget covers one whole aocs_exec_step call with that law selected (input
+ * checks, guidance, law, saturation, counters; in SAFE mode the law still
+ * runs in the shadow, so the same budget applies). Each value is 1.4 times
+ * the worst count measured over the reference scenarios of docs/pil.md
+ * (plus a SAFE-mode step's extra), rounded up to 100; the PIL image flags a
+ * step above it (reply `overrun`, counted in the bridge's n_overrun) and the
+ * PIL tests fail on any.
+ *
+ * Microseconds on silicon are at least instructions / f_clk (one
+ * instruction per cycle at best): divide by 168 (M4F at 168 MHz) or 216 (M7
+ * at 216 MHz). Flash wait states, cache misses and the FPU's multi-cycle
+ * operations (division, square root) only add to that.
+ */
+#ifndef AOCS_BUDGET_H
+#define AOCS_BUDGET_H
+
+#include <stdint.h>
+
+#include "aocs/executive.h"
+
+typedef enum {
+    AOCS_BUDGET_TARGET_CORTEX_M4F = 0, /* float build, fpv4-sp-d16 */
+    AOCS_BUDGET_TARGET_CORTEX_M7,      /* double build, fpv5-d16 */
+    AOCS_BUDGET_TARGET_COUNT
+} aocs_budget_target_t;
+
+/* Nominal core clocks the microsecond figures of docs/pil.md use, Hz. */
+#define AOCS_BUDGET_CLOCK_CORTEX_M4F_HZ 168000000UL
+#define AOCS_BUDGET_CLOCK_CORTEX_M7_HZ 216000000UL
+
+/*
+ * Instructions of one aocs_exec_step with `law` selected on `target`
+ * (AOCS_LAW_NONE: a STANDBY step). 0 for an out-of-range law or target
+ * (no budget known: every step would count as an overrun). Total.
+ */
+uint32_t aocs_budget_instructions(aocs_law_id_t law, aocs_budget_target_t target);
+
+#endif /* AOCS_BUDGET_H */

@@ -1,0 +1,43 @@
+/*
+ * Exact instruction counts in the PIL image (docs/pil.md, "Counting
+ * instructions"). QEMU runs with -icount shift=AOCS_PIL_ICOUNT_SHIFT: its
+ * virtual clock advances 2^shift ns per executed guest instruction, and the
+ * SysTick of the MPS2 board counts that clock at 25 MHz. The HAL's cycle
+ * counter (aocs_hal_cycles: DWT CYCCNT on silicon, the SysTick fallback under
+ * QEMU, where CYCCNT stays 0) therefore counts 40/2^shift instructions per
+ * tick; with shift 7 that is exactly 3.2 ticks per instruction, so a tick
+ * difference rounds to the exact instruction count (the +-1 tick of reading
+ * the counter is 0.31 instruction).
+ *
+ * Repeatability: the HAL extends SysTick with a 1 kHz interrupt. A step that
+ * contained such an interrupt (and the HAL's wrap handling) would count a
+ * few instructions more than the same step without, depending on when the
+ * step started. aocs_pil_icount_sync() makes sure that at least
+ * AOCS_PIL_ICOUNT_WINDOW_TICKS (7187 instructions) of the current SysTick
+ * period are left before a window starts, waiting for the next reload when
+ * they are not; a window shorter than that contains no wrap, so the count of
+ * a step depends only on what the step executes. Whether that held is
+ * checked after the fact (window ticks < ticks that were left): the
+ * `exact` flag of the reply. Cortex-M port only.
+ */
+#ifndef AOCS_PIL_ICOUNT_H
+#define AOCS_PIL_ICOUNT_H
+
+#include <stdint.h>
+
+/* SysTick ticks a measured window may take (23000 ticks = 7187 instructions, of a 25000-tick period). */
+#define AOCS_PIL_ICOUNT_WINDOW_TICKS 23000UL
+
+/*
+ * Returns when at least AOCS_PIL_ICOUNT_WINDOW_TICKS are left before the next
+ * SysTick reload (waiting for the reload if needed); returns the ticks left.
+ */
+uint32_t aocs_pil_icount_sync(void);
+
+/* Instructions in a window of `ticks` SysTick ticks (rounded to nearest). */
+uint32_t aocs_pil_icount_from_ticks(uint32_t ticks);
+
+/* Executes exactly 2 n + 1 instructions after the call (n >= 1): pil_calib.S. */
+void aocs_pil_calib_loop(uint32_t n);
+
+#endif /* AOCS_PIL_ICOUNT_H */

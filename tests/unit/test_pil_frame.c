@@ -1,0 +1,544 @@
+/*
+ * PIL frame codec (aocs/pil_frame.h) and instruction budget table
+ * (aocs/budget.h), on the host in both precisions.
+ *
+ * Expected bytes are written down from the protocol description (header
+ * fields, little-endian integers, IEEE-754 binary64 patterns) and the CRCs
+ * come from zlib.crc32 (an implementation independent of the codec);
+ * tests/sil/test_pil_frame.py checks the Python codec against the same
+ * vectors, so the two ends of the link agree byte for byte.
+ */
+#include <string.h>
+
+#include "test_support.h"
+#include "aocs/budget.h"
+#include "aocs/executive.h"
+#include "aocs/pil_frame.h"
+#include "gains/aocs_gains.h"
+
+/* BYE, seq 7, empty payload: "APIL", version 1, type 8, length 0, seq 7, CRC (zlib) */
+static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00,
+                                       0x07, 0x00, 0x00, 0x00, 0xED, 0x4A, 0x36, 0x90};
+
+/* HELLO seq 0 of target 2, 8-byte reals, shift 7, calib ok 2000/2000, overhead 47 */
+static const uint8_t golden_hello[44] = {
+    0x41, 0x50, 0x49, 0x4C, 0x01, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
+    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x71, 0xC7, 0x6A, 0x7C};
+
+/* bit-at-a-time CRC-32/ISO-HDLC, the textbook definition (independent of the table) */
+static uint32_t crc_bitwise(const uint8_t *p, size_t n)
+{
+    uint32_t c = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; ++i) {
+        c ^= p[i];
+        for (int k = 0; k < 8; ++k) {
+            c = (c & 1u) ? (c >> 1) ^ 0xEDB88320u : (c >> 1);
+        }
+    }
+    return c ^ 0xFFFFFFFFu;
+}
+
+/* bit-for-bit equality of two reals (the codec must not change a single bit) */
+#define assert_same_real(a, b)                                  \
+    do {                                                        \
+        const real_t a_ = (a);                                  \
+        const real_t b_ = (b);                                  \
+        assert_memory_equal(&a_, &b_, sizeof(real_t));          \
+    } while (0)
+
+static uint64_t le64(const uint8_t *p)
+{
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) {
+        v = (v << 8) | p[i];
+    }
+    return v;
+}
+
+static void test_crc_known_values(void **state)
+{
+    (void)state;
+    const uint8_t check[] = "123456789";
+    uint8_t buf[300];
+    assert_int_equal(aocs_pil_crc32(check, 9), 0xCBF43926u); /* the CRC catalogue's check value */
+    assert_int_equal(aocs_pil_crc32(check, 0), 0u);
+    assert_int_equal(aocs_pil_crc32(NULL, 5), 0u);
+    for (size_t i = 0; i < sizeof(buf); ++i) {
+        buf[i] = (uint8_t)(i * 37u + 11u);
+    }
+    for (size_t n = 0; n <= sizeof(buf); n += 7) {
+        assert_int_equal(aocs_pil_crc32(buf, (uint32_t)n), crc_bitwise(buf, n));
+    }
+}
+
+static void test_frame_golden_bytes(void **state)
+{
+    (void)state;
+    uint8_t out[AOCS_PIL_FRAME_MAX];
+    uint8_t payload[AOCS_PIL_HELLO_BYTES];
+    uint32_t len = 0;
+    aocs_pil_hello_t h = {2u, 8u, 7u, 1u, 2000u, 2000u, 47u};
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_BYE, 7u, NULL, 0u, out, sizeof(out), &len), AOCS_PIL_OK);
+    assert_int_equal(len, sizeof(golden_bye));
+    assert_memory_equal(out, golden_bye, sizeof(golden_bye));
+
+    assert_int_equal(aocs_pil_hello_encode(&h, payload, sizeof(payload)), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_HELLO, 0u, payload, sizeof(payload), out, sizeof(out), &len),
+                     AOCS_PIL_OK);
+    assert_int_equal(len, sizeof(golden_hello));
+    assert_memory_equal(out, golden_hello, sizeof(golden_hello));
+}
+
+static void test_frame_check_accepts_and_decodes(void **state)
+{
+    (void)state;
+    aocs_pil_header_t h;
+    aocs_pil_hello_t back;
+    assert_int_equal(aocs_pil_frame_check(golden_hello, sizeof(golden_hello), &h), AOCS_PIL_OK);
+    assert_int_equal(h.version, 1);
+    assert_int_equal(h.type, AOCS_PIL_T_HELLO);
+    assert_int_equal(h.length, AOCS_PIL_HELLO_BYTES);
+    assert_int_equal(h.seq, 0);
+    assert_int_equal(aocs_pil_hello_decode(&golden_hello[AOCS_PIL_HEADER_BYTES], h.length, &back), AOCS_PIL_OK);
+    assert_int_equal(back.target, 2);
+    assert_int_equal(back.real_bytes, 8);
+    assert_int_equal(back.icount_shift, 7);
+    assert_int_equal(back.calib_ok, 1);
+    assert_int_equal(back.calib_measured, 2000);
+    assert_int_equal(back.calib_expected, 2000);
+    assert_int_equal(back.overhead, 47);
+}
+
+/* Every single-bit error anywhere in a frame is caught (CRC-32 detects all of them). */
+static void test_every_bit_flip_is_rejected(void **state)
+{
+    (void)state;
+    uint8_t f[sizeof(golden_hello)];
+    aocs_pil_header_t h;
+    for (size_t byte = 0; byte < sizeof(f); ++byte) {
+        for (int bit = 0; bit < 8; ++bit) {
+            memcpy(f, golden_hello, sizeof(f));
+            f[byte] ^= (uint8_t)(1u << bit);
+            assert_int_not_equal(aocs_pil_frame_check(f, sizeof(f), &h), AOCS_PIL_OK);
+        }
+    }
+}
+
+static void test_header_errors_are_named(void **state)
+{
+    (void)state;
+    uint8_t f[sizeof(golden_bye)];
+    aocs_pil_header_t h;
+    memcpy(f, golden_bye, sizeof(f));
+    f[0] = 'X';
+    assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_MAGIC);
+    memcpy(f, golden_bye, sizeof(f));
+    f[4] = 2; /* version */
+    assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_VERSION);
+    memcpy(f, golden_bye, sizeof(f));
+    f[6] = 0x01; /* length 1025 */
+    f[7] = 0x04;
+    assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_LENGTH);
+    memcpy(f, golden_bye, sizeof(f));
+    assert_int_equal(aocs_pil_header_decode(f, AOCS_PIL_HEADER_BYTES - 1u, &h), AOCS_PIL_ERR_LENGTH);
+    /* a whole frame shorter or longer than its header says */
+    assert_int_equal(aocs_pil_frame_check(golden_bye, sizeof(golden_bye) - 1u, &h), AOCS_PIL_ERR_LENGTH);
+    assert_int_equal(aocs_pil_frame_check(golden_hello, sizeof(golden_hello) + 0u, NULL), AOCS_PIL_ERR_NULL_ARG);
+    /* the CRC itself corrupted: CRC error, not a header error */
+    memcpy(f, golden_bye, sizeof(f));
+    f[15] ^= 0x80;
+    assert_int_equal(aocs_pil_frame_check(f, sizeof(f), &h), AOCS_PIL_ERR_CRC);
+    assert_string_equal(aocs_pil_err_name(AOCS_PIL_ERR_CRC), "AOCS_PIL_ERR_CRC");
+    assert_string_equal(aocs_pil_err_name(AOCS_PIL_ERR_COUNT), "AOCS_PIL_ERR_UNKNOWN");
+}
+
+static void test_encode_limits(void **state)
+{
+    (void)state;
+    static uint8_t big[AOCS_PIL_PAYLOAD_MAX + 1u];
+    uint8_t out[AOCS_PIL_FRAME_MAX + 8u];
+    uint32_t len = 0;
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_CONFIG, 1u, big, AOCS_PIL_PAYLOAD_MAX + 1u, out, sizeof(out),
+                                           &len),
+                     AOCS_PIL_ERR_LENGTH);
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_CONFIG, 1u, big, AOCS_PIL_PAYLOAD_MAX, out, sizeof(out), &len),
+                     AOCS_PIL_OK);
+    assert_int_equal(len, AOCS_PIL_FRAME_MAX);
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_CONFIG, 1u, big, 10u, out, 25u, &len), AOCS_PIL_ERR_BUFFER);
+    assert_int_equal(aocs_pil_frame_encode(AOCS_PIL_T_CONFIG, 1u, NULL, 10u, out, sizeof(out), &len),
+                     AOCS_PIL_ERR_NULL_ARG);
+}
+
+static aocs_exec_input_t sample_input(void)
+{
+    aocs_exec_input_t in;
+    memset(&in, 0, sizeof(in));
+    in.tick = 0x01020304u;
+    in.t_sensor_ns = 0x1122334455667788ull;
+    in.valid = 3u;
+    in.q_BN = aocs_quat_make(AOCS_R(1.0), AOCS_R(-2.0), AOCS_R(0.5), AOCS_R(0.0));
+    in.w_BN_B = aocs_vec3_make(AOCS_R(0.25), AOCS_R(-0.125), AOCS_R(4.0));
+    in.pos_m = aocs_vec3_make(AOCS_R(1.0), AOCS_R(2.0), AOCS_R(3.0));
+    in.vel_mps = aocs_vec3_make(AOCS_R(-1.0), AOCS_R(-2.0), AOCS_R(-3.0));
+    return in;
+}
+
+/* Byte positions of the STEP payload, from the layout of pil_frame.h. */
+static void test_step_layout(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_BYTES];
+    aocs_exec_input_t in = sample_input();
+    assert_int_equal(aocs_pil_step_encode(&in, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(p[0], 0x04); /* tick, little-endian */
+    assert_int_equal(p[3], 0x01);
+    assert_int_equal(le64(&p[4]), 0x1122334455667788ull);
+    assert_int_equal(p[12], 3);
+    assert_int_equal(le64(&p[16]), 0x3FF0000000000000ull);  /* q1 = 1.0 */
+    assert_int_equal(le64(&p[24]), 0xC000000000000000ull);  /* q2 = -2.0 */
+    assert_int_equal(le64(&p[32]), 0x3FE0000000000000ull);  /* q3 = 0.5 */
+    assert_int_equal(le64(&p[40]), 0x0000000000000000ull);  /* q4 = 0 */
+    assert_int_equal(le64(&p[48]), 0x3FD0000000000000ull);  /* w1 = 0.25 */
+    assert_int_equal(le64(&p[112]), 0xC008000000000000ull); /* vel3 = -3.0 (last field) */
+    assert_int_equal(aocs_pil_step_encode(&in, p, sizeof(p) - 1u), AOCS_PIL_ERR_BUFFER);
+}
+
+static void test_step_round_trip_and_sizes(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_BYTES + 1u];
+    aocs_exec_input_t in = sample_input();
+    aocs_exec_input_t back;
+    in.w_BN_B.v[1] = (real_t)NAN; /* passed through unchecked, as the SIL node does */
+    in.pos_m.v[2] = (real_t)INFINITY;
+    assert_int_equal(aocs_pil_step_encode(&in, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES, &back), AOCS_PIL_OK);
+    assert_int_equal(back.tick, in.tick);
+    assert_true(back.t_sensor_ns == in.t_sensor_ns);
+    assert_int_equal(back.valid, in.valid);
+    assert_memory_equal(&back.q_BN, &in.q_BN, sizeof(in.q_BN));
+    assert_true(isnan(back.w_BN_B.v[1]));
+    assert_same_real(back.w_BN_B.v[0], in.w_BN_B.v[0]);
+    assert_true(isinf(back.pos_m.v[2]) && (back.pos_m.v[2] > 0));
+    assert_memory_equal(&back.vel_mps, &in.vel_mps, sizeof(in.vel_mps));
+    /* one byte missing or one too many: refused, output untouched */
+    memset(&back, 0, sizeof(back));
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES - 1u, &back), AOCS_PIL_ERR_PAYLOAD);
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES + 1u, &back), AOCS_PIL_ERR_PAYLOAD);
+    assert_int_equal(back.tick, 0);
+}
+
+/* A binary64 on the wire becomes real_t exactly as (real_t) of the double (the node's conversion). */
+static void test_decode_rounds_like_a_cast(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_BYTES];
+    aocs_exec_input_t in;
+    const double third = 1.0 / 3.0;
+    uint64_t bits;
+    memset(p, 0, sizeof(p));
+    memcpy(&bits, &third, sizeof(bits));
+    for (int i = 0; i < 8; ++i) {
+        p[16 + i] = (uint8_t)(bits >> (8 * i));
+    }
+    assert_int_equal(aocs_pil_step_decode(p, sizeof(p), &in), AOCS_PIL_OK);
+    assert_same_real(in.q_BN.q[0], (real_t)third);
+}
+
+static void test_reply_select_ack_bye_error_round_trip(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_REPLY_BYTES];
+    aocs_pil_step_reply_t r;
+    aocs_pil_step_reply_t rb;
+    aocs_pil_select_t s;
+    aocs_pil_select_t sb;
+    aocs_pil_ack_t a;
+    aocs_pil_ack_t ab;
+    aocs_pil_bye_t b = {1800u, 600u, 1925u, 2u};
+    aocs_pil_bye_t bb;
+    aocs_pil_error_t e = {AOCS_PIL_ERR_CRC, 4u, 99u, 120u};
+    aocs_pil_error_t eb;
+
+    memset(&r, 0, sizeof(r));
+    r.tick = 42u;
+    r.step_status = AOCS_OK;
+    r.law = AOCS_LAW_MRP_SAT_LINEAR;
+    r.mode = AOCS_EXEC_MODE_SAFE;
+    r.law_status = AOCS_ERR_CRP_SINGULAR;
+    r.input_status = AOCS_ERR_INPUT_NOT_FINITE;
+    r.u_cmd = aocs_vec3_make(AOCS_R(0.5), AOCS_R(-0.25), AOCS_R(0.125));
+    r.u_unsat = aocs_vec3_make(AOCS_R(8.0), AOCS_R(-16.0), AOCS_R(0.0));
+    r.saturated = 1u;
+    r.overrun = 1u;
+    r.exact = 1u;
+    r.instructions = 1916u;
+    r.law_instructions = 1244u;
+    r.budget = 3000u;
+    r.counters.steps = 1u;
+    r.counters.invalid = 2u;
+    r.counters.stale = 3u;
+    r.counters.missing = 4u;
+    r.counters.law_error = 5u;
+    r.counters.overrun = 6u;
+    r.counters.mode_transitions = 7u;
+    r.counters.saturated = 8u;
+    r.counters.select_accepted = 9u;
+    r.counters.select_rejected = 10u;
+    r.pil_overruns = 11u;
+    r.exec_law = AOCS_LAW_ORBIT_LQR;
+    r.exec_mode = AOCS_EXEC_MODE_NOMINAL;
+    assert_int_equal(aocs_pil_step_reply_encode(&r, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p), &rb), AOCS_PIL_OK);
+    assert_int_equal(rb.tick, 42);
+    assert_int_equal(rb.step_status, AOCS_OK);
+    assert_int_equal(rb.law, AOCS_LAW_MRP_SAT_LINEAR);
+    assert_int_equal(rb.mode, AOCS_EXEC_MODE_SAFE);
+    assert_int_equal(rb.law_status, AOCS_ERR_CRP_SINGULAR);
+    assert_int_equal(rb.input_status, AOCS_ERR_INPUT_NOT_FINITE);
+    assert_memory_equal(&rb.u_cmd, &r.u_cmd, sizeof(r.u_cmd));
+    assert_memory_equal(&rb.u_unsat, &r.u_unsat, sizeof(r.u_unsat));
+    assert_int_equal(rb.saturated, 1);
+    assert_int_equal(rb.overrun, 1);
+    assert_int_equal(rb.exact, 1);
+    assert_int_equal(rb.instructions, 1916);
+    assert_int_equal(rb.law_instructions, 1244);
+    assert_int_equal(rb.budget, 3000);
+    assert_int_equal(rb.counters.steps, 1);
+    assert_int_equal(rb.counters.invalid, 2);
+    assert_int_equal(rb.counters.stale, 3);
+    assert_int_equal(rb.counters.missing, 4);
+    assert_int_equal(rb.counters.law_error, 5);
+    assert_int_equal(rb.counters.overrun, 6);
+    assert_int_equal(rb.counters.mode_transitions, 7);
+    assert_int_equal(rb.counters.saturated, 8);
+    assert_int_equal(rb.counters.select_accepted, 9);
+    assert_int_equal(rb.counters.select_rejected, 10);
+    assert_true(rb.counters.step_time_max_ns == 0u); /* not on the wire */
+    assert_int_equal(rb.pil_overruns, 11);
+    assert_int_equal(rb.exec_law, AOCS_LAW_ORBIT_LQR);
+    assert_int_equal(rb.exec_mode, AOCS_EXEC_MODE_NOMINAL);
+    assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p) - 4u, &rb), AOCS_PIL_ERR_PAYLOAD);
+
+    memset(&s, 0, sizeof(s));
+    s.law = AOCS_LAW_QUAT_PD;
+    s.has_target = 1u;
+    s.target.qd_DN = aocs_quat_make(AOCS_R(0.5), AOCS_R(0.5), AOCS_R(0.5), AOCS_R(0.5));
+    s.target.wd_B = aocs_vec3_make(AOCS_R(0.0), AOCS_R(-0.001), AOCS_R(0.0));
+    assert_int_equal(aocs_pil_select_encode(&s, p, AOCS_PIL_SELECT_BYTES), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_select_decode(p, AOCS_PIL_SELECT_BYTES, &sb), AOCS_PIL_OK);
+    assert_memory_equal(&sb, &s, sizeof(s));
+
+    memset(&a, 0, sizeof(a));
+    a.pil_err = AOCS_PIL_ERR_FIELD;
+    a.status = AOCS_ERR_GAIN_TABLE_WRONG_LAW;
+    a.field = 26u;
+    a.exec_law = AOCS_LAW_NONE;
+    a.exec_mode = AOCS_EXEC_MODE_STANDBY;
+    a.select_accepted = 3u;
+    a.select_rejected = 0xFFFFFFFFu;
+    a.budget = 4000u;
+    assert_int_equal(aocs_pil_ack_encode(&a, p, AOCS_PIL_ACK_BYTES), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_ack_decode(p, AOCS_PIL_ACK_BYTES, &ab), AOCS_PIL_OK);
+    assert_memory_equal(&ab, &a, sizeof(a));
+
+    assert_int_equal(aocs_pil_bye_encode(&b, p, AOCS_PIL_BYE_REPLY_BYTES), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_bye_decode(p, AOCS_PIL_BYE_REPLY_BYTES, &bb), AOCS_PIL_OK);
+    assert_memory_equal(&bb, &b, sizeof(b));
+
+    assert_int_equal(aocs_pil_error_encode(&e, p, AOCS_PIL_ERROR_BYTES), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_error_decode(p, AOCS_PIL_ERROR_BYTES, &eb), AOCS_PIL_OK);
+    assert_memory_equal(&eb, &e, sizeof(e));
+    assert_int_equal(aocs_pil_error_decode(p, AOCS_PIL_ERROR_BYTES + 1u, &eb), AOCS_PIL_ERR_PAYLOAD);
+}
+
+/* negative values survive the int32 round trip (two's complement on the wire) */
+static void test_negative_int32(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_ACK_BYTES];
+    aocs_pil_ack_t a;
+    aocs_pil_ack_t ab;
+    memset(&a, 0, sizeof(a));
+    a.exec_law = (aocs_law_id_t)-1;
+    a.status = (aocs_status_t)INT32_MIN;
+    assert_int_equal(aocs_pil_ack_encode(&a, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(p[12], 0xFF);
+    assert_int_equal(p[15], 0xFF);
+    assert_int_equal(p[7], 0x80);
+    assert_int_equal(aocs_pil_ack_decode(p, sizeof(p), &ab), AOCS_PIL_OK);
+    assert_int_equal((int)ab.exec_law, -1);
+    assert_int_equal((int32_t)ab.status, INT32_MIN);
+}
+
+/* ---- CONFIG field list ---- */
+static void test_config_fields_apply(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_PAYLOAD_MAX];
+    uint32_t pos = 0;
+    aocs_exec_config_t cfg;
+    aocs_exec_config_t def;
+    uint64_t budget = 0;
+    uint32_t field = 99;
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    const real_t period = AOCS_R(0.01);
+    const real_t q[4] = {AOCS_R(0.0), AOCS_R(0.6), AOCS_R(0.0), AOCS_R(0.8)};
+    const real_t lim[3] = {AOCS_R(0.5), AOCS_R(0.6), AOCS_R(0.7)};
+    const real_t j[9] = {AOCS_R(42.0), AOCS_R(1.8), AOCS_R(-1.5), AOCS_R(1.8), AOCS_R(25.0),
+                         AOCS_R(-1.2), AOCS_R(-1.5), AOCS_R(-1.2), AOCS_R(61.8)};
+    const real_t kp = AOCS_R(4000.0);
+    const real_t rate[3] = {AOCS_R(0.0), AOCS_R(-7.292115e-5), AOCS_R(0.0)};
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_LAW, (uint64_t)AOCS_LAW_SMC),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_PERIOD_S, &period, 1u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_TARGET_Q, q, 4u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_U_MAX_AXIS, lim, 3u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_INERTIA, j, 9u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_QUAT_PD_KP, &kp, 1u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_TARGET_ROTATION_RATE, rate, 3u),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES, 7u),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_BUDGET_INSTR, 12345u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_name(p, sizeof(p), &pos, AOCS_PIL_CFG_LQR_QUAT_TABLE, "lqr_quat_strong"),
+                     AOCS_PIL_OK);
+    /* entry sizes: 2 + 8 per value, 2 + length for a name */
+    assert_int_equal(pos, 10u + 10u + 34u + 26u + 74u + 10u + 26u + 10u + 10u + 17u);
+
+    aocs_exec_config_default(&cfg);
+    aocs_exec_config_default(&def);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_OK);
+    assert_int_equal(field, 0);
+    assert_int_equal(st, AOCS_OK);
+    assert_int_equal(cfg.law, AOCS_LAW_SMC);
+    assert_same_real(cfg.period_s, period);
+    assert_memory_equal(&cfg.target.qd_DN, q, sizeof(q));
+    assert_memory_equal(&cfg.u_max_axis, lim, sizeof(lim));
+    assert_same_real(cfg.laws.smc.inertia.m[0][1], AOCS_R(1.8));
+    assert_same_real(cfg.laws.smc.inertia.m[2][2], AOCS_R(61.8));
+    assert_same_real(cfg.laws.smc.inertia.m[1][2], AOCS_R(-1.2));
+    assert_same_real(cfg.laws.quat_pd.kp, kp);
+    assert_same_real(cfg.target_rotation_rate_D.v[1], rate[1]);
+    assert_int_equal(cfg.recover_good_samples, 7);
+    assert_true(budget == 12345u);
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 6; ++c) {
+            assert_same_real(cfg.laws.lqr_quat.k[r][c], aocs_gains_lqr_quat_strong_K[r][c]);
+        }
+    }
+    /* untouched fields keep their defaults */
+    assert_same_real(cfg.k_safe, def.k_safe);
+    assert_int_equal(cfg.missing_max_periods, def.missing_max_periods);
+    assert_memory_equal(&cfg.laws.mrp_sat, &def.laws.mrp_sat, sizeof(def.laws.mrp_sat));
+    /* and the executive accepts the result (smc needs its gains too) */
+    cfg.laws.smc.lambda = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
+    cfg.laws.smc.g = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
+    cfg.laws.smc.eps = aocs_vec3_make(AOCS_R(0.02), AOCS_R(0.02), AOCS_R(0.02));
+    {
+        static aocs_exec_t exec;
+        assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    }
+}
+
+static void test_config_field_errors(void **state)
+{
+    (void)state;
+    uint8_t p[64];
+    uint32_t pos;
+    aocs_exec_config_t cfg;
+    uint64_t budget = 0;
+    uint32_t field = 0;
+    aocs_status_t st = AOCS_OK;
+    const real_t two[2] = {AOCS_R(1.0), AOCS_R(2.0)};
+
+    /* unknown field id */
+    aocs_exec_config_default(&cfg);
+    p[0] = 200u;
+    p[1] = 1u;
+    memset(&p[2], 0, 8);
+    assert_int_equal(aocs_pil_config_decode(p, 10u, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(field, 200);
+    /* a known field with the wrong count */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_U_MAX_AXIS, two, 2u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(field, AOCS_PIL_CFG_U_MAX_AXIS);
+    /* truncated entry */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_K_SAFE, two, 1u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos - 1u, &cfg, &budget, &field, &st), AOCS_PIL_ERR_PAYLOAD);
+    assert_int_equal(aocs_pil_config_decode(p, 1u, &cfg, &budget, &field, &st), AOCS_PIL_ERR_PAYLOAD);
+    /* law id out of range */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_LAW, (uint64_t)AOCS_LAW_COUNT),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(field, AOCS_PIL_CFG_LAW);
+    /* a count beyond uint32 */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_MISSING_MAX_PERIODS, 0x100000000ull),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    /* gain tables: unknown name, and a table of another law */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_name(p, sizeof(p), &pos, AOCS_PIL_CFG_HINF_TABLE, "hinf_nope"), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(field, AOCS_PIL_CFG_HINF_TABLE);
+    assert_int_equal(st, AOCS_ERR_GAIN_TABLE_UNKNOWN);
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_name(p, sizeof(p), &pos, AOCS_PIL_CFG_ORBIT_TABLE, "lqr_quat_ref"),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(st, AOCS_ERR_GAIN_TABLE_WRONG_LAW);
+    /* writer limits */
+    pos = 0;
+    assert_int_equal(aocs_pil_config_put_name(p, sizeof(p), &pos, AOCS_PIL_CFG_HINF_TABLE,
+                                              "a_name_of_thirty_two_characters_"),
+                     AOCS_PIL_ERR_FIELD);
+    assert_int_equal(aocs_pil_config_put_name(p, sizeof(p), &pos, AOCS_PIL_CFG_HINF_TABLE, ""), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_K_SAFE, two, 0u), AOCS_PIL_ERR_FIELD);
+    assert_int_equal(aocs_pil_config_put_reals(p, 9u, &pos, AOCS_PIL_CFG_K_SAFE, two, 1u), AOCS_PIL_ERR_BUFFER);
+    assert_int_equal(pos, 0);
+    /* an empty list is valid: defaults only */
+    assert_int_equal(aocs_pil_config_decode(p, 0u, &cfg, &budget, &field, &st), AOCS_PIL_OK);
+}
+
+/* ---- instruction budgets ---- */
+static void test_budget_table(void **state)
+{
+    (void)state;
+    for (int law = 0; law < (int)AOCS_LAW_COUNT; ++law) {
+        for (int t = 0; t < (int)AOCS_BUDGET_TARGET_COUNT; ++t) {
+            const uint32_t b = aocs_budget_instructions((aocs_law_id_t)law, (aocs_budget_target_t)t);
+            /* a budget exists and fits a 1 kHz loop on the slower core with room to spare */
+            assert_true(b > 0u);
+            assert_true(b < 168000u / 10u);
+        }
+    }
+    assert_int_equal(aocs_budget_instructions(AOCS_LAW_COUNT, AOCS_BUDGET_TARGET_CORTEX_M7), 0);
+    assert_int_equal(aocs_budget_instructions((aocs_law_id_t)-1, AOCS_BUDGET_TARGET_CORTEX_M7), 0);
+    assert_int_equal(aocs_budget_instructions(AOCS_LAW_QUAT_PD, AOCS_BUDGET_TARGET_COUNT), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_crc_known_values),
+        cmocka_unit_test(test_frame_golden_bytes),
+        cmocka_unit_test(test_frame_check_accepts_and_decodes),
+        cmocka_unit_test(test_every_bit_flip_is_rejected),
+        cmocka_unit_test(test_header_errors_are_named),
+        cmocka_unit_test(test_encode_limits),
+        cmocka_unit_test(test_step_layout),
+        cmocka_unit_test(test_step_round_trip_and_sizes),
+        cmocka_unit_test(test_decode_rounds_like_a_cast),
+        cmocka_unit_test(test_reply_select_ack_bye_error_round_trip),
+        cmocka_unit_test(test_negative_int32),
+        cmocka_unit_test(test_config_fields_apply),
+        cmocka_unit_test(test_config_field_errors),
+        cmocka_unit_test(test_budget_table),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
