@@ -9,7 +9,8 @@ PRESETS   := host host-float cortex-m4f cortex-m7
 JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
-        image-test py-test static-analysis no-malloc size-report bench-laws demo clean
+        image-test py-test static-analysis no-malloc size-report bench-laws bench \
+        pil-test pil-report demo clean
 
 setup:
 	@scripts/setup.sh
@@ -35,7 +36,8 @@ static-analysis: setup
 no-malloc: build
 	@scripts/check-no-malloc.sh
 
-py-test: build-host
+# the SIL and PIL end-to-end tests need the host node and both ARM images
+py-test: build-host build-cortex-m4f build-cortex-m7
 	@scripts/run-pytest.sh
 
 size-report: build-cortex-m4f build-cortex-m7
@@ -51,7 +53,21 @@ demo: build-host
 test: build unit-test image-test static-analysis no-malloc py-test
 	@echo "make test: all checks passed"
 
-sil: build-host demo
+# main job: irassi_large with every IRASSI law, comparison table and plots
+sil: build-host
+	@scripts/sil-demo.sh
+
+# lockstep real-time factor, LCM round trip, in-process plant cost
+bench: build-host
+	@scripts/bench-sil.sh
+
+# processor in the loop: the flight image on emulated Cortex-M4F / M7
+pil-test: build-host build-cortex-m4f build-cortex-m7
+	$(PY) -m pytest -q tests/sil/test_pil_frame.py tests/sil/test_pil_image.py tests/sil/test_pil_bridge.py
+
+# instructions per step, equivalence and float accuracy figures (docs/pil.md)
+pil-report: build-host build-cortex-m4f build-cortex-m7
+	$(PY) -m aocs_pil.harness
 
 clean:
 	rm -rf build

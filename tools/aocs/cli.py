@@ -15,6 +15,8 @@ SUBCOMMANDS = {
     "list": ("aocs_runner.cmd_list", "list scenarios and control laws"),
     "replay": ("aocs_runner.cmd_replay", "replay a recorded LCM log through the flight software"),
     "gains": ("aocs.design.cmd_gains", "regenerate every gain design and the firmware tables"),
+    "compare": ("aocs.compare.cmd_compare", "run every applicable law on a scenario and compare them"),
+    "results": ("aocs.compare.cmd_results", "regenerate docs/results.md for every reference scenario"),
 }
 
 
