@@ -83,6 +83,13 @@ class Plant:
     def t(self) -> float:
         return self.k * self.dt
 
+    @property
+    def applied(self) -> tuple[float, float, float]:
+        """Actuator output applied over the last period (torque N m, or force N for orbit):
+        the period mean of the lagged/limited output, (0, 0, 0) before the first advance.
+        The same value as truth()["applied"], without building the truth dict."""
+        return self._applied
+
     # ------------------------------------------------------------------ target
     def target(self, t: float | None = None):
         """(qd, wd) at t: qd(t) = dq(wd t) (x) qd0, the solution of qd' = 0.5 Xi(qd) wd."""

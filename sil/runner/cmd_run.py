@@ -109,20 +109,20 @@ def fc_command(target: str, cfg_path: Path) -> list[str]:
     if not found:
         raise paths.SetupError(f"--target {target} needs the processor-in-the-loop bridge (Python module "
                                "aocs_pil.bridge), which is not installed in this environment")
-    return [sys.executable, "-m", "aocs_pil.bridge", "--target", target, "--image", str(pil_image(target)),
-            str(cfg_path)]
+    return [sys.executable, "-m", "aocs_pil.bridge", "--target", target, str(cfg_path)]
 
 
 #: CMake preset that builds each PIL target's image (docs/pil.md)
 PIL_PRESETS = {"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}
 
 
-def pil_image(target: str) -> Path:
-    """The PIL image the bridge runs, passed to it with --image so the run records which one.
+def pil_build_root(target: str) -> Path:
+    """The build root holding this target's PIL image, exported to the bridge as AOCS_PIL_BUILD_ROOT.
 
-    Looked up as the bridge does (<root>/<preset>/aocs_pil.elf) under, in order:
-    $AOCS_PIL_BUILD_ROOT when set (then only there), else the parent of the host
-    build directory (AOCS_BUILD_DIR=<root>/host, the presets' layout), else <repo>/build."""
+    The bridge runs <root>/<preset>/aocs_pil.elf (docs/pil.md). Searched, in order:
+    $AOCS_PIL_BUILD_ROOT when set (then only there), else the parent of the host build
+    directory (AOCS_BUILD_DIR=<root>/host, the presets' layout), else <repo>/build. A
+    missing image is a setup error before anything starts."""
     import os
 
     from . import paths
@@ -131,9 +131,8 @@ def pil_image(target: str) -> Path:
     env_root = os.environ.get("AOCS_PIL_BUILD_ROOT")
     roots = [Path(env_root)] if env_root else [paths.build_dir().parent, paths.REPO / "build"]
     for root in roots:
-        img = root / preset / "aocs_pil.elf"
-        if img.is_file():
-            return img.resolve()
+        if (root / preset / "aocs_pil.elf").is_file():
+            return root.resolve()
     raise paths.SetupError(f"--target {target}: PIL image not found as {preset}/aocs_pil.elf under "
                            f"{', '.join(str(r) for r in roots)}; build it with `cmake --preset {preset} && "
                            f"cmake --build --preset {preset}` (or set AOCS_PIL_BUILD_ROOT)")
@@ -197,10 +196,13 @@ def execute(opts: RunOptions) -> RunResult:
                                  run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0)
     cfg_path = fsw_config.write(out / "fsw_node.cfg", cfg, header=f"scenario {sc.id}, law {law}, {mode}")
     fc_cmd = fc_command(opts.target, cfg_path)
+    pil_root = pil_build_root(opts.target) if opts.target in PIL_PRESETS else None
     log_path = out / "run.lcmlog"
     meta = {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": ov, "law": law,
             "mode": mode, "recorder": opts.recorder, "plant_lcm_lib": opts.plant_lcm_lib, "target": opts.target, "events": list(opts.events), "label": opts.label,
-            "fsw_config": cfg, "fsw_config_file": cfg_path.name, "fc_command": fc_cmd, "log": log_path.name,
+            "fsw_config": cfg, "fsw_config_file": cfg_path.name, "fc_command": fc_cmd,
+            "pil_image": str(pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if pil_root else None,
+            "log": log_path.name,
             "n_steps": sc.n_steps, "dt": sc.dt, "created": time.strftime("%Y-%m-%dT%H:%M:%S")}
     (out / "run.json").write_text(json.dumps(meta, indent=1) + "\n")
     (out / "metrics.json").unlink(missing_ok=True)  # never leave a previous run's metrics behind
@@ -214,6 +216,8 @@ def execute(opts: RunOptions) -> RunResult:
     if opts.plant_lcm_lib:
         plant_cmd.append("--lcm-lib")
     env = paths.python_env()
+    if pil_root is not None:
+        env["AOCS_PIL_BUILD_ROOT"] = str(pil_root)
     _say(opts, f"{sc.id} with {law}, {mode}, {sc.n_steps} steps of {sc.dt:g} s, flight computer "
                f"{opts.target}; output in {out}/")
     failure = None

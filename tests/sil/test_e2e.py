@@ -359,3 +359,112 @@ def test_realtime_run_paces_to_the_clock_and_reports_jitter(run, tmp_path):
     span = (log.truth["log_utime"][-1] - log.truth["log_utime"][0]) / 1e6
     assert span >= 1.9
     assert m["counters"]["invalid"] == 0
+
+
+# ---- processor in the loop: the runner drives the real bridge and QEMU ------------------
+def _cli_run(out: Path, *args) -> dict:
+    """`aocs run ... --json F` as a real process (inside this test's private namespace)."""
+    js = out / "m.json"
+    r = subprocess.run([sys.executable, "-m", "aocs.cli", "run", *args, "--json", str(js), "--out", str(out),
+                        "--no-plots", "-q"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return json.loads(js.read_text())
+
+
+@pytest.fixture(scope="module")
+def irassi_60s_host(private_netns, fsw_node_bin, aocs_lcm, tmp_path_factory):
+    out = tmp_path_factory.mktemp("irassi_60s_host")
+    m = _cli_run(out, "irassi_small", "--duration", "60", "--target", "host")
+    return m, lcmlog.read(out / "run.lcmlog")
+
+
+@pytest.mark.parametrize("target,budget,clock_hz", [("pil-m4f", 2500, 168e6), ("pil-m7", 2900, 216e6)])
+def test_pil_run_reports_instruction_timing_and_matches_the_host(irassi_60s_host, tmp_path, target, budget,
+                                                                  clock_hz):
+    """docs/pil.md: instruction figures in timing, overruns from the bridge's flags, and the
+    M7 (double) commands equal to the host double run's bit for bit (quat_pd: + - * / sqrt only);
+    the M4F (float) ones within float rounding of the command range."""
+    m = _cli_run(tmp_path, "irassi_small", "--duration", "60", "--target", target)
+    log = lcmlog.read(tmp_path / "run.lcmlog")
+    tm = m["timing"]
+    assert m["target"] == target and tm["target"] == target and tm["clock_hz"] == clock_hz
+    # the runner told the bridge where the image is, and recorded it
+    run_json = json.loads((tmp_path / "run.json").read_text())
+    assert m["fsw_node"]["image"]["path"] == run_json["pil_image"]
+    assert Path(run_json["pil_image"]).is_file() and Path(run_json["pil_image"]).parent.name == \
+        {"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}[target]
+    assert TIMING_KEYS <= set(tm) and tm["steps"] == 600
+    ins = m["fsw_node"]["instructions"]                      # the bridge's own final JSON
+    assert (tm["instructions_median"], tm["instructions_p99"], tm["instructions_max"]) == \
+        (ins["median"], ins["p99"], ins["max"])
+    assert tm["instructions_budget"] == budget == ins["budget"]  # firmware budget.h row of quat_pd
+    assert 500 < tm["instructions_median"] <= tm["instructions_p99"] <= tm["instructions_max"] < budget
+    assert tm["instruction_overruns"] == 0 and tm["overruns"] == 0 and tm["over_step_budget"] == 0
+    assert tm["budget_ns"] == pytest.approx(budget * 1e9 / clock_hz)
+    # step_ns on the wire is instructions / nominal clock: the max matches the bridge's count
+    assert tm["step_ns_max"] == pytest.approx(ins["max"] * 1e9 / clock_hz, abs=1.0)
+    assert not np.any(log.cmd["overrun"]) and np.all(log.cmd["n_overrun"] == 0)
+    # the loop closed: true angle recomputed from the logged truth, under 10 arcsec at 60 s
+    ang = true_angle_arcsec(log.truth["q"], euler321_quat(30, -20, 1))
+    assert ang[0] > 10 * 3600 and ang[-1] < 10.0
+    assert m["counters"]["invalid"] == 0 and m["final_mode"] == "nominal" and m["log_complete"]
+    hm, hlog = irassi_60s_host
+    assert np.array_equal(log.cmd["tick"], hlog.cmd["tick"])
+    if target == "pil-m7":
+        assert np.array_equal(log.cmd["u_sat"].view(np.uint64), hlog.cmd["u_sat"].view(np.uint64))
+        assert np.array_equal(log.truth["q"], hlog.truth["q"])
+    else:
+        u_range = np.abs(hlog.cmd["u_sat"]).max()
+        assert np.abs(log.cmd["u_sat"] - hlog.cmd["u_sat"]).max() < 1e-5 * u_range
+        assert not np.array_equal(log.cmd["u_sat"], hlog.cmd["u_sat"])   # float really flew
+        assert abs(ang[-1] - true_angle_arcsec(hlog.truth["q"][-1:], euler321_quat(30, -20, 1))[0]) < 0.05
+
+
+def test_orbit_scenario_with_control_disabled_counts_no_invalid_sample(run, tmp_path):
+    """law none (STANDBY) accepts orbit samples (executive input check, mode.c): 0 invalid, and
+    the vehicle drifts with zero commanded force."""
+    res = run("landsat8_debris", tmp_path, duration=120.0, sets=["control.enabled=false"])  # impulse at 60 s
+    log = lcmlog.read(tmp_path / "run.lcmlog")
+    m = res.metrics
+    assert m["law"] == "none" and m["kind"] == "orbit" and log.cmd["tick"].size > 0
+    assert m["counters"]["invalid"] == 0 and np.all(log.cmd["n_invalid"] == 0)
+    assert np.all(log.cmd["status"] == 0) and np.all(log.cmd["mode"] == 0) and m["final_mode"] == "standby"
+    assert np.all(log.cmd["u_sat"] == 0.0) and np.all(log.truth["force_applied"] == 0.0)
+
+
+def test_plant_applied_is_the_period_mean_of_the_actuator_output():
+    """Plant.applied (public): zero before any step, then the applied command of the period,
+    the same value truth() reports."""
+    from aocs_plant import Plant, load
+
+    sc = load("irassi_small")
+    plant = Plant(sc)
+    assert plant.applied == (0.0, 0.0, 0.0) == plant.truth()["applied"]
+    u = (0.125, -0.25, 0.0625)                              # exact binary fractions, no lag, unlimited
+    plant.apply(u)
+    plant.advance()
+    assert plant.applied == u and plant.truth()["applied"] == u
+
+
+def test_pil_image_location_passed_to_the_bridge(monkeypatch, tmp_path):
+    """AOCS_PIL_BUILD_ROOT when set (only there), else the host build dir's parent, else <repo>/build."""
+    from aocs_runner import cmd_run, paths
+
+    for preset in ("cortex-m4f", "cortex-m7"):
+        (tmp_path / "root" / preset).mkdir(parents=True)
+        (tmp_path / "root" / preset / "aocs_pil.elf").write_bytes(b"\x7fELF")
+    (tmp_path / "root" / "host").mkdir()
+    monkeypatch.delenv("AOCS_PIL_BUILD_ROOT", raising=False)
+    monkeypatch.setenv("AOCS_BUILD_DIR", str(tmp_path / "root" / "host"))
+    assert cmd_run.pil_build_root("pil-m7") == (tmp_path / "root").resolve()
+    monkeypatch.setenv("AOCS_BUILD_DIR", str(tmp_path / "elsewhere" / "host"))
+    if (REPO / "build" / "cortex-m4f" / "aocs_pil.elf").is_file():
+        assert cmd_run.pil_build_root("pil-m4f") == (REPO / "build").resolve()
+    else:
+        with pytest.raises(paths.SetupError, match="cortex-m4f/aocs_pil.elf"):
+            cmd_run.pil_build_root("pil-m4f")
+    monkeypatch.setenv("AOCS_PIL_BUILD_ROOT", str(tmp_path / "root"))
+    assert cmd_run.pil_build_root("pil-m4f") == (tmp_path / "root").resolve()
+    monkeypatch.setenv("AOCS_PIL_BUILD_ROOT", str(tmp_path / "empty"))
+    with pytest.raises(paths.SetupError, match="cortex-m4f/aocs_pil.elf"):
+        cmd_run.pil_build_root("pil-m4f")

@@ -578,6 +578,87 @@ static void test_init_validation(void **state)
     assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
 }
 
+/* An orbit sample as the SIL node fills it: only the orbit flag, no attitude (q zeroed). */
+static aocs_exec_input_t orbit_sample(uint32_t tick)
+{
+    aocs_exec_input_t in;
+    memset(&in, 0, sizeof(in));
+    in.tick = tick;
+    in.t_sensor_ns = (uint64_t)tick * PERIOD_NS;
+    in.valid = AOCS_EXEC_VALID_ORBIT;
+    in.pos_m = aocs_vec3_make(AOCS_R(12.0), AOCS_R(-3.0), AOCS_R(0.5));
+    in.vel_mps = aocs_vec3_make(AOCS_R(0.01), AOCS_R(0.0), AOCS_R(-0.02));
+    return in;
+}
+
+/*
+ * Law none (STANDBY, control disabled): the executive does not know whether
+ * it is fed attitude or orbit samples, so a sample valid under either rule
+ * is good; one valid under neither is counted invalid with the verdict of
+ * the rule it claims (orbit flag alone: orbit rule, else attitude rule).
+ * With a law selected, the law's own rule alone applies (unchanged).
+ */
+static void test_standby_accepts_attitude_or_orbit_samples(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    base_config(&cfg);
+    cfg.law = AOCS_LAW_NONE;
+    init_ok(&exec, &cfg);
+
+    aocs_exec_input_t in = orbit_sample(1);
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_OK);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_STANDBY);
+    assert_int_equal(out.counters.invalid, 0);
+    assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
+
+    in = sample(2); /* an attitude sample is still good */
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_OK);
+    assert_int_equal(out.counters.invalid, 0);
+
+    in = orbit_sample(3);
+    in.vel_mps.v[1] = (real_t)NAN; /* claims orbit, not finite: the orbit rule's verdict */
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(out.counters.invalid, 1);
+
+    in = orbit_sample(4);
+    in.valid = 0u; /* no flag at all */
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_INPUT_INVALID);
+    assert_int_equal(out.counters.invalid, 2);
+
+    in = sample(5);
+    for (int i = 0; i < 4; ++i) {
+        in.q_BN.q[i] = (real_t)(1.1 * (double)in.q_BN.q[i]); /* attitude flags, |q| = 1.1: attitude verdict */
+    }
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_QUAT_NOT_UNIT);
+    assert_int_equal(out.counters.invalid, 3);
+
+    in = sample(6); /* non-unit q but a good orbit part with the orbit flag: valid as an orbit sample */
+    in.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0));
+    in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE | AOCS_EXEC_VALID_ORBIT;
+    in.pos_m = aocs_vec3_make(AOCS_R(1.0), AOCS_R(2.0), AOCS_R(3.0));
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_OK);
+    assert_int_equal(out.counters.invalid, 3);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_STANDBY);
+
+    /* an attitude law keeps the attitude rule: the orbit sample is invalid and goes SAFE */
+    base_config(&cfg);
+    init_ok(&exec, &cfg);
+    in = orbit_sample(1);
+    step_ok(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_INPUT_INVALID);
+    assert_int_equal(out.counters.invalid, 1);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_SAFE);
+}
+
 static void test_law_names(void **state)
 {
     (void)state;
@@ -620,6 +701,7 @@ int main(void)
         cmocka_unit_test(test_select_changes_law_target_and_mode),
         cmocka_unit_test(test_crp_singular_goes_safe),
         cmocka_unit_test(test_init_validation),
+        cmocka_unit_test(test_standby_accepts_attitude_or_orbit_samples),
         cmocka_unit_test(test_law_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

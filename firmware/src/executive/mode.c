@@ -33,29 +33,63 @@ static int quat_is_unit(aocs_quat_t q)
     return (AOCS_IS_FINITE(n) && (AOCS_FABS(n - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL)) ? 1 : 0;
 }
 
+/* Orbit sample rule: the orbit flag set, r and v finite (SPEC: orbit_lqr state x = [r; v]). */
+static aocs_status_t orbit_input_check(const aocs_exec_input_t *in)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((in->valid & AOCS_EXEC_VALID_ORBIT) == 0u) {
+        st = AOCS_ERR_INPUT_INVALID;
+    } else if ((aocs_vec3_is_finite(in->pos_m) == 0) || (aocs_vec3_is_finite(in->vel_mps) == 0)) {
+        st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
+/* Attitude sample rule: attitude and rate flags set, finite, |q| = 1 within AOCS_QUAT_UNIT_TOL. */
+static aocs_status_t attitude_input_check(const aocs_exec_input_t *in)
+{
+    aocs_status_t st = AOCS_OK;
+    const uint32_t need = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
+    if ((in->valid & need) != need) {
+        st = AOCS_ERR_INPUT_INVALID;
+    } else if ((aocs_quat_is_finite(in->q_BN) == 0) || (aocs_vec3_is_finite(in->w_BN_B) == 0)) {
+        st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else if (quat_is_unit(in->q_BN) == 0) {
+        st = AOCS_ERR_QUAT_NOT_UNIT;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
+/*
+ * An orbit law needs an orbit sample, an attitude law an attitude sample.
+ * With no law (STANDBY, control disabled) the executive does not know which
+ * kind of vehicle state it is fed, so a sample is good when it passes either
+ * rule. A sample that passes neither reports the orbit rule's verdict when
+ * it carries only the orbit flag (it claims to be an orbit sample), else the
+ * attitude rule's verdict (the behaviour before orbit samples were accepted).
+ */
 aocs_status_t aocs_exec_input_check(aocs_law_id_t law, const aocs_exec_input_t *in)
 {
     aocs_status_t st = AOCS_OK;
     if (in == NULL) {
         st = AOCS_ERR_NULL_ARG;
     } else if (aocs_law_is_orbit(law) != 0) {
-        if ((in->valid & AOCS_EXEC_VALID_ORBIT) == 0u) {
-            st = AOCS_ERR_INPUT_INVALID;
-        } else if ((aocs_vec3_is_finite(in->pos_m) == 0) || (aocs_vec3_is_finite(in->vel_mps) == 0)) {
-            st = AOCS_ERR_INPUT_NOT_FINITE;
-        } else {
-            st = AOCS_OK;
-        }
+        st = orbit_input_check(in);
+    } else if (law != AOCS_LAW_NONE) {
+        st = attitude_input_check(in);
     } else {
-        const uint32_t need = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
-        if ((in->valid & need) != need) {
-            st = AOCS_ERR_INPUT_INVALID;
-        } else if ((aocs_quat_is_finite(in->q_BN) == 0) || (aocs_vec3_is_finite(in->w_BN_B) == 0)) {
-            st = AOCS_ERR_INPUT_NOT_FINITE;
-        } else if (quat_is_unit(in->q_BN) == 0) {
-            st = AOCS_ERR_QUAT_NOT_UNIT;
-        } else {
-            st = AOCS_OK;
+        const uint32_t att_flags = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
+        st = attitude_input_check(in);
+        if (st != AOCS_OK) {
+            const aocs_status_t st_orbit = orbit_input_check(in);
+            if ((st_orbit == AOCS_OK) ||
+                (((in->valid & AOCS_EXEC_VALID_ORBIT) != 0u) && ((in->valid & att_flags) == 0u))) {
+                st = st_orbit;
+            }
         }
     }
     return st;
