@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis no-malloc size-report bench-laws bench \
-        pil-test pil-report demo clean
+        pil-test pil-report results demo clean
 
 setup:
 	@scripts/setup.sh
@@ -60,6 +60,10 @@ sil: build-host
 # lockstep real-time factor, LCM round trip, in-process plant cost
 bench: build-host
 	@scripts/bench-sil.sh
+
+# every reference scenario, every law: docs/results.md and docs/results/*.png (~10 min)
+results: build-host
+	$(PY) -m aocs.cli results --out docs
 
 # processor in the loop: the flight image on emulated Cortex-M4F / M7
 pil-test: build-host build-cortex-m4f build-cortex-m7
