@@ -4,10 +4,10 @@
     qdot   = 0.5 Xi(q) w                     (SPEC 1, scalar-last quaternion)
 
 The hot path works on tuples and local variables: numpy on 3-vectors costs
-~15x more per step (TOOLCHAIN-NOTES "Plant integration cost"). rk4_step is
-the generic, readable step; make_stepper() returns the same step specialised
-to one inertia (constants bound, zeros of a diagonal J dropped), which the
-Plant uses.
+~15x more per step (TOOLCHAIN-NOTES "Plant integration cost"). The RK4 step is
+written once, as the source template make_stepper() specialises to one inertia
+(constants bound, zeros of a diagonal J dropped: the Plant's hot path);
+rk4_step is the same template with every inertia term kept.
 The quaternion is renormalised after every step. An optional gravity-gradient
 term c (R x J R), R = A(q) d (d a unit vector in N), is evaluated at every RK4
 stage because it depends on the attitude. reference_propagate() integrates the
@@ -16,6 +16,7 @@ integration error; it is never used to run a scenario.
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 
@@ -34,65 +35,16 @@ def rk4_step(q, w, h, torque, J, Ji, ggc=0.0, gd=(0.0, 0.0, 1.0)):
 
     J, Ji: row-major 9-tuples of the inertia and its inverse. ggc, gd: optional
     gravity-gradient torque ggc * (R x J R), R = A(q) gd; ggc = 0 disables it.
-    Returns (q, w) with q renormalised.
+    Returns (q, w) with q renormalised. This is the generic form of the one
+    stepper make_stepper() generates (every inertia term kept), built once per
+    inertia and cached.
     """
-    j0, j1, j2, j3, j4, j5, j6, j7, j8 = J
-    i0, i1, i2, i3, i4, i5, i6, i7, i8 = Ji
-    tx, ty, tz = torque
-    d1, d2, d3 = gd
-    use_gg = ggc != 0.0
+    return _generic_stepper(tuple(J), tuple(Ji), ggc != 0.0)(q, w, h, torque, ggc, gd)
 
-    def f(q1, q2, q3, q4, w1, w2, w3):
-        hx = j0 * w1 + j1 * w2 + j2 * w3
-        hy = j3 * w1 + j4 * w2 + j5 * w3
-        hz = j6 * w1 + j7 * w2 + j8 * w3
-        mx = tx - (w2 * hz - w3 * hy)
-        my = ty - (w3 * hx - w1 * hz)
-        mz = tz - (w1 * hy - w2 * hx)
-        if use_gg:
-            # R = A(q) d = (q4^2 - |v|^2) d + 2 (v.d) v - 2 q4 (v x d)
-            s = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3)
-            vd = 2.0 * (q1 * d1 + q2 * d2 + q3 * d3)
-            c = 2.0 * q4
-            r1 = s * d1 + vd * q1 - c * (q2 * d3 - q3 * d2)
-            r2 = s * d2 + vd * q2 - c * (q3 * d1 - q1 * d3)
-            r3 = s * d3 + vd * q3 - c * (q1 * d2 - q2 * d1)
-            g1 = j0 * r1 + j1 * r2 + j2 * r3
-            g2 = j3 * r1 + j4 * r2 + j5 * r3
-            g3 = j6 * r1 + j7 * r2 + j8 * r3
-            mx += ggc * (r2 * g3 - r3 * g2)
-            my += ggc * (r3 * g1 - r1 * g3)
-            mz += ggc * (r1 * g2 - r2 * g1)
-        return (
-            0.5 * (q4 * w1 - q3 * w2 + q2 * w3),
-            0.5 * (q3 * w1 + q4 * w2 - q1 * w3),
-            0.5 * (-q2 * w1 + q1 * w2 + q4 * w3),
-            -0.5 * (q1 * w1 + q2 * w2 + q3 * w3),
-            i0 * mx + i1 * my + i2 * mz,
-            i3 * mx + i4 * my + i5 * mz,
-            i6 * mx + i7 * my + i8 * mz,
-        )
 
-    q1, q2, q3, q4 = q
-    w1, w2, w3 = w
-    hh = 0.5 * h
-    a = f(q1, q2, q3, q4, w1, w2, w3)
-    b = f(q1 + hh * a[0], q2 + hh * a[1], q3 + hh * a[2], q4 + hh * a[3],
-          w1 + hh * a[4], w2 + hh * a[5], w3 + hh * a[6])
-    c_ = f(q1 + hh * b[0], q2 + hh * b[1], q3 + hh * b[2], q4 + hh * b[3],
-           w1 + hh * b[4], w2 + hh * b[5], w3 + hh * b[6])
-    d = f(q1 + h * c_[0], q2 + h * c_[1], q3 + h * c_[2], q4 + h * c_[3],
-          w1 + h * c_[4], w2 + h * c_[5], w3 + h * c_[6])
-    h6 = h / 6.0
-    q1 += h6 * (a[0] + 2.0 * (b[0] + c_[0]) + d[0])
-    q2 += h6 * (a[1] + 2.0 * (b[1] + c_[1]) + d[1])
-    q3 += h6 * (a[2] + 2.0 * (b[2] + c_[2]) + d[2])
-    q4 += h6 * (a[3] + 2.0 * (b[3] + c_[3]) + d[3])
-    w1 += h6 * (a[4] + 2.0 * (b[4] + c_[4]) + d[4])
-    w2 += h6 * (a[5] + 2.0 * (b[5] + c_[5]) + d[5])
-    w3 += h6 * (a[6] + 2.0 * (b[6] + c_[6]) + d[6])
-    n = 1.0 / math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
-    return (q1 * n, q2 * n, q3 * n, q4 * n), (w1, w2, w3)
+@functools.lru_cache(maxsize=64)
+def _generic_stepper(J: tuple, Ji: tuple, gravity_gradient: bool):
+    return make_stepper(J, Ji, gravity_gradient, drop_zeros=False)
 
 
 def gg_torque(q, J, ggc, gd):
@@ -142,30 +94,31 @@ _GG_TEMPLATE = """
 """
 
 
-def _matvec_expr(m, names, x):
-    """Source of the three rows of m @ x, dropping exact zeros (diagonal inertia)."""
+def _matvec_expr(m, names, x, drop_zeros=True):
+    """Source of the three rows of m @ x, dropping exact zeros (diagonal inertia) unless told not to."""
     rows = []
     for r in range(3):
-        terms = [f"{names[3 * r + c]} * {x[c]}" for c in range(3) if m[3 * r + c] != 0.0]
+        terms = [f"{names[3 * r + c]} * {x[c]}" for c in range(3)
+                 if not (drop_zeros and m[3 * r + c] == 0.0)]
         rows.append(" + ".join(terms) if terms else "0.0")
     return rows
 
 
-def make_stepper(J, Ji, gravity_gradient: bool):
+def make_stepper(J, Ji, gravity_gradient: bool, drop_zeros: bool = True):
     """Specialised rk4_step(q, w, h, torque, ggc, gd) for one inertia (same arithmetic).
 
-    The inertia entries become closure constants and structural zeros of a
-    diagonal J are dropped, which roughly halves the per-step cost of the
-    generic rk4_step (hot path of a lockstep run). Equal to rk4_step up to
-    rounding (tested).
+    The inertia entries become closure constants and, with drop_zeros,
+    structural zeros of a diagonal J are dropped, which roughly halves the
+    per-step cost of the generic rk4_step (hot path of a lockstep run). Equal to
+    rk4_step up to rounding (tested).
     """
     jn = [f"j{i}" for i in range(9)]
     inn = [f"i{i}" for i in range(9)]
-    jw = _matvec_expr(J, jn, ("w1", "w2", "w3"))
-    jim = _matvec_expr(Ji, inn, ("mx", "my", "mz"))
+    jw = _matvec_expr(J, jn, ("w1", "w2", "w3"), drop_zeros)
+    jim = _matvec_expr(Ji, inn, ("mx", "my", "mz"), drop_zeros)
     gg = ""
     if gravity_gradient:
-        jr = _matvec_expr(J, jn, ("r1", "r2", "r3"))
+        jr = _matvec_expr(J, jn, ("r1", "r2", "r3"), drop_zeros)
         gg = _GG_TEMPLATE.format(Jr0=jr[0], Jr1=jr[1], Jr2=jr[2])
     body = _STEPPER_TEMPLATE.format(Jw0=jw[0], Jw1=jw[1], Jw2=jw[2], Jim0=jim[0], Jim1=jim[1],
                                     Jim2=jim[2], GG=gg)
