@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -123,8 +125,36 @@ def _last_json(path: Path, key: str) -> dict | None:
     return None
 
 
+#: longest wait for one command in lockstep, s (a PIL target under a slow emulator needs ~10 s)
+REPLY_TIMEOUT_MAX_S = 3600.0
+
+
+def check_options(opts: RunOptions) -> None:
+    """Refuses, before anything starts, what the run could not honour (ValueError naming the option)."""
+    if opts.law is not None and not opts.law.strip():
+        raise ValueError("--law: empty law name (aocs list shows the laws)")
+    if opts.duration is not None and not (math.isfinite(opts.duration) and opts.duration > 0.0):
+        raise ValueError(f"--duration {opts.duration:g}: must be a finite number of seconds above 0")
+    rt = opts.reply_timeout
+    if rt is not None and not (math.isfinite(rt) and 0.0 < rt <= REPLY_TIMEOUT_MAX_S):
+        raise ValueError(f"--reply-timeout {rt:g}: must be a finite number of seconds in "
+                         f"(0, {REPLY_TIMEOUT_MAX_S:g}]")
+    if opts.out is not None and Path(opts.out).exists() and not Path(opts.out).is_dir():
+        raise ValueError(f"--out {opts.out}: exists and is not a folder")
+    if opts.json_path is not None:
+        jp = Path(opts.json_path)
+        if jp.is_dir():
+            raise ValueError(f"--json {jp}: is a folder, not a file")
+        parent = jp.parent
+        if not parent.is_dir():
+            raise ValueError(f"--json {jp}: folder {parent} does not exist")
+        if not os.access(parent, os.W_OK) or (jp.exists() and not os.access(jp, os.W_OK)):
+            raise ValueError(f"--json {jp}: not writable")
+
+
 def prepare(opts: RunOptions):
     """Scenario (with overrides), law and the run folder; raises on bad input."""
+    check_options(opts)
     ov = scenario_opts.overrides(opts.sets, opts.duration, opts.seed, opts.limit)
     if opts.duration is not None and "metrics.window_s" not in ov:
         # a shortened run keeps the scenario's metric window where it fits, else the whole run
@@ -141,7 +171,12 @@ def prepare(opts: RunOptions):
         if law not in sc.control.laws:
             raise ValueError(f"--law {law}: scenario {sc.id} has no gains for it "
                              f"(applicable: {', '.join(sc.control.laws)})")
+    if sc.n_steps < 1:
+        raise ValueError(f"scenario {sc.id}: a run of {sc.duration_s:g} s is shorter than one control "
+                         f"period ({sc.dt:g} s)")
     out = Path(opts.out) if opts.out else Path("out") / f"{sc.id}-{law}"
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output folder {out}: exists and is not a folder")
     return sc, ov, law, out
 
 
@@ -267,8 +302,7 @@ def execute(opts: RunOptions) -> RunResult:
     text = json.dumps(metrics, indent=1) + "\n"
     (out / "metrics.json").write_text(text)
     if opts.json_path:
-        Path(opts.json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(opts.json_path).write_text(text)
+        Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
     return RunResult(metrics, out, plots, results.table(metrics))
 
 
