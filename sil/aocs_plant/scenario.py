@@ -765,8 +765,10 @@ def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dic
 
 
 def resolve(path_or_id: str | Path) -> Path:
+    """A path when it looks like one (a .toml name, a folder in it, or an existing file), else the id of
+    sil/scenarios/<id>.toml: a folder in the working directory named like an id does not shadow it."""
     p = Path(path_or_id)
-    if p.suffix == ".toml" or p.exists():
+    if p.suffix == ".toml" or len(p.parts) > 1 or p.is_file():
         return p
     return SCENARIO_DIR / f"{path_or_id}.toml"
 
@@ -786,6 +788,14 @@ def load(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> 
     except FileNotFoundError:
         raise ScenarioError(f"{file}: <file>: no such scenario file "
                             f"(known ids: {', '.join(list_scenarios())})") from None
+    except IsADirectoryError:
+        raise ScenarioError(f"{file}: <file>: is a folder, not a scenario file") from None
+    except PermissionError:
+        raise ScenarioError(f"{file}: <file>: not readable (permission denied)") from None
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{file}: <file>: not UTF-8 text (byte {exc.start})") from None
+    except RecursionError:
+        raise ScenarioError(f"{file}: <syntax>: values nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{file}: <syntax>: not valid TOML: {exc}") from None
     if overrides:

@@ -315,3 +315,24 @@ def test_scenario_is_frozen():
         sc.duration_s = 1.0  # type: ignore[misc]
     with pytest.raises(TypeError):
         sc.control.laws["x"] = None  # type: ignore[index]
+
+
+def test_unreadable_files_give_one_line_naming_the_file(tmp_path, monkeypatch):
+    """Not UTF-8, nested beyond any sane depth, a folder: a ScenarioError naming the file, never a traceback."""
+    cases = {"latin.toml": (b'id = "latin"\n\xff\xfe = 1\n', "not UTF-8 text (byte 13)"),
+             "deep.toml": (b"a = " + b"[" * 50000 + b"]" * 50000 + b"\n", "nested too deeply")}
+    for name, (data, message) in cases.items():
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(ScenarioError) as ei:
+            load(tmp_path / name)
+        assert str(ei.value).startswith(f"{tmp_path / name}: ") and message in str(ei.value)
+        assert "\n" not in str(ei.value)
+    (tmp_path / "adir.toml").mkdir()
+    with pytest.raises(ScenarioError, match="is a folder, not a scenario file"):
+        load(tmp_path / "adir.toml")
+
+
+def test_a_folder_named_like_an_id_does_not_shadow_the_scenario(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "irassi_small").mkdir()
+    assert load("irassi_small").id == "irassi_small"
