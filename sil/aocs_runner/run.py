@@ -21,6 +21,7 @@ from pathlib import Path
 
 from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
+from aocs_analysis import verdict
 from aocs_core import paths
 from aocs_plant.scenario import load
 from aocs_wire import fsw_config, lcmlog, netns
@@ -58,6 +59,7 @@ class RunOptions:
     quiet: bool = False
     recorder: str = "builtin"
     plant_lcm_lib: bool = False
+    allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
 
 
 @dataclass
@@ -287,13 +289,20 @@ def execute(opts: RunOptions) -> RunResult:
     metrics, series = results.compute(log, sc, meta, wall_s=wall, plant=plant_sum, fsw=fsw_sum)
     if opts.label:
         metrics["label"] = opts.label
-    drops = sum(1 for e in evmod.parse_all(opts.events) if e.kind == "drop")
-    complete = (log.truth["tick"].size == sc.n_steps + 1
-                and (opts.realtime or log.cmd["tick"].size == sc.n_steps - drops))
-    metrics["log_complete"] = bool(complete)
-    if not complete:
-        print(f"aocs run: warning: the log holds {log.truth['tick'].size} truth and {log.cmd['tick'].size} "
-              f"command messages for {sc.n_steps} steps (lcm-logger dropped some?)", file=sys.stderr)
+    dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps)
+    try:
+        lcmlog.scan(log_path)
+        log_problems = lcmlog.completeness_problems(
+            log, sc.n_steps, replies_expected=None if opts.realtime else sc.n_steps - len(dropped),
+            dropped_ticks=dropped)
+    except lcmlog.LogIntegrityError as exc:
+        log_problems = [str(exc)]
+    if log_problems and opts.recorder == "lcm-logger":
+        log_problems.append("lcm-logger drops messages under load (docs/sil.md); the builtin recorder does not")
+    elif log_problems:
+        log_problems.append("the recorder could not keep up: was the runner paused or the machine overloaded?")
+    metrics["log_complete"] = not log_problems
+    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow)
     plots = []
     if opts.plots:
         title = f"{sc.id} / {law}" + (f" ({opts.label})" if opts.label else "")

@@ -281,8 +281,9 @@ def _counters(out: dict, log, dt: float) -> None:
     for code, n in zip(*np.unique(cmd["status"], return_counts=True)):
         if int(code) != 0:
             status_counts[paths.status_name(int(code))] = int(n)
-    ticks_sent = set(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()].tolist())
-    ticks_answered = set(cmd["tick"].tolist())
+    sent = np.unique(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()])
+    answered = np.isin(sent, cmd["tick"])
+    ticks_sent, ticks_answered = set(sent.tolist()), set(cmd["tick"].tolist())
     out["counters"] = {
         "invalid": last["n_invalid"], "stale": last["n_stale"], "missing": last["n_missing"],
         "law_error": last["n_law_error"], "lost": last["n_lost"], "duplicate": last["n_duplicate"],
@@ -294,6 +295,7 @@ def _counters(out: dict, log, dt: float) -> None:
         "steps_saturated": int(np.count_nonzero(cmd["saturated"])),
         "status": status_counts,
         "sensor_ticks_unanswered": len(ticks_sent - ticks_answered),
+        "longest_unanswered_run": _longest_false_run(answered),
     }
     out["commands"] = [{"request": int(r), "law_id": int(lid), "mode": int(m), "set_target": bool(st)}
                        for r, lid, m, st in zip(log.command["request"], log.command["law_id"],
@@ -304,6 +306,15 @@ def _counters(out: dict, log, dt: float) -> None:
             if c["request"] in acks:
                 c["status"] = paths.status_name(acks[c["request"]])
     out["final_mode"] = paths.MODE_NAMES.get(int(modes[-1]), str(int(modes[-1]))) if modes.size else None
+
+
+def _longest_false_run(flags: np.ndarray) -> int:
+    """Length of the longest run of consecutive False values."""
+    best = run = 0
+    for f in flags.tolist():
+        run = 0 if f else run + 1
+        best = max(best, run)
+    return best
 
 
 def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> None:
@@ -433,6 +444,11 @@ def table(m: dict) -> str:
                      f"startup {ls['startup_s']:.2f} s"))
     if m.get("wall_s") is not None:
         rows.append(("wall time", f"{m['wall_s']:.2f} s"))
+    v = m.get("verdict")
+    if v is not None:
+        failed = "; ".join(f["reason"] for f in v["failures"])
+        rows.append(("verdict", ("passed" if v["passed"] else f"FAILED: {failed}")
+                     + (f" (allowed: {', '.join(v['allowed'])})" if v["allowed"] else "")))
     w = max(len(k) for k, _ in rows)
     return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
 
