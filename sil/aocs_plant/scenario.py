@@ -18,6 +18,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from aocs_core import limits
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
 from . import disturbances as dist
@@ -723,8 +724,17 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     reference = root.string("reference")
     kind = root.string("kind", choices=KINDS)
     rate = root.number("control_rate_hz", positive=True)
+    if not limits.CONTROL_RATE_HZ_MIN <= rate <= limits.CONTROL_RATE_HZ_MAX:
+        root.fail("control_rate_hz", f"{rate:g} Hz is outside [{limits.CONTROL_RATE_HZ_MIN:g}, "
+                                     f"{limits.CONTROL_RATE_HZ_MAX:g}] Hz (the flight software's period range)")
     duration = root.number("duration_s", positive=True)
+    if duration > limits.DURATION_S_MAX:
+        root.fail("duration_s", f"{duration:g} s is longer than {limits.DURATION_S_MAX:g} s")
     steps = duration * rate
+    if steps > limits.STEPS_MAX:
+        root.fail("duration_s", f"{steps:.3g} control periods, more than {limits.STEPS_MAX:g}")
+    if steps < 1.0 - 1e-6:
+        root.fail("duration_s", f"{duration:g} s is shorter than one control period ({1.0 / rate:g} s)")
     if abs(steps - round(steps)) > 1e-6 * max(1.0, steps):
         root.fail("duration_s", f"must be a whole number of control periods ({steps} periods)")
     seed = root.integer("seed", required=False, default=0, minimum=0)
@@ -732,6 +742,8 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     substeps = 1
     if isec is not None:
         substeps = isec.integer("substeps", required=False, default=1, minimum=1)
+        if substeps > limits.SUBSTEPS_MAX:
+            isec.fail(isec.key("substeps"), f"{substeps} is more than {limits.SUBSTEPS_MAX}")
         isec.done()
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)

@@ -336,3 +336,25 @@ def test_a_folder_named_like_an_id_does_not_shadow_the_scenario(tmp_path, monkey
     monkeypatch.chdir(tmp_path)
     (tmp_path / "irassi_small").mkdir()
     assert load("irassi_small").id == "irassi_small"
+
+
+@pytest.mark.parametrize("key,value,message", [
+    ("control_rate_hz", 1e308, "outside [0.001, 1e+06] Hz"),
+    ("control_rate_hz", 1e9, "outside [0.001, 1e+06] Hz"),
+    ("control_rate_hz", 1e-4, "outside [0.001, 1e+06] Hz"),
+    ("duration_s", 1e308, "longer than 1e+07 s"),
+    ("duration_s", 1e-300, "shorter than one control period"),
+    ("integrator.substeps", 100000, "more than 10000"),
+])
+def test_run_timing_is_bounded_where_the_flight_software_and_the_wire_can_follow(key, value, message):
+    """Values the executive (period 1 us .. 1000 s) or the tick and time arithmetic could not honour
+    are refused by the loader with the key named, never an OverflowError later (aocs_core.limits)."""
+    with pytest.raises(ScenarioError, match=re.escape(f"{key}: ") + ".*" + re.escape(message)):
+        load("irassi_large", {key: value})
+
+
+def test_run_timing_edges_that_are_accepted():
+    sc = load("irassi_large", {"control_rate_hz": 1e6, "duration_s": 1.0, "metrics.window_s": 1.0})
+    assert sc.n_steps == 1_000_000
+    sc = load("irassi_large", {"duration_s": 0.1, "metrics.window_s": 0.1})
+    assert sc.n_steps == 1
