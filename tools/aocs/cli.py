@@ -14,6 +14,7 @@ SUBCOMMANDS = {
     "run": ("aocs.cmd_run", "run a scenario in the loop (plant + flight software over LCM)"),
     "list": ("aocs.cmd_list", "list scenarios and control laws"),
     "replay": ("aocs.cmd_replay", "replay a recorded LCM log through the flight software"),
+    "play": ("aocs.cmd_play", "publish a recorded LCM log again, paced by its simulation clock (for viewers)"),
     "gains": ("aocs.cmd_gains", "regenerate every gain design and the firmware tables"),
     "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
