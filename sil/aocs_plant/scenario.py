@@ -21,6 +21,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from aocs_core import limits
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
 from . import effectors
@@ -601,8 +602,17 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     reference = root.string("reference")
     kind = root.string("kind", choices=KINDS)
     rate = root.number("control_rate_hz", positive=True)
+    if not limits.CONTROL_RATE_HZ_MIN <= rate <= limits.CONTROL_RATE_HZ_MAX:
+        root.fail("control_rate_hz", f"{rate:g} Hz is outside [{limits.CONTROL_RATE_HZ_MIN:g}, "
+                                     f"{limits.CONTROL_RATE_HZ_MAX:g}] Hz (the flight software's period range)")
     duration = root.number("duration_s", positive=True)
+    if duration > limits.DURATION_S_MAX:
+        root.fail("duration_s", f"{duration:g} s is longer than {limits.DURATION_S_MAX:g} s")
     steps = duration * rate
+    if steps > limits.STEPS_MAX:
+        root.fail("duration_s", f"{steps:.3g} control periods, more than {limits.STEPS_MAX:g}")
+    if steps < 1.0 - 1e-6:
+        root.fail("duration_s", f"{duration:g} s is shorter than one control period ({1.0 / rate:g} s)")
     if abs(steps - round(steps)) > 1e-6 * max(1.0, steps):
         root.fail("duration_s", f"must be a whole number of control periods ({steps} periods)")
     seed = root.integer("seed", required=False, default=0, minimum=0)
@@ -610,6 +620,8 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     substeps = 1
     if isec is not None:
         substeps = isec.integer("substeps", required=False, default=1, minimum=1)
+        if substeps > limits.SUBSTEPS_MAX:
+            isec.fail(isec.key("substeps"), f"{substeps} is more than {limits.SUBSTEPS_MAX}")
         isec.done()
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)
@@ -646,8 +658,10 @@ def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dic
 
 
 def resolve(path_or_id: str | Path) -> Path:
+    """A path when it looks like one (a .toml name, a folder in it, or an existing file), else the id of
+    sil/scenarios/<id>.toml: a folder in the working directory named like an id does not shadow it."""
     p = Path(path_or_id)
-    if p.suffix == ".toml" or p.exists():
+    if p.suffix == ".toml" or len(p.parts) > 1 or p.is_file():
         return p
     return SCENARIO_DIR / f"{path_or_id}.toml"
 
@@ -667,6 +681,14 @@ def load(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> 
     except FileNotFoundError:
         raise ScenarioError(f"{file}: <file>: no such scenario file "
                             f"(known ids: {', '.join(list_scenarios())})") from None
+    except IsADirectoryError:
+        raise ScenarioError(f"{file}: <file>: is a folder, not a scenario file") from None
+    except PermissionError:
+        raise ScenarioError(f"{file}: <file>: not readable (permission denied)") from None
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{file}: <file>: not UTF-8 text (byte {exc.start})") from None
+    except RecursionError:
+        raise ScenarioError(f"{file}: <syntax>: values nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{file}: <syntax>: not valid TOML: {exc}") from None
     if overrides:

@@ -106,3 +106,9 @@ def schedule(events: list[Event], dt: float, n_steps: int, start_tick: int = 0) 
             raise EventError(f"--event {e.text!r}: t = {e.t} s is after the end of the run")
         out.setdefault(k, []).append(e)
     return out
+
+
+def dropped_ticks(specs, dt: float, n_steps: int) -> set[int]:
+    """Ticks whose sensor frame a `drop` event keeps from the wire (absent from the log on purpose)."""
+    return {tick for tick, evs in schedule(parse_all(specs), dt, n_steps).items()
+            if any(e.kind == "drop" for e in evs)}

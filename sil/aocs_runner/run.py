@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -19,6 +21,7 @@ from pathlib import Path
 
 from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
+from aocs_analysis import verdict
 from aocs_core import paths
 from aocs_plant.scenario import load
 from aocs_wire import fsw_config, lcmlog, netns
@@ -56,6 +59,7 @@ class RunOptions:
     quiet: bool = False
     recorder: str = "builtin"
     plant_lcm_lib: bool = False
+    allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
 
 
 @dataclass
@@ -123,8 +127,36 @@ def _last_json(path: Path, key: str) -> dict | None:
     return None
 
 
+#: longest wait for one command in lockstep, s (a PIL target under a slow emulator needs ~10 s)
+REPLY_TIMEOUT_MAX_S = 3600.0
+
+
+def check_options(opts: RunOptions) -> None:
+    """Refuses, before anything starts, what the run could not honour (ValueError naming the option)."""
+    if opts.law is not None and not opts.law.strip():
+        raise ValueError("--law: empty law name (aocs list shows the laws)")
+    if opts.duration is not None and not (math.isfinite(opts.duration) and opts.duration > 0.0):
+        raise ValueError(f"--duration {opts.duration:g}: must be a finite number of seconds above 0")
+    rt = opts.reply_timeout
+    if rt is not None and not (math.isfinite(rt) and 0.0 < rt <= REPLY_TIMEOUT_MAX_S):
+        raise ValueError(f"--reply-timeout {rt:g}: must be a finite number of seconds in "
+                         f"(0, {REPLY_TIMEOUT_MAX_S:g}]")
+    if opts.out is not None and Path(opts.out).exists() and not Path(opts.out).is_dir():
+        raise ValueError(f"--out {opts.out}: exists and is not a folder")
+    if opts.json_path is not None:
+        jp = Path(opts.json_path)
+        if jp.is_dir():
+            raise ValueError(f"--json {jp}: is a folder, not a file")
+        parent = jp.parent
+        if not parent.is_dir():
+            raise ValueError(f"--json {jp}: folder {parent} does not exist")
+        if not os.access(parent, os.W_OK) or (jp.exists() and not os.access(jp, os.W_OK)):
+            raise ValueError(f"--json {jp}: not writable")
+
+
 def prepare(opts: RunOptions):
     """Scenario (with overrides), law and the run folder; raises on bad input."""
+    check_options(opts)
     ov = scenario_opts.overrides(opts.sets, opts.duration, opts.seed, opts.limit)
     if opts.duration is not None and "metrics.window_s" not in ov:
         # a shortened run keeps the scenario's metric window where it fits, else the whole run
@@ -141,7 +173,12 @@ def prepare(opts: RunOptions):
         if law not in sc.control.laws:
             raise ValueError(f"--law {law}: scenario {sc.id} has no gains for it "
                              f"(applicable: {', '.join(sc.control.laws)})")
+    if sc.n_steps < 1:
+        raise ValueError(f"scenario {sc.id}: a run of {sc.duration_s:g} s is shorter than one control "
+                         f"period ({sc.dt:g} s)")
     out = Path(opts.out) if opts.out else Path("out") / f"{sc.id}-{law}"
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output folder {out}: exists and is not a folder")
     return sc, ov, law, out
 
 
@@ -252,13 +289,20 @@ def execute(opts: RunOptions) -> RunResult:
     metrics, series = results.compute(log, sc, meta, wall_s=wall, plant=plant_sum, fsw=fsw_sum)
     if opts.label:
         metrics["label"] = opts.label
-    drops = sum(1 for e in evmod.parse_all(opts.events) if e.kind == "drop")
-    complete = (log.truth["tick"].size == sc.n_steps + 1
-                and (opts.realtime or log.cmd["tick"].size == sc.n_steps - drops))
-    metrics["log_complete"] = bool(complete)
-    if not complete:
-        print(f"aocs run: warning: the log holds {log.truth['tick'].size} truth and {log.cmd['tick'].size} "
-              f"command messages for {sc.n_steps} steps (lcm-logger dropped some?)", file=sys.stderr)
+    dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps)
+    try:
+        lcmlog.scan(log_path)
+        log_problems = lcmlog.completeness_problems(
+            log, sc.n_steps, replies_expected=None if opts.realtime else sc.n_steps - len(dropped),
+            dropped_ticks=dropped)
+    except lcmlog.LogIntegrityError as exc:
+        log_problems = [str(exc)]
+    if log_problems and opts.recorder == "lcm-logger":
+        log_problems.append("lcm-logger drops messages under load (docs/sil.md); the builtin recorder does not")
+    elif log_problems:
+        log_problems.append("the recorder could not keep up: was the runner paused or the machine overloaded?")
+    metrics["log_complete"] = not log_problems
+    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow)
     plots = []
     if opts.plots:
         title = f"{sc.id} / {law}" + (f" ({opts.label})" if opts.label else "")
@@ -267,8 +311,7 @@ def execute(opts: RunOptions) -> RunResult:
     text = json.dumps(metrics, indent=1) + "\n"
     (out / "metrics.json").write_text(text)
     if opts.json_path:
-        Path(opts.json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(opts.json_path).write_text(text)
+        Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
     return RunResult(metrics, out, plots, results.table(metrics))
 
 

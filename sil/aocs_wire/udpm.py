@@ -2,7 +2,7 @@
 plant's lockstep hot loop.
 
 Same packets as the LCM library (interoperable both ways, tested against it in
-tests/python/aocs_runner/test_runner_units.py): a short message is ONE datagram sent to the
+tests/python/aocs_wire/test_udpm.py): a short message is ONE datagram sent to the
 multicast group,
 
     uint32 magic 0x4c433032 ("LC02") | uint32 sequence number | channel | NUL | payload

@@ -7,7 +7,7 @@ counts. A Codec compiles ONE struct.Struct per type from the generated
 class's own field list (__slots__, __typenames__, __dimensions__) and its
 packed fingerprint, so it follows the .lcm files without a hand-written
 layout: big-endian, fingerprint first, fixed-size arrays inline (the LCM
-encoding; every aocs_lcm type is fixed size). tests/python/aocs_runner/test_runner_units.py
+encoding; every aocs_lcm type is fixed size). tests/python/aocs_wire/test_wire.py
 checks byte equality with the generated encode/decode.
 """
 from __future__ import annotations

@@ -35,12 +35,33 @@ def test_list_names_every_scenario_with_its_laws_and_every_law(capsys):
     (["run", "irassi_large", "--duration", "0.05"], "duration_s"),
     (["run", "irassi_large", "--set", "laws.quat_pd.kd=-1.0"], "laws.quat_pd.kd"),
     (["run", "landsat8_srp", "--set", "control.enabled=false", "--law", "orbit_lqr"], "control is disabled"),
+    (["run", "irassi_large", "--law", ""], "--law: empty law name"),
+    (["run", "irassi_large", "--duration", "1e-300"], "shorter than one control period"),
+    (["run", "irassi_large", "--duration", "nan"], "--duration nan"),
+    (["run", "irassi_large", "--reply-timeout", "nan"], "--reply-timeout nan"),
+    (["run", "irassi_large", "--reply-timeout", "-1"], "--reply-timeout -1"),
 ])
 def test_bad_input_exits_2_with_a_message_naming_it(private_netns, capsys, tmp_path, argv, message):
     assert cli.main(argv + ["--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "aocs run: error:" in err and message in err, err
     assert not (tmp_path / "o" / "run.lcmlog").exists()
+
+
+def test_output_paths_are_checked_before_the_run(private_netns, capsys, tmp_path):
+    """--out on a file, --json on a folder or in a folder that does not exist: one line, exit 2,
+    nothing written (and no folder created for --json)."""
+    a_file = tmp_path / "a_file"
+    a_file.write_text("keep me\n")
+    cases = [(["--out", str(a_file)], "exists and is not a folder"),
+             (["--out", str(tmp_path / "o"), "--json", str(tmp_path)], "is a folder, not a file"),
+             (["--out", str(tmp_path / "o"), "--json", str(tmp_path / "no" / "such" / "m.json")], "does not exist")]
+    for extra, message in cases:
+        assert cli.main(["run", "irassi_large", "--duration", "1", "-q", "--no-plots", *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "aocs run: error:" in err and message in err, err
+    assert a_file.read_text() == "keep me\n"
+    assert not (tmp_path / "no").exists() and not (tmp_path / "o" / "run.lcmlog").exists()
 
 
 def test_pil_targets_start_the_bridge_or_say_it_is_missing(monkeypatch, tmp_path):

@@ -26,6 +26,7 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths
+from aocs_runner import events as evmod
 from aocs_runner import orchestrate
 from aocs_runner.run import fc_command
 from aocs_wire import fsw_config, lcmlog, netns, wire
@@ -90,10 +91,29 @@ def replay(log_path: Path, target: str = "host", config: str | None = None, repl
     out = sys.stdout if out is None else out
     log_path = Path(log_path)
     cfg_path, meta = _config_path(log_path, config)
-    cfg = fsw_config.read(cfg_path)
+    try:
+        cfg = fsw_config.read(cfg_path)
+    except FileNotFoundError:
+        raise ReplayError(f"{cfg_path}: no such configuration file") from None
+    except IsADirectoryError:
+        raise ReplayError(f"{cfg_path}: is a folder, not a configuration file") from None
+    except UnicodeDecodeError as exc:
+        raise ReplayError(f"{cfg_path}: not UTF-8 text (byte {exc.start})") from None
+    except (OSError, fsw_config.ConfigError) as exc:
+        raise ReplayError(str(exc)) from None
     if cfg.get("mode", "lockstep") != "lockstep":
         raise ReplayError(f"{cfg_path}: mode = {cfg.get('mode')}: only lockstep runs replay deterministically")
+    # a damaged or partial log is refused, never compared as far as it goes
+    try:
+        lcmlog.scan(log_path)
+    except lcmlog.LogIntegrityError as exc:
+        raise ReplayError(str(exc)) from None
     log = lcmlog.read(log_path, keep_raw=True)
+    dropped = (evmod.dropped_ticks(meta.get("events"), meta["dt"], meta["n_steps"])
+               if "dt" in meta and "n_steps" in meta else ())
+    problems = lcmlog.completeness_problems(log, meta.get("n_steps"), dropped_ticks=dropped)
+    if problems:
+        raise ReplayError(f"{log_path}: " + "; ".join(problems))
     codecs = wire.Codecs(paths.import_bindings())
     act = codecs.actuator
     inputs = []          # (channel, data, expected cumulative replies after it)

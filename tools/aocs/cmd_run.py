@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import sys
 
+from aocs_analysis import verdict
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import events as evmod
@@ -44,6 +45,9 @@ def add_arguments(p) -> None:
     p.add_argument("--plant-lcm-lib", action="store_true",
                    help="plant_node receives through the LCM library's thread instead of reading udpm "
                         "directly (for comparison; docs/sil.md)")
+    p.add_argument("--allow", action="append", default=[], choices=verdict.CHECKS, metavar="CHECK",
+                   help="let the run pass although this check fails, to study the case on purpose: "
+                        + ", ".join(verdict.CHECKS) + " (docs/sil.md, Verdict; repeatable)")
     p.add_argument("--label", help="label of the run in tables and the JSON")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
@@ -54,7 +58,7 @@ def options_from_args(args) -> RunOptions:
                       out=args.out, json_path=args.json, limit=args.limit, target=args.target, seed=args.seed,
                       sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
-                      plant_lcm_lib=args.plant_lcm_lib)
+                      plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow))
 
 
 def run(args) -> int:
@@ -72,5 +76,11 @@ def run(args) -> int:
     print(res.table)
     if res.plots:
         print(f"  plots, log, config and metrics.json in {res.out_dir}/")
+    v = res.metrics["verdict"]
+    if not v["passed"]:
+        print(f"aocs run: FAILED: {verdict.summary(v)} (metrics and log kept in {res.out_dir}/)", file=sys.stderr)
+        return EXIT_FAILED
+    if v["allowed"]:
+        print(f"aocs run: allowed to pass although it failed: {', '.join(v['allowed'])}", file=sys.stderr)
     return EXIT_OK
 

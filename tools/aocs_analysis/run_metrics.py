@@ -128,19 +128,31 @@ def _fl(a):
 # --------------------------------------------------------------------------- metrics
 def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: dict | None = None,
             fsw: dict | None = None) -> tuple[dict, dict]:
-    """(metrics dict for the JSON, series dict for the plots)."""
+    """(metrics dict for the JSON, series dict for the plots): one section per concern, in the
+    order of the JSON (docs/sil.md lists every key)."""
     sc = scenario
-    dt = sc.dt
-    tr, cmd = log.truth, log.cmd
-    if tr["t_s"].size == 0:
+    t = log.truth["t_s"]
+    if t.size == 0:
         raise ValueError(f"{log.path}: no truth_t messages in the log")
-    t = tr["t_s"]
-    window = sc.metrics.window_s
-    wmask = M.window_mask(t, window)
     out: dict = {"scenario": sc.id, "law": meta["law"], "kind": sc.kind,
                  "duration_s": _f(t[-1] - t[0]), "control_rate_hz": _f(sc.control_rate_hz)}
     series: dict = {"t": t, "kind": sc.kind}
+    _accuracy(out, series, log, sc)
+    u = _commands(out, series, log, sc)
+    cfg = meta.get("fsw_config", {})
+    _limits(out, series, u, cfg, sc)
+    _timing(out, series, log.cmd, meta, cfg, fsw)
+    _counters(out, log, sc.dt)
+    _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
+    return out, series
 
+
+def _accuracy(out: dict, series: dict, log, sc) -> None:
+    """Settle time and the final pointing (attitude) or position (orbit) error over the metric window."""
+    tr = log.truth
+    t = tr["t_s"]
+    window = sc.metrics.window_s
+    wmask = M.window_mask(t, window)
     if sc.kind == "attitude":
         s = attitude_series(sc, log)
         series.update(s)
@@ -177,7 +189,10 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["settle_criterion"] = {"criteria": used, "rule": "inside every criterion from settle_time_s to the end",
                                "window_s": _f(window)}
 
-    # ---- commands (what the flight software commanded, after its saturation)
+
+def _commands(out: dict, series: dict, log, sc) -> np.ndarray:
+    """What the flight software commanded (after its saturation) and what the plant applied; returns u_sat."""
+    tr, cmd, dt = log.truth, log.cmd, sc.dt
     u = cmd["u_sat"] if cmd["tick"].size else np.zeros((0, 3))
     tc = cmd["tick"] * dt
     series.update(t_cmd=tc, u_sat=u, u_unsat=cmd["u_unsat"], mode=cmd["mode"], step_ns=cmd["step_ns"],
@@ -202,9 +217,11 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["effort"] = _f(eff)
     applied = series["applied"]
     out["max_abs_applied"] = _fl(np.max(np.abs(applied), axis=0)) if applied.shape[0] else [0.0] * 3
+    return u
 
-    # ---- limits: the flight software's saturation and the plant's actuator
-    cfg = meta.get("fsw_config", {})
+
+def _limits(out: dict, series: dict, u: np.ndarray, cfg: dict, sc) -> None:
+    """The flight software's saturation limits, the plant's actuator, and every command beyond them."""
     axis_cfg = cfg.get("u_max_axis")
     axis_lim = float(axis_cfg.split()[0]) if axis_cfg else None
     norm_lim = float(cfg["u_max_norm"]) if cfg.get("u_max_norm") else None
@@ -223,7 +240,9 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     series["axis_limit"] = None if unlimited else axis_lim
     series["norm_limit"] = norm_lim
 
-    # ---- timing (per step, against the budget of the step's law and mode)
+
+def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | None) -> None:
+    """Step times against the budget of each step's law and mode (and PIL instruction counts)."""
     law_nominal = meta["law"]
     override = int(float(cfg.get("budget_ns", "0")))
     if cmd["tick"].size:
@@ -242,7 +261,10 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     if str(target).startswith("pil-"):
         pil_timing(out["timing"], series, cmd, target, fsw)
 
-    # ---- counters and events (cumulative counters of the last command, final status)
+
+def _counters(out: dict, log, dt: float) -> None:
+    """The flight computer's cumulative counters (last command, last status), modes, statuses, commands."""
+    cmd = log.cmd
     last = {k: int(cmd[k][-1]) if cmd["tick"].size else 0 for k in
             ("n_invalid", "n_stale", "n_missing", "n_law_error", "n_overrun", "n_lost", "n_duplicate",
              "n_foreign", "n_malformed", "n_cmd_accepted", "n_cmd_rejected")}
@@ -259,8 +281,9 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     for code, n in zip(*np.unique(cmd["status"], return_counts=True)):
         if int(code) != 0:
             status_counts[paths.status_name(int(code))] = int(n)
-    ticks_sent = set(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()].tolist())
-    ticks_answered = set(cmd["tick"].tolist())
+    sent = np.unique(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()])
+    answered = np.isin(sent, cmd["tick"])
+    ticks_sent, ticks_answered = set(sent.tolist()), set(cmd["tick"].tolist())
     out["counters"] = {
         "invalid": last["n_invalid"], "stale": last["n_stale"], "missing": last["n_missing"],
         "law_error": last["n_law_error"], "lost": last["n_lost"], "duplicate": last["n_duplicate"],
@@ -272,6 +295,7 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
         "steps_saturated": int(np.count_nonzero(cmd["saturated"])),
         "status": status_counts,
         "sensor_ticks_unanswered": len(ticks_sent - ticks_answered),
+        "longest_unanswered_run": _longest_false_run(answered),
     }
     out["commands"] = [{"request": int(r), "law_id": int(lid), "mode": int(m), "set_target": bool(st)}
                        for r, lid, m, st in zip(log.command["request"], log.command["law_id"],
@@ -282,8 +306,22 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
             if c["request"] in acks:
                 c["status"] = paths.status_name(acks[c["request"]])
     out["final_mode"] = paths.MODE_NAMES.get(int(modes[-1]), str(int(modes[-1]))) if modes.size else None
+
+
+def _longest_false_run(flags: np.ndarray) -> int:
+    """Length of the longest run of consecutive False values."""
+    best = run = 0
+    for f in flags.tolist():
+        run = 0 if f else run + 1
+        best = max(best, run)
+    return best
+
+
+def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> None:
+    """The log, the run mode and the processes' own figures (lockstep speed, jitter)."""
+    stt = log.status
     out["log"] = {"path": str(log.path), "messages": dict(sorted(log.counts.items())),
-                  "truth_samples": int(t.size), "commands": int(cmd["tick"].size)}
+                  "truth_samples": int(log.truth["t_s"].size), "commands": int(log.cmd["tick"].size)}
     run_mode = meta.get("mode", "lockstep")
     out["run_mode"] = run_mode
     if run_mode == "realtime":
@@ -301,7 +339,6 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     if fsw:
         out["fsw_node"] = fsw
     out["wall_s"] = _f(wall_s) if wall_s is not None else None
-    return out, series
 
 
 def pil_timing(timing: dict, series: dict, cmd, target: str, fsw: dict | None) -> None:
@@ -407,6 +444,11 @@ def table(m: dict) -> str:
                      f"startup {ls['startup_s']:.2f} s"))
     if m.get("wall_s") is not None:
         rows.append(("wall time", f"{m['wall_s']:.2f} s"))
+    v = m.get("verdict")
+    if v is not None:
+        failed = "; ".join(f["reason"] for f in v["failures"])
+        rows.append(("verdict", ("passed" if v["passed"] else f"FAILED: {failed}")
+                     + (f" (allowed: {', '.join(v['allowed'])})" if v["allowed"] else "")))
     w = max(len(k) for k, _ in rows)
     return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
 

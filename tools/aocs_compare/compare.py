@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from aocs_analysis import plots as P
+from aocs_analysis import verdict
 from aocs_core.conventions import ARCSEC_PER_RAD
 from aocs_plant.scenario import load
 from aocs_runner import scenario_opts
@@ -117,6 +118,9 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
                                      plots=run_plots, quiet=True))
             row.metrics = res.metrics
             row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
+            if not res.metrics["verdict"]["passed"]:  # the run ended, but did not do what was asked
+                row.error = "verdict: " + verdict.summary(res.metrics["verdict"])
+                print(f"compare: {name}: FAILED: {row.error}", file=sys.stderr)
         except RunFailed as exc:  # a process failed: record it, go on; RunAborted (a signal) stops everything
             row.error = str(exc)
             print(f"compare: {name}: FAILED: {exc}", file=sys.stderr)

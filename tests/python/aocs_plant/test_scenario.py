@@ -315,3 +315,46 @@ def test_scenario_is_frozen():
         sc.duration_s = 1.0  # type: ignore[misc]
     with pytest.raises(TypeError):
         sc.control.laws["x"] = None  # type: ignore[index]
+
+
+def test_unreadable_files_give_one_line_naming_the_file(tmp_path, monkeypatch):
+    """Not UTF-8, nested beyond any sane depth, a folder: a ScenarioError naming the file, never a traceback."""
+    cases = {"latin.toml": (b'id = "latin"\n\xff\xfe = 1\n', "not UTF-8 text (byte 13)"),
+             "deep.toml": (b"a = " + b"[" * 50000 + b"]" * 50000 + b"\n", "nested too deeply")}
+    for name, (data, message) in cases.items():
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(ScenarioError) as ei:
+            load(tmp_path / name)
+        assert str(ei.value).startswith(f"{tmp_path / name}: ") and message in str(ei.value)
+        assert "\n" not in str(ei.value)
+    (tmp_path / "adir.toml").mkdir()
+    with pytest.raises(ScenarioError, match="is a folder, not a scenario file"):
+        load(tmp_path / "adir.toml")
+
+
+def test_a_folder_named_like_an_id_does_not_shadow_the_scenario(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "irassi_small").mkdir()
+    assert load("irassi_small").id == "irassi_small"
+
+
+@pytest.mark.parametrize("key,value,message", [
+    ("control_rate_hz", 1e308, "outside [0.001, 1e+06] Hz"),
+    ("control_rate_hz", 1e9, "outside [0.001, 1e+06] Hz"),
+    ("control_rate_hz", 1e-4, "outside [0.001, 1e+06] Hz"),
+    ("duration_s", 1e308, "longer than 1e+07 s"),
+    ("duration_s", 1e-300, "shorter than one control period"),
+    ("integrator.substeps", 100000, "more than 10000"),
+])
+def test_run_timing_is_bounded_where_the_flight_software_and_the_wire_can_follow(key, value, message):
+    """Values the executive (period 1 us .. 1000 s) or the tick and time arithmetic could not honour
+    are refused by the loader with the key named, never an OverflowError later (aocs_core.limits)."""
+    with pytest.raises(ScenarioError, match=re.escape(f"{key}: ") + ".*" + re.escape(message)):
+        load("irassi_large", {key: value})
+
+
+def test_run_timing_edges_that_are_accepted():
+    sc = load("irassi_large", {"control_rate_hz": 1e6, "duration_s": 1.0, "metrics.window_s": 1.0})
+    assert sc.n_steps == 1_000_000
+    sc = load("irassi_large", {"duration_s": 0.1, "metrics.window_s": 0.1})
+    assert sc.n_steps == 1

@@ -37,6 +37,9 @@ BUDGET_MACRO = {"crp_linear": "CRP_LINEAR", "quat_pd": "QUAT_PD", "quat_nlpd_neg
                 "quat_nlpd_pos": "QUAT_NLPD", "smc": "SMC", "lqr_quat": "LQR_QUAT", "hinf": "HINF",
                 "mrp_sat": "MRP_SAT", "mrp_sat_tanh": "MRP_SAT", "orbit_lqr": "ORBIT_LQR"}
 RING = 512
+#: tools/bench/bench_laws.py's EXEC_CLOCK_SLACK_INSTR, read from the driver (one source)
+EXEC_SLACK = int(re.search(r"^EXEC_CLOCK_SLACK_INSTR = (\d+)$", (REPO / "tools/bench/bench_laws.py").read_text(),
+                           re.M).group(1))
 SEED = 20240501  # the program's default seed
 DEG = 0.017453292519943295
 
@@ -237,7 +240,9 @@ def test_callgrind_counts_only_the_step_and_are_exact(bench_exe, valgrind, tmp_p
     ex = callgrind_total(valgrind, bench_exe, tmp_path, "quat_pd", EXEC_SYMBOLS, RING, ["--exec"])
     ex_again = callgrind_total(valgrind, bench_exe, tmp_path, "quat_pd", EXEC_SYMBOLS, RING, ["--exec"])
     ex2 = callgrind_total(valgrind, bench_exe, tmp_path, "quat_pd", EXEC_SYMBOLS, 2 * RING, ["--exec"])
-    assert ex_again == ex
+    # the executive branches on its own measured step time (running maximum, overrun count), so the
+    # totals may differ by a few instructions between runs (the driver's EXEC_CLOCK_SLACK_INSTR)
+    assert abs(ex_again - ex) <= EXEC_SLACK
     assert abs(ex2 - 2 * ex) < ex / RING
     assert ex > one  # the executive runs the law plus its checks and saturation
 
@@ -262,8 +267,9 @@ def test_driver_prints_the_table_and_writes_json(bench_exe, valgrind, tmp_path):
         assert 0 < t["median_ns"] <= t["p99_ns"] <= t["worst_ns"]
     for kind in ("law", "exec"):
         runs = entry["callgrind_totals"][kind]
-        assert len(runs) == 2 and runs[0] == runs[1] > 0
-        assert entry["instr_per_step"][kind] == round(runs[0] / RING)
+        assert len(runs) == 2 and min(runs) > 0
+        assert (runs[0] == runs[1]) if kind == "law" else abs(runs[0] - runs[1]) <= EXEC_SLACK
+        assert entry["instr_per_step"][kind] == round(min(runs) / RING)
     assert entry["callgrind_totals"]["exec"][0] > entry["callgrind_totals"]["law"][0]
     assert doc["budget_violations"] == ([] if not entry["budget_below_p99"] else ["orbit_lqr"])
 
