@@ -337,16 +337,12 @@ class Plant:
 
     @staticmethod
     def _effector_rhs(general):
-        """G(t, body, x, tx, ty, tz) -> (torque + the effectors' torques, their state derivative)."""
+        """G(t, body, x) -> (the effectors' torque, their state derivative) for rk4_coupled_stepper."""
         if len(general) == 1:
-            d = general[0][0].derivative
+            return general[0][0].derivative  # its state is all of x
 
-            def one(t, body, x, tx, ty, tz):
-                (a, b, c), xd = d(t, body, x)
-                return tx + a, ty + b, tz + c, xd
-            return one
-
-        def many(t, body, x, tx, ty, tz):
+        def many(t, body, x):
+            tx = ty = tz = 0.0
             xdot = []
             for e, lo, hi in general:
                 (a, b, c), xd = e.derivative(t, body, x[lo:hi])
@@ -354,7 +350,7 @@ class Plant:
                 ty += b
                 tz += c
                 xdot.extend(xd)
-            return tx, ty, tz, tuple(xdot)
+            return (tx, ty, tz), tuple(xdot)
         return many
 
     def _period_with_events(self, t0: float, T) -> None:

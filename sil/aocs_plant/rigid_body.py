@@ -149,10 +149,10 @@ def rk4_stepper(f):
 def rk4_coupled_stepper(f, G):
     """step(q, w, x, t, h, torque) -> (q, w, x): one RK4 over the concatenated state [q, w, x].
 
-    x: the effector states (a tuple); G(t, body, x, tx, ty, tz) -> (tx', ty', tz', xdot) adds the
-    effectors' torques to the held one and returns their state derivative, body = (q1..q4, w1..w3)
-    at the stage. The same stage arithmetic and weights as rk4_stepper and integrator.rk4 (so with
-    G adding nothing the body part is rk4_stepper's, bit for bit); q renormalised at the end.
+    x: the effector states (a tuple); G(t, body, x) -> ((ex, ey, ez), xdot): the effectors' torque,
+    added to the held one, and their state derivative at the stage, body = (q1..q4, w1..w3). The
+    same stage arithmetic and weights as rk4_stepper and integrator.rk4 (so with G adding zero the
+    body part is rk4_stepper's, bit for bit); q renormalised at the end.
     """
     sqrt = math.sqrt
 
@@ -161,23 +161,20 @@ def rk4_coupled_stepper(f, G):
         q1, q2, q3, q4 = q
         w1, w2, w3 = w
         hh = 0.5 * h
-        ux, uy, uz, ka = G(t, (q1, q2, q3, q4, w1, w2, w3), x, tx, ty, tz)
-        a0, a1, a2, a3, a4, a5, a6 = f(q1, q2, q3, q4, w1, w2, w3, ux, uy, uz)
+        (ex, ey, ez), ka = G(t, (q1, q2, q3, q4, w1, w2, w3), x)
+        a0, a1, a2, a3, a4, a5, a6 = f(q1, q2, q3, q4, w1, w2, w3, tx + ex, ty + ey, tz + ez)
         s1, s2, s3, s4 = q1 + hh * a0, q2 + hh * a1, q3 + hh * a2, q4 + hh * a3
         v1, v2, v3 = w1 + hh * a4, w2 + hh * a5, w3 + hh * a6
-        ux, uy, uz, kb = G(t + hh, (s1, s2, s3, s4, v1, v2, v3), tuple([v + hh * k for v, k in zip(x, ka)]),
-                           tx, ty, tz)
-        b0, b1, b2, b3, b4, b5, b6 = f(s1, s2, s3, s4, v1, v2, v3, ux, uy, uz)
+        (ex, ey, ez), kb = G(t + hh, (s1, s2, s3, s4, v1, v2, v3), tuple([v + hh * k for v, k in zip(x, ka)]))
+        b0, b1, b2, b3, b4, b5, b6 = f(s1, s2, s3, s4, v1, v2, v3, tx + ex, ty + ey, tz + ez)
         s1, s2, s3, s4 = q1 + hh * b0, q2 + hh * b1, q3 + hh * b2, q4 + hh * b3
         v1, v2, v3 = w1 + hh * b4, w2 + hh * b5, w3 + hh * b6
-        ux, uy, uz, kc = G(t + hh, (s1, s2, s3, s4, v1, v2, v3), tuple([v + hh * k for v, k in zip(x, kb)]),
-                           tx, ty, tz)
-        c0, c1, c2, c3, c4, c5, c6 = f(s1, s2, s3, s4, v1, v2, v3, ux, uy, uz)
+        (ex, ey, ez), kc = G(t + hh, (s1, s2, s3, s4, v1, v2, v3), tuple([v + hh * k for v, k in zip(x, kb)]))
+        c0, c1, c2, c3, c4, c5, c6 = f(s1, s2, s3, s4, v1, v2, v3, tx + ex, ty + ey, tz + ez)
         s1, s2, s3, s4 = q1 + h * c0, q2 + h * c1, q3 + h * c2, q4 + h * c3
         v1, v2, v3 = w1 + h * c4, w2 + h * c5, w3 + h * c6
-        ux, uy, uz, kd = G(t + h, (s1, s2, s3, s4, v1, v2, v3), tuple([v + h * k for v, k in zip(x, kc)]),
-                           tx, ty, tz)
-        d0, d1, d2, d3, d4, d5, d6 = f(s1, s2, s3, s4, v1, v2, v3, ux, uy, uz)
+        (ex, ey, ez), kd = G(t + h, (s1, s2, s3, s4, v1, v2, v3), tuple([v + h * k for v, k in zip(x, kc)]))
+        d0, d1, d2, d3, d4, d5, d6 = f(s1, s2, s3, s4, v1, v2, v3, tx + ex, ty + ey, tz + ez)
         h6 = h / 6.0
         q1 += h6 * (a0 + 2.0 * (b0 + c0) + d0)
         q2 += h6 * (a1 + 2.0 * (b1 + c1) + d1)

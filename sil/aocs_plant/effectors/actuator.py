@@ -120,7 +120,8 @@ class Actuator(Effector):
 
     def end_period(self, t, x) -> None:
         c, y0, tau, dt = self.held, self._y0, self.lag_tau_s, self.dt
-        self._applied = tuple(c[i] - tau * (x[i] - y0[i]) / dt for i in range(3))
+        self._applied = (c[0] - tau * (x[0] - y0[0]) / dt, c[1] - tau * (x[1] - y0[1]) / dt,
+                         c[2] - tau * (x[2] - y0[2]) / dt)
 
     # ---------------------------------------------------------------- truth
     @property

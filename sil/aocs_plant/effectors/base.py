@@ -175,7 +175,8 @@ class Effector:
 
     @property
     def applied(self) -> tuple:
-        """Mean output over the last control period."""
+        """GENERAL actuators: their mean output over the last control period (read after
+        end_period). A HELD actuator's is the value() the plant held, reported by the plant."""
         return ZERO3
 
 
