@@ -80,15 +80,21 @@ def test_pil_targets_start_the_bridge_or_say_it_is_missing(monkeypatch, tmp_path
 
 
 def test_cli_run_prints_the_table_and_lcm_logger_can_record(private_netns, fsw_node_bin, capsys, tmp_path):
-    """A short run through the command line, recorded by lcm-logger this time."""
+    """A short run through the command line, recorded by lcm-logger this time. lcm-logger drops
+    messages when the machine is loaded (docs/sil.md): then the verdict says so, and --allow lets
+    this run pass; either way the log is a standard one with both markers."""
     out = tmp_path / "o"
     rc = cli.main(["run", "irassi_small", "--duration", "20", "--out", str(out), "--no-plots", "-q",
-                   "--recorder", "lcm-logger", "--json", str(tmp_path / "m.json")])
+                   "--recorder", "lcm-logger", "--json", str(tmp_path / "m.json"), "--allow", "incomplete-log"])
     text = capsys.readouterr().out
     assert rc == 0
-    assert "pointing, last 20 s (true angle)" in text and "settle time" in text
+    assert "settle time" in text and "verdict" in text
     m = json.loads((tmp_path / "m.json").read_text())
-    assert m["scenario"] == "irassi_small" and m["duration_s"] == 20.0
+    assert m["scenario"] == "irassi_small"
+    if m["log_complete"]:
+        assert m["duration_s"] == 20.0 and m["verdict"]["allowed"] == [] and "pointing, last 20 s" in text
+    else:
+        assert m["verdict"]["allowed"] == ["incomplete-log"]
     log = lcmlog.read(out / "run.lcmlog")
     assert [mk["marker"] for mk in log.markers][:1] == ["start"] and log.markers[-1]["marker"] == "end"
     assert log.truth["tick"].size > 0 and log.cmd["tick"].size > 0

@@ -159,6 +159,7 @@ def _accuracy(out: dict, series: dict, log, sc) -> None:
         inside, used = settle_mask(sc, s)
         out["settle_time_s"] = M.settle_time(t, inside)
         out["pointing_error_arcsec"] = {
+            "initial": _f(s["true_angle"][0]),
             "final_max": _f(np.max(s["true_angle"][wmask])),
             "per_axis_final_max": _fl(np.max(np.abs(s["per_axis"][wmask]), axis=0)),
             "qe_arcsec_final_max": _fl(np.max(s["qe_arcsec"][wmask], axis=0)),
@@ -404,6 +405,8 @@ def table(m: dict) -> str:
             verdict.append(f"requirement {pe['requirement_arcsec']:g}: {'met' if pe['meets_requirement'] else 'MISSED'}")
         if "meets_goal" in pe:
             verdict.append(f"goal {pe['goal_arcsec']:g}: {'met' if pe['meets_goal'] else 'missed'}")
+        rows.append(("initial pointing error", f"{_fmt(pe['initial'], '.5g')} arcsec "
+                                               f"({pe['initial'] / 3600.0:.4g} deg)"))
         rows += [(f"pointing, last {pe['window_s']:g} s (true angle)", f"max {_fmt(pe['final_max'], '.4g')} arcsec"
                   + (f" ({'; '.join(verdict)})" if verdict else "")),
                  ("per-axis 2 qe_i max", _fmt(pe["per_axis_final_max"], ".4g") + " arcsec"),

@@ -28,11 +28,11 @@ AU = 1.495978707e11            # m
 R2_L2 = 1.5e9                  # m, Earth to Sun-Earth L2
 R1_L2 = AU + R2_L2             # m, Sun to L2
 
-# Sign of the L2 torque. SPEC 3.3 (and SPEC 1.9, item 6) require PLUS, the textbook
-# 3 mu/r^3 (R x J R); the code still uses the reference's printed minus, kept here
-# until that fix lands as its own change (the size, ~1e-9 N m for the IRASSI inertia,
-# does not move the reference results).
-L2_GG_SIGN = -1.0
+# Sign of the L2 torque: PLUS, the textbook 3 mu/r^3 (R x J R) (SPEC 3.3, SPEC 1.9 item 6;
+# Schaub & Junkins, Basilisk's GravityGradientEffector). The IRASSI report prints a leading
+# minus, a misprint: R x J R is even in R, so the sign cannot be a frame convention. At the
+# IRASSI inertia the torque is ~1e-10 N m, far below the 1.18e-3 N m constant disturbance.
+L2_GG_SIGN = 1.0
 
 
 def l2_gg_coefficient(mu1=MU_SUN, mu2=MU_EARTH, r1=R1_L2, r2=R2_L2) -> float:

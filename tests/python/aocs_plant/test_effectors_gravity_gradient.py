@@ -33,11 +33,21 @@ def hand(q, J, c, d):
     return c * np.cross(R, np.asarray(J, float).reshape(3, 3) @ R)
 
 
-def test_l2_coefficient_from_the_spec_formula_with_todays_sign():
-    # SPEC 3.3 says +; the code keeps the reference's minus until its own fix (one named constant)
-    assert gg.L2_GG_SIGN == -1.0
-    assert gg.l2_gg_coefficient() == pytest.approx(-3.0 * K_L2, rel=1e-14)
+def test_l2_coefficient_from_the_spec_formula_with_the_textbook_sign():
+    # SPEC 3.3: u_gg = +3 (mu1/r1^3 + mu2/r2^3) (R x J R) (the reference's leading minus is a misprint)
+    assert gg.L2_GG_SIGN == 1.0
+    assert gg.l2_gg_coefficient() == pytest.approx(3.0 * K_L2, rel=1e-14)
     assert gg.R1_L2 == pytest.approx(1.510978707e11, rel=1e-12)
+
+
+def test_plant_l2_torque_is_the_textbook_one_at_the_irassi_start():
+    """The whole plant (scenario -> effector -> disturbance truth) against +3 K (R x J R) evaluated here."""
+    sc = load("irassi_small", {"disturbances.constant_torque.enabled": False})
+    p = Plant(sc)
+    J = np.array(sc.attitude.inertia, float).reshape(3, 3)
+    want = hand(sc.attitude.q0, J, 3.0 * K_L2, (0.0, 0.0, 1.0))
+    np.testing.assert_allclose(p.truth()["disturbance"], want, rtol=1e-12, atol=0.0)
+    assert abs(want[1]) > 1e-10  # a real torque, so the sign is tested
 
 
 def test_gravity_gradient_vanishes_for_symmetric_body_and_principal_alignment():
@@ -92,7 +102,7 @@ def test_irassi_plant_disturbance_is_constant_plus_l2_gradient():
     q1, q2, q3, q4 = q
     Rv = np.array([2 * (q1 * q3 - q2 * q4), 2 * (q2 * q3 + q1 * q4), q4 ** 2 - q1 ** 2 - q2 ** 2 + q3 ** 2])
     J = np.diag([2059.5, 5954.2, 5974.3])
-    expected_gg = -3.0 * K_L2 * np.cross(Rv, J @ Rv)
+    expected_gg = 3.0 * K_L2 * np.cross(Rv, J @ Rv)   # SPEC 3.3: the textbook plus sign
     np.testing.assert_allclose(plant.truth()["disturbance"], 1.18e-3 * np.ones(3) + expected_gg, rtol=1e-12)
     np.testing.assert_allclose(plant.truth()["effectors"]["gravity_gradient_l2.torque_nm"], expected_gg, rtol=1e-12)
     assert [e.form for e in plant.effectors if e.kind == "gravity_gradient_l2"] == [Form.ATTITUDE]

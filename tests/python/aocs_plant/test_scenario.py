@@ -7,6 +7,7 @@ import re
 import numpy as np
 import pytest
 
+from aocs_core.conventions import quat_conj, quat_mul
 from aocs_plant import LAW_NAMES, ScenarioError, list_scenarios, load
 
 SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b",
@@ -53,10 +54,14 @@ def test_rtc_data(sid, k1, k2, rho0, w0):
 
 
 def test_irassi_data():
-    for sid, e0 in (("irassi_large", 14.0), ("irassi_small", 13.0)):
+    # SPEC 4: both slews start at Euler 3-2-1 [14 14 14] deg; large to [30 -20 1] (39.31 deg),
+    # small to [13 13 13] (1.59 deg); every triple [yaw, pitch, roll]
+    for sid, target, angle_deg in (("irassi_large", (30.0, -20.0, 1.0), 39.31), ("irassi_small", (13.0,) * 3, 1.59)):
         sc = load(sid)
-        assert sc.attitude.initial_input == ("euler321_deg", (e0, e0, e0))
-        assert sc.target.target_input == ("euler321_deg", (30.0, -20.0, 1.0))
+        assert sc.attitude.initial_input == ("euler321_deg", (14.0, 14.0, 14.0))
+        assert sc.target.target_input == ("euler321_deg", target)
+        qe = quat_mul(sc.attitude.q0, quat_conj(sc.target.qd0))
+        assert math.degrees(2.0 * math.acos(min(1.0, abs(qe[3])))) == pytest.approx(angle_deg, abs=0.005)
         assert np.diag(sc.attitude.inertia).tolist() == [2059.5, 5954.2, 5974.3]
         assert sc.duration_s == 500.0
         laws = sc.control.laws
