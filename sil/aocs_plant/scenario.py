@@ -41,6 +41,12 @@ SENSOR_CHANNELS = {"attitude": ("attitude", "rate", "all"),
 FAULT_KINDS = ("dropout", "nan", "nonunit")
 
 
+#: integration error above which a run warns (aocs_plant.integration_error): 1e-3 arcsec is 1/50 of
+#: the finest pointing figure of the reference scenarios (IRASSI goal 0.05 arcsec); 1e-3 m is 1/100
+#: of the Landsat settle band (0.1 m)
+INTEGRATION_TOLERANCE_DEFAULT = {"tolerance_arcsec": 1e-3, "tolerance_m": 1e-3}
+
+
 class ScenarioError(ValueError):
     """A scenario file is malformed or inconsistent; the message names file and key."""
 
@@ -197,6 +203,8 @@ class Scenario:
     path: str
     # every effector section (the disturbances and [actuator]), kind -> config, in the file's order
     effectors: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
+    # integration error above which a run warns: arcsec (attitude) or m (orbit); aocs_plant.integration_error
+    integrator_tolerance: float | None = None
 
     @property
     def dt(self) -> float:
@@ -618,10 +626,13 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     seed = root.integer("seed", required=False, default=0, minimum=0)
     isec = root.table("integrator", required=False)
     substeps = 1
+    tol_key = "tolerance_arcsec" if kind == "attitude" else "tolerance_m"
+    tolerance = INTEGRATION_TOLERANCE_DEFAULT[tol_key]
     if isec is not None:
         substeps = isec.integer("substeps", required=False, default=1, minimum=1)
         if substeps > limits.SUBSTEPS_MAX:
             isec.fail(isec.key("substeps"), f"{substeps} is more than {limits.SUBSTEPS_MAX}")
+        tolerance = isec.number(tol_key, required=False, default=tolerance, positive=True)
         isec.done()
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)
@@ -636,7 +647,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensors, settle, metrics, file,
-                    effectors=MappingProxyType(configs))
+                    effectors=MappingProxyType(configs), integrator_tolerance=tolerance)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

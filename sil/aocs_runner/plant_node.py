@@ -32,6 +32,7 @@ import lcm
 
 from aocs_core import paths
 from aocs_plant import Plant
+from aocs_plant.integration_error import StepDoubling
 from aocs_plant.scenario import ScenarioError, load
 from aocs_wire import netns, wire
 from aocs_wire.udpm import Udpm
@@ -151,6 +152,7 @@ def run(args) -> int:
         print(f"plant_node: {exc}", file=sys.stderr)
         return EXIT_ARGS
     plant = Plant(sc)
+    check = StepDoubling(sc)   # the run's integration error (SPEC 4.3)
     link = _Link(args.lcm_url, args.lcm_lib)
     t_built = time.perf_counter()
     if not _wait_ready(link, args.ready_timeout, args.ready_file):
@@ -160,7 +162,7 @@ def run(args) -> int:
               f"{args.ready_timeout} s", file=sys.stderr)
         return EXIT_NOT_READY
     t_ready = time.perf_counter()
-    loop = _Loop(plant, sc, link, evs, args)
+    loop = _Loop(plant, sc, link, evs, args, check)
     reason, code = loop.run_realtime() if args.mode == "realtime" else loop.run_lockstep()
     t_end = time.perf_counter()
     rt = sorted(loop.rt_ns)
@@ -176,14 +178,16 @@ def run(args) -> int:
         "plant_counters": plant.counters,
         "wake_jitter_ns_max": loop.jitter_max_ns,
         "handle_calls": loop.handle_calls,
+        "integration_error": check.summary(),
     }
     print(json.dumps({"plant_node": summary}), flush=True)
     return code
 
 
 class _Loop:
-    def __init__(self, plant, sc, link: _Link, evs, args):
+    def __init__(self, plant, sc, link: _Link, evs, args, check):
         self.plant, self.sc, self.link, self.evs, self.args = plant, sc, link, evs, args
+        self.check = check
         self.steps = 0
         self.last_tick = -1
         self.last_answered = -1
@@ -278,7 +282,7 @@ class _Loop:
     # -------------------------------------------------------------- lockstep
     def run_lockstep(self):
         lc = self.link.lc
-        plant = self.plant
+        plant, check = self.plant, self.check
         n = self.sc.n_steps
         k0 = self.args.start_tick
         timeout = self.args.reply_timeout
@@ -338,9 +342,12 @@ class _Loop:
                 rt.append(perf() - t0)
                 self.last_answered = tick
                 plant.apply(v[i_u:i_u + 3])
+                check.apply(v[i_u:i_u + 3])
                 if dup:
                     publish("AOCS_SENSORS", data)
+            check.begin(plant)
             plant.advance()
+            check.end(plant)
             self.steps += 1
             self.progress(k)
         self.truth(k0 + n)
@@ -350,7 +357,7 @@ class _Loop:
     # -------------------------------------------------------------- real time
     def run_realtime(self):
         lc = self.link.lc
-        plant = self.plant
+        plant, check = self.plant, self.check
         n = self.sc.n_steps
         k0 = self.args.start_tick
         dt = self.sc.dt
@@ -383,8 +390,11 @@ class _Loop:
                 v = latest[0]
                 if v is not None:
                     plant.apply(v[i_u:i_u + 3])
+                    check.apply(v[i_u:i_u + 3])
                     self.last_answered = v[i_tick]
+                check.begin(plant)
                 plant.advance()
+                check.end(plant)
                 self.steps += 1
                 self.progress(k - 1)
             tick = k0 + k

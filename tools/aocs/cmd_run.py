@@ -76,6 +76,10 @@ def run(args) -> int:
     print(res.table)
     if res.plots:
         print(f"  plots, log, config and metrics.json in {res.out_dir}/")
+    ie = res.metrics.get("integration_error")
+    if ie and ie["exceeds_tolerance"]:
+        print("aocs run: warning: the plant's integration error is above the scenario's tolerance (see the "
+              "'integration error' line); raise [integrator] substeps (--set integrator.substeps=N)", file=sys.stderr)
     v = res.metrics["verdict"]
     if not v["passed"]:
         print(f"aocs run: FAILED: {verdict.summary(v)} (metrics and log kept in {res.out_dir}/)", file=sys.stderr)

@@ -337,6 +337,8 @@ def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> N
             "realtime_factor": _f((plant.get("steps", 0) * dt) / loop) if loop > 0 else None,
             "roundtrip_ns": plant.get("roundtrip_ns"),
         }
+    # the plant's own estimate (aocs_plant.integration_error), None when the plant did not report
+    out["integration_error"] = (plant or {}).get("integration_error")
     if fsw:
         out["fsw_node"] = fsw
     out["wall_s"] = _f(wall_s) if wall_s is not None else None
@@ -434,6 +436,16 @@ def table(m: dict) -> str:
     rows.append(("events", f"invalid {c['invalid']} stale {c['stale']} missing {c['missing']} "
                  f"law_error {c['law_error']} lost {c['lost']} dup {c['duplicate']} foreign {c['foreign']} "
                  f"malformed {c['malformed']} cmd ok/rejected {c['cmd_accepted']}/{c['cmd_rejected']}"))
+    law_refusals = c["law_error"]
+    if law_refusals:
+        sing = c["status"].get("AOCS_ERR_CRP_SINGULAR", 0)
+        if sing:
+            rows.append(("law refused", f"{sing} samples at the Gibbs singularity: crp_linear cannot represent "
+                                        "rho = q_vec / q4 within |q4| <= 1e-8 (1e-6 in float; near 180 deg, docs/conventions.md); "
+                                        "safe mode damped the rate on those steps"))
+        if law_refusals > sing:
+            other = ", ".join(f"{k} {n}" for k, n in c["status"].items() if k != "AOCS_ERR_CRP_SINGULAR")
+            rows.append(("law refused", f"{law_refusals - sing} samples ({other})"))
     rows.append(("modes", f"changes {c['mode_changes']}, safe {c['time_in_safe_mode_s']:g} s, "
                  f"saturated {c['time_in_saturation_s']:g} s, final {m['final_mode']}"))
     if "realtime" in m:
@@ -447,6 +459,13 @@ def table(m: dict) -> str:
                      f"startup {ls['startup_s']:.2f} s"))
     if m.get("wall_s") is not None:
         rows.append(("wall time", f"{m['wall_s']:.2f} s"))
+    ie = m.get("integration_error")
+    if ie:
+        key, unit = (("attitude_arcsec", "arcsec") if "attitude_arcsec_sum" in ie else ("position_m", "m"))
+        rows.append(("integration error", f"{_fmt(ie[key + '_sum'], '.2g')} {unit} summed over the run, largest "
+                     f"{_fmt(ie[key + '_local_max'], '.2g')} {unit} in one period (tolerance "
+                     f"{_fmt(ie['tolerance_' + unit], '.2g')} {unit}"
+                     + (": EXCEEDED, raise [integrator] substeps)" if ie["exceeds_tolerance"] else ")")))
     v = m.get("verdict")
     if v is not None:
         failed = "; ".join(f["reason"] for f in v["failures"])
