@@ -179,7 +179,34 @@ def test_geo_hinf_measured_disturbance_to_output_gain_below_gamma(tmp_path):
     assert 0.0 < gain < gamma, (gain, gamma)
     assert np.max(np.abs(d)) > 0.9e-4                       # the 1e-4 N m disturbance was applied
     # the results page's figure (3-2-1 angles, second differences) agrees with this one
-    mine = cmd_results.hinf_measured_gain(out / m["row"] / "run.lcmlog",
+    mine = cmd_results.hinf_measured_gain(lcmlog.read(out / m["row"] / "run.lcmlog"),
                                           load("geo_hinf", {"plant.euler321_deg": [0.0, 0.0, 0.0]}))
     assert mine["gain"] == pytest.approx(gain, rel=0.1)
     assert cmd_results.designed_gamma("hinf_regional") == gamma
+
+
+def test_hinf_sweep_measures_the_design_gain_below_gamma(tmp_path):
+    """`aocs compare geo_hinf --sweep` at two frequencies: the SIL loop's measured gain in the sweep
+    direction is the design's |Gzd(jw) e| (within 5 %; the issue asks a factor 2) and never above gamma."""
+    out = tmp_path / "sweep"
+    res = subprocess.run([sys.executable, "-m", "aocs.cli", "compare", "geo_hinf", "--sweep", "--freqs", "0.1,1",
+                          "--out", str(out), "-q", "--json", str(tmp_path / "s.json")],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stdout + res.stderr
+    s = json.loads((tmp_path / "s.json").read_text())
+    assert s["failed"] == 0 and s["within_factor_2"] and s["below_gamma"]
+    for p in s["points"]:
+        assert p["measured"] == pytest.approx(p["design"], rel=0.05), p
+        assert p["measured"] <= s["gamma"] and p["design"] <= p["sigma_max"] * (1 + 1e-12)
+    assert (out / "sweep.png").is_file() and "never above gamma: yes" in res.stdout
+
+
+def test_hinf_run_reports_gamma_and_its_measured_gain(tmp_path):
+    res = subprocess.run([sys.executable, "-m", "aocs.cli", "run", "geo_hinf", "-q", "--no-plots",
+                          "--out", str(tmp_path / "r"), "--json", str(tmp_path / "m.json")],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    m = json.loads((tmp_path / "m.json").read_text())
+    assert m["hinf"]["table"] == "hinf_regional" and m["hinf"]["gamma"] == pytest.approx(1.05e-3, rel=1e-3)
+    assert 0.0 < m["hinf"]["measured"]["gain"] < m["hinf"]["gamma"]
+    assert "gamma of K (hinf_regional)" in res.stdout

@@ -2,9 +2,12 @@
 (the work is in aocs_compare.compare; this module is the command line)."""
 from __future__ import annotations
 
+import json
+import math
 import sys
 from pathlib import Path
 
+from aocs_compare import sweep as sweep_mod
 from aocs_compare.compare import compare, table_rows, text_table
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
@@ -25,13 +28,51 @@ def add_arguments(p) -> None:
     p.add_argument("--json", help="also write the list of metrics here")
     p.add_argument("--out", help="output folder (default out/compare/<scenario>)")
     p.add_argument("--run-plots", action="store_true", help="also draw each run's own plots")
+    p.add_argument("--sweep", action="store_true",
+                   help="H-infinity scenarios: measure the disturbance-to-output gain of the SIL loop across "
+                        "frequencies (a sinusoidal disturbance per run) against the design's Gzd(jw)")
+    p.add_argument("--freqs", type=lambda s: [float(x) for x in s.split(",")], default=None, metavar="W1,W2,...",
+                   help=f"--sweep frequencies, rad/s (default {','.join(f'{w:g}' for w in sweep_mod.FREQUENCIES)})")
+    p.add_argument("--table", help="--sweep: the gain table (default the scenario's)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+
+
+def run_sweep(args, out: Path) -> int:
+    freqs = args.freqs or sweep_mod.FREQUENCIES
+    if not freqs or not all(math.isfinite(w) and 1e-5 <= w <= 10.0 for w in freqs):
+        print(f"aocs compare: error: --freqs {freqs}: every frequency must be within [1e-5, 10] rad/s", file=sys.stderr)
+        return EXIT_USAGE
+    try:
+        points, summary = sweep_mod.sweep(out, scenario=args.scenario, table=args.table, freqs=freqs,
+                                          quiet=args.quiet)
+    except (ScenarioError, ValueError, KeyError, fsw_config.ConfigError, paths.SetupError, netns.NetnsError) as exc:
+        print(f"aocs compare: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    (out / "sweep.json").write_text(json.dumps(summary, indent=1) + "\n")
+    if args.json:
+        Path(args.json).write_text((out / "sweep.json").read_text())
+    png = sweep_mod.plot(points, summary, out / "sweep.png") if any(p.measured for p in points) else None
+    print(f"{summary['scenario']} ({summary['table']}): gamma of K = {summary['gamma']:.6g}, "
+          f"amplitude {summary['amplitude_nm']:g} N m along {[round(x, 4) for x in summary['direction']]}")
+    print(f"  {'w (rad/s)':>10}  {'measured':>11}  {'|Gzd e|':>11}  {'sigma_max':>11}  {'meas/design':>11}")
+    for p in points:
+        if p.measured is None:
+            print(f"  {p.w_rad_s:>10g}  FAILED: {p.error}")
+        else:
+            print(f"  {p.w_rad_s:>10g}  {p.measured:>11.4g}  {p.design:>11.4g}  {p.sigma_max:>11.4g}  "
+                  f"{p.measured / p.design:>11.3f}")
+    print(f"  within a factor 2 of the design: {'yes' if summary['within_factor_2'] else 'NO'}; "
+          f"never above gamma: {'yes' if summary['below_gamma'] else 'NO'}"
+          + (f"; plot {png}" if png else ""))
+    return EXIT_FAILED if summary["failed"] else EXIT_OK
 
 
 def run(args) -> int:
     netns.reexec_in_netns(paths.self_argv())
     out = Path(args.out) if args.out else Path("out") / "compare" / Path(args.scenario).stem
     out.mkdir(parents=True, exist_ok=True)
+    if args.sweep:
+        return run_sweep(args, out)
     try:
         sc, rows, plots = compare(args.scenario, out, laws=args.laws, limit=args.limit, duration=args.duration,
                                   sets=args.set, run_plots=args.run_plots, quiet=args.quiet)

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,6 +25,7 @@ import numpy as np
 
 from aocs_analysis import plots as P
 from aocs_analysis import verdict
+from aocs_analysis.gain_tables import GAINS_C, designed_gamma, gain_matrix  # noqa: F401 (re-exported)
 from aocs_core.conventions import ARCSEC_PER_RAD
 from aocs_plant.scenario import load
 from aocs_runner import scenario_opts
@@ -33,7 +33,6 @@ from aocs_runner.run import RunFailed, RunOptions, execute
 from aocs_wire import lcmlog
 
 REPO = Path(__file__).resolve().parents[2]
-GAINS_C = REPO / "firmware" / "gains" / "aocs_gains.c"
 #: SPEC 4 irassi_*: constant disturbance torque per axis, N m
 IRASSI_DIST_NM = 1.18e-3
 
@@ -305,27 +304,6 @@ def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, 
 
 
 # --------------------------------------------------------------------------- gains and steady state
-def gain_matrix(name: str, path: Path = GAINS_C) -> np.ndarray:
-    """The 3x6 K table `aocs_gains_<name>_K` as compiled into the firmware."""
-    text = path.read_text()
-    m = re.search(r"aocs_gains_" + re.escape(name) + r"_K\[3\]\[6\] = \{(.*?)\};", text, re.S)
-    if not m:
-        raise ValueError(f"{path}: no table aocs_gains_{name}_K")
-    vals = [float(v) for v in re.findall(r"AOCS_R\(([^)]*)\)", m.group(1))]
-    return np.array(vals, float).reshape(3, 6)
-
-
-def designed_gamma(name: str, path: Path = GAINS_C) -> float:
-    """gamma of the emitted K (the provenance comment of the table `name`)."""
-    text = path.read_text()
-    i = text.index(f" * {name}: ")
-    block = text[i:text.index("*/", i)]
-    m = re.search(r"gamma = ([0-9.eE+-]+)", block)
-    if not m:
-        raise ValueError(f"{path}: no gamma in the provenance of {name}")
-    return float(m.group(1))
-
-
 def steady_error_arcsec(kp_diag, d=IRASSI_DIST_NM) -> tuple[np.ndarray, float]:
     """Steady state of a law without integral action under a constant torque d per axis:
     kp_i qe_i = d_i, so qe_i = d_i / kp_i; per-axis angle 2 qe_i; true angle 2 asin|qe_vec| (arcsec)."""

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aocs_analysis import run_metrics as results
+from aocs_analysis.run_metrics import hinf_measured_gain
 from aocs_core.conventions import ARCSEC_PER_RAD
 from aocs_plant.scenario import load
 from aocs_wire import lcmlog
@@ -37,25 +37,6 @@ HINF_ZERO_IC = ("plant.euler321_deg=[0.0, 0.0, 0.0]", "plant.w0=[0.0, -7.292115e
 
 
 # --------------------------------------------------------------------------- H-infinity measured gain
-def hinf_measured_gain(log_path: Path, sc) -> dict:
-    """||z||_2 / ||d||_2 over the run, from the logged truth.
-
-    z = 1e-3 M q'' (SPEC 2.6), q = [phi theta psi] the 3-2-1 angles of the error
-    quaternion about the (rotating) LVLH target, q'' by central second differences
-    of the logged samples (dt = control period); d = the logged disturbance torque
-    (constant torque plus gravity gradient)."""
-    log = lcmlog.read(log_path)
-    s = results.attitude_series(sc, log)
-    ang = s["euler_err"][:, ::-1]            # [yaw, pitch, roll] -> [phi, theta, psi]
-    dt = sc.dt
-    qdd = (ang[2:] - 2.0 * ang[1:-1] + ang[:-2]) / dt ** 2
-    m = np.diag(np.asarray(sc.attitude.inertia, float))
-    z = 1e-3 * qdd * m[None, :]
-    d = log.truth["torque_dist"][1:-1]
-    nz, nd = float(np.sqrt(np.sum(z ** 2) * dt)), float(np.sqrt(np.sum(d ** 2) * dt))
-    return {"z_l2": nz, "d_l2": nd, "gain": nz / nd, "z_peak": float(np.max(np.linalg.norm(z, axis=1)))}
-
-
 # --------------------------------------------------------------------------- helpers
 def first_time_below_for_good(t, err, level):
     """First time after which err stays <= level to the end (None if never)."""
@@ -222,7 +203,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
         if r.error:
             continue
         g = designed_gamma(r.table)
-        mg = hinf_measured_gain(r.out_dir / "run.lcmlog", sc_g)
+        mg = hinf_measured_gain(lcmlog.read(r.out_dir / "run.lcmlog"), sc_g)
         hinf[r.table] = (g, mg)
         md.append(f"| {r.table} | {g:.6g} | {mg['gain']:.4g} | {mg['z_l2']:.4g} | {mg['d_l2']:.4g} | "
                   f"{mg['z_peak']:.3g} | {'yes' if mg['gain'] < g else 'NO'} |")
