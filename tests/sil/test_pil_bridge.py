@@ -34,7 +34,7 @@ from test_pil_support import REPO, TARGETS, image
 from aocs_pil import harness
 from aocs_pil.qemu import TARGETS as QEMU_TARGETS
 
-BUDGET_C = (REPO / "firmware/src/pil/budget.c").read_text()
+BUDGET_C = (REPO / "firmware/pil/src/budget.c").read_text()
 CUT = {"irassi_small": ("quat_pd", 60.0), "gao_mrp": ("mrp_sat", 60.0), "geo_hinf": ("hinf", 60.0)}
 #: scenarios whose M7 commands are bit for bit the host's (no libm transcendental function in the step)
 BITWISE = {"irassi_small", "gao_mrp"}

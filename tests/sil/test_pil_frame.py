@@ -21,7 +21,7 @@ from aocs_pil import config as nodecfg
 from aocs_pil import frame
 from aocs_runner import netns
 
-HEADER = (REPO / "firmware/include/aocs/pil_frame.h").read_text()
+HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 
 GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00,
                     0xED, 0x4A, 0x36, 0x90])

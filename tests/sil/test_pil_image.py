@@ -25,7 +25,7 @@ from test_pil_support import REPO, TARGETS, configure, image, start
 from aocs_pil import frame, harness, qemu
 from aocs_pil.config import LAW_IDS
 
-BUDGET_C = (REPO / "firmware/src/pil/budget.c").read_text()
+BUDGET_C = (REPO / "firmware/pil/src/budget.c").read_text()
 KP, KD = 4.0, 8.0
 QD = (0.1, -0.2, 0.3, 0.9273618495495703)
 
