@@ -16,7 +16,7 @@ import zlib
 
 import pytest
 
-from test_pil_support import REPO  # noqa: F401  (bootstraps aocs_pil)
+from test_pil_support import REPO, registry  # (the import bootstraps aocs_pil)
 from aocs_pil import config as nodecfg
 from aocs_pil import frame
 from aocs_runner import netns
@@ -61,7 +61,9 @@ def test_constants_and_enums_match_the_c_header():
     assert {f"AOCS_PIL_T_{v}": k for k, v in frame.TYPE_NAMES.items()} == types
     errs = c_enum("aocs_pil_err_t")
     assert errs == {name: i for i, name in enumerate(frame.ERR_NAMES)}
-    fields = c_enum("aocs_pil_cfg_field_t")
+    # the CONFIG field ids: the executive's rows of pil_frame.h and the law fields of laws.def
+    reg = registry()
+    fields = {f"AOCS_PIL_CFG_{f['name']}": f["pil_id"] for f in reg["pil_exec_fields"] + reg["fields"]}
     assert fields == {f"AOCS_PIL_CFG_{k}": v[0] for k, v in frame.CFG_FIELDS.items()}
 
 
@@ -132,11 +134,17 @@ KIND_MAP = {"REAL": "real", "DOUBLE": "double", "U32": "u32", "U64": "u64", "SEC
 
 
 def c_keys():
+    """node_config.c KEYS: its general rows, then the law field rows of the registry as node_config.c maps them."""
     body = NODE_CONFIG_C[NODE_CONFIG_C.index("static const key_def_t KEYS[] = {"):]
     body = body[:body.index("\n};")]
-    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+)\}',
-                      body)
-    return [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
+    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+),'
+                      r'\s*AOCS_LAW_\w+\}', body)
+    general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
+    assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
+    kinds = {"real": "real", "vec3": "real", "gain": "real", "mat3": "inertia", "table": "gain_table"}
+    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"], f["unit"])
+            for f in registry()["fields"]]
+    return general + laws
 
 
 def test_key_table_is_node_config_c():
@@ -147,12 +155,11 @@ def test_key_table_is_node_config_c():
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
-    law_c = (REPO / "firmware/src/executive/law_table.c").read_text()
-    names = re.search(r"law_names\[AOCS_LAW_COUNT\] = \{(.*?)\};", law_c, re.S).group(1)
-    assert tuple(re.findall(r'"(\w+)"', names)) == nodecfg.LAW_NAMES
-    tables_c = (REPO / "firmware/src/executive/gain_tables.c").read_text()
-    rows = re.findall(r'\{"(\w+)", AOCS_LAW_(\w+), aocs_gains_\w+_K\}', tables_c)
-    assert tuple((n, law.lower()) for n, law in rows) == nodecfg.GAIN_TABLES
+    reg = registry()
+    assert (reg["none"]["name"],) + tuple(law["name"] for law in reg["laws"]) == nodecfg.LAW_NAMES
+    assert [law["id"] for law in reg["laws"]] == list(range(1, len(nodecfg.LAW_NAMES)))
+    # table ids are the design order of tools/gains.toml; the Python copy lists them by law
+    assert sorted((t["name"], t["law"]) for t in reg["gain_tables"]) == sorted(nodecfg.GAIN_TABLES)
 
 
 def test_values_reach_the_field_list(tmp_path):

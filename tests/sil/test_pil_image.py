@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import os
 import random
-import re
 import signal
 import struct
 import subprocess
@@ -21,11 +20,10 @@ import time
 
 import pytest
 
-from test_pil_support import REPO, TARGETS, configure, image, start
+from test_pil_support import TARGETS, configure, image, registry, start
 from aocs_pil import frame, harness, qemu
 from aocs_pil.config import LAW_IDS
 
-BUDGET_C = (REPO / "firmware/pil/src/budget.c").read_text()
 KP, KD = 4.0, 8.0
 QD = (0.1, -0.2, 0.3, 0.9273618495495703)
 
@@ -50,9 +48,10 @@ def unit(v):
 
 
 def budgets() -> dict[str, tuple[int, int]]:
-    """The firmware budget table (budget.c), law name -> (cortex-m4f, cortex-m7)."""
-    rows = re.findall(r"\{(\d+)U, (\d+)U\}, /\* (\w+)", BUDGET_C)
-    return {name: (int(a), int(b)) for a, b, name in rows}
+    """The firmware budget table (laws.def rows, via the build's registry), law name -> (cortex-m4f, cortex-m7)."""
+    reg = registry()
+    rows = [reg["none"]] + reg["laws"]
+    return {r["name"]: (r["budget_instructions"]["cortex-m4f"], r["budget_instructions"]["cortex-m7"]) for r in rows}
 
 
 def pd_config(q):

@@ -3,6 +3,7 @@
 - makes `import aocs_pil` work before pyproject.toml maps the package
   (a private directory with a link aocs_pil -> sil/pil on sys.path and on
   PYTHONPATH, so `python -m aocs_pil.bridge` works in child processes too);
+- reads the law registry of the host build (registry());
 - locates the PIL images: $AOCS_PIL_BUILD_ROOT/<preset>/aocs_pil.elf
   (default <repo>/build, the ARM presets' build trees). A missing image
   makes the test FAIL with the command that builds it; nothing skips.
@@ -51,6 +52,18 @@ from aocs_pil import frame, qemu  # noqa: E402
 
 def build_root() -> Path:
     return Path(os.environ.get("AOCS_PIL_BUILD_ROOT", REPO / "build")).resolve()
+
+
+def registry() -> dict:
+    """The law registry of the host build ($AOCS_BUILD_DIR, default build/host):
+    registry/aocs_registry.json, written at build time from firmware/include/aocs/laws.def."""
+    import json  # only the registry readers need it
+
+    bdir = Path(os.environ.get("AOCS_BUILD_DIR", REPO / "build" / "host")).resolve()
+    path = bdir / "registry" / "aocs_registry.json"
+    if not path.is_file():
+        pytest.fail(f"{path} missing: build it first (make build-host)")
+    return json.loads(path.read_text())
 
 
 def image(target: str) -> Path:
