@@ -9,7 +9,7 @@ PRESETS   := host host-float cortex-m4f cortex-m7
 JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
-        image-test py-test static-analysis no-malloc size-report bench-laws bench \
+        image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
         pil-test pil-report results demo clean
 
 setup:
@@ -29,6 +29,11 @@ unit-test: build-host build-host-float
 image-test: build-cortex-m4f build-cortex-m7
 	ctest --test-dir build/cortex-m4f/firmware/port/cortex-m --output-on-failure
 	ctest --test-dir build/cortex-m7/firmware/port/cortex-m --output-on-failure
+
+# Python structure: import order and hygiene (ruff), the layering contract of pyproject.toml (import-linter)
+lint: setup
+	@$(VENV)/bin/ruff check sil tools tests
+	@$(VENV)/bin/lint-imports --config pyproject.toml
 
 static-analysis: setup
 	@scripts/static-analysis.sh
@@ -50,7 +55,7 @@ bench-laws: build-host
 demo: build-host
 	@build/host/firmware/port/posix/aocs_demo
 
-test: build unit-test image-test static-analysis no-malloc py-test
+test: build unit-test image-test static-analysis lint no-malloc py-test
 	@echo "make test: all checks passed"
 
 # main job: irassi_large with every IRASSI law, comparison table and plots
@@ -67,7 +72,7 @@ results: build-host
 
 # processor in the loop: the flight image on emulated Cortex-M4F / M7
 pil-test: build-host build-cortex-m4f build-cortex-m7
-	$(PY) -m pytest -q tests/sil/test_pil_frame.py tests/sil/test_pil_image.py tests/sil/test_pil_bridge.py
+	$(PY) -m pytest -q tests/python/aocs_pil tests/e2e/test_pil_image.py tests/e2e/test_pil_bridge.py
 
 # instructions per step, equivalence and float accuracy figures (docs/pil.md)
 pil-report: build-host build-cortex-m4f build-cortex-m7

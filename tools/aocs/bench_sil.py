@@ -10,7 +10,7 @@ Prints, for irassi_large (500 s at 10 Hz = 5000 control steps):
    -> actuator_cmd_t handled, median / p99), startup (process start to the
    first step) and total wall time, reported separately from the loop;
    the same with the plant receiving through the LCM library (plant_node
-   --lcm-lib) instead of its direct udpm socket (aocs_runner.udpm);
+   --lcm-lib) instead of its direct udpm socket (aocs_wire.udpm);
 2. the bare transport: a Python <-> fsw_node ping-pong of the same sensors_t
    through the LCM library, without plant or recorder (median / p99 round trip);
 3. the same plant integrated in process without LCM
@@ -30,6 +30,14 @@ import tempfile
 import time
 from pathlib import Path
 
+import lcm
+
+from aocs_core import paths
+from aocs_plant import integrate_open_loop
+from aocs_plant.scenario import load
+from aocs_runner.run import RunOptions, execute
+from aocs_wire import fsw_config, netns, wire
+
 
 def _pct(vals, p):
     s = sorted(vals)
@@ -37,8 +45,6 @@ def _pct(vals, p):
 
 
 def bench_in_process(sc, repeats: int) -> dict:
-    from aocs_plant import integrate_open_loop
-
     times = [integrate_open_loop(sc) for _ in range(repeats)]
     per = statistics.median(times) / sc.n_steps
     return {"steps": sc.n_steps, "loop_s": statistics.median(times), "step_us": per * 1e6,
@@ -47,10 +53,6 @@ def bench_in_process(sc, repeats: int) -> dict:
 
 def bench_transport(sc, steps: int) -> dict:
     """Ping-pong of sensors_t / actuator_cmd_t with fsw_node, nothing else on the bus."""
-    import lcm
-
-    from aocs_runner import fsw_config, netns, paths, wire
-
     codecs = wire.Codecs(paths.import_bindings())
     with tempfile.TemporaryDirectory() as d:
         cfg = fsw_config.write(Path(d) / "b.cfg", fsw_config.node_config(sc, sc.control.law))
@@ -91,8 +93,6 @@ def bench_transport(sc, steps: int) -> dict:
 
 
 def bench_lockstep(scenario: str, runs: int, lcm_lib: bool = False) -> list[dict]:
-    from aocs_runner.cmd_run import RunOptions, execute
-
     out = []
     with tempfile.TemporaryDirectory() as d:
         for i in range(runs):
@@ -116,10 +116,7 @@ def main(argv=None) -> int:
     p.add_argument("--json", help="also write the figures here")
     args = p.parse_args(argv)
 
-    from aocs_runner import netns
-
     netns.reexec_in_netns([sys.executable, "-m", "aocs.bench_sil", *(sys.argv[1:] if argv is None else argv)])
-    from aocs_plant.scenario import load
 
     sc = load(args.scenario)
     print(f"SIL lockstep benchmark: {sc.id}, {sc.n_steps} steps of {sc.dt:g} s "

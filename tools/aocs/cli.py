@@ -11,12 +11,12 @@ import sys
 
 # name -> (module, help)
 SUBCOMMANDS = {
-    "run": ("aocs_runner.cmd_run", "run a scenario in the loop (plant + flight software over LCM)"),
-    "list": ("aocs_runner.cmd_list", "list scenarios and control laws"),
-    "replay": ("aocs_runner.cmd_replay", "replay a recorded LCM log through the flight software"),
-    "gains": ("aocs.design.cmd_gains", "regenerate every gain design and the firmware tables"),
-    "compare": ("aocs.compare.cmd_compare", "run every applicable law on a scenario and compare them"),
-    "results": ("aocs.compare.cmd_results", "regenerate docs/results.md for every reference scenario"),
+    "run": ("aocs.cmd_run", "run a scenario in the loop (plant + flight software over LCM)"),
+    "list": ("aocs.cmd_list", "list scenarios and control laws"),
+    "replay": ("aocs.cmd_replay", "replay a recorded LCM log through the flight software"),
+    "gains": ("aocs.cmd_gains", "regenerate every gain design and the firmware tables"),
+    "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
+    "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
 }
 
 

@@ -37,6 +37,9 @@ import tempfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
+#: spread of the exec callgrind totals between runs that comes from the measured step times (the
+#: executive's running maximum and overrun branches), not from the code: instructions per run
+EXEC_CLOCK_SLACK_INSTR = 64
 BUILD_HINT = "build it first: make build-host (or cmake --preset host && cmake --build --preset host)"
 TIMING_KINDS = ("timer", "law", "exec", "exec_self")
 INT_FIELDS = ("steps", "median_ns", "p99_ns", "worst_ns", "budget_ns", "over_budget", "errors")
@@ -217,10 +220,14 @@ def main(argv: list[str] | None = None) -> int:
                     for kind, symbols in (("law", [law["step_symbol"]]), ("exec", exec_symbols)):
                         runs = [callgrind_total(exe, name, symbols, args.callgrind_steps, kind == "exec", args.seed,
                                                 has_cg_h, Path(tmp), str(i)) for i in range(args.repeats)]
-                        if len(set(runs)) != 1:
+                        # the law alone is deterministic to the instruction; a whole executive step also
+                        # branches on its own measured step time (the running maximum, the overrun
+                        # count: executive.c), so two runs may differ by a few instructions in all
+                        slack = 0 if kind == "law" else EXEC_CLOCK_SLACK_INSTR
+                        if max(runs) - min(runs) > slack:
                             raise BenchError(f"callgrind totals of {kind} {name} differ between runs: {runs}")
                         totals[kind] = runs
-                        per_step[kind] = runs[0] / args.callgrind_steps
+                        per_step[kind] = min(runs) / args.callgrind_steps
                     entry["callgrind_totals"] = totals
                     entry["instr_per_step"] = {k: round(v) for k, v in per_step.items()}
                     entry["instr_per_step_exact"] = per_step

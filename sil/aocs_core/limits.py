@@ -1,0 +1,17 @@
+"""Actuator limit facts shared by the flight-software configuration and the analysis."""
+
+#: per-axis limit (N m, or N) written to the flight computer when a scenario sets none
+#: ("effectively unlimited": the executive requires one limit; SPEC 3 actuators)
+UNLIMITED = 1.0e9
+
+# ---- run timing (the scenario loader refuses values outside; docs/scenarios.md)
+#: the executive's control period range is [1 us, 1000 s] (aocs_exec_period_to_ns, executive.h)
+CONTROL_RATE_HZ_MIN = 1.0e-3
+CONTROL_RATE_HZ_MAX = 1.0e6
+#: longest run: 1e7 s (116 days) keeps t in ns far inside uint64 and ticks far inside the wire's
+#: int64 / the executive's uint32 tick with wrap, and is longer than any attitude study needs
+DURATION_S_MAX = 1.0e7
+#: most control periods of one run (a 1 kHz loop for 116 days would be 1e10: refused)
+STEPS_MAX = 100_000_000
+#: most RK4 substeps per control period (more is a sign of a wrong rate, not of accuracy)
+SUBSTEPS_MAX = 10_000

@@ -1,0 +1,13 @@
+"""aocs_plant: the SIL plant simulator (SPEC sections 3 and 4).
+
+Rigid-body attitude and relative-orbit dynamics, disturbances, actuators and
+sensors, driven one control period at a time through `Plant`, built from a
+validated scenario file (`scenario.load`). Hot path on plain Python floats.
+"""
+from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec
+
+from .plant import Plant, integrate_open_loop
+from .scenario import LAW_NAMES, Scenario, ScenarioError, list_scenarios, load
+
+__all__ = ["Plant", "integrate_open_loop", "load", "list_scenarios", "Scenario", "ScenarioError",
+           "LAW_NAMES", "pointing_error_rad", "pointing_error_arcsec", "qe_arcsec"]

@@ -1,0 +1,821 @@
+"""Scenario files (sil/scenarios/<id>.toml): strict loader and validation.
+
+load(path_or_id, overrides=None) -> Scenario (frozen dataclasses, tuples for
+vectors). Anything unexpected raises ScenarioError("<file>: <dotted.key>:
+<what is wrong>"): unknown or missing keys, wrong types, non-finite numbers,
+non-positive or non-symmetric inertia, unknown law names and inconsistent
+content. The file format, every key, unit and default: docs/scenarios.md.
+"""
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Mapping
+
+import numpy as np
+
+from aocs_core import limits
+from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
+
+from . import disturbances as dist
+from .orbit import MU_EARTH, mean_motion
+
+SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
+
+ATTITUDE_LAWS = ("crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
+                 "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh")
+ORBIT_LAWS = ("orbit_lqr",)
+LAW_NAMES = ATTITUDE_LAWS + ORBIT_LAWS
+KINDS = ("attitude", "orbit")
+ATTITUDE_INPUTS = ("euler321_deg", "rho", "sigma", "quaternion")
+SENSOR_CHANNELS = {"attitude": ("attitude", "rate", "all"),
+                   "orbit": ("position", "velocity", "all")}
+FAULT_KINDS = ("dropout", "nan", "nonunit")
+
+
+class ScenarioError(ValueError):
+    """A scenario file is malformed or inconsistent; the message names file and key."""
+
+
+# --------------------------------------------------------------------------- data
+
+
+@dataclass(frozen=True)
+class LawConfig:
+    name: str
+    params: Mapping[str, Any]            # validated scalars / 3-tuples
+    table: str | None = None             # selected gain table (design-based laws)
+    tables: Mapping[str, Mapping[str, Any]] = field(default_factory=lambda: MappingProxyType({}))
+
+
+@dataclass(frozen=True)
+class ControlConfig:
+    enabled: bool
+    law: str
+    laws: Mapping[str, LawConfig]
+
+
+@dataclass(frozen=True)
+class AttitudePlantConfig:
+    inertia: tuple                       # 3x3 tuple of tuples, kg m^2
+    q0: tuple                            # unit quaternion, scalar last
+    w0: tuple                            # rad/s, body
+    initial_input: tuple                 # (key, value) as written in the file
+
+
+@dataclass(frozen=True)
+class OrbitPlantConfig:
+    model: str                           # "linear" | "nonlinear"
+    mass_kg: float
+    orbit_radius_m: float
+    mu: float
+    x0: tuple                            # [du dv dw dx dy dz], SPEC 2.8
+
+    @property
+    def n(self) -> float:
+        return mean_motion(self.mu, self.orbit_radius_m)
+
+
+@dataclass(frozen=True)
+class TargetConfig:
+    qd0: tuple                           # target quaternion at t = 0
+    wd: tuple                            # constant target rate, rad/s, target frame
+    target_input: tuple
+
+
+@dataclass(frozen=True)
+class ConstantTorque:
+    enabled: bool
+    scale: float
+    torque_nm: tuple
+
+
+@dataclass(frozen=True)
+class GravityGradientL2:
+    enabled: bool
+    scale: float
+    mu1: float
+    mu2: float
+    r1_m: float
+    r2_m: float
+
+    @property
+    def coefficient(self) -> float:
+        return self.scale * dist.l2_gg_coefficient(self.mu1, self.mu2, self.r1_m, self.r2_m)
+
+
+@dataclass(frozen=True)
+class GravityGradientEarth:
+    enabled: bool
+    scale: float
+    orbit_rate_rad_s: float
+
+
+@dataclass(frozen=True)
+class SrpTorque:
+    enabled: bool
+    scale: float
+    area_m2: float
+    reflectivity: float
+    distance_au: float
+    flux_w_m2: float
+    direction_b: tuple
+    cp_offset_m: tuple
+
+    @property
+    def torque_nm(self) -> tuple:
+        f = self.scale * dist.srp_force_magnitude(self.area_m2, self.reflectivity,
+                                                  self.distance_au, self.flux_w_m2)
+        return dist.srp_torque(tuple(f * d for d in self.direction_b), self.cp_offset_m)
+
+
+@dataclass(frozen=True)
+class SrpForce:
+    enabled: bool
+    scale: float
+    pressure_n_m2: float
+    area_m2: float
+    direction: tuple
+
+    @property
+    def force_n(self) -> tuple:
+        f = self.scale * self.pressure_n_m2 * self.area_m2
+        return tuple(f * d for d in self.direction)
+
+
+@dataclass(frozen=True)
+class Impulse:
+    enabled: bool
+    scale: float
+    time_s: float
+    delta_v_m_s: float
+    direction: tuple
+
+    @property
+    def delta_v(self) -> tuple:
+        return tuple(self.scale * self.delta_v_m_s * d for d in self.direction)
+
+
+@dataclass(frozen=True)
+class Disturbances:
+    constant_torque: ConstantTorque | None = None
+    gravity_gradient_l2: GravityGradientL2 | None = None
+    gravity_gradient_earth: GravityGradientEarth | None = None
+    srp_torque: SrpTorque | None = None
+    srp_force: SrpForce | None = None
+    impulse: Impulse | None = None
+
+    def active(self, name: str):
+        d = getattr(self, name)
+        return d if (d is not None and d.enabled) else None
+
+
+@dataclass(frozen=True)
+class ActuatorConfig:
+    axis_limit: float | None = None
+    norm_limit: float | None = None
+    rate_limit: float | None = None
+    lag_tau_s: float | None = None
+    realistic_axis_limit: float | None = None
+
+
+@dataclass(frozen=True)
+class SensorFault:
+    channel: str
+    kind: str
+    start_s: float
+    end_s: float
+    factor: float
+
+
+@dataclass(frozen=True)
+class SensorConfig:
+    attitude_noise_rad: float = 0.0
+    attitude_bias_rad: tuple = (0.0, 0.0, 0.0)
+    rate_noise_rad_s: float = 0.0
+    rate_bias_rad_s: tuple = (0.0, 0.0, 0.0)
+    position_noise_m: float = 0.0
+    position_bias_m: tuple = (0.0, 0.0, 0.0)
+    velocity_noise_m_s: float = 0.0
+    velocity_bias_m_s: tuple = (0.0, 0.0, 0.0)
+    latency_periods: int = 0
+    faults: tuple = ()
+
+    @property
+    def ideal(self) -> bool:
+        return (self.attitude_noise_rad == 0.0 and self.rate_noise_rad_s == 0.0
+                and self.position_noise_m == 0.0 and self.velocity_noise_m_s == 0.0
+                and not any(self.attitude_bias_rad) and not any(self.rate_bias_rad_s)
+                and not any(self.position_bias_m) and not any(self.velocity_bias_m_s)
+                and self.latency_periods == 0 and not self.faults)
+
+
+@dataclass(frozen=True)
+class SettleConfig:
+    rho_norm_max: float | None = None
+    w_norm_max_rad_s: float | None = None
+    pointing_arcsec_max: float | None = None
+    angle_abs_max_rad: float | None = None
+    rate_abs_max_rad_s: float | None = None
+    sigma_norm_max: float | None = None
+    pos_abs_max_m: float | None = None
+    vel_abs_max_m_s: float | None = None
+
+
+@dataclass(frozen=True)
+class MetricsConfig:
+    window_s: float
+    requirement_arcsec: float | None = None
+    goal_arcsec: float | None = None
+
+
+@dataclass(frozen=True)
+class Scenario:
+    id: str
+    description: str
+    reference: str
+    kind: str
+    control_rate_hz: float
+    duration_s: float
+    seed: int
+    substeps: int
+    control: ControlConfig
+    attitude: AttitudePlantConfig | None
+    orbit: OrbitPlantConfig | None
+    target: TargetConfig | None
+    disturbances: Disturbances
+    actuator: ActuatorConfig
+    sensors: SensorConfig
+    settle: SettleConfig
+    metrics: MetricsConfig
+    path: str
+
+    @property
+    def dt(self) -> float:
+        return 1.0 / self.control_rate_hz
+
+    @property
+    def n_steps(self) -> int:
+        return int(round(self.duration_s * self.control_rate_hz))
+
+    @property
+    def law(self) -> LawConfig:
+        return self.control.laws[self.control.law]
+
+
+# --------------------------------------------------------------------------- reader
+
+
+class _Section:
+    """A table being read: take keys one by one, then done() rejects leftovers."""
+
+    def __init__(self, file: str, path: str, data: Any):
+        self.file = file
+        self.path = path
+        if not isinstance(data, dict):
+            self.fail(path or "<root>", f"must be a table, got {_tname(data)}")
+        self.data = dict(data)
+
+    def key(self, k: str) -> str:
+        return f"{self.path}.{k}" if self.path else k
+
+    def fail(self, key: str, what: str):
+        raise ScenarioError(f"{self.file}: {key}: {what}")
+
+    def has(self, k: str) -> bool:
+        return k in self.data
+
+    def _pop(self, k, required, default):
+        if k not in self.data:
+            if required:
+                self.fail(self.key(k), "missing required key")
+            return default, False
+        return self.data.pop(k), True
+
+    def string(self, k, required=True, default=None, choices=None):
+        v, present = self._pop(k, required, default)
+        if not present:
+            return v
+        if not isinstance(v, str):
+            self.fail(self.key(k), f"expected a string, got {_tname(v)}")
+        if choices is not None and v not in choices:
+            self.fail(self.key(k), f"unknown value {v!r}, expected one of {', '.join(choices)}")
+        return v
+
+    def boolean(self, k, required=True, default=None):
+        v, present = self._pop(k, required, default)
+        if present and not isinstance(v, bool):
+            self.fail(self.key(k), f"expected true or false, got {_tname(v)}")
+        return v
+
+    def integer(self, k, required=True, default=None, minimum=None):
+        v, present = self._pop(k, required, default)
+        if not present:
+            return v
+        if isinstance(v, bool) or not isinstance(v, int):
+            self.fail(self.key(k), f"expected an integer, got {_tname(v)}")
+        if minimum is not None and v < minimum:
+            self.fail(self.key(k), f"must be >= {minimum}, got {v}")
+        return v
+
+    def number(self, k, required=True, default=None, positive=False, nonneg=False):
+        v, present = self._pop(k, required, default)
+        if not present:
+            return v
+        return self._check_number(self.key(k), v, positive, nonneg)
+
+    def _check_number(self, key, v, positive=False, nonneg=False):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            self.fail(key, f"expected a number, got {_tname(v)}")
+        v = float(v)
+        if not math.isfinite(v):
+            self.fail(key, f"must be finite, got {v}")
+        if positive and not v > 0.0:
+            self.fail(key, f"must be > 0, got {v}")
+        if nonneg and v < 0.0:
+            self.fail(key, f"must be >= 0, got {v}")
+        return v
+
+    def vector(self, k, n=3, required=True, default=None, positive=False, nonneg=False):
+        v, present = self._pop(k, required, default)
+        if not present:
+            return v
+        return self._check_vector(self.key(k), v, n, positive, nonneg)
+
+    def _check_vector(self, key, v, n, positive=False, nonneg=False):
+        if not isinstance(v, list):
+            self.fail(key, f"expected an array of {n} numbers, got {_tname(v)}")
+        if len(v) != n:
+            self.fail(key, f"expected {n} numbers, got {len(v)}")
+        return tuple(self._check_number(f"{key}[{i}]", x, positive, nonneg) for i, x in enumerate(v))
+
+    def scalar_or_vector(self, k, n=3, required=True, default=None, positive=False):
+        """A number (meaning that value on every axis) or an array of n numbers."""
+        v, present = self._pop(k, required, default)
+        if not present:
+            return v
+        if isinstance(v, list):
+            return self._check_vector(self.key(k), v, n, positive)
+        x = self._check_number(self.key(k), v, positive)
+        return (x,) * n
+
+    def matrix3(self, k):
+        v, _ = self._pop(k, True, None)
+        key = self.key(k)
+        if not isinstance(v, list) or len(v) != 3:
+            self.fail(key, "expected a 3x3 array of numbers (three rows of three)")
+        return tuple(self._check_vector(f"{key}[{i}]", row, 3) for i, row in enumerate(v))
+
+    def table(self, k, required=True):
+        v, present = self._pop(k, required, None)
+        if not present:
+            return None
+        return _Section(self.file, self.key(k), v)
+
+    def table_list(self, k):
+        v, present = self._pop(k, False, None)
+        if not present:
+            return []
+        if not isinstance(v, list):
+            self.fail(self.key(k), f"expected an array of tables, got {_tname(v)}")
+        return [_Section(self.file, f"{self.key(k)}[{i}]", x) for i, x in enumerate(v)]
+
+    def remaining(self):
+        return list(self.data.keys())
+
+    def done(self):
+        if self.data:
+            k = sorted(self.data)[0]
+            self.fail(self.key(k), "unknown key" + (f" (also unknown: {', '.join(sorted(self.data)[1:])})"
+                                                    if len(self.data) > 1 else ""))
+
+
+def _tname(v) -> str:
+    if isinstance(v, bool):
+        return "a boolean"
+    if isinstance(v, int):
+        return "an integer"
+    if isinstance(v, float):
+        return "a number"
+    if isinstance(v, str):
+        return "a string"
+    if isinstance(v, list):
+        return "an array"
+    if isinstance(v, dict):
+        return "a table"
+    return type(v).__name__
+
+
+# --------------------------------------------------------------------------- sections
+
+
+def _read_attitude_input(sec: _Section, what: str):
+    """Exactly one of euler321_deg | rho | sigma | quaternion -> (q, (key, value))."""
+    present = [k for k in ATTITUDE_INPUTS if sec.has(k)]
+    if len(present) != 1:
+        sec.fail(sec.path, f"give exactly one {what} among {', '.join(ATTITUDE_INPUTS)}"
+                 + (f" (found {', '.join(present)})" if present else ""))
+    k = present[0]
+    if k == "quaternion":
+        v = sec.vector(k, 4)
+        n = math.sqrt(sum(x * x for x in v))
+        if abs(n - 1.0) > 1e-6:
+            sec.fail(sec.key(k), f"quaternion norm must be 1 (within 1e-6), got {n!r}")
+        q = tuple(x / n for x in v)
+    else:
+        v = sec.vector(k, 3)
+        q = {"euler321_deg": euler321_deg_to_quat, "rho": crp_to_quat, "sigma": mrp_to_quat}[k](v)
+        if k == "sigma" and sum(x * x for x in v) > 1.0:
+            sec.fail(sec.key(k), "use the MRP set with |sigma| <= 1")
+    return q, (k, v)
+
+
+def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
+    def gains(*names, vector=False):
+        out = {}
+        for g in names:
+            out[g] = sec.scalar_or_vector(g, positive=True) if vector else sec.number(g, positive=True)
+        return out
+
+    table = None
+    tables: dict[str, Mapping] = {}
+    if name == "crp_linear":
+        params = gains("k1", "k2")
+    elif name in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
+        params = gains("kp", "kd")
+    elif name == "smc":
+        params = gains("lambda", "g", "eps", vector=True)
+    elif name == "mrp_sat":
+        params = gains("u_max", "lambda", "k", "l1", "m1")
+        bound = 2.0 * params["u_max"] / math.sqrt(3.0)
+        # L2 = M2 = 2 uM / sqrt 3 when absent: the computed default (SPEC 2.7)
+        params["l2"] = sec.number("l2", required=False, default=bound, positive=True)
+        params["m2"] = sec.number("m2", required=False, default=params["l2"], positive=True)
+        _check_gao(sec, params, bound)
+    elif name == "mrp_sat_tanh":
+        params = gains("u_max", "lambda", "k")
+        # M3 = uM bounds |u| by uM since |G^T x| <= |x| / 2 for |sigma| <= 1
+        params["m3"] = sec.number("m3", required=False, default=params["u_max"], positive=True)
+    elif name in ("lqr_quat", "orbit_lqr", "hinf"):
+        params = {}
+        table = sec.string("table")
+        tsec = sec.table("tables")
+        for tname in list(tsec.remaining()):
+            t = tsec.table(tname)
+            if name == "hinf":
+                entry = {"variant": t.string("variant", choices=("min", "regional"))}
+            else:
+                entry = {"q": t.scalar_or_vector("q", n=6, positive=True),
+                         "r": t.scalar_or_vector("r", n=3, positive=True)}
+            t.done()
+            tables[tname] = MappingProxyType(entry)
+        tsec.done()
+        if not tables:
+            sec.fail(sec.key("tables"), "at least one gain table is required")
+        if table not in tables:
+            sec.fail(sec.key("table"), f"table {table!r} is not defined under {sec.key('tables')}")
+    else:  # pragma: no cover - names are checked before
+        raise AssertionError(name)
+    sec.done()
+    return LawConfig(name, MappingProxyType(params), table, MappingProxyType(tables))
+
+
+def _check_gao(sec: _Section, p, bound):
+    """Gao, Lu, Wang 2010: L1 = M1 < L2 <= M2 <= (2/sqrt 3) uM (SPEC 2.7)."""
+    tol = 1e-12
+    if abs(p["l1"] - p["m1"]) > tol * max(1.0, abs(p["m1"])):
+        sec.fail(sec.key("m1"), f"violates L1 = M1 (L1 = {p['l1']}, M1 = {p['m1']})")
+    if not p["m1"] < p["l2"]:
+        sec.fail(sec.key("l2"), f"violates M1 < L2 (M1 = {p['m1']}, L2 = {p['l2']})")
+    if not p["l2"] <= p["m2"]:
+        sec.fail(sec.key("m2"), f"violates L2 <= M2 (L2 = {p['l2']}, M2 = {p['m2']})")
+    if p["m2"] > bound * (1.0 + tol):
+        sec.fail(sec.key("m2"), f"violates M2 <= (2/sqrt 3) uM = {bound!r} (M2 = {p['m2']})")
+
+
+def _read_control(root: _Section, kind: str):
+    csec = root.table("control")
+    enabled = csec.boolean("enabled", required=False, default=True)
+    law = csec.string("law")
+    csec.done()
+    lsec = root.table("laws")
+    laws = {}
+    allowed = ATTITUDE_LAWS if kind == "attitude" else ORBIT_LAWS
+    for name in lsec.remaining():
+        key = lsec.key(name)
+        if name not in LAW_NAMES:
+            lsec.fail(key, f"unknown law {name!r}, expected one of {', '.join(LAW_NAMES)}")
+        if name not in allowed:
+            lsec.fail(key, f"law {name!r} does not apply to a {kind} scenario")
+        laws[name] = _read_law(lsec.table(name), name, kind)
+    lsec.done()
+    if not laws:
+        lsec.fail(lsec.path, "at least one law is required")
+    if law not in LAW_NAMES:
+        csec.fail("control.law", f"unknown law {law!r}, expected one of {', '.join(LAW_NAMES)}")
+    if law not in laws:
+        csec.fail("control.law", f"law {law!r} has no gains under [laws.{law}]")
+    return ControlConfig(enabled, law, MappingProxyType(laws))
+
+
+def _read_plant(root: _Section, kind: str):
+    sec = root.table("plant")
+    att = orb = None
+    if kind == "attitude":
+        J = sec.matrix3("inertia")
+        a = np.array(J)
+        if not np.allclose(a, a.T, rtol=1e-12, atol=0.0):
+            sec.fail(sec.key("inertia"), "must be symmetric (J[i][j] = J[j][i])")
+        eig = np.linalg.eigvalsh(a)
+        if not eig[0] > 0.0:
+            sec.fail(sec.key("inertia"), f"must be positive definite (eigenvalues {eig.tolist()})")
+        # a physical body also satisfies the triangle inequality of principal moments
+        if eig[0] + eig[1] < eig[2] * (1.0 - 1e-12):
+            sec.fail(sec.key("inertia"), f"principal moments {eig.tolist()} violate J1 + J2 >= J3")
+        q0, src = _read_attitude_input(sec, "initial attitude")
+        w0 = sec.vector("w0")
+        att = AttitudePlantConfig(J, q0, w0, src)
+    else:
+        model = sec.string("model", choices=("linear", "nonlinear"))
+        mass = sec.number("mass_kg", positive=True)
+        radius = sec.number("orbit_radius_m", positive=True)
+        mu = sec.number("mu", required=False, default=MU_EARTH, positive=True)
+        x0 = sec.vector("x0", n=6)
+        orb = OrbitPlantConfig(model, mass, radius, mu, x0)
+    sec.done()
+    return att, orb
+
+
+def _read_target(root: _Section, kind: str):
+    if kind == "orbit":
+        if root.has("target"):
+            root.fail("target", "an orbit scenario has no [target] (the reference point is the origin)")
+        return None
+    sec = root.table("target")
+    qd, src = _read_attitude_input(sec, "target attitude")
+    wd = sec.vector("wd", required=False, default=(0.0, 0.0, 0.0))
+    sec.done()
+    return TargetConfig(qd, wd, src)
+
+
+def _onoff(sec: _Section):
+    return sec.boolean("enabled"), sec.number("scale", required=False, default=1.0, nonneg=True)
+
+
+def _unit(sec: _Section, k):
+    v = sec.vector(k)
+    n = math.sqrt(sum(x * x for x in v))
+    if abs(n - 1.0) > 1e-9:
+        sec.fail(sec.key(k), f"must be a unit vector (norm {n!r})")
+    return v
+
+
+ATTITUDE_DISTURBANCES = ("constant_torque", "gravity_gradient_l2", "gravity_gradient_earth", "srp_torque")
+ORBIT_DISTURBANCES = ("srp_force", "impulse")
+
+
+def _read_disturbances(root: _Section, kind: str, duration: float) -> Disturbances:
+    sec = root.table("disturbances", required=False)
+    if sec is None:
+        return Disturbances()
+    allowed = ATTITUDE_DISTURBANCES if kind == "attitude" else ORBIT_DISTURBANCES
+    out = {}
+    for name in sec.remaining():
+        if name not in ATTITUDE_DISTURBANCES + ORBIT_DISTURBANCES:
+            sec.fail(sec.key(name), "unknown key")
+        if name not in allowed:
+            sec.fail(sec.key(name), f"disturbance {name!r} does not apply to a {kind} scenario")
+        d = sec.table(name)
+        en, sc = _onoff(d)
+        if name == "constant_torque":
+            out[name] = ConstantTorque(en, sc, d.vector("torque_nm"))
+        elif name == "gravity_gradient_l2":
+            out[name] = GravityGradientL2(
+                en, sc, d.number("mu1", required=False, default=dist.MU_SUN, positive=True),
+                d.number("mu2", required=False, default=dist.MU_EARTH, positive=True),
+                d.number("r1_m", required=False, default=dist.R1_L2, positive=True),
+                d.number("r2_m", required=False, default=dist.R2_L2, positive=True))
+        elif name == "gravity_gradient_earth":
+            out[name] = GravityGradientEarth(en, sc, d.number("orbit_rate_rad_s", positive=True))
+        elif name == "srp_torque":
+            out[name] = SrpTorque(
+                en, sc, d.number("area_m2", positive=True),
+                d.number("reflectivity", nonneg=True),
+                d.number("distance_au", required=False, default=1.0, positive=True),
+                d.number("flux_w_m2", required=False, default=dist.SOLAR_FLUX_1AU, positive=True),
+                _unit(d, "direction_b"), d.vector("cp_offset_m"))
+        elif name == "srp_force":
+            out[name] = SrpForce(en, sc, d.number("pressure_n_m2", positive=True),
+                                 d.number("area_m2", positive=True), _unit(d, "direction"))
+        elif name == "impulse":
+            t = d.number("time_s", nonneg=True)
+            if t >= duration:
+                d.fail(d.key("time_s"), f"{t} s is not inside the run (duration_s = {duration})")
+            out[name] = Impulse(en, sc, t, d.number("delta_v_m_s", positive=True), _unit(d, "direction"))
+        d.done()
+    sec.done()
+    g1, g2 = out.get("gravity_gradient_l2"), out.get("gravity_gradient_earth")
+    if g1 is not None and g2 is not None and g1.enabled and g2.enabled:
+        sec.fail(sec.key("gravity_gradient_earth"), "cannot be enabled together with gravity_gradient_l2")
+    return Disturbances(**out)
+
+
+def _read_actuator(root: _Section) -> ActuatorConfig:
+    sec = root.table("actuator", required=False)
+    if sec is None:
+        return ActuatorConfig()
+    kw = {k: sec.number(k, required=False, positive=True)
+          for k in ("axis_limit", "norm_limit", "rate_limit", "lag_tau_s", "realistic_axis_limit")}
+    sec.done()
+    return ActuatorConfig(**kw)
+
+
+def _read_sensors(root: _Section, kind: str, duration: float) -> SensorConfig:
+    sec = root.table("sensors", required=False)
+    if sec is None:
+        return SensorConfig()
+    if kind == "attitude":
+        names = (("attitude_noise_rad", "attitude_bias_rad"), ("rate_noise_rad_s", "rate_bias_rad_s"))
+        other = ("position_noise_m", "position_bias_m", "velocity_noise_m_s", "velocity_bias_m_s")
+    else:
+        names = (("position_noise_m", "position_bias_m"), ("velocity_noise_m_s", "velocity_bias_m_s"))
+        other = ("attitude_noise_rad", "attitude_bias_rad", "rate_noise_rad_s", "rate_bias_rad_s")
+    for k in other:
+        if sec.has(k):
+            sec.fail(sec.key(k), f"does not apply to a {kind} scenario")
+    kw: dict[str, Any] = {}
+    for noise, bias in names:
+        kw[noise] = sec.number(noise, required=False, default=0.0, nonneg=True)
+        kw[bias] = sec.vector(bias, required=False, default=(0.0, 0.0, 0.0))
+    kw["latency_periods"] = sec.integer("latency_periods", required=False, default=0, minimum=0)
+    faults = []
+    for f in sec.table_list("faults"):
+        ch = f.string("channel", choices=SENSOR_CHANNELS[kind])
+        fk = f.string("kind", choices=FAULT_KINDS)
+        t0 = f.number("start_s", nonneg=True)
+        t1 = f.number("end_s", positive=True)
+        if not t1 > t0:
+            f.fail(f.key("end_s"), f"must be after start_s ({t1} <= {t0})")
+        if t0 >= duration:
+            f.fail(f.key("start_s"), f"{t0} s is not inside the run (duration_s = {duration})")
+        factor = f.number("factor", required=False, default=1.5, positive=True)
+        if fk == "nonunit":
+            if ch not in ("attitude", "all") or kind != "attitude":
+                f.fail(f.key("kind"), "nonunit applies to the attitude channel only")
+            if abs(factor - 1.0) < 1e-6:
+                f.fail(f.key("factor"), "a nonunit fault needs factor != 1")
+        f.done()
+        faults.append(SensorFault(ch, fk, t0, t1, factor))
+    kw["faults"] = tuple(faults)
+    sec.done()
+    return SensorConfig(**kw)
+
+
+SETTLE_KEYS = {
+    "attitude": ("rho_norm_max", "w_norm_max_rad_s", "pointing_arcsec_max", "angle_abs_max_rad",
+                 "rate_abs_max_rad_s", "sigma_norm_max"),
+    "orbit": ("pos_abs_max_m", "vel_abs_max_m_s"),
+}
+
+
+def _read_settle(root: _Section, kind: str) -> SettleConfig:
+    sec = root.table("settle")
+    for k in sec.remaining():
+        if k in SETTLE_KEYS["attitude"] + SETTLE_KEYS["orbit"] and k not in SETTLE_KEYS[kind]:
+            sec.fail(sec.key(k), f"does not apply to a {kind} scenario")
+    kw = {k: sec.number(k, required=False, positive=True) for k in SETTLE_KEYS[kind]}
+    sec.done()
+    if all(v is None for v in kw.values()):
+        sec.fail(sec.path, f"give at least one criterion among {', '.join(SETTLE_KEYS[kind])}")
+    return SettleConfig(**kw)
+
+
+def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
+    sec = root.table("metrics", required=False)
+    if sec is None:
+        return MetricsConfig(window_s=duration)
+    w = sec.number("window_s", required=False, default=duration, positive=True)
+    if w > duration:
+        sec.fail(sec.key("window_s"), f"metric window {w} s is longer than duration_s = {duration} s")
+    req = goal = None
+    if kind == "attitude":
+        req = sec.number("requirement_arcsec", required=False, positive=True)
+        goal = sec.number("goal_arcsec", required=False, positive=True)
+        if req is not None and goal is not None and goal > req:
+            sec.fail(sec.key("goal_arcsec"), f"goal {goal} is looser than the requirement {req}")
+    sec.done()
+    return MetricsConfig(w, req, goal)
+
+
+# --------------------------------------------------------------------------- API
+
+
+def validate(data: dict, file: str = "<memory>", expected_id: str | None = None) -> Scenario:
+    """Validate a parsed TOML document; raise ScenarioError naming file and key."""
+    root = _Section(file, "", data)
+    sid = root.string("id")
+    if expected_id is not None and sid != expected_id:
+        root.fail("id", f"{sid!r} does not match the file name {expected_id!r}")
+    description = root.string("description")
+    reference = root.string("reference")
+    kind = root.string("kind", choices=KINDS)
+    rate = root.number("control_rate_hz", positive=True)
+    if not limits.CONTROL_RATE_HZ_MIN <= rate <= limits.CONTROL_RATE_HZ_MAX:
+        root.fail("control_rate_hz", f"{rate:g} Hz is outside [{limits.CONTROL_RATE_HZ_MIN:g}, "
+                                     f"{limits.CONTROL_RATE_HZ_MAX:g}] Hz (the flight software's period range)")
+    duration = root.number("duration_s", positive=True)
+    if duration > limits.DURATION_S_MAX:
+        root.fail("duration_s", f"{duration:g} s is longer than {limits.DURATION_S_MAX:g} s")
+    steps = duration * rate
+    if steps > limits.STEPS_MAX:
+        root.fail("duration_s", f"{steps:.3g} control periods, more than {limits.STEPS_MAX:g}")
+    if steps < 1.0 - 1e-6:
+        root.fail("duration_s", f"{duration:g} s is shorter than one control period ({1.0 / rate:g} s)")
+    if abs(steps - round(steps)) > 1e-6 * max(1.0, steps):
+        root.fail("duration_s", f"must be a whole number of control periods ({steps} periods)")
+    seed = root.integer("seed", required=False, default=0, minimum=0)
+    isec = root.table("integrator", required=False)
+    substeps = 1
+    if isec is not None:
+        substeps = isec.integer("substeps", required=False, default=1, minimum=1)
+        if substeps > limits.SUBSTEPS_MAX:
+            isec.fail(isec.key("substeps"), f"{substeps} is more than {limits.SUBSTEPS_MAX}")
+        isec.done()
+    control = _read_control(root, kind)
+    att, orb = _read_plant(root, kind)
+    target = _read_target(root, kind)
+    disturbances = _read_disturbances(root, kind, duration)
+    actuator = _read_actuator(root)
+    sensors = _read_sensors(root, kind, duration)
+    settle = _read_settle(root, kind)
+    metrics = _read_metrics(root, kind, duration)
+    root.done()
+    return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
+                    att, orb, target, disturbances, actuator, sensors, settle, metrics, file)
+
+
+def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:
+    data = copy.deepcopy(data)
+    for dotted, value in overrides.items():
+        parts = dotted.split(".")
+        node = data
+        for i, p in enumerate(parts[:-1]):
+            nxt = node.setdefault(p, {})
+            if not isinstance(nxt, dict):
+                raise ScenarioError(f"{file}: {'.'.join(parts[:i + 1])}: override {dotted!r} "
+                                    "goes through a value that is not a table")
+            node = nxt
+        if value is None:
+            node.pop(parts[-1], None)
+        else:
+            node[parts[-1]] = value
+    return data
+
+
+def resolve(path_or_id: str | Path) -> Path:
+    """A path when it looks like one (a .toml name, a folder in it, or an existing file), else the id of
+    sil/scenarios/<id>.toml: a folder in the working directory named like an id does not shadow it."""
+    p = Path(path_or_id)
+    if p.suffix == ".toml" or len(p.parts) > 1 or p.is_file():
+        return p
+    return SCENARIO_DIR / f"{path_or_id}.toml"
+
+
+def load(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> Scenario:
+    """Load and validate a scenario by path or id (sil/scenarios/<id>.toml).
+
+    overrides: {"dotted.key": value} applied to the document before validation
+    (value None deletes the key), e.g. {"actuator.axis_limit": 0.5} for the
+    realistic IRASSI runs or {"control.enabled": False} for open-loop runs.
+    """
+    p = resolve(path_or_id)
+    file = str(p)
+    try:
+        with open(p, "rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise ScenarioError(f"{file}: <file>: no such scenario file "
+                            f"(known ids: {', '.join(list_scenarios())})") from None
+    except IsADirectoryError:
+        raise ScenarioError(f"{file}: <file>: is a folder, not a scenario file") from None
+    except PermissionError:
+        raise ScenarioError(f"{file}: <file>: not readable (permission denied)") from None
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{file}: <file>: not UTF-8 text (byte {exc.start})") from None
+    except RecursionError:
+        raise ScenarioError(f"{file}: <syntax>: values nested too deeply") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{file}: <syntax>: not valid TOML: {exc}") from None
+    if overrides:
+        data = _apply_overrides(data, overrides, file)
+    return validate(data, file, expected_id=p.stem)
+
+
+def list_scenarios(directory: str | Path | None = None) -> list[str]:
+    """Ids of the scenario files, sorted (for `aocs list`)."""
+    d = Path(directory) if directory is not None else SCENARIO_DIR
+    return sorted(p.stem for p in d.glob("*.toml"))

@@ -1,0 +1,413 @@
+"""The plant as its own LCM process.
+
+    python -m aocs_runner.plant_node SCENARIO [--set k=v ...] [--mode lockstep|realtime]
+        [--reply-timeout S] [--ready-timeout S] [--start-tick K] [--event SPEC ...] [-q]
+
+Per control tick k (time t_k = (start_tick + k) dt):
+  1. scheduled events of tick k (events.py: commands, transport faults);
+  2. publish sensors_t of tick k (AOCS_SENSORS), tick = frame = start_tick + k;
+  3. publish truth_t of tick k (AOCS_TRUTH), while the flight computer
+     computes: the true state at t_k, the disturbance at t_k and the actuator
+     output applied over the previous period (Plant.truth's meaning; zero
+     before the first command);
+  4. lockstep: wait (bounded, --reply-timeout) for the actuator_cmd_t whose
+     tick is k, apply its u_sat, integrate one period. Real time: sleep to the
+     next absolute deadline t0 + (k+1) dt while receiving commands, then apply
+     the newest command received and integrate (the command acts one period
+     late at most, like a sampled actuator interface).
+After the last period, truth_t of tick N (the final state) is published.
+
+Before the first tick the node waits (bounded, --ready-timeout) for a
+status_t heartbeat of the flight computer, so no sensor frame is sent before
+it listens. Exit codes: 0 done, 2 bad arguments / scenario, 3 no flight
+computer heartbeat, 4 the flight computer stopped answering (lockstep),
+5 interrupted by a signal. Progress lines go to stderr (every 10 %), one JSON
+summary line {"plant_node": {...}} to stdout.
+"""
+from __future__ import annotations
+
+import time
+
+import lcm
+
+from aocs_core import paths
+from aocs_plant import Plant
+from aocs_plant.scenario import ScenarioError, load
+from aocs_wire import netns, wire
+from aocs_wire.udpm import Udpm
+
+from . import events as evmod
+from .scenario_opts import parse_sets
+
+T_PROCESS = time.perf_counter()  # before the heavy imports: startup cost is measured from here
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import signal  # noqa: E402
+import sys  # noqa: E402
+from array import array  # noqa: E402
+
+from aocs_core.conventions import ARCSEC_PER_RAD, quat_mul  # noqa: E402
+
+EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
+
+_stop = False
+
+
+def _on_signal(signum, frame):  # noqa: ARG001
+    global _stop
+    _stop = True
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("scenario", help="scenario id or path")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="scenario override")
+    p.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep")
+    p.add_argument("--reply-timeout", type=float, default=2.0,
+                   help="lockstep: max wait for each actuator_cmd_t, s (default 2)")
+    p.add_argument("--ready-timeout", type=float, default=10.0,
+                   help="max wait for the flight computer's first heartbeat, s (default 10)")
+    p.add_argument("--start-tick", type=int, default=0,
+                   help="first tick / frame number (a restarted plant continues the sequence)")
+    p.add_argument("--event", action="append", default=[], metavar="T:WHAT", help="see events.py")
+    p.add_argument("--ready-file", default=None,
+                   help="written once the node listens for the flight computer (the runner starts it then)")
+    p.add_argument("--lcm-url", default=None, help="LCM URL (default: the namespace's udpm URL)")
+    p.add_argument("--lcm-lib", action="store_true",
+                   help="use the LCM library's receive thread instead of reading udpm directly (udpm.py)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+
+
+class _Link:
+    """LCM handle, codecs and the publish counters of this node."""
+
+    def __init__(self, url, lcm_lib=False):
+        if url is None:
+            netns.require_netns()
+            url = netns.LCM_URL
+        self.t = paths.import_bindings()
+        self.codecs = wire.Codecs(self.t)
+        if lcm_lib or not url.startswith("udpm://"):
+            self.lc = lcm.LCM(url)
+        else:
+            self.lc = Udpm(url)   # same packets, read in this thread (udpm.py)
+        self.wire = wire
+        self.frame_cmd = 0
+        self.request = 0
+
+    def command(self, ev, utime):
+        c = self.codecs.command
+        k = self.t.command_t
+        self.request += 1
+        qd = ev.target if ev.target is not None else (0.0, 0.0, 0.0, 1.0)
+        data = c.pack(k.PROTOCOL_VERSION, self.frame_cmd, utime, self.request,
+                      ev.law_id if ev.kind == "law" else k.LAW_KEEP,
+                      ev.mode if ev.kind == "mode" else k.MODE_KEEP,
+                      ev.target is not None, *qd, 0.0, 0.0, 0.0)
+        self.frame_cmd += 1
+        self.lc.publish(self.wire.COMMAND, data)
+
+
+def _wait_ready(link: _Link, timeout: float, ready_file: str | None = None) -> bool:
+    seen = []
+    st = link.codecs.status
+    i_exit = st.index("exiting")
+
+    def on_status(ch, data):  # noqa: ARG001
+        v = st.unpack(data)
+        if v is not None and not v[i_exit]:
+            seen.append(v)
+
+    sub = link.lc.subscribe(link.wire.STATUS, on_status)
+    if ready_file:
+        # listening now: the runner may start the flight computer
+        with open(ready_file, "w") as f:
+            f.write("listening\n")
+    end = time.monotonic() + timeout
+    while not seen and not _stop:
+        left = end - time.monotonic()
+        if left <= 0:
+            break
+        link.lc.handle_timeout(max(1, int(min(left, 0.1) * 1000)))
+    link.lc.unsubscribe(sub)
+    return bool(seen)
+
+
+def _pctl(sorted_vals, p):
+    if not sorted_vals:
+        return 0
+    i = min(len(sorted_vals) - 1, max(0, int(math.ceil(p / 100.0 * len(sorted_vals))) - 1))
+    return sorted_vals[i]
+
+
+def run(args) -> int:
+    signal.signal(signal.SIGTERM, _on_signal)
+    signal.signal(signal.SIGINT, _on_signal)
+    try:
+        sc = load(args.scenario, parse_sets(args.set))
+        evs = evmod.schedule(evmod.parse_all(args.event), sc.dt, sc.n_steps, args.start_tick)
+    except (ScenarioError, evmod.EventError, ValueError) as exc:
+        print(f"plant_node: {exc}", file=sys.stderr)
+        return EXIT_ARGS
+    plant = Plant(sc)
+    link = _Link(args.lcm_url, args.lcm_lib)
+    t_built = time.perf_counter()
+    if not _wait_ready(link, args.ready_timeout, args.ready_file):
+        if _stop:
+            return EXIT_SIGNAL
+        print(f"plant_node: no heartbeat from the flight computer on {link.wire.STATUS} within "
+              f"{args.ready_timeout} s", file=sys.stderr)
+        return EXIT_NOT_READY
+    t_ready = time.perf_counter()
+    loop = _Loop(plant, sc, link, evs, args)
+    reason, code = loop.run_realtime() if args.mode == "realtime" else loop.run_lockstep()
+    t_end = time.perf_counter()
+    rt = sorted(loop.rt_ns)
+    summary = {
+        "reason": reason, "mode": args.mode, "scenario": sc.id, "steps": loop.steps,
+        "n_steps": sc.n_steps, "start_tick": args.start_tick, "last_tick": loop.last_tick,
+        "last_answered_tick": loop.last_answered,
+        "startup_s": t_ready - T_PROCESS, "startup_build_s": t_built - T_PROCESS,
+        "loop_s": t_end - t_ready,
+        "roundtrip_ns": {"n": len(rt), "median": _pctl(rt, 50), "p99": _pctl(rt, 99),
+                         "max": rt[-1] if rt else 0},
+        "stale_replies": loop.stale_replies, "bad_replies": loop.bad_replies,
+        "plant_counters": plant.counters,
+        "wake_jitter_ns_max": loop.jitter_max_ns,
+        "handle_calls": loop.handle_calls,
+    }
+    print(json.dumps({"plant_node": summary}), flush=True)
+    return code
+
+
+class _Loop:
+    def __init__(self, plant, sc, link: _Link, evs, args):
+        self.plant, self.sc, self.link, self.evs, self.args = plant, sc, link, evs, args
+        self.steps = 0
+        self.last_tick = -1
+        self.last_answered = -1
+        self.stale_replies = 0
+        self.bad_replies = 0
+        self.rt_ns = array("q")
+        self.jitter_max_ns = 0
+        self.handle_calls = 0
+        self.frame_truth = 0
+        c = link.codecs
+        self.v = link.t.sensors_t.PROTOCOL_VERSION
+        self.pack_s = c.sensors.pack
+        self.pack_t = c.truth.pack
+        act = c.actuator
+        self.unpack_a = act.unpack
+        self.i_tick = act.index("tick")
+        self.i_u = act.index("u_sat")
+        self.attitude = sc.kind == "attitude"
+        s = link.t.sensors_t
+        self.bits = (s.VALID_ATTITUDE, s.VALID_RATE) if self.attitude else (s.VALID_POSITION, s.VALID_VELOCITY)
+        self.progress_every = max(1, sc.n_steps // 10)
+        if self.attitude:
+            self.qd0 = sc.target.qd0
+            self.fixed_target = not any(sc.target.wd)
+
+    # -------------------------------------------------------------- messages
+    def truth(self, tick):
+        """truth_t of tick k: the state at t_k, the disturbance at t_k and the actuator
+        output applied over the previous period (Plant.truth's meaning), on plain floats."""
+        plant = self.plant
+        t_s = tick * self.sc.dt
+        z3 = (0.0, 0.0, 0.0)
+        applied = plant.applied  # mean actuator output over the last period (Plant.applied)
+        dist = plant.disturbance()
+        if self.attitude:
+            q, w = plant.body.q, plant.body.w
+            qd = self.qd0 if self.fixed_target else plant.target(plant.t)[0]
+            # qe = q (x) qd^-1 (SPEC 1), one product for both error figures
+            e1, e2, e3, _ = quat_mul(q, (-qd[0], -qd[1], -qd[2], qd[3]))
+            ang = 2.0 * math.asin(min(1.0, math.sqrt(e1 * e1 + e2 * e2 + e3 * e3))) * ARCSEC_PER_RAD
+            data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
+                               *q, *w, *z3, *z3, *applied, *z3, *dist, *z3,
+                               ang, abs(e1) * ARCSEC_PER_RAD, abs(e2) * ARCSEC_PER_RAD, abs(e3) * ARCSEC_PER_RAD)
+        else:
+            x = plant.orbit.x
+            data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
+                               0.0, 0.0, 0.0, 1.0, *z3, x[3], x[4], x[5], x[0], x[1], x[2],
+                               *z3, *applied, *z3, *dist, 0.0, *z3)
+        self.frame_truth += 1
+        self.link.lc.publish("AOCS_TRUTH", data)
+
+    def sensors(self, tick, stale=False):
+        s = self.plant.sense()
+        t_s = (tick - 1 if stale else tick) * self.sc.dt
+        b1, b2 = self.bits
+        if self.attitude:
+            valid = (b1 if s["q_valid"] else 0) | (b2 if s["w_valid"] else 0)
+            return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
+                               *s["q"], *s["w"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        valid = (b1 if s["pos_valid"] else 0) | (b2 if s["vel_valid"] else 0)
+        return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
+                           0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, *s["pos"], *s["vel"])
+
+    def fire(self, tick, evs):
+        """Events before this tick's sensors; returns (drop, duplicate, stale)."""
+        drop = dup = stale = False
+        lc = self.link.lc
+        utime = int(round(tick * self.sc.dt * 1e6))
+        for e in evs:
+            if e.is_command:
+                self.link.command(e, utime)
+            elif e.kind == "malformed":
+                lc.publish("AOCS_SENSORS", b"\x00\x01garbage-not-a-sensors_t")
+            elif e.kind == "foreign":
+                t_s = tick * self.sc.dt
+                lc.publish("AOCS_SENSORS", self.pack_s(99, tick, utime, tick, t_s, 0, 0.0, 0.0, 0.0, 1.0,
+                                                       *(0.0,) * 9))
+            elif e.kind == "drop":
+                drop = True
+            elif e.kind == "duplicate":
+                dup = True
+            elif e.kind == "stale":
+                stale = True
+        return drop, dup, stale
+
+    def progress(self, k):
+        if not self.args.quiet and (k + 1) % self.progress_every == 0:
+            n = self.sc.n_steps
+            print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s",
+                  file=sys.stderr, flush=True)
+
+    # -------------------------------------------------------------- lockstep
+    def run_lockstep(self):
+        lc = self.link.lc
+        plant = self.plant
+        n = self.sc.n_steps
+        k0 = self.args.start_tick
+        timeout = self.args.reply_timeout
+        unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
+        box = [None]
+        want = [k0]
+        rt = self.rt_ns
+        evs = self.evs
+        perf = time.perf_counter_ns
+        handle = lc.handle_timeout
+        publish = lc.publish
+        timeout_ns = int(timeout * 1e9)
+
+        def on_cmd(ch, data):  # noqa: ARG001
+            v = unpack(data)
+            if v is None:
+                self.bad_replies += 1
+            elif v[i_tick] == want[0]:
+                box[0] = v
+            else:
+                self.stale_replies += 1
+
+        lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
+        waits = 0
+        for k in range(n):
+            if _stop:
+                return "signal", EXIT_SIGNAL
+            tick = k0 + k
+            drop = dup = stale = False
+            if tick in evs:
+                drop, dup, stale = self.fire(tick, evs[tick])
+            data = self.sensors(tick, stale)
+            self.last_tick = tick
+            if drop:
+                self.truth(tick)
+            else:
+                want[0] = tick
+                box[0] = None
+                t0 = perf()
+                publish("AOCS_SENSORS", data)
+                # the truth of this tick is published while the flight computer computes
+                self.truth(tick)
+                while box[0] is None:
+                    left = timeout_ns - (perf() - t0)
+                    if left <= 0 or _stop:
+                        break
+                    handle(min(100, left // 1000000 + 1))
+                    waits += 1
+                v = box[0]
+                if v is None:
+                    if _stop:
+                        return "signal", EXIT_SIGNAL
+                    print(f"plant_node: no actuator_cmd_t for tick {tick} within {timeout} s: the flight "
+                          f"computer stopped answering (last answered tick {self.last_answered})",
+                          file=sys.stderr, flush=True)
+                    return "no_reply", EXIT_NO_REPLY
+                rt.append(perf() - t0)
+                self.last_answered = tick
+                plant.apply(v[i_u:i_u + 3])
+                if dup:
+                    publish("AOCS_SENSORS", data)
+            plant.advance()
+            self.steps += 1
+            self.progress(k)
+        self.truth(k0 + n)
+        self.handle_calls = waits
+        return "done", EXIT_OK
+
+    # -------------------------------------------------------------- real time
+    def run_realtime(self):
+        lc = self.link.lc
+        plant = self.plant
+        n = self.sc.n_steps
+        k0 = self.args.start_tick
+        dt = self.sc.dt
+        unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
+        latest = [None]
+
+        def on_cmd(ch, data):  # noqa: ARG001
+            v = unpack(data)
+            if v is None:
+                self.bad_replies += 1
+            else:
+                latest[0] = v
+
+        lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
+        t0 = time.monotonic()
+        for k in range(n + 1):
+            deadline = t0 + k * dt
+            while True:  # receive until 1 ms before the deadline, then sleep to it
+                left = deadline - time.monotonic()
+                if left <= 0.001 or _stop:
+                    break
+                lc.handle_timeout(max(1, int(min(left - 0.001, 0.1) * 1000)))
+            if _stop:
+                return "signal", EXIT_SIGNAL
+            left = deadline - time.monotonic()
+            if left > 0:
+                time.sleep(left)
+            self.jitter_max_ns = max(self.jitter_max_ns, int((time.monotonic() - deadline) * 1e9))
+            if k > 0:
+                v = latest[0]
+                if v is not None:
+                    plant.apply(v[i_u:i_u + 3])
+                    self.last_answered = v[i_tick]
+                plant.advance()
+                self.steps += 1
+                self.progress(k - 1)
+            tick = k0 + k
+            self.truth(tick)
+            if k == n:
+                break
+            drop = dup = stale = False
+            if tick in self.evs:
+                drop, dup, stale = self.fire(tick, self.evs[tick])
+            data = self.sensors(tick, stale)
+            self.last_tick = tick
+            if not drop:
+                lc.publish("AOCS_SENSORS", data)
+                if dup:
+                    lc.publish("AOCS_SENSORS", data)
+        return "done", EXIT_OK
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m aocs_runner.plant_node", description=__doc__.splitlines()[0])
+    add_arguments(p)
+    return run(p.parse_args(argv))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

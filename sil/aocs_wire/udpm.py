@@ -1,0 +1,126 @@
+"""LCM's UDP multicast transport (udpm), spoken directly from Python, for the
+plant's lockstep hot loop.
+
+Same packets as the LCM library (interoperable both ways, tested against it in
+tests/python/aocs_wire/test_udpm.py): a short message is ONE datagram sent to the
+multicast group,
+
+    uint32 magic 0x4c433032 ("LC02") | uint32 sequence number | channel | NUL | payload
+
+(big-endian). Every aocs_lcm type is far below the 64 kB datagram limit, so
+the fragmented form ("LC03") is never sent; received fragments are counted
+and dropped.
+
+Why: the LCM library receives on a background thread and hands each message
+to the caller's thread through a pipe, two thread switches per message on a
+2-core machine whose other core runs the flight computer. Reading the socket
+directly in the plant's own thread saved ~10 us of the ~60 us Python <->
+fsw_node round trip (measured, 5000 ping-pongs). Publishing is a plain
+sendto, as in the library. fsw_node, the recorder and every LCM tool keep
+using the library; they cannot tell the difference.
+"""
+from __future__ import annotations
+
+import select
+import socket
+import struct
+from urllib.parse import parse_qs, urlparse
+
+MAGIC_SHORT = 0x4C433032   # "LC02"
+MAGIC_LONG = 0x4C433033    # "LC03" (fragment)
+_HEAD = struct.Struct(">II")
+
+
+def parse_url(url: str) -> tuple[str, int, int]:
+    """(group, port, ttl) of a udpm:// URL."""
+    u = urlparse(url)
+    if u.scheme != "udpm":
+        raise ValueError(f"{url}: only udpm:// URLs are supported")
+    ttl = int(parse_qs(u.query).get("ttl", ["0"])[0])
+    return u.hostname, int(u.port), ttl
+
+
+class Udpm:
+    """Publish and receive LCM messages on one udpm group, in the caller's thread."""
+
+    def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024):
+        group, port, ttl = parse_url(url)
+        self.dest = (group, port)
+        rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+        rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        if hasattr(socket, "SO_REUSEPORT"):
+            rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+        rx.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, recv_buf)
+        rx.bind(("", port))
+        mreq = struct.pack("4s4s", socket.inet_aton(group), socket.inet_aton("0.0.0.0"))
+        rx.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, mreq)
+        rx.setblocking(False)
+        tx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+        tx.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, ttl)
+        tx.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
+        self._rx, self._tx = rx, tx
+        self._seq = 0
+        self._poll = select.poll()
+        self._poll.register(rx, select.POLLIN)
+        self.fragments = 0     # LC03 datagrams received (never sent by aocs types)
+        self.garbage = 0       # datagrams that are not LCM at all
+        self._handlers: dict[bytes, object] = {}
+
+    def fileno(self) -> int:
+        return self._rx.fileno()
+
+    def publish(self, channel: str | bytes, data: bytes) -> None:
+        ch = channel.encode() if isinstance(channel, str) else channel
+        self._tx.sendto(_HEAD.pack(MAGIC_SHORT, self._seq & 0xFFFFFFFF) + ch + b"\0" + data, self.dest)
+        self._seq += 1
+
+    def subscribe(self, channel: str, handler) -> str:
+        """handler(channel, data) for exactly this channel (no regex: the hot loop needs speed).
+        Returns the token for unsubscribe (as lcm.LCM.subscribe does)."""
+        self._handlers[channel.encode()] = handler
+        return channel
+
+    def unsubscribe(self, token: str) -> None:
+        self._handlers.pop(token.encode(), None)
+
+    def handle_timeout(self, timeout_ms: int) -> int:
+        """Dispatch every datagram already queued, waiting at most timeout_ms for the first.
+
+        Returns the number of handled (subscribed) messages, like lcm's
+        handle_timeout (0 on timeout)."""
+        handled = 0
+        recv = self._rx.recv
+        handlers = self._handlers
+        waited = False
+        while True:
+            try:
+                d = recv(65536)
+            except BlockingIOError:
+                if handled or waited:
+                    return handled
+                if not self._poll.poll(max(0, int(timeout_ms))):
+                    return 0
+                waited = True
+                continue
+            if len(d) < 9:
+                self.garbage += 1
+                continue
+            magic = _HEAD.unpack_from(d)[0]
+            if magic != MAGIC_SHORT:
+                if magic == MAGIC_LONG:
+                    self.fragments += 1
+                else:
+                    self.garbage += 1
+                continue
+            end = d.find(b"\0", 8)
+            if end < 0:
+                self.garbage += 1
+                continue
+            h = handlers.get(d[8:end])
+            if h is not None:
+                h(d[8:end].decode(), d[end + 1:])
+                handled += 1
+
+    def close(self) -> None:
+        self._rx.close()
+        self._tx.close()

@@ -1,0 +1,101 @@
+"""The `aocs run / list / replay` command lines: output, exit codes, messages."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from aocs import cli
+from aocs_plant.scenario import list_scenarios, load
+from aocs_wire import lcmlog
+
+
+def test_list_names_every_scenario_with_its_laws_and_every_law(capsys):
+    assert cli.main(["list"]) == 0
+    out = capsys.readouterr().out
+    for sid in list_scenarios():
+        sc = load(sid)
+        line = next(ln for ln in out.splitlines() if ln.startswith(sid + " "))
+        assert sc.kind in line and sc.control.law in line and f"{sc.duration_s:g} s" in line
+        for law in sc.control.laws:
+            assert law in line
+    assert "lqr_quat[lqr_quat_ref, lqr_quat_strong]" in out
+    for law, lid in (("crp_linear", 1), ("orbit_lqr", 10), ("mrp_sat_tanh", 9)):
+        assert f"{law}" in out and f"[{lid:2d}]" in out
+    assert cli.main(["list", "--ids"]) == 0
+    assert capsys.readouterr().out.split() == list_scenarios()
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["run", "no_such_scenario"], "no such scenario file"),
+    (["run", "irassi_large", "--law", "hinf"], "has no gains for it"),
+    (["run", "irassi_large", "--law", "warp_drive"], "has no gains for it"),
+    (["run", "irassi_large", "--event", "5:explode"], "unknown event"),
+    (["run", "irassi_large", "--event", "900:drop"], "after the end of the run"),
+    (["run", "irassi_large", "--duration", "0.05"], "duration_s"),
+    (["run", "irassi_large", "--set", "laws.quat_pd.kd=-1.0"], "laws.quat_pd.kd"),
+    (["run", "landsat8_srp", "--set", "control.enabled=false", "--law", "orbit_lqr"], "control is disabled"),
+    (["run", "irassi_large", "--law", ""], "--law: empty law name"),
+    (["run", "irassi_large", "--duration", "1e-300"], "shorter than one control period"),
+    (["run", "irassi_large", "--duration", "nan"], "--duration nan"),
+    (["run", "irassi_large", "--reply-timeout", "nan"], "--reply-timeout nan"),
+    (["run", "irassi_large", "--reply-timeout", "-1"], "--reply-timeout -1"),
+])
+def test_bad_input_exits_2_with_a_message_naming_it(private_netns, capsys, tmp_path, argv, message):
+    assert cli.main(argv + ["--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "aocs run: error:" in err and message in err, err
+    assert not (tmp_path / "o" / "run.lcmlog").exists()
+
+
+def test_output_paths_are_checked_before_the_run(private_netns, capsys, tmp_path):
+    """--out on a file, --json on a folder or in a folder that does not exist: one line, exit 2,
+    nothing written (and no folder created for --json)."""
+    a_file = tmp_path / "a_file"
+    a_file.write_text("keep me\n")
+    cases = [(["--out", str(a_file)], "exists and is not a folder"),
+             (["--out", str(tmp_path / "o"), "--json", str(tmp_path)], "is a folder, not a file"),
+             (["--out", str(tmp_path / "o"), "--json", str(tmp_path / "no" / "such" / "m.json")], "does not exist")]
+    for extra, message in cases:
+        assert cli.main(["run", "irassi_large", "--duration", "1", "-q", "--no-plots", *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "aocs run: error:" in err and message in err, err
+    assert a_file.read_text() == "keep me\n"
+    assert not (tmp_path / "no").exists() and not (tmp_path / "o" / "run.lcmlog").exists()
+
+
+def test_pil_targets_start_the_bridge_or_say_it_is_missing(monkeypatch, tmp_path):
+    import importlib.util
+
+    from aocs_core import paths
+    from aocs_runner import run as cmd_run
+
+    cfg = tmp_path / "c.cfg"
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: object())
+    assert cmd_run.fc_command("pil-m7", cfg)[1:] == ["-m", "aocs_pil.bridge", "--target", "pil-m7", str(cfg)]
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
+    with pytest.raises(paths.SetupError, match="aocs_pil.bridge"):
+        cmd_run.fc_command("pil-m4f", cfg)
+    assert cmd_run.fc_command("host", cfg)[1] == str(cfg)
+
+
+def test_cli_run_prints_the_table_and_lcm_logger_can_record(private_netns, fsw_node_bin, capsys, tmp_path):
+    """A short run through the command line, recorded by lcm-logger this time."""
+    out = tmp_path / "o"
+    rc = cli.main(["run", "irassi_small", "--duration", "20", "--out", str(out), "--no-plots", "-q",
+                   "--recorder", "lcm-logger", "--json", str(tmp_path / "m.json")])
+    text = capsys.readouterr().out
+    assert rc == 0
+    assert "pointing, last 20 s (true angle)" in text and "settle time" in text
+    m = json.loads((tmp_path / "m.json").read_text())
+    assert m["scenario"] == "irassi_small" and m["duration_s"] == 20.0
+    log = lcmlog.read(out / "run.lcmlog")
+    assert [mk["marker"] for mk in log.markers][:1] == ["start"] and log.markers[-1]["marker"] == "end"
+    assert log.truth["tick"].size > 0 and log.cmd["tick"].size > 0
+    meta = json.loads((out / "run.json").read_text())
+    assert meta["recorder"] == "lcm-logger" and meta["fsw_config"]["law"] == "quat_pd"
+
+
+def test_replay_refuses_a_missing_log(private_netns, capsys, tmp_path):
+    assert cli.main(["replay", str(tmp_path / "nope.lcmlog")]) == 2
+    assert "aocs replay: error:" in capsys.readouterr().err

@@ -1,0 +1,225 @@
+"""The host side of the PIL link, without an emulator.
+
+- the Python frame codec (sil/aocs_pil/frame.py) against the C header
+  (constants, enums, payload sizes) and the golden vectors that
+  tests/unit/test_pil_frame.c also checks against the C codec;
+- the configuration parser (sil/aocs_pil/config.py) against fsw_node itself:
+  the same key table as sil/fsw_node/node_config.c, and for a list of
+  broken files the same exit status and the same message as fsw_node.
+"""
+from __future__ import annotations
+
+import re
+import struct
+import subprocess
+import zlib
+
+import pytest
+
+from aocs_pil import config as nodecfg
+from aocs_pil import frame
+from aocs_wire import netns
+from pil_support import REPO, registry
+
+HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
+
+GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00,
+                    0xED, 0x4A, 0x36, 0x90])
+GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+                      0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
+                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x71, 0xC7, 0x6A, 0x7C])
+
+
+def c_define(name: str) -> int:
+    m = re.search(rf"^#define {name} \(?(0x[0-9A-Fa-f]+|\d+)U?L?\)?", HEADER, re.M)
+    assert m, f"{name} not found in pil_frame.h"
+    return int(m.group(1), 0)
+
+
+def c_enum(typedef: str) -> dict[str, int]:
+    body = HEADER[:HEADER.index(f"}} {typedef};")]
+    body = body[body.rindex("typedef enum {"):]
+    return {k: int(v) for k, v in re.findall(r"^\s*(AOCS_PIL_\w+) = (\d+)", body, re.M)}
+
+
+def test_constants_and_enums_match_the_c_header():
+    assert frame.MAGIC == c_define("AOCS_PIL_MAGIC")
+    assert frame.MAGIC.to_bytes(4, "little") == b"APIL"
+    assert frame.VERSION == c_define("AOCS_PIL_VERSION")
+    assert frame.HEADER_BYTES == c_define("AOCS_PIL_HEADER_BYTES")
+    assert frame.CRC_BYTES == c_define("AOCS_PIL_CRC_BYTES")
+    assert frame.PAYLOAD_MAX == c_define("AOCS_PIL_PAYLOAD_MAX")
+    assert frame.ICOUNT_SHIFT == c_define("AOCS_PIL_ICOUNT_SHIFT")
+    assert frame.TABLE_NAME_MAX == c_define("AOCS_PIL_TABLE_NAME_MAX")
+    assert (frame.TARGET_HOST, frame.TARGET_CORTEX_M4F, frame.TARGET_CORTEX_M7) == (
+        c_define("AOCS_PIL_TARGET_HOST"), c_define("AOCS_PIL_TARGET_CORTEX_M4F"), c_define("AOCS_PIL_TARGET_CORTEX_M7"))
+    sizes = {"HELLO": frame.HELLO, "STEP": frame.STEP, "STEP_REPLY": frame.STEP_REPLY, "SELECT": frame.SELECT,
+             "ACK": frame.ACK, "BYE_REPLY": frame.BYE_REPLY, "ERROR": frame.ERROR}
+    for name, st in sizes.items():
+        assert st.size == c_define(f"AOCS_PIL_{name}_BYTES"), name
+    types = c_enum("aocs_pil_type_t")
+    assert {f"AOCS_PIL_T_{v}": k for k, v in frame.TYPE_NAMES.items()} == types
+    errs = c_enum("aocs_pil_err_t")
+    assert errs == {name: i for i, name in enumerate(frame.ERR_NAMES)}
+    # the CONFIG field ids: the executive's rows of pil_frame.h and the law fields of laws.def
+    reg = registry()
+    fields = {f"AOCS_PIL_CFG_{f['name']}": f["pil_id"] for f in reg["pil_exec_fields"] + reg["fields"]}
+    assert fields == {f"AOCS_PIL_CFG_{k}": v[0] for k, v in frame.CFG_FIELDS.items()}
+
+
+def test_golden_frames_byte_for_byte():
+    # the same vectors as tests/unit/test_pil_frame.c (header by hand, CRC from zlib)
+    assert frame.encode(frame.T_BYE, 7) == GOLDEN_BYE
+    hello = frame.Hello(2, 8, 7, 1, 2000, 2000, 47)
+    assert frame.encode(frame.T_HELLO, 0, hello.encode()) == GOLDEN_HELLO
+    h, payload = frame.check_frame(GOLDEN_HELLO)
+    assert (h.type, h.length, h.seq) == (frame.T_HELLO, 28, 0)
+    assert frame.Hello.decode(payload) == hello
+    assert frame.crc32(b"123456789") == 0xCBF43926
+    assert struct.unpack("<I", GOLDEN_BYE[-4:])[0] == zlib.crc32(GOLDEN_BYE[:-4])
+
+
+def test_step_payload_layout():
+    p = frame.encode_step(0x01020304, 0x1122334455667788, 3, (1.0, -2.0, 0.5, 0.0), (0.25, -0.125, 4.0),
+                          (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))
+    assert len(p) == 120
+    assert p[:4] == bytes([4, 3, 2, 1])
+    assert struct.unpack_from("<Q", p, 4)[0] == 0x1122334455667788
+    assert p[12] == 3
+    assert struct.unpack_from("<Q", p, 16)[0] == 0x3FF0000000000000
+    assert struct.unpack_from("<Q", p, 24)[0] == 0xC000000000000000
+    assert struct.unpack_from("<Q", p, 112)[0] == 0xC008000000000000
+
+
+@pytest.mark.parametrize("mutate, fragment", [
+    (lambda b: b"X" + b[1:], "bad magic"),
+    (lambda b: b[:4] + b"\x02" + b[5:], "protocol version 2"),
+    (lambda b: b[:6] + b"\x01\x04" + b[8:], "payload length 1025"),
+    (lambda b: b[:-1] + bytes([b[-1] ^ 0x80]), "CRC mismatch"),
+    (lambda b: b[:-1], "frame of 15 bytes"),
+])
+def test_every_check_names_what_failed(mutate, fragment):
+    with pytest.raises(frame.FrameError, match=fragment):
+        frame.check_frame(mutate(GOLDEN_BYE))
+
+
+def test_every_single_bit_flip_is_detected():
+    for i in range(len(GOLDEN_HELLO) * 8):
+        bad = bytearray(GOLDEN_HELLO)
+        bad[i // 8] ^= 1 << (i % 8)
+        with pytest.raises(frame.FrameError):
+            frame.check_frame(bytes(bad))
+
+
+def test_config_field_list_encoding():
+    cf = frame.ConfigFields()
+    cf.add("LAW", 2)
+    cf.add("U_MAX_AXIS", [0.5, 0.6, 0.7])
+    cf.add("HINF_TABLE", "hinf_min")
+    raw = cf.encode()
+    assert raw[:2] == bytes([1, 1]) and struct.unpack_from("<Q", raw, 2)[0] == 2
+    assert raw[10:12] == bytes([8, 3]) and struct.unpack_from("<3d", raw, 12) == (0.5, 0.6, 0.7)
+    assert raw[36:] == bytes([28, 8]) + b"hinf_min"
+    with pytest.raises(ValueError):
+        frame.ConfigFields([("U_MAX_AXIS", [1.0, 2.0])]).encode()
+    with pytest.raises(ValueError):
+        frame.ConfigFields([("HINF_TABLE", "x" * 32)]).encode()
+
+
+# ---- the configuration parser mirrors fsw_node -----------------------------------------------
+NODE_CONFIG_C = (REPO / "sil/fsw_node/node_config.c").read_text()
+KIND_MAP = {"REAL": "real", "DOUBLE": "double", "U32": "u32", "U64": "u64", "SECONDS_NS": "seconds_ns",
+            "LAW": "law", "RUN_MODE": "run_mode", "STRING": "string", "INERTIA": "inertia",
+            "GAIN_TABLE": "gain_table"}
+
+
+def c_keys():
+    """node_config.c KEYS: its general rows, then the law field rows of the registry as node_config.c maps them."""
+    body = NODE_CONFIG_C[NODE_CONFIG_C.index("static const key_def_t KEYS[] = {"):]
+    body = body[:body.index("\n};")]
+    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+),'
+                      r'\s*AOCS_LAW_\w+\}', body)
+    general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
+    assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
+    kinds = {"real": "real", "vec3": "real", "gain": "real", "mat3": "inertia", "table": "gain_table"}
+    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"], f["unit"])
+            for f in registry()["fields"]]
+    return general + laws
+
+
+def test_key_table_is_node_config_c():
+    rows = c_keys()
+    assert len(rows) >= 40, "node_config.c KEYS not parsed"
+    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.KEYS]
+    assert ours == rows
+
+
+def test_law_and_gain_table_names_are_the_firmware_ones():
+    reg = registry()
+    assert (reg["none"]["name"],) + tuple(law["name"] for law in reg["laws"]) == nodecfg.LAW_NAMES
+    assert [law["id"] for law in reg["laws"]] == list(range(1, len(nodecfg.LAW_NAMES)))
+    # table ids are the design order of tools/gains.toml; the Python copy lists them by law
+    assert sorted((t["name"], t["law"]) for t in reg["gain_tables"]) == sorted(nodecfg.GAIN_TABLES)
+
+
+def test_values_reach_the_field_list(tmp_path):
+    p = tmp_path / "ok.cfg"
+    p.write_text("law = smc  # comment\nmode = lockstep\ncontrol_period_s = 0x1.999999999999ap-4\n"
+                 "u_max_axis = 0.5, 0.6 ,0.7\ninertia = 1 2 3\nsmc.lambda = 1 1 1\nbudget_ns = 5000\n"
+                 "lqr_quat.table = lqr_quat_strong\nrecover_good_samples = 4\n")
+    cfg = nodecfg.load(p)
+    assert cfg.law == "smc" and cfg.period_s == 0.1
+    assert cfg.stale_timeout_ns == 200_000_000           # 2 periods, as node_config.c
+    fields = dict(cfg.pil_fields(168e6).entries)
+    assert fields["LAW"] == 5 and fields["PERIOD_S"] == 0.1
+    assert fields["U_MAX_AXIS"] == [0.5, 0.6, 0.7]
+    assert fields["INERTIA"] == [1.0, 0, 0, 0, 2.0, 0, 0, 0, 3.0]
+    assert fields["BUDGET_INSTR"] == 840                   # 5000 ns at 168 MHz
+    assert fields["LQR_QUAT_TABLE"] == "lqr_quat_strong"
+    assert fields["RECOVER_GOOD_SAMPLES"] == 4
+    assert fields["STALE_TIMEOUT_NS"] == 200_000_000
+    assert "lcm_url" not in fields and "MODE" not in fields
+
+
+BAD_CONFIGS = {
+    "unknown_key": "law = quat_pd\nquat_pd.kq = 1\n",
+    "twice": "law = quat_pd\nlaw = smc\n",
+    "no_equals": "law quat_pd\n",
+    "bad_token": "u_max_axis = 1 x 3\n",
+    "underscore": "u_max_norm = 1_000\n",             # Python float() would take it, strtod does not
+    "trailing_junk": "u_max_norm = 1.5abc\n",
+    "hex_ok_then_error": "u_max_norm = 0x1p-2\nk_safe = 0\n",   # the hex float is fine: error on line 2
+    "underflow": "u_max_norm = 1e-400\n",
+    "overflow": "u_max_norm = 1e400\n",
+    "infinity": "k_safe = inf\n",
+    "nan": "k_safe = nan\n",
+    "too_many": "target_w = 1 2 3 4\n",
+    "too_few": "target_q = 0 0 1\n",
+    "negative_gain": "quat_pd.kp = -4000.5\n",
+    "negative_limit": "u_max_norm = -1e-7\n",
+    "not_whole": "recover_good_samples = 2.5\n",
+    "u32_range": "missing_max_periods = 5e9\n",
+    "u64_not_whole": "budget_ns = 1.5\n",
+    "stale_range": "stale_timeout_s = 2e9\n",
+    "law": "law = quat_pid\n",
+    "mode": "mode = fast\n",
+    "url": "lcm_url = " + "u" * 256 + "\n",
+    "inertia_count": "inertia = 1 2 3 4\n",
+    "empty": "k_safe =\n",
+    "table_unknown": "hinf.table = hinf_best\n",
+    "table_family": "orbit_lqr.table = lqr_quat_ref\n",
+    "table_and_k": "lqr_quat.table = lqr_quat_ref\n" + "lqr_quat.k = " + " ".join(["1"] * 18) + "\n",
+    "long_line": "# " + "x" * 1030 + "\n",
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD_CONFIGS))
+def test_config_errors_are_fsw_nodes(name, tmp_path, fsw_node_bin):
+    path = tmp_path / f"{name}.cfg"
+    path.write_text(BAD_CONFIGS[name])
+    with pytest.raises(nodecfg.ConfigError) as exc:
+        nodecfg.load(path)
+    # fsw_node stops at the configuration, before opening LCM; run it isolated all the same
+    res = subprocess.run(netns.wrap([str(fsw_node_bin), str(path)]), capture_output=True, text=True, timeout=10)
+    assert res.returncode == 2, res.stderr
+    assert res.stderr.strip() == f"fsw_node: config error: {exc.value}"

@@ -1,0 +1,185 @@
+"""Actuator limits, rate limit, lag and ZOH; sensor noise, bias, latency, faults."""
+import math
+
+import numpy as np
+import pytest
+
+from aocs_core.conventions import ARCSEC_PER_RAD, quat_conj, quat_mul
+from aocs_plant import Plant, load
+from aocs_plant.actuators import Actuator
+
+# ----------------------------------------------------------------- actuators
+
+
+def test_unlimited_by_default():
+    a = Actuator(0.1)
+    assert a.command((5e3, -7e3, 1.0)) == (5e3, -7e3, 1.0)
+    assert a.saturated_count == 0
+
+
+def test_axis_saturation_clips_each_component():
+    a = Actuator(0.1, axis_limit=1.0)
+    assert a.command((5.0, -5.0, 0.1)) == (1.0, -1.0, 0.1)
+    assert a.saturated_count == 1
+    assert a.command((0.5, -0.5, 0.1)) == (0.5, -0.5, 0.1)
+    assert a.saturated_count == 1
+
+
+def test_norm_saturation_keeps_direction():
+    a = Actuator(0.1, norm_limit=1.0)
+    out = a.command((3.0, 4.0, 0.0))
+    np.testing.assert_allclose(out, (0.6, 0.8, 0.0), rtol=1e-15)
+    b = Actuator(0.1, axis_limit=2.0, norm_limit=1.0)  # axis clip first, then the norm
+    np.testing.assert_allclose(b.command((3.0, 0.0, 0.0)), (1.0, 0.0, 0.0))
+
+
+def test_rate_limit_per_control_period():
+    a = Actuator(0.1, rate_limit=1.0)  # 1 N m/s -> 0.1 N m per period
+    outs = [a.command((10.0, -10.0, 0.05))[0] for _ in range(3)]
+    np.testing.assert_allclose(outs, (0.1, 0.2, 0.3), rtol=1e-14)
+    assert a.held[1] == pytest.approx(-0.3) and a.held[2] == 0.05
+    assert a.rate_limited_count == 3
+
+
+def test_first_order_lag_exact_response():
+    tau, dt, n = 0.5, 0.1, 10
+    a = Actuator(dt, lag_tau_s=tau)
+    a.command((1.0, 0.0, -2.0))
+    h = dt / n
+    delivered = []
+    for _ in range(5 * n):  # 0.5 s = one time constant
+        delivered.append(a.substep(h)[0])
+    assert a.output[0] == pytest.approx(1.0 - math.exp(-1.0), rel=1e-13)
+    assert a.output[2] == pytest.approx(-2.0 * (1.0 - math.exp(-1.0)), rel=1e-13)
+    # delivered impulse equals the integral of 1 - exp(-t / tau) over [0, 0.5]
+    assert sum(delivered) * h == pytest.approx(0.5 - tau * (1 - math.exp(-1.0)), rel=1e-12)
+
+
+def test_plant_holds_the_command_over_the_period_and_refuses_nan():
+    sc = load("irassi_large", {"disturbances.gravity_gradient_l2.enabled": False,
+                               "disturbances.constant_torque.enabled": False,
+                               "plant.euler321_deg": [0.0, 0.0, 0.0]})
+    plant = Plant(sc)
+    assert plant.apply((0.0, 2.0, 0.0))
+    plant.advance()
+    # principal axis: w = u dt / Jy exactly (no gyroscopic coupling)
+    assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.1 / 5954.2, rel=1e-13)
+    assert plant.truth()["applied"] == (0.0, 2.0, 0.0)
+    assert not plant.apply((math.nan, 0.0, 0.0))
+    plant.advance()  # previous command still held (ZOH)
+    assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.2 / 5954.2, rel=1e-13)
+    assert plant.counters["bad_commands"] == 1 and plant.counters["commands"] == 2
+
+
+def test_realistic_limit_override_saturates_plant_torque():
+    sc = load("irassi_large")
+    plant = Plant(load("irassi_large", {"actuator.axis_limit": sc.actuator.realistic_axis_limit}))
+    plant.apply((100.0, -100.0, 0.1))
+    plant.advance()
+    assert plant.truth()["applied"] == (0.5, -0.5, 0.1)
+
+
+# ----------------------------------------------------------------- sensors
+
+
+def _noisy(seed=7, **extra):
+    ov = {"seed": seed, "sensors.attitude_noise_rad": 1e-5, "sensors.rate_noise_rad_s": 2e-6}
+    ov.update(extra)
+    return Plant(load("irassi_large", ov))
+
+
+def _samples(plant, n):
+    out = []
+    for _ in range(n):
+        out.append(plant.sense())
+        plant.advance()
+    return out
+
+
+def test_ideal_sensors_return_truth():
+    plant = Plant(load("irassi_large"))
+    s = plant.sense()
+    assert s["q"] == plant.truth()["q"] and s["w"] == plant.truth()["w"]
+    assert s["q_valid"] and s["w_valid"] and s["t"] == 0.0 and s["seq"] == 0
+
+
+def test_noise_is_repeatable_for_a_seed_and_differs_between_seeds():
+    a = _samples(_noisy(7), 50)
+    b = _samples(_noisy(7), 50)
+    c = _samples(_noisy(8), 50)
+    assert [s["q"] for s in a] == [s["q"] for s in b]
+    assert [s["w"] for s in a] == [s["w"] for s in b]
+    assert [s["w"] for s in a] != [s["w"] for s in c]
+
+
+def test_noise_statistics_and_bias():
+    n = 5000
+    plant = _noisy(3, **{"sensors.rate_bias_rad_s": [1e-6, -2e-6, 0.0]})
+    rate_err, att_err = [], []
+    for _ in range(n):
+        s = plant.sense()
+        tr = plant.truth()
+        rate_err.append(np.subtract(s["w"], tr["w"]))
+        e = quat_mul(s["q"], quat_conj(tr["q"]))  # the small measurement rotation dq
+        att_err.append(2.0 * np.array(e[:3]) * (1 if e[3] >= 0 else -1))
+        plant.advance()
+    rate_err, att_err = np.array(rate_err), np.array(att_err)
+    # sample std of N = 5000 normal draws has a relative spread 1/sqrt(2N) = 1%: 5% is 5 sigma
+    np.testing.assert_allclose(rate_err.std(axis=0), 2e-6, rtol=0.05)
+    np.testing.assert_allclose(att_err.std(axis=0), 1e-5, rtol=0.05)
+    # mean: bias within 5 standard errors (2e-6 / sqrt(5000) = 2.8e-8)
+    np.testing.assert_allclose(rate_err.mean(axis=0), (1e-6, -2e-6, 0.0), atol=1.5e-7)
+    np.testing.assert_allclose(att_err.mean(axis=0), 0.0, atol=5 * 1e-5 / math.sqrt(n))
+    # the channels are independent
+    assert abs(np.corrcoef(rate_err[:, 0], att_err[:, 0])[0, 1]) < 0.06
+
+
+def test_latency_delays_the_measurement_by_whole_periods():
+    plant = Plant(load("irassi_large", {"sensors.latency_periods": 3}))
+    truths, samples = [], []
+    plant.apply((1.0, 2.0, 3.0))  # something that moves
+    for _ in range(10):
+        truths.append(plant.truth()["w"])
+        samples.append(plant.sense()["w"])
+        plant.advance()
+    for k in range(10):
+        assert samples[k] == truths[max(0, k - 3)]
+
+
+def test_faults_dropout_nan_nonunit():
+    ov = {"sensors.faults": [
+        {"channel": "rate", "kind": "dropout", "start_s": 1.0, "end_s": 1.5},
+        {"channel": "attitude", "kind": "nan", "start_s": 2.0, "end_s": 2.2},
+        {"channel": "attitude", "kind": "nonunit", "start_s": 3.0, "end_s": 3.1, "factor": 1.2},
+    ]}
+    plant = Plant(load("irassi_large", ov))
+    plant.apply((1.0, 1.0, 1.0))
+    by_t = {}
+    for _ in range(40):
+        by_t[round(plant.t, 6)] = (plant.sense(), plant.truth())
+        plant.advance()
+    s, _ = by_t[1.2]
+    assert not s["w_valid"] and s["q_valid"]
+    assert s["w"] == by_t[0.9][1]["w"]  # repeats the last good value
+    s, _ = by_t[1.5]
+    assert s["w_valid"]
+    s, _ = by_t[2.1]
+    assert s["q_valid"] and all(math.isnan(x) for x in s["q"]) and not any(map(math.isnan, s["w"]))
+    s, tr = by_t[3.0]
+    assert math.sqrt(sum(x * x for x in s["q"])) == pytest.approx(1.2, rel=1e-12)
+    assert plant.counters["invalid_samples"] == 5
+
+
+def test_a_fault_does_not_shift_the_noise_sequence():
+    clean = _samples(_noisy(11), 30)
+    faulty = _samples(_noisy(11, **{"sensors.faults": [
+        {"channel": "rate", "kind": "dropout", "start_s": 1.0, "end_s": 1.5}]}), 30)
+    assert clean[25]["w"] == faulty[25]["w"]
+
+
+def test_pointing_figures():
+    a = 10.0 / ARCSEC_PER_RAD  # 10 arcsec about y
+    q = (0.0, math.sin(a / 2), 0.0, math.cos(a / 2))
+    from aocs_plant import pointing_error_arcsec, qe_arcsec
+    assert pointing_error_arcsec(q, (0, 0, 0, 1.0)) == pytest.approx(10.0, rel=1e-9)
+    np.testing.assert_allclose(qe_arcsec(q, (0, 0, 0, 1.0)), (0.0, 5.0, 0.0), rtol=1e-9, atol=1e-12)

@@ -1,0 +1,86 @@
+"""`aocs run SCENARIO`: one scenario in the loop, plant and flight software as
+separate processes talking LCM inside a private network namespace.
+
+    aocs run irassi_large --law smc --limit 0.5 --json out.json
+
+The run itself is aocs_runner.run (processes, log, metrics); this module is
+its command line. How a run works: docs/sil.md.
+"""
+from __future__ import annotations
+
+import sys
+
+from aocs_analysis import verdict
+from aocs_core import paths
+from aocs_plant.scenario import ScenarioError
+from aocs_runner import events as evmod
+from aocs_runner import orchestrate
+from aocs_runner.run import TARGETS, RunFailed, RunOptions, execute
+from aocs_wire import fsw_config, netns
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+
+def add_arguments(p) -> None:
+    p.add_argument("scenario", help="scenario id (aocs list) or path to a scenario file")
+    p.add_argument("--law", help="control law (default: the scenario's)")
+    p.add_argument("--duration", type=float, help="run length, s (whole control periods)")
+    p.add_argument("--realtime", action="store_true", help="pace to the wall clock (default: lockstep)")
+    p.add_argument("--out", help="output folder (default out/<scenario>-<law>)")
+    p.add_argument("--json", help="also write the metrics JSON here")
+    p.add_argument("--limit", type=float, metavar="NM",
+                   help="per-axis actuator limit (N m, or N for orbit), plant and flight software")
+    p.add_argument("--target", choices=TARGETS, default="host",
+                   help="flight computer: host fsw_node, or processor in the loop (QEMU)")
+    p.add_argument("--seed", type=int, help="seed of the plant's random streams")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="scenario override, e.g. control.enabled=false (repeatable)")
+    p.add_argument("--event", action="append", default=[], metavar="T:WHAT",
+                   help="scheduled command or transport fault, e.g. 100:law=smc, 5:malformed (docs/sil.md)")
+    p.add_argument("--reply-timeout", type=float, default=None,
+                   help="lockstep: max wait for each command, s (default 2; 10 for pil targets)")
+    p.add_argument("--recorder", choices=("builtin", "lcm-logger"), default="builtin",
+                   help="what records the LCM log: the runner's lossless recorder (default) or lcm-logger, "
+                        "which can drop messages under load (docs/sil.md)")
+    p.add_argument("--plant-lcm-lib", action="store_true",
+                   help="plant_node receives through the LCM library's thread instead of reading udpm "
+                        "directly (for comparison; docs/sil.md)")
+    p.add_argument("--allow", action="append", default=[], choices=verdict.CHECKS, metavar="CHECK",
+                   help="let the run pass although this check fails, to study the case on purpose: "
+                        + ", ".join(verdict.CHECKS) + " (docs/sil.md, Verdict; repeatable)")
+    p.add_argument("--label", help="label of the run in tables and the JSON")
+    p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+
+
+def options_from_args(args) -> RunOptions:
+    return RunOptions(scenario=args.scenario, law=args.law, duration=args.duration, realtime=args.realtime,
+                      out=args.out, json_path=args.json, limit=args.limit, target=args.target, seed=args.seed,
+                      sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
+                      plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
+                      plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow))
+
+
+def run(args) -> int:
+    netns.reexec_in_netns(paths.self_argv())
+    opts = options_from_args(args)
+    try:
+        res = execute(opts)
+    except (ScenarioError, ValueError, fsw_config.ConfigError, evmod.EventError, paths.SetupError,
+            netns.NetnsError) as exc:
+        print(f"aocs run: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except (RunFailed, orchestrate.RunAborted) as exc:
+        print(f"aocs run: FAILED: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    print(res.table)
+    if res.plots:
+        print(f"  plots, log, config and metrics.json in {res.out_dir}/")
+    v = res.metrics["verdict"]
+    if not v["passed"]:
+        print(f"aocs run: FAILED: {verdict.summary(v)} (metrics and log kept in {res.out_dir}/)", file=sys.stderr)
+        return EXIT_FAILED
+    if v["allowed"]:
+        print(f"aocs run: allowed to pass although it failed: {', '.join(v['allowed'])}", file=sys.stderr)
+    return EXIT_OK
+

@@ -1,0 +1,473 @@
+"""Run metrics from the LCM log (truth + commands), the JSON and the printed table.
+
+Everything here is computed from what the log recorded, with
+aocs_analysis.metrics, never from the plant's or the flight software's
+in-memory view: the true attitude of truth_t against the scenario's target
+(qd(t) = dq(wd t) (x) qd0, recomputed here), the saturated commands of
+actuator_cmd_t, the counters the node put on the wire. The keys are listed
+in docs/sil.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from aocs_core import paths
+from aocs_core.conventions import quat_from_rotvec_rows as quat_from_rotvec
+from aocs_core.limits import UNLIMITED
+from aocs_core.paths import LAW_NAMES_BY_ID, MODE_NOMINAL, MODE_SAFE
+
+from . import metrics as M
+
+RAD2AS = M.ARCSEC_PER_RAD
+
+
+# --------------------------------------------------------------------------- attitude helpers
+def target_quat(scenario, t: np.ndarray) -> np.ndarray:
+    """qd(t) = dq(wd t) (x) qd0 (docs/scenarios.md [target]), (n, 4)."""
+    qd0 = np.asarray(scenario.target.qd0, float)
+    wd = np.asarray(scenario.target.wd, float)
+    t = np.asarray(t, float)
+    if not np.any(wd):
+        return np.broadcast_to(qd0, (t.size, 4)).copy()
+    dq = quat_from_rotvec(t[:, None] * wd[None, :])
+    return M.quat_mul(dq, np.broadcast_to(qd0, dq.shape))
+
+
+def dcm(q: np.ndarray) -> np.ndarray:
+    """A(q) row-wise (n, 3, 3): (q4^2 - |v|^2) I + 2 v v^T - 2 q4 v^x (SPEC 1)."""
+    v, s = q[:, :3], q[:, 3]
+    n = q.shape[0]
+    a = np.empty((n, 3, 3))
+    ss = s * s - np.sum(v * v, axis=1)
+    for i in range(3):
+        for j in range(3):
+            a[:, i, j] = 2.0 * v[:, i] * v[:, j] + (ss if i == j else 0.0)
+    x, y, z = v[:, 0], v[:, 1], v[:, 2]
+    a[:, 0, 1] += 2 * s * z
+    a[:, 0, 2] -= 2 * s * y
+    a[:, 1, 0] -= 2 * s * z
+    a[:, 1, 2] += 2 * s * x
+    a[:, 2, 0] += 2 * s * y
+    a[:, 2, 1] -= 2 * s * x
+    return a
+
+
+def euler321(q: np.ndarray) -> np.ndarray:
+    """[yaw psi, pitch theta, roll phi] of A(q) = R1(phi) R2(theta) R3(psi), (n, 3) rad."""
+    a = dcm(q)
+    yaw = np.arctan2(a[:, 0, 1], a[:, 0, 0])
+    pitch = -np.arcsin(np.clip(a[:, 0, 2], -1.0, 1.0))
+    roll = np.arctan2(a[:, 1, 2], a[:, 2, 2])
+    return np.stack([yaw, pitch, roll], axis=1)
+
+
+# --------------------------------------------------------------------------- series
+def attitude_series(scenario, log) -> dict:
+    tr = log.truth
+    t = tr["t_s"]
+    q = tr["q"]
+    qd = target_quat(scenario, t)
+    err = M.pointing_errors_arcsec(q, qd)
+    qe = M.error_quaternion(q, qd)                      # qe4 >= 0
+    wd_b = np.einsum("nij,j->ni", dcm(qe), np.asarray(scenario.target.wd, float))
+    we = tr["w"] - wd_b
+    q4 = qe[:, 3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = qe[:, :3] / q4[:, None]
+    sigma = qe[:, :3] / (1.0 + q4[:, None])
+    return {"t": t, "true_angle": err["true_angle"], "per_axis": err["per_axis"], "qe_arcsec": err["qe_arcsec"],
+            "we": we, "w": tr["w"], "rho": rho, "sigma": sigma, "euler_err": euler321(qe)}
+
+
+def settle_mask(scenario, s: dict) -> tuple[np.ndarray, dict]:
+    """Samples inside every criterion of [settle], and the criteria used."""
+    st = scenario.settle
+    inside = np.ones(s["t"].shape, bool)
+    used = {}
+
+    def add(name, value, ok):
+        nonlocal inside
+        if value is not None:
+            inside &= ok
+            used[name] = value
+
+    if scenario.kind == "attitude":
+        add("rho_norm_max", st.rho_norm_max,
+            None if st.rho_norm_max is None else np.nan_to_num(np.linalg.norm(s["rho"], axis=1), nan=np.inf)
+            < st.rho_norm_max)
+        add("w_norm_max_rad_s", st.w_norm_max_rad_s,
+            None if st.w_norm_max_rad_s is None else np.linalg.norm(s["we"], axis=1) < st.w_norm_max_rad_s)
+        add("pointing_arcsec_max", st.pointing_arcsec_max,
+            None if st.pointing_arcsec_max is None else s["true_angle"] < st.pointing_arcsec_max)
+        add("angle_abs_max_rad", st.angle_abs_max_rad,
+            None if st.angle_abs_max_rad is None else np.all(np.abs(s["euler_err"]) < st.angle_abs_max_rad, axis=1))
+        add("rate_abs_max_rad_s", st.rate_abs_max_rad_s,
+            None if st.rate_abs_max_rad_s is None else np.all(np.abs(s["we"]) < st.rate_abs_max_rad_s, axis=1))
+        add("sigma_norm_max", st.sigma_norm_max,
+            None if st.sigma_norm_max is None else np.linalg.norm(s["sigma"], axis=1) < st.sigma_norm_max)
+    else:
+        add("pos_abs_max_m", st.pos_abs_max_m,
+            None if st.pos_abs_max_m is None else np.all(np.abs(s["pos"]) < st.pos_abs_max_m, axis=1))
+        add("vel_abs_max_m_s", st.vel_abs_max_m_s,
+            None if st.vel_abs_max_m_s is None else np.all(np.abs(s["vel"]) < st.vel_abs_max_m_s, axis=1))
+    return inside, used
+
+
+def _f(x):
+    """JSON-safe float (None for NaN / inf)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _fl(a):
+    return [_f(x) for x in np.asarray(a, float).ravel()]
+
+
+# --------------------------------------------------------------------------- metrics
+def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: dict | None = None,
+            fsw: dict | None = None) -> tuple[dict, dict]:
+    """(metrics dict for the JSON, series dict for the plots): one section per concern, in the
+    order of the JSON (docs/sil.md lists every key)."""
+    sc = scenario
+    t = log.truth["t_s"]
+    if t.size == 0:
+        raise ValueError(f"{log.path}: no truth_t messages in the log")
+    out: dict = {"scenario": sc.id, "law": meta["law"], "kind": sc.kind,
+                 "duration_s": _f(t[-1] - t[0]), "control_rate_hz": _f(sc.control_rate_hz)}
+    series: dict = {"t": t, "kind": sc.kind}
+    _accuracy(out, series, log, sc)
+    u = _commands(out, series, log, sc)
+    cfg = meta.get("fsw_config", {})
+    _limits(out, series, u, cfg, sc)
+    _timing(out, series, log.cmd, meta, cfg, fsw)
+    _counters(out, log, sc.dt)
+    _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
+    return out, series
+
+
+def _accuracy(out: dict, series: dict, log, sc) -> None:
+    """Settle time and the final pointing (attitude) or position (orbit) error over the metric window."""
+    tr = log.truth
+    t = tr["t_s"]
+    window = sc.metrics.window_s
+    wmask = M.window_mask(t, window)
+    if sc.kind == "attitude":
+        s = attitude_series(sc, log)
+        series.update(s)
+        inside, used = settle_mask(sc, s)
+        out["settle_time_s"] = M.settle_time(t, inside)
+        out["pointing_error_arcsec"] = {
+            "final_max": _f(np.max(s["true_angle"][wmask])),
+            "per_axis_final_max": _fl(np.max(np.abs(s["per_axis"][wmask]), axis=0)),
+            "qe_arcsec_final_max": _fl(np.max(s["qe_arcsec"][wmask], axis=0)),
+            "final_rms": _f(np.sqrt(np.mean(s["true_angle"][wmask] ** 2))),
+            "window_s": _f(window),
+            "requirement_arcsec": sc.metrics.requirement_arcsec,
+            "goal_arcsec": sc.metrics.goal_arcsec,
+        }
+        pe = out["pointing_error_arcsec"]
+        if sc.metrics.requirement_arcsec is not None:
+            pe["meets_requirement"] = bool(pe["final_max"] is not None
+                                           and pe["final_max"] <= sc.metrics.requirement_arcsec)
+        if sc.metrics.goal_arcsec is not None:
+            pe["meets_goal"] = bool(pe["final_max"] is not None and pe["final_max"] <= sc.metrics.goal_arcsec)
+        out["position_error_m"] = None
+    else:
+        s = {"pos": tr["pos"], "vel": tr["vel"]}
+        series.update(s)
+        inside, used = settle_mask(sc, {"t": t, **s})
+        out["settle_time_s"] = M.settle_time(t, inside)
+        out["pointing_error_arcsec"] = None
+        out["position_error_m"] = {
+            "final_max": _f(np.max(np.abs(s["pos"][wmask]))),
+            "per_axis_final_max": _fl(np.max(np.abs(s["pos"][wmask]), axis=0)),
+            "velocity_final_max_m_s": _f(np.max(np.abs(s["vel"][wmask]))),
+            "window_s": _f(window),
+        }
+    out["settle_criterion"] = {"criteria": used, "rule": "inside every criterion from settle_time_s to the end",
+                               "window_s": _f(window)}
+
+
+def _commands(out: dict, series: dict, log, sc) -> np.ndarray:
+    """What the flight software commanded (after its saturation) and what the plant applied; returns u_sat."""
+    tr, cmd, dt = log.truth, log.cmd, sc.dt
+    u = cmd["u_sat"] if cmd["tick"].size else np.zeros((0, 3))
+    tc = cmd["tick"] * dt
+    series.update(t_cmd=tc, u_sat=u, u_unsat=cmd["u_unsat"], mode=cmd["mode"], step_ns=cmd["step_ns"],
+                  applied=tr["force_applied"] if sc.kind == "orbit" else tr["torque_applied"])
+    if u.shape[0]:
+        max_abs = np.max(np.abs(u), axis=0)
+        max_norm = float(np.max(np.linalg.norm(u, axis=1)))
+        # each command is held for one period (ZOH): append the end of its period
+        eff = M.effort(np.append(tc, tc[-1] + dt), np.vstack([u, np.zeros((1, 3))]))
+    else:
+        max_abs, max_norm, eff = np.zeros(3), 0.0, 0.0
+    if sc.kind == "attitude":
+        out["max_abs_torque_nm"] = _fl(max_abs)
+        out["max_torque_norm_nm"] = _f(max_norm)
+        out["max_abs_force_n"] = None
+        out["max_force_norm_n"] = None
+    else:
+        out["max_abs_torque_nm"] = None
+        out["max_torque_norm_nm"] = None
+        out["max_abs_force_n"] = _fl(max_abs)
+        out["max_force_norm_n"] = _f(max_norm)
+    out["effort"] = _f(eff)
+    applied = series["applied"]
+    out["max_abs_applied"] = _fl(np.max(np.abs(applied), axis=0)) if applied.shape[0] else [0.0] * 3
+    return u
+
+
+def _limits(out: dict, series: dict, u: np.ndarray, cfg: dict, sc) -> None:
+    """The flight software's saturation limits, the plant's actuator, and every command beyond them."""
+    axis_cfg = cfg.get("u_max_axis")
+    axis_lim = float(axis_cfg.split()[0]) if axis_cfg else None
+    norm_lim = float(cfg["u_max_norm"]) if cfg.get("u_max_norm") else None
+    unlimited = axis_lim is not None and axis_lim >= UNLIMITED
+    tol = 1e-12
+    viol = 0
+    if u.shape[0]:
+        if axis_lim is not None:
+            viol += int(np.count_nonzero(np.any(np.abs(u) > axis_lim * (1 + tol), axis=1)))
+        if norm_lim is not None:
+            viol += int(np.count_nonzero(np.linalg.norm(u, axis=1) > norm_lim * (1 + tol)))
+    nonfinite = int(np.count_nonzero(~np.all(np.isfinite(u), axis=1))) if u.shape[0] else 0
+    out["limits"] = {"axis": None if unlimited else axis_lim, "norm": norm_lim, "unlimited": unlimited,
+                     "plant_axis": sc.actuator.axis_limit, "plant_norm": sc.actuator.norm_limit,
+                     "commands_over_limit": viol, "commands_not_finite": nonfinite}
+    series["axis_limit"] = None if unlimited else axis_lim
+    series["norm_limit"] = norm_lim
+
+
+def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | None) -> None:
+    """Step times against the budget of each step's law and mode (and PIL instruction counts)."""
+    law_nominal = meta["law"]
+    override = int(float(cfg.get("budget_ns", "0")))
+    if cmd["tick"].size:
+        budgets = np.array([override or (paths.law_budget_ns(LAW_NAMES_BY_ID.get(int(lid), "none"))
+                                         if int(m) == MODE_NOMINAL else paths.law_budget_ns("none"))
+                            for lid, m in zip(cmd["law_id"], cmd["mode"])], dtype=float)
+    else:
+        budgets = np.zeros(0)
+    budget_nominal = override or paths.law_budget_ns(law_nominal if law_nominal in paths.LAW_IDS else "none")
+    ts = M.timing_summary(cmd["step_ns"], budget_nominal, cmd["overrun"].astype(bool))
+    out["timing"] = ts.as_dict()
+    out["timing"]["steps"] = int(cmd["tick"].size)
+    out["timing"]["over_step_budget"] = int(np.count_nonzero(cmd["step_ns"] > budgets)) if budgets.size else 0
+    series["budget_ns"] = budgets
+    target = meta.get("target", "host")
+    if str(target).startswith("pil-"):
+        pil_timing(out["timing"], series, cmd, target, fsw)
+
+
+def _counters(out: dict, log, dt: float) -> None:
+    """The flight computer's cumulative counters (last command, last status), modes, statuses, commands."""
+    cmd = log.cmd
+    last = {k: int(cmd[k][-1]) if cmd["tick"].size else 0 for k in
+            ("n_invalid", "n_stale", "n_missing", "n_law_error", "n_overrun", "n_lost", "n_duplicate",
+             "n_foreign", "n_malformed", "n_cmd_accepted", "n_cmd_rejected")}
+    stt = log.status
+    if stt["steps"].size:
+        # the node's last word (exiting status) may count frames after the last command
+        for key in ("n_foreign", "n_malformed", "n_cmd_accepted", "n_cmd_rejected", "n_overrun"):
+            last[key] = max(last[key], int(np.max(stt[key])))
+    modes = cmd["mode"]
+    transitions = int(np.count_nonzero(np.diff(modes))) if modes.size > 1 else 0
+    in_safe = modes == MODE_SAFE
+    safe_entries = int(np.count_nonzero(in_safe[1:] & ~in_safe[:-1]) + (1 if in_safe.size and in_safe[0] else 0))
+    status_counts: dict[str, int] = {}
+    for code, n in zip(*np.unique(cmd["status"], return_counts=True)):
+        if int(code) != 0:
+            status_counts[paths.status_name(int(code))] = int(n)
+    sent = np.unique(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()])
+    answered = np.isin(sent, cmd["tick"])
+    ticks_sent, ticks_answered = set(sent.tolist()), set(cmd["tick"].tolist())
+    out["counters"] = {
+        "invalid": last["n_invalid"], "stale": last["n_stale"], "missing": last["n_missing"],
+        "law_error": last["n_law_error"], "lost": last["n_lost"], "duplicate": last["n_duplicate"],
+        "foreign": last["n_foreign"], "malformed": last["n_malformed"], "overruns": last["n_overrun"],
+        "cmd_accepted": last["n_cmd_accepted"], "cmd_rejected": last["n_cmd_rejected"],
+        "mode_changes": transitions, "safe_entries": safe_entries,
+        "time_in_safe_mode_s": _f(np.count_nonzero(in_safe) * dt),
+        "time_in_saturation_s": _f(np.count_nonzero(cmd["saturated"]) * dt),
+        "steps_saturated": int(np.count_nonzero(cmd["saturated"])),
+        "status": status_counts,
+        "sensor_ticks_unanswered": len(ticks_sent - ticks_answered),
+        "longest_unanswered_run": _longest_false_run(answered),
+    }
+    out["commands"] = [{"request": int(r), "law_id": int(lid), "mode": int(m), "set_target": bool(st)}
+                       for r, lid, m, st in zip(log.command["request"], log.command["law_id"],
+                                                log.command["mode"], log.command["set_target"])]
+    if stt["steps"].size:
+        acks = {int(r): int(s) for r, s in zip(stt["last_request"], stt["last_request_status"]) if r >= 0}
+        for c in out["commands"]:
+            if c["request"] in acks:
+                c["status"] = paths.status_name(acks[c["request"]])
+    out["final_mode"] = paths.MODE_NAMES.get(int(modes[-1]), str(int(modes[-1]))) if modes.size else None
+
+
+def _longest_false_run(flags: np.ndarray) -> int:
+    """Length of the longest run of consecutive False values."""
+    best = run = 0
+    for f in flags.tolist():
+        run = 0 if f else run + 1
+        best = max(best, run)
+    return best
+
+
+def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> None:
+    """The log, the run mode and the processes' own figures (lockstep speed, jitter)."""
+    stt = log.status
+    out["log"] = {"path": str(log.path), "messages": dict(sorted(log.counts.items())),
+                  "truth_samples": int(log.truth["t_s"].size), "commands": int(log.cmd["tick"].size)}
+    run_mode = meta.get("mode", "lockstep")
+    out["run_mode"] = run_mode
+    if run_mode == "realtime":
+        jit = int(np.max(stt["jitter_ns_max"])) if stt["steps"].size else None
+        out["realtime"] = {"jitter_ns_max": jit,
+                           "plant_wake_jitter_ns_max": (plant or {}).get("wake_jitter_ns_max")}
+    out["target"] = meta.get("target", "host")
+    if plant:
+        loop = plant.get("loop_s") or 0.0
+        out["lockstep" if run_mode == "lockstep" else "loop"] = {
+            "loop_s": _f(loop), "startup_s": _f(plant.get("startup_s", 0.0)),
+            "realtime_factor": _f((plant.get("steps", 0) * dt) / loop) if loop > 0 else None,
+            "roundtrip_ns": plant.get("roundtrip_ns"),
+        }
+    if fsw:
+        out["fsw_node"] = fsw
+    out["wall_s"] = _f(wall_s) if wall_s is not None else None
+
+
+def pil_timing(timing: dict, series: dict, cmd, target: str, fsw: dict | None) -> None:
+    """Timing of a processor-in-the-loop run (docs/pil.md), in place.
+
+    The bridge's step_ns is an instruction count over the target's nominal
+    clock, and its `overrun` flag means "above the instruction budget of the
+    law" (firmware budget.h), so the host nanosecond budgets do not apply:
+    `overruns` and `over_step_budget` both count the bridge's own flags, and
+    `budget_ns` is the instruction budget at the nominal clock. The
+    instruction figures come from the bridge's final JSON (`instructions`):
+    instructions_median / _p99 (nearest rank over the bridge's statistics
+    window, as fsw_node's step_ns), instructions_max (whole run),
+    instructions_budget, instruction_overruns (the image's count), plus
+    target and clock_hz. None when the bridge wrote no summary."""
+    ins = (fsw or {}).get("instructions") or {}
+    clock = (fsw or {}).get("clock_hz")
+    flagged = int(np.count_nonzero(cmd["overrun"])) if cmd["tick"].size else 0
+    budget = ins.get("budget")
+    timing["target"] = target
+    timing["clock_hz"] = _f(clock) if clock is not None else None
+    timing["budget_ns"] = _f(budget * 1e9 / clock) if (budget and clock) else timing["budget_ns"]
+    timing["overruns"] = flagged
+    timing["over_step_budget"] = flagged
+    timing["instructions_median"] = ins.get("median")
+    timing["instructions_p99"] = ins.get("p99")
+    timing["instructions_max"] = ins.get("max")
+    timing["instructions_budget"] = budget
+    timing["instruction_overruns"] = ins.get("overruns")
+    timing["instructions_inexact"] = ins.get("inexact")
+    law_ins = (fsw or {}).get("law_instructions") or {}
+    timing["law_instructions_median"] = law_ins.get("median")
+    timing["law_instructions_max"] = law_ins.get("max")
+    if timing["budget_ns"] is not None and cmd["tick"].size:
+        series["budget_ns"] = np.full(cmd["tick"].size, float(timing["budget_ns"]))
+
+
+def paths_version() -> int:
+    """PROTOCOL_VERSION of the wire contract (from the generated bindings)."""
+    return int(paths.import_bindings().sensors_t.PROTOCOL_VERSION)
+
+
+# --------------------------------------------------------------------------- table
+def _fmt(x, spec=".3g"):
+    if x is None:
+        return "-"
+    if isinstance(x, (list, tuple)):
+        return "[" + " ".join(_fmt(v, spec) for v in x) + "]"
+    return format(x, spec)
+
+
+def table(m: dict) -> str:
+    """The metrics table printed after a run."""
+    rows = [("scenario", m["scenario"]), ("law", m["law"]), ("run", f"{m['run_mode']} on {m['target']}"),
+            ("duration", f"{m['duration_s']:g} s at {m['control_rate_hz']:g} Hz"),
+            ("settle time", "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f} s")]
+    crit = ", ".join(f"{k} < {v:g}" for k, v in m["settle_criterion"]["criteria"].items())
+    rows.append(("settle criterion", crit))
+    if m["pointing_error_arcsec"]:
+        pe = m["pointing_error_arcsec"]
+        verdict = []
+        if "meets_requirement" in pe:
+            verdict.append(f"requirement {pe['requirement_arcsec']:g}: {'met' if pe['meets_requirement'] else 'MISSED'}")
+        if "meets_goal" in pe:
+            verdict.append(f"goal {pe['goal_arcsec']:g}: {'met' if pe['meets_goal'] else 'missed'}")
+        rows += [(f"pointing, last {pe['window_s']:g} s (true angle)", f"max {_fmt(pe['final_max'], '.4g')} arcsec"
+                  + (f" ({'; '.join(verdict)})" if verdict else "")),
+                 ("per-axis 2 qe_i max", _fmt(pe["per_axis_final_max"], ".4g") + " arcsec"),
+                 ("|qe_i| max (IRASSI figure)", _fmt(pe["qe_arcsec_final_max"], ".4g") + " arcsec")]
+        rows += [("max |torque| per axis", _fmt(m["max_abs_torque_nm"], ".4g") + " N m"),
+                 ("max torque norm", _fmt(m["max_torque_norm_nm"], ".4g") + " N m"),
+                 ("effort (int |u|_1 dt)", _fmt(m["effort"], ".4g") + " N m s")]
+    else:
+        pe = m["position_error_m"]
+        rows += [(f"position error, last {pe['window_s']:g} s", f"max {_fmt(pe['final_max'], '.4g')} m"),
+                 ("velocity error, same window", f"max {_fmt(pe['velocity_final_max_m_s'], '.4g')} m/s"),
+                 ("max |force| per axis", _fmt(m["max_abs_force_n"], ".4g") + " N"),
+                 ("effort (int |F|_1 dt)", _fmt(m["effort"], ".4g") + " N s")]
+    lim = m["limits"]
+    rows.append(("limit", "unlimited" if lim["unlimited"] else
+                 f"axis {_fmt(lim['axis'])} norm {_fmt(lim['norm'])}, over limit: {lim['commands_over_limit']}"))
+    tm = m["timing"]
+    rows.append(("step time", f"median {tm['step_ns_median']:.0f} ns, p99 {tm['step_ns_p99']:.0f}, "
+                 f"max {tm['step_ns_max']:.0f}, budget {tm['budget_ns']:.0f}, overruns {tm['overruns']}"))
+    if tm.get("instructions_median") is not None:
+        rows.append(("instructions", f"median {tm['instructions_median']}, p99 {tm['instructions_p99']}, "
+                     f"max {tm['instructions_max']}, budget {tm['instructions_budget']}, overruns "
+                     f"{tm['instruction_overruns']} ({tm['target']}, step time at {tm['clock_hz'] / 1e6:g} MHz)"))
+    c = m["counters"]
+    rows.append(("events", f"invalid {c['invalid']} stale {c['stale']} missing {c['missing']} "
+                 f"law_error {c['law_error']} lost {c['lost']} dup {c['duplicate']} foreign {c['foreign']} "
+                 f"malformed {c['malformed']} cmd ok/rejected {c['cmd_accepted']}/{c['cmd_rejected']}"))
+    rows.append(("modes", f"changes {c['mode_changes']}, safe {c['time_in_safe_mode_s']:g} s, "
+                 f"saturated {c['time_in_saturation_s']:g} s, final {m['final_mode']}"))
+    if "realtime" in m:
+        rows.append(("real-time jitter", f"node max {_fmt(m['realtime']['jitter_ns_max'])} ns, plant wake max "
+                     f"{_fmt(m['realtime']['plant_wake_jitter_ns_max'])} ns"))
+    ls = m.get("lockstep")
+    if ls and ls.get("realtime_factor"):
+        rt = ls.get("roundtrip_ns") or {}
+        rows.append(("lockstep speed", f"{ls['realtime_factor']:.0f}x real time, loop {ls['loop_s']:.3f} s, "
+                     f"round trip median {rt.get('median', 0) / 1000:.1f} us p99 {rt.get('p99', 0) / 1000:.1f} us, "
+                     f"startup {ls['startup_s']:.2f} s"))
+    if m.get("wall_s") is not None:
+        rows.append(("wall time", f"{m['wall_s']:.2f} s"))
+    v = m.get("verdict")
+    if v is not None:
+        failed = "; ".join(f["reason"] for f in v["failures"])
+        rows.append(("verdict", ("passed" if v["passed"] else f"FAILED: {failed}")
+                     + (f" (allowed: {', '.join(v['allowed'])})" if v["allowed"] else "")))
+    w = max(len(k) for k, _ in rows)
+    return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
+
+
+def comparison_table(ms: list[dict]) -> str:
+    """One line per run (for `make sil`)."""
+    head = ("law", "limit", "settle s", "final max as", "|qe_i| max as", "max |u| N m", "effort", "step ns p99",
+            "safe s")
+    lines = []
+    for m in ms:
+        pe = m.get("pointing_error_arcsec") or {}
+        lim = m["limits"]
+        lines.append((m["law"] + (f" ({m.get('label')})" if m.get("label") else ""),
+                      "none" if lim["unlimited"] else f"{lim['axis']:g}",
+                      "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f}",
+                      _fmt(pe.get("final_max"), ".3g"),
+                      _fmt(max(pe.get("qe_arcsec_final_max") or [0.0]), ".3g"),
+                      _fmt(m.get("max_torque_norm_nm"), ".3g"), _fmt(m["effort"], ".3g"),
+                      f"{m['timing']['step_ns_p99']:.0f}", f"{m['counters']['time_in_safe_mode_s']:g}"))
+    widths = [max(len(h), *(len(r[i]) for r in lines)) for i, h in enumerate(head)]
+    fmt = lambda r: "  ".join(f"{c:<{w}}" for c, w in zip(r, widths))  # noqa: E731
+    return "\n".join([fmt(head), fmt(tuple("-" * w for w in widths))] + [fmt(r) for r in lines])

@@ -1,0 +1,360 @@
+"""`aocs compare SCENARIO`: every applicable law on the same scenario, side by side.
+
+Each law (and each gain table of a table-based law: lqr_quat_ref and
+lqr_quat_strong are two rows) runs in its own SIL run through real
+processes (plant_node, fsw_node, the recorder; aocs_runner.run.execute),
+in lockstep, inside a private network namespace. The metrics come from each
+run's LCM log (docs/sil.md). Written to OUT (default out/compare/<scenario>):
+
+- OUT/<law>[-<table>]/      each run's log, metrics.json, config
+- OUT/compare.json          the list of metrics (also --json FILE)
+- OUT/pointing_error.png    true pointing angle of every law, log scale (attitude)
+  OUT/torque_norm.png       |u| of every law (attitude)
+  OUT/position_error.png, OUT/force_norm.png (orbit scenarios)
+- OUT/report.md             the table, the requirement check, the plots
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from aocs_analysis import plots as P
+from aocs_analysis import verdict
+from aocs_core.conventions import ARCSEC_PER_RAD
+from aocs_plant.scenario import load
+from aocs_runner import scenario_opts
+from aocs_runner.run import RunFailed, RunOptions, execute
+from aocs_wire import lcmlog
+
+REPO = Path(__file__).resolve().parents[2]
+GAINS_C = REPO / "firmware" / "gains" / "aocs_gains.c"
+#: SPEC 4 irassi_*: constant disturbance torque per axis, N m
+IRASSI_DIST_NM = 1.18e-3
+
+
+
+# --------------------------------------------------------------------------- runs
+@dataclass
+class Row:
+    """One SIL run of the comparison."""
+
+    name: str                      # law or law-table, the row label
+    law: str
+    table: str | None
+    metrics: dict | None = None
+    curves: dict = field(default_factory=dict)
+    error: str | None = None
+    out_dir: Path | None = None
+
+
+def variants(sc, laws: str | None = "all") -> list[tuple[str, str | None]]:
+    """(law, gain table or None) per row: every applicable law, every table of table-based laws."""
+    all_rows = []
+    for law, lc in sc.control.laws.items():
+        tables = list(getattr(lc, "tables", None) or [])
+        all_rows += [(law, t) for t in tables] if tables else [(law, None)]
+    if laws in (None, "", "all"):
+        return all_rows
+    out = []
+    for item in laws.split(","):
+        item = item.strip()
+        law, _, table = item.partition(":")
+        if law == "none":
+            out.append(("none", None))
+            continue
+        if law not in sc.control.laws:
+            raise ValueError(f"--laws {item}: scenario {sc.id} has no gains for {law} "
+                             f"(applicable: {', '.join(sc.control.laws)})")
+        rows = [r for r in all_rows if r[0] == law and (not table or r[1] == table)]
+        if not rows:
+            raise ValueError(f"--laws {item}: law {law} has no gain table {table!r}")
+        out += rows
+    return out
+
+
+def row_name(law: str, table: str | None) -> str:
+    return f"{law}-{table}" if table else law
+
+
+def curves_from_log(log_path: Path, kind: str, dt: float) -> dict:
+    """Time series for the overlay plots, read back from the run's LCM log."""
+    log = lcmlog.read(log_path)
+    tr, cmd = log.truth, log.cmd
+    c = {"t": tr["t_s"], "t_cmd": cmd["tick"] * dt}
+    if kind == "attitude":
+        c["err"] = tr["pointing_err_arcsec"]
+        c["u_norm"] = np.linalg.norm(cmd["u_sat"], axis=1) if cmd["tick"].size else np.zeros(0)
+    else:
+        c["err"] = np.max(np.abs(tr["pos"]), axis=1)
+        c["u_norm"] = np.linalg.norm(cmd["u_sat"], axis=1) if cmd["tick"].size else np.zeros(0)
+    return c
+
+
+def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, limit=None, duration=None,
+             sets=(), run_plots=False, quiet=False, tag="") -> list[Row]:
+    """One SIL run per row (must be called inside the private network namespace)."""
+    sc = load(scenario)
+    result = []
+    for law, table in rows:
+        name = row_name(law, table)
+        row = Row(name=name, law=law, table=table, out_dir=out / name)
+        s = list(sets)
+        if table:
+            s.append(f'laws.{law}.table="{table}"')
+        if law == "none":
+            s.append("control.enabled=false")
+        if not quiet:
+            lim = "no limit" if limit is None else f"{limit:g} per axis"
+            print(f"compare: {sc.id} {name} ({lim}{tag})", file=sys.stderr, flush=True)
+        try:
+            res = execute(RunOptions(scenario=scenario, law=None if law == "none" else law, limit=limit,
+                                     duration=duration, sets=s, out=str(row.out_dir), label=table,
+                                     plots=run_plots, quiet=True))
+            row.metrics = res.metrics
+            row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
+            if not res.metrics["verdict"]["passed"]:  # the run ended, but did not do what was asked
+                row.error = "verdict: " + verdict.summary(res.metrics["verdict"])
+                print(f"compare: {name}: FAILED: {row.error}", file=sys.stderr)
+        except RunFailed as exc:  # a process failed: record it, go on; RunAborted (a signal) stops everything
+            row.error = str(exc)
+            print(f"compare: {name}: FAILED: {exc}", file=sys.stderr)
+        result.append(row)
+    return result
+
+
+# --------------------------------------------------------------------------- table
+def _g(x, fmt=".3g"):
+    return "-" if x is None else format(x, fmt)
+
+
+def _vec(v, fmt=".3g"):
+    return "-" if v is None else " ".join(format(x, fmt) for x in v)
+
+
+def _yes(b):
+    return "-" if b is None else ("yes" if b else "NO")
+
+
+def table_rows(rows: list[Row], kind: str) -> tuple[list[str], list[list[str]]]:
+    if kind == "attitude":
+        head = ["law", "limit N m", "final max as", "per axis as", "qe_arcsec max", "0.3 as", "0.05 as",
+                "settle s", "max abs u_i N m", "max norm u N m", "effort N m s", "sat s",
+                "step ns med/p99/budget", "overruns"]
+    else:
+        head = ["law", "limit N", "pos err max m", "per axis m", "vel err max m/s", "settle s",
+                "max abs F_i N", "max norm F N", "effort N s", "sat s", "step ns med/p99/budget", "overruns"]
+    body = []
+    for r in rows:
+        m = r.metrics
+        if m is None:
+            body.append([r.name, "FAILED"] + ["-"] * (len(head) - 2))
+            continue
+        lim = m["limits"]
+        limit = "none" if lim["unlimited"] or lim["axis"] is None else f"{lim['axis']:g}"
+        settle = "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f}"
+        tm = m["timing"]
+        timing = f"{tm['step_ns_median']:.0f} / {tm['step_ns_p99']:.0f} / {tm['budget_ns']:.0f}"
+        sat = f"{m['counters']['time_in_saturation_s']:g}"
+        if kind == "attitude":
+            pe = m["pointing_error_arcsec"] or {}
+            req = pe.get("final_max")
+            body.append([r.name, limit, _g(req, ".4g"), _vec(pe.get("per_axis_final_max")),
+                         _vec(pe.get("qe_arcsec_final_max")),
+                         _yes(None if req is None else req <= 0.3), _yes(None if req is None else req <= 0.05),
+                         settle, _vec(m["max_abs_torque_nm"]), _g(m["max_torque_norm_nm"], ".4g"),
+                         _g(m["effort"], ".4g"), sat, timing, str(tm["overruns"])])
+        else:
+            pe = m["position_error_m"] or {}
+            body.append([r.name, limit, _g(pe.get("final_max"), ".4g"), _vec(pe.get("per_axis_final_max")),
+                         _g(pe.get("velocity_final_max_m_s"), ".3g"), settle, _vec(m["max_abs_force_n"]),
+                         _g(m["max_force_norm_n"], ".4g"), _g(m["effort"], ".4g"), sat, timing,
+                         str(tm["overruns"])])
+    return head, body
+
+
+def text_table(head, body) -> str:
+    widths = [max(len(h), *(len(b[i]) for b in body)) if body else len(h) for i, h in enumerate(head)]
+    fmt = lambda r: "  ".join(f"{c:<{w}}" for c, w in zip(r, widths)).rstrip()  # noqa: E731
+    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(b) for b in body])
+
+
+def md_table(head, body) -> str:
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines += ["| " + " | ".join(b) + " |" for b in body]
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- plots
+def overlay_plots(rows: list[Row], out: Path, title: str, kind: str, prefix: str = "",
+                  requirement=None, goal=None, limit=None) -> list[Path]:
+    """Pointing (or position) error of every row on one log plot, and the command norms."""
+    plt = P._plt()
+    out.mkdir(parents=True, exist_ok=True)
+    ok = [r for r in rows if r.curves]
+    files = []
+    ylabel = "true angle 2 asin|qe_vec| (arcsec)" if kind == "attitude" else "max |position error| (m)"
+    fig, ax = plt.subplots(figsize=(6.4, 3.4))
+    for r in ok:
+        ax.semilogy(r.curves["t"], np.maximum(r.curves["err"], 1e-9), lw=0.9, label=r.name)
+    if requirement is not None:
+        ax.axhline(requirement, color="red", ls="--", lw=0.8, label=f"requirement {requirement:g}")
+    if goal is not None:
+        ax.axhline(goal, color="green", ls="--", lw=0.8, label=f"goal {goal:g}")
+    ax.set_title(f"{title}: {'pointing' if kind == 'attitude' else 'position'} error", fontsize=9)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(ylabel, fontsize=8)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=6, loc="upper right", ncol=2)
+    files.append(_save(plt, fig, out / f"{prefix}{'pointing_error' if kind == 'attitude' else 'position_error'}.png"))
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.0))
+    for r in ok:
+        u = r.curves["u_norm"]
+        if u.size:
+            ax.semilogy(r.curves["t_cmd"], np.maximum(u, 1e-9), lw=0.8, label=r.name)
+    if limit is not None:
+        ax.axhline(limit * np.sqrt(3.0), color="red", ls=":", lw=0.8, label=f"sqrt(3) x axis limit {limit:g}")
+    unit = "N m" if kind == "attitude" else "N"
+    ax.set_title(f"{title}: commanded {'torque' if kind == 'attitude' else 'force'} norm", fontsize=9)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"|u| ({unit})", fontsize=8)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=6, loc="upper right", ncol=2)
+    files.append(_save(plt, fig, out / f"{prefix}{'torque_norm' if kind == 'attitude' else 'force_norm'}.png"))
+    return files
+
+
+def _save(plt, fig, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=72)
+    plt.close(fig)
+    return path
+
+
+# --------------------------------------------------------------------------- report
+def report_md(sc, rows: list[Row], plots: list[Path], limit=None, duration=None) -> str:
+    head, body = table_rows(rows, sc.kind)
+    lim = "reference actuator (no limit)" if limit is None else f"actuator limit {limit:g} per axis"
+    dur = f"{duration:g} s" if duration else f"{sc.duration_s:g} s"
+    parts = [f"# aocs compare: {sc.id}", "",
+             f"{sc.description}", "", f"Reference: {sc.reference}", "",
+             f"{len(rows)} SIL runs (each its own plant_node + fsw_node processes, lockstep), {lim}, {dur}, "
+             f"{sc.control_rate_hz:g} Hz. Metrics from each run's LCM log (docs/sil.md).", "",
+             md_table(head, body), ""]
+    if sc.kind == "attitude":
+        w = sc.metrics.window_s
+        parts += [f"final max = max of the true pointing angle 2 asin|qe_vec| over the last {w:g} s; per axis = "
+                  "max |2 qe_i|; qe_arcsec = max |qe_i| (the IRASSI report's figure, half the per-axis angle); "
+                  "0.3 as / 0.05 as: final max within the IRASSI requirement / goal (true angle); "
+                  "sat s = time the command was saturated; step time of the executive against the law's budget.",
+                  ""]
+    else:
+        parts += [f"pos err max = max position error component over the last {sc.metrics.window_s:g} s.", ""]
+    if sc.settle:
+        crit = {k: v for k, v in vars(sc.settle).items() if v is not None} if hasattr(sc.settle, "__dict__") else {}
+        if crit:
+            parts += ["settled when " + ", ".join(f"{k} = {v:g}" for k, v in crit.items())
+                      + " from then to the end of the run.", ""]
+    parts += steady_state_section(sc, rows)
+    for r in rows:
+        if r.error:
+            parts += [f"**{r.name} FAILED**: {r.error}", ""]
+    for p in plots:
+        parts += [f"![{p.stem}]({p.name})", ""]
+    return "\n".join(parts)
+
+
+def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, sets=(), run_plots=False,
+            quiet=False) -> tuple[object, list[Row], list[Path]]:
+    ov = scenario_opts.overrides(sets, None, None, limit)  # duration: per run (cmd_run adapts the window)
+    sc = load(scenario, ov)
+    rows = run_rows(scenario, variants(sc, laws), out, limit=limit, duration=duration, sets=sets,
+                    run_plots=run_plots, quiet=quiet)
+    plots = overlay_plots(rows, out, sc.id + ("" if limit is None else f", limit {limit:g}"), sc.kind,
+                          requirement=sc.metrics.requirement_arcsec if sc.kind == "attitude" else None,
+                          goal=sc.metrics.goal_arcsec if sc.kind == "attitude" else None, limit=limit)
+    ms = [dict(r.metrics, row=r.name, table=r.table) if r.metrics else {"row": r.name, "error": r.error}
+          for r in rows]
+    (out / "compare.json").write_text(json.dumps(ms, indent=1) + "\n")
+    (out / "report.md").write_text(report_md(sc, rows, plots, limit, duration))
+    return sc, rows, plots
+
+
+# --------------------------------------------------------------------------- gains and steady state
+def gain_matrix(name: str, path: Path = GAINS_C) -> np.ndarray:
+    """The 3x6 K table `aocs_gains_<name>_K` as compiled into the firmware."""
+    text = path.read_text()
+    m = re.search(r"aocs_gains_" + re.escape(name) + r"_K\[3\]\[6\] = \{(.*?)\};", text, re.S)
+    if not m:
+        raise ValueError(f"{path}: no table aocs_gains_{name}_K")
+    vals = [float(v) for v in re.findall(r"AOCS_R\(([^)]*)\)", m.group(1))]
+    return np.array(vals, float).reshape(3, 6)
+
+
+def designed_gamma(name: str, path: Path = GAINS_C) -> float:
+    """gamma of the emitted K (the provenance comment of the table `name`)."""
+    text = path.read_text()
+    i = text.index(f" * {name}: ")
+    block = text[i:text.index("*/", i)]
+    m = re.search(r"gamma = ([0-9.eE+-]+)", block)
+    if not m:
+        raise ValueError(f"{path}: no gamma in the provenance of {name}")
+    return float(m.group(1))
+
+
+def steady_error_arcsec(kp_diag, d=IRASSI_DIST_NM) -> tuple[np.ndarray, float]:
+    """Steady state of a law without integral action under a constant torque d per axis:
+    kp_i qe_i = d_i, so qe_i = d_i / kp_i; per-axis angle 2 qe_i; true angle 2 asin|qe_vec| (arcsec)."""
+    qe = d / np.asarray(kp_diag, float)
+    as_ = ARCSEC_PER_RAD
+    return 2.0 * qe * as_, 2.0 * math.asin(float(np.linalg.norm(qe))) * as_
+
+
+def steady_state_section(sc, rows) -> list[str]:
+    """For `aocs compare` reports: the no-integral-action steady-state estimate d / kp of every
+    proportional law (quat_pd, quat_nlpd_*, lqr_quat tables) under the scenario's constant torque."""
+    ct = sc.disturbances.constant_torque
+    if sc.kind != "attitude" or ct is None or not ct.enabled:
+        return []
+    d = np.abs(np.asarray(ct.torque_nm, float)) * ct.scale
+    lines = ["## Steady-state error of the laws without integral action", "",
+             "quat_pd, quat_nlpd and lqr_quat have no integral action: under the constant disturbance torque "
+             f"d = [{' '.join(f'{x:g}' for x in d)}] N m they come to rest where the proportional term cancels "
+             "it, kp_i qe_i = d_i, so the steady error is the constant disturbance over the proportional gain: "
+             "qe_i = d_i / kp_i, true angle 2 asin|qe_vec|. kp from the scenario (PD laws) or the compiled "
+             "K table's attitude block (firmware/gains/aocs_gains.c). Agreement is stated as measured / "
+             "estimate (the gravity gradient and the metric window's residual transient make up the rest).", "",
+             "| law | kp per axis | estimate (true angle, arcsec) | measured final max (arcsec) | measured / estimate |"
+             " meets 0.3 |", "|---|---|---|---|---|---|"]
+    n = 0
+    for r in rows:
+        if r.metrics is None:
+            continue
+        if r.law in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
+            kp = np.full(3, float(sc.control.laws[r.law].params["kp"]))
+        elif r.law == "lqr_quat" and r.table:
+            kp = np.diag(gain_matrix(r.table)[:, :3])
+        else:
+            continue
+        _, est = steady_error_arcsec(kp, d)
+        meas = r.metrics["pointing_error_arcsec"]["final_max"]
+        lines.append(f"| {r.name} | {' '.join(f'{k:.6g}' for k in kp)} | {est:.4g} | {meas:.4g} | "
+                     f"{meas / est:.3f} | {'yes' if meas <= 0.3 else 'NO'} |")
+        n += 1
+    if not n:
+        return []
+    lines.append("")
+    miss = [r for r in rows if r.metrics and r.law == "lqr_quat" and
+            r.metrics["pointing_error_arcsec"]["final_max"] > 0.3]
+    for r in miss:
+        kp = np.diag(gain_matrix(r.table)[:, :3])
+        lines += [f"{r.name} misses 0.3 arcsec because it has no integral action and its proportional gain "
+                  f"K[i][i] = {kp[0]:.6g} N m is too small for the disturbance: steady error = constant "
+                  f"disturbance / proportional gain = {d[0]:g} / {kp[0]:.6g} per axis.", ""]
+    return lines

@@ -1,0 +1,323 @@
+"""`aocs results [--out docs] [--quick]`: regenerate docs/results.md and docs/results/*.png.
+
+Runs every reference scenario of SPEC 4 with its laws and reference gains
+(each law in its own SIL run through real processes, lockstep, in a private
+network namespace; aocs_compare.compare), plus irassi_large with
+realistic reaction-wheel limits (1 N m and 0.2 N m per axis, 3000 s so the
+slow ones can finish; --quick: 500 s), the H-infinity disturbance-to-output
+gain measured from a run, and writes the tables, the figures and a short
+discussion. Run logs go to --runs (default out/results), never into docs.
+"""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from aocs_analysis import run_metrics as results
+from aocs_core.conventions import ARCSEC_PER_RAD
+from aocs_plant.scenario import load
+from aocs_wire import lcmlog
+
+from . import compare as C
+from .compare import IRASSI_DIST_NM, designed_gamma, gain_matrix, steady_error_arcsec
+
+RTC = ("rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b")
+LANDSAT_Q = ("landsat8_q10", "landsat8_q1", "landsat8_q01")
+LANDSAT_DIST = ("landsat8_srp", "landsat8_debris")
+LIMITS = (1.0, 0.2)
+LIMIT_DURATION_S = 3000.0
+#: geo_hinf with zero initial attitude and rate errors about LVLH: only the disturbance drives z
+HINF_ZERO_IC = ("plant.euler321_deg=[0.0, 0.0, 0.0]", "plant.w0=[0.0, -7.292115e-05, 0.0]")
+
+
+# --------------------------------------------------------------------------- gains provenance
+
+
+# --------------------------------------------------------------------------- H-infinity measured gain
+def hinf_measured_gain(log_path: Path, sc) -> dict:
+    """||z||_2 / ||d||_2 over the run, from the logged truth.
+
+    z = 1e-3 M q'' (SPEC 2.6), q = [phi theta psi] the 3-2-1 angles of the error
+    quaternion about the (rotating) LVLH target, q'' by central second differences
+    of the logged samples (dt = control period); d = the logged disturbance torque
+    (constant torque plus gravity gradient)."""
+    log = lcmlog.read(log_path)
+    s = results.attitude_series(sc, log)
+    ang = s["euler_err"][:, ::-1]            # [yaw, pitch, roll] -> [phi, theta, psi]
+    dt = sc.dt
+    qdd = (ang[2:] - 2.0 * ang[1:-1] + ang[:-2]) / dt ** 2
+    m = np.diag(np.asarray(sc.attitude.inertia, float))
+    z = 1e-3 * qdd * m[None, :]
+    d = log.truth["torque_dist"][1:-1]
+    nz, nd = float(np.sqrt(np.sum(z ** 2) * dt)), float(np.sqrt(np.sum(d ** 2) * dt))
+    return {"z_l2": nz, "d_l2": nd, "gain": nz / nd, "z_peak": float(np.max(np.linalg.norm(z, axis=1)))}
+
+
+# --------------------------------------------------------------------------- helpers
+def first_time_below_for_good(t, err, level):
+    """First time after which err stays <= level to the end (None if never)."""
+    above = np.nonzero(err > level)[0]
+    if above.size == 0:
+        return float(t[0])
+    k = above[-1] + 1
+    return float(t[k]) if k < t.size else None
+
+
+def rebound(t, err, band=10.0):
+    """Max error after the error first entered the band (arcsec): > band means it left it again (overshoot)."""
+    inside = np.nonzero(err < band)[0]
+    if inside.size == 0:
+        return None
+    return float(np.max(err[inside[0]:]))
+
+
+def rebound_factor(err) -> float:
+    """max over t of err(t) / min_{s <= t} err(s): 1 for an error that only decreases; > 1 when the
+    attitude runs past the target and the error grows again (overshoot / oscillation)."""
+    e = np.maximum(np.asarray(err, float), 1e-12)
+    return float(np.max(e / np.minimum.accumulate(e)))
+
+
+def _rel(p: Path, base: Path) -> str:
+    return str(p.relative_to(base))
+
+
+class Results:
+    def __init__(self, out: Path, runs: Path, quiet: bool):
+        self.docs = out
+        self.fig = out / "results"
+        self.runs = runs
+        self.quiet = quiet
+        self.md: list[str] = []
+        self.failed = 0
+        self.fig.mkdir(parents=True, exist_ok=True)
+
+    def rows(self, scenario, rows=None, *, limit=None, duration=None, sets=(), prefix=True, tag="ref"):
+        sc = load(scenario)
+        rows = rows if rows is not None else C.variants(sc, "all")
+        res = C.run_rows(scenario, rows, self.runs / f"{scenario}-{tag}", limit=limit, duration=duration,
+                         sets=sets, quiet=self.quiet, tag=f", {tag}")
+        for r in res:
+            if prefix:
+                r.name = f"{sc.id} {r.name}"
+            self.failed += bool(r.error)
+        return sc, res
+
+    def table(self, rows, kind):
+        head, body = C.table_rows(rows, kind)
+        self.md += [C.md_table(head, body), ""]
+
+    def plots(self, rows, kind, title, prefix, *, torque=True, requirement=None, goal=None, limit=None):
+        files = C.overlay_plots(rows, self.fig, title, kind, prefix=prefix, requirement=requirement, goal=goal,
+                                limit=limit)
+        if not torque:
+            files[1].unlink()
+            files = files[:1]
+        for f in files:
+            self.md += [f"![{f.stem}]({_rel(f, self.docs)})", ""]
+        return files
+
+
+def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
+    R = Results(out, runs, quiet)
+    t0 = time.monotonic()
+    md = R.md
+    lim_dur = 500.0 if quick else LIMIT_DURATION_S
+    md += ["# Results: every reference scenario, every law, the same plant", "",
+           "Generated by `aocs results` (tools/aocs_compare/results_doc.py); do not edit by hand. "
+           "Every row is its own software-in-the-loop run: plant_node (Python plant) and fsw_node (the C flight "
+           "software, double precision, host build) as separate processes exchanging LCM messages in lockstep "
+           "inside a private network namespace; every figure is computed from the run's LCM log "
+           "(docs/sil.md). Reference gains are those of the scenario files (sil/scenarios/) and of the compiled "
+           "gain tables (firmware/gains, docs/gains/report.md). One scenario: `aocs compare SCENARIO`.", "",
+           "Columns: final max = max true pointing angle 2 asin|qe_vec| over the scenario's metric window "
+           "(IRASSI: last 100 s); per axis = max |2 qe_i|; qe_arcsec = max |qe_i| (the IRASSI report's figure, "
+           "half the per-axis angle; never mixed up with the true angle); 0.3 as / 0.05 as = requirement / goal "
+           "met by the true angle; settle s = SPEC 4 criterion entered for good; max abs u_i / max norm u = "
+           "saturated command; effort = integral of |u|_1; sat s = time saturated; step time of the executive "
+           "(ns, host, noisy shared machine) against the law's declared budget; overruns = steps flagged over "
+           "budget (host timing noise, not a control result).", ""]
+
+    # ---- IRASSI reference
+    irassi = {}
+    for sid in ("irassi_small", "irassi_large"):
+        sc, rows = R.rows(sid, prefix=False)
+        irassi[sid] = (sc, rows)
+        md += [f"## {sid}: reference gains, reference actuator (no limit)", "", sc.description, ""]
+        R.table(rows, "attitude")
+        R.plots(rows, "attitude", f"{sid}, no limit", f"{sid}_", requirement=0.3, goal=0.05)
+
+    # ---- IRASSI realistic limits
+    limited = {}
+    for lim in LIMITS:
+        sc, rows = R.rows("irassi_large", limit=lim, duration=lim_dur, prefix=False, tag=f"limit{lim:g}")
+        limited[lim] = (sc, rows)
+        md += [f"## irassi_large with reaction wheels: {lim:g} N m per axis, {lim_dur:g} s", "",
+               f"Same gains, actuator and flight-software saturation at {lim:g} N m per axis; the run is "
+               f"extended from 500 s to {lim_dur:g} s to show how long each law needs. Final max is over the "
+               "last 100 s.", ""]
+        R.table(rows, "attitude")
+        extra = ["| law | time to stay within 0.3 as (s) | time to stay within 0.05 as (s) | "
+                 "max error after first entering 10 as (as) | rebound factor max err(t) / min err(s<=t) |",
+                 "|---|---|---|---|---|"]
+        for r in rows:
+            if not r.curves:
+                continue
+            t, e = r.curves["t"], r.curves["err"]
+            f = lambda x: "never" if x is None else f"{x:.0f}"  # noqa: E731
+            rb = rebound(t, e)
+            extra.append(f"| {r.name} | {f(first_time_below_for_good(t, e, 0.3))} | "
+                         f"{f(first_time_below_for_good(t, e, 0.05))} | {'-' if rb is None else f'{rb:.3g}'} | "
+                         f"{rebound_factor(e):.3g} |")
+        md += extra + [""]
+        R.plots(rows, "attitude", f"irassi_large, {lim:g} N m", f"irassi_large_limit{lim:g}_",
+                requirement=0.3, goal=0.05, limit=lim)
+
+    # ---- rtc
+    md += ["## rtc_ex1a ... rtc_ex3b: crp_linear (Rotea, Tsiotras, Corless)", "",
+           "J = I3, no disturbance, 100 Hz; settled when |rho| < 1e-3 and |w| < 1e-3 rad/s.", ""]
+    rtc_rows = []
+    for sid in RTC:
+        rtc_rows += R.rows(sid)[1]
+    R.table(rtc_rows, "attitude")
+    R.plots(rtc_rows, "attitude", "rtc examples, crp_linear", "rtc_", torque=False)
+
+    # ---- landsat
+    md += ["## landsat8_q10, landsat8_q1, landsat8_q01: orbit LQR, R = I, Q = 10 I / I / 0.1 I", "",
+           "Settled when every position error < 0.1 m and every velocity error < 0.01 m/s.", ""]
+    lq_rows = []
+    for sid in LANDSAT_Q:
+        lq_rows += R.rows(sid)[1]
+    R.table(lq_rows, "orbit")
+    R.plots(lq_rows, "orbit", "landsat8, Q = 10 I / I / 0.1 I", "landsat8_q_", torque=False)
+    md += ["## landsat8_srp, landsat8_debris: with and without control (Q = R = I)", ""]
+    ld_rows = []
+    for sid in LANDSAT_DIST:
+        ld_rows += R.rows(sid, [("orbit_lqr", "orbit_lqr_q1"), ("none", None)])[1]
+    R.table(ld_rows, "orbit")
+    R.plots(ld_rows, "orbit", "landsat8 SRP / debris", "landsat8_dist_", torque=False)
+
+    # ---- geo_hinf
+    sc_g, g_rows = R.rows("geo_hinf", prefix=False)
+    md += ["## geo_hinf: H-infinity state feedback (Duan and Yu)", "", sc_g.description, ""]
+    R.table(g_rows, "attitude")
+    R.plots(g_rows, "attitude", "geo_hinf", "geo_hinf_", torque=False)
+    _, g0_rows = R.rows("geo_hinf", sets=HINF_ZERO_IC, prefix=False, tag="zero_ic")
+    md += ["Measured disturbance-to-output gain: the same scenario started exactly on the LVLH frame "
+           "(`--set plant.euler321_deg=[0,0,0] --set plant.w0=[0,-7.292115e-05,0]`), so the disturbance "
+           "alone drives the output. z = 1e-3 M q'' (SPEC 2.6; q = [phi theta psi] the 3-2-1 angles of the error "
+           "quaternion about LVLH, q'' by central second differences of the logged truth), d = the logged "
+           "disturbance torque (1e-4 N m per axis constant plus gravity gradient); measured gain = "
+           "||z||_2 / ||d||_2 over the run. The designed gamma is the table's provenance "
+           "(firmware/gains/aocs_gains.c).", "",
+           "| table | designed gamma | measured L2(z) / L2(d) | L2(z) | L2(d) | peak norm z | below gamma |",
+           "|---|---|---|---|---|---|---|"]
+    hinf = {}
+    for r in g0_rows:
+        if r.error:
+            continue
+        g = designed_gamma(r.table)
+        mg = hinf_measured_gain(r.out_dir / "run.lcmlog", sc_g)
+        hinf[r.table] = (g, mg)
+        md.append(f"| {r.table} | {g:.6g} | {mg['gain']:.4g} | {mg['z_l2']:.4g} | {mg['d_l2']:.4g} | "
+                  f"{mg['z_peak']:.3g} | {'yes' if mg['gain'] < g else 'NO'} |")
+    md += [""]
+
+    # ---- gao_mrp
+    sc_m, m_rows = R.rows("gao_mrp", prefix=False)
+    md += ["## gao_mrp: saturated MRP regulator (Gao, Lu, Wang), uM = 0.05 N m", "", sc_m.description, ""]
+    R.table(m_rows, "attitude")
+    R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_")
+
+    # ---- discussion
+    md += discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows)
+    md += [f"Generated in {time.monotonic() - t0:.0f} s wall time"
+           f"{' (--quick)' if quick else ''}; run logs in the `--runs` folder (default `out/results`, "
+           "not committed); regenerate with `make results`.", ""]
+    return "\n".join(md), R.failed
+
+
+def _final(rows, name):
+    r = next((r for r in rows if r.name == name and r.metrics), None)
+    return None if r is None else r.metrics["pointing_error_arcsec"]["final_max"]
+
+
+def discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows) -> list[str]:
+    md = ["## Discussion: where a law differs from its reference, and why", ""]
+    sc, rows = irassi["irassi_small"]
+    k_ref = np.diag(gain_matrix("lqr_quat_ref")[:, :3])
+    k_str = np.diag(gain_matrix("lqr_quat_strong")[:, :3])
+    kp_pd = float(sc.control.laws["quat_pd"].params["kp"])
+    est_ref_axis, est_ref = steady_error_arcsec(k_ref)
+    _, est_str = steady_error_arcsec(k_str)
+    _, est_pd = steady_error_arcsec([kp_pd] * 3)
+    meas_ref = _final(rows, "lqr_quat-lqr_quat_ref")
+    meas_str = _final(rows, "lqr_quat-lqr_quat_strong")
+    meas_pd = _final(rows, "quat_pd")
+    f = lambda x: "-" if x is None else f"{x:.4g}"  # noqa: E731
+    md += ["### lqr_quat with Q = 200 I, R = 0.001 I misses 0.3 arcsec: no integral action", "",
+           "None of quat_pd, quat_nlpd, lqr_quat has an integral term. Under the constant disturbance "
+           f"d = {IRASSI_DIST_NM:g} N m per axis the closed loop comes to rest where the proportional term "
+           "cancels it: kp_i qe_i = d_i, so the steady error is the constant disturbance over the proportional "
+           "gain, qe_i = d_i / kp_i, per-axis angle 2 qe_i, true angle 2 asin|qe_vec| (the L2 gravity gradient, "
+           "~1e-9 N m here, is negligible).", "",
+           f"With the compiled table lqr_quat_ref the proportional gains are K[i][i] = "
+           f"{', '.join(f'{k:.6g}' for k in k_ref)} N m (firmware/gains/aocs_gains.c; sqrt(Q/R) = "
+           f"sqrt(200/0.001) = {math.sqrt(200 / 0.001):.6g}), so the steady-state estimate is "
+           f"qe_i = {IRASSI_DIST_NM:g} / {k_ref[0]:.6g} = {IRASSI_DIST_NM / k_ref[0]:.4g}, per axis "
+           f"{est_ref_axis[0]:.4g} arcsec, **true angle {est_ref:.4g} arcsec** (qe_arcsec figure "
+           f"{est_ref_axis[0] / 2:.4g}). Measured on irassi_small: **{f(meas_ref)} arcsec** "
+           f"(ratio measured / estimate {f(None if meas_ref is None else meas_ref / est_ref)}). It misses the "
+           "0.3 arcsec requirement in the true angle and in the report's |qe_i| figure alike.", "",
+           f"The same formula predicts the other linear-P laws: quat_pd kp = {kp_pd:g}: estimate {est_pd:.4g}, "
+           f"measured {f(meas_pd)} arcsec (meets 0.3, misses 0.05); lqr_quat_strong (K[i][i] = {k_str[0]:.6g}): "
+           f"estimate {est_str:.4g}, measured {f(meas_str)} arcsec (meets 0.3; just above the 0.05 goal). "
+           "smc reaches a smaller error (its switching term inside the boundary layer acts as extra stiffness) "
+           "and the nonlinear PD variants end where quat_pd ends (qe_vec^T qe_vec ~ 1e-12 at rest). "
+           "Reaching the 0.05 arcsec goal with a PD/LQR structure needs kp > 2 sqrt(3) d / (0.05 arcsec in "
+           f"rad) = {2 * math.sqrt(3) * IRASSI_DIST_NM / (0.05 / ARCSEC_PER_RAD):.4g} N m, or integral action.", ""]
+    md += ["### High-gain laws under a realistic actuator limit", "",
+           "The reference runs command hundreds to thousands of N m (tables above). With reaction wheels "
+           "the slew of irassi_large is torque-limited: every law saturates for most of the slew and the "
+           "gains designed for the unlimited plant then act on a large rate error at the end of the "
+           "saturated arc."]
+    for lim, (_, rows) in limited.items():
+        items = []
+        for r in rows:
+            if not r.curves:
+                continue
+            t, e = r.curves["t"], r.curves["err"]
+            tr = first_time_below_for_good(t, e, 0.3)
+            rb = rebound(t, e)
+            items.append(f"{r.name}: within 0.3 as after {'never' if tr is None else f'{tr:.0f} s'}, "
+                         f"saturated {r.metrics['counters']['time_in_saturation_s']:g} s, "
+                         f"rebound factor {rebound_factor(e):.3g}"
+                         + (f", overshoot back to {rb:.3g} as after first entering 10 as" if rb and rb > 10 else ""))
+        md += ["", f"- {lim:g} N m ({lim_dur:g} s): " + "; ".join(items) + "."]
+    md += ["", "A rebound factor well above 1 means the error fell and then grew again: the attitude ran past "
+           "the target (overshoot) and, with the wheel limit, the loop swings back and forth (see the figures). "
+           "An error back above 10 arcsec after first entering that band is the same effect near the end: "
+           "the derivative gain was sized for unlimited torque, so the braking demanded near the "
+           "target exceeds the wheel torque and the attitude runs through the target. The steady-state "
+           "error after settling is unchanged (it only depends on kp and d, see above), but the time to "
+           "reach it grows with the limit: the table above gives, per law, when it enters 0.3 and 0.05 arcsec for good (never = not within the run).", ""]
+    if hinf:
+        md += ["### H-infinity (geo_hinf)", "",
+               "Both tables reach the design's gamma* ~ 1.0e-3 = |D2| (with D2 != 0 no K does better), so the "
+               "figure the reference minimises is the same for both; they differ in the poles (hinf_min: "
+               "slowest pole -0.01 1/s, hinf_regional: -0.05 1/s) and therefore in settle time. The measured "
+               "gain for a constant disturbance is far below gamma because a constant d is rejected at steady "
+               "state (z -> 0); gamma bounds the worst-case input, which is at the frequency where the "
+               "feedthrough D2 dominates.", ""]
+    sat = [r for r in m_rows if r.metrics]
+    if sat:
+        md += ["### gao_mrp", "",
+               "The saturated MRP regulator keeps the torque norm within uM = 0.05 N m by construction "
+               f"(measured max norms: {', '.join(r.name + ' ' + format(r.metrics['max_torque_norm_nm'], '.4g') for r in sat)} "
+               "N m) without relying on the actuator's clipping.", ""]
+    return md
+
+
