@@ -1,12 +1,11 @@
 """Shared helpers of the PIL tests (test_frame, test_pil_image, test_pil_bridge).
 
-Reads the law registry of the host build (registry()). Locates the PIL images: $AOCS_PIL_BUILD_ROOT/<preset>/aocs_pil.elf
+Locates the PIL images: $AOCS_PIL_BUILD_ROOT/<preset>/aocs_pil.elf
 (default <repo>/build, the ARM presets' build trees). A missing image makes
 the test FAIL with the command that builds it; nothing skips. No tests here.
 """
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
@@ -16,16 +15,6 @@ from aocs_pil import frame, qemu
 
 REPO = Path(__file__).resolve().parents[1]
 TARGETS = ("pil-m4f", "pil-m7")
-
-
-def registry() -> dict:
-    """The law registry of the host build ($AOCS_BUILD_DIR, default build/host):
-    registry/aocs_registry.json, written at build time from firmware/include/aocs/laws.def."""
-    bdir = Path(os.environ.get("AOCS_BUILD_DIR", REPO / "build" / "host")).resolve()
-    path = bdir / "registry" / "aocs_registry.json"
-    if not path.is_file():
-        pytest.fail(f"{path} missing: build it first (make build-host)")
-    return json.loads(path.read_text())
 
 
 def build_root() -> Path:

@@ -336,7 +336,7 @@ def steady_state_section(sc, rows) -> list[str]:
     for r in rows:
         if r.metrics is None:
             continue
-        if r.law in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
+        if "kp" in sc.control.laws[r.law].params:   # the quaternion PD laws
             kp = np.full(3, float(sc.control.laws[r.law].params["kp"]))
         elif r.law == "lqr_quat" and r.table:
             kp = np.diag(gain_matrix(r.table)[:, :3])

@@ -9,7 +9,7 @@
  * scenario (SPEC 4); each step is bracketed by aocs_hal_time_ns()
  * (clock_gettime(CLOCK_MONOTONIC) on the host), the same clock the
  * executive uses to check its budgets. Per row: median, p99 (nearest rank),
- * worst and mean ns, the declared budget AOCS_<LAW>_BUDGET_NS and how many
+ * worst and mean ns, the declared budget BUDGET_NS (laws.def) and how many
  * steps exceeded it. Rows:
  *   timer      two back-to-back clock reads: the overhead inside every row
  *   law        aocs_<law>_step alone
@@ -98,7 +98,7 @@ typedef struct {
     const char *ref_scenario;  /* decides the family (bench_family_of) */
 } bench_law_info_t;
 
-#define BENCH_LAW_ROW(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+#define BENCH_LAW_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
                       BUDGET_NS, M4F, M7, REF)                                                                     \
     {AOCS_LAW_##ID, #STEP, REF},
 

@@ -1,6 +1,6 @@
 /*
  * Host descriptor tables of the registry (aocs_registry.h), expanded from
- * the rows of aocs/laws.def, gains/gain_tables.def and aocs/pil_frame.h,
+ * the rows of aocs/laws.def, aocs/status.def, gains/gain_tables.def and aocs/pil_frame.h,
  * and the reference configuration built from the REF column.
  */
 #include "aocs_registry.h"
@@ -14,6 +14,12 @@
 
 #include "aocs/pil_frame.h"
 
+/* ---- status codes ---- */
+#define REG_STATUS_ROW(ID, MEANING) {AOCS_##ID, "AOCS_" #ID, MEANING},
+
+const aocs_registry_status_t aocs_registry_statuses[] = {AOCS_STATUS_ROWS(REG_STATUS_ROW)};
+const size_t aocs_registry_status_count = sizeof(aocs_registry_statuses) / sizeof(aocs_registry_statuses[0]);
+
 /* ---- laws ---- */
 #define REG_INPUT_ATTITUDE "attitude"
 #define REG_INPUT_ORBIT "orbit"
@@ -21,9 +27,9 @@
 #define REG_OWNER_CFG_SHARED 0
 #define REG_VARIANT_NO_VARIANT(MEMBER, VALUE) NULL, NULL, -1
 #define REG_VARIANT_VARIANT(MEMBER, VALUE) #MEMBER, #VALUE, (int)(VALUE)
-#define REG_LAW_ROW(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE,   \
+#define REG_LAW_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE,   \
                     BUDGET_NS, M4F, M7, REF)                                                                       \
-    {AOCS_LAW_##ID, "AOCS_LAW_" #ID, NAME, REG_INPUT_##INPUT, #STATE, #STATE_T, #CFG, #CFG_T, REG_OWNER_##CFG_USE, \
+    {AOCS_LAW_##ID, "AOCS_LAW_" #ID, NAME, REG_INPUT_##INPUT, TITLE, #STATE, #STATE_T, #CFG, #CFG_T, REG_OWNER_##CFG_USE, \
      #INIT, #STEP, REG_VARIANT_##VARIANT(VMEMBER, VVALUE), (uint64_t)(BUDGET_NS), (uint32_t)(M4F), (uint32_t)(M7), REF},
 
 const aocs_registry_law_t aocs_registry_laws[] = {AOCS_LAW_ROWS(REG_LAW_ROW)};

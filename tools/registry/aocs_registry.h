@@ -1,7 +1,7 @@
 /*
  * Host view of the law registry (firmware/include/aocs/laws.def), the gain
  * table registration (firmware/gains/gain_tables.def), the PIL executive
- * fields (aocs/pil_frame.h) and the status codes: plain descriptor tables
+ * fields (aocs/pil_frame.h) and the status codes (aocs/status.def): plain descriptor tables
  * with every column as text or number, expanded from the same rows the
  * firmware expands, for the host programs that need to look at the registry
  * as data: aocs_registry_dump (the JSON Python reads), the bench and the
@@ -20,6 +20,7 @@ typedef struct {
     const char *enum_name;          /* "AOCS_LAW_QUAT_PD" */
     const char *name;               /* CLI name */
     const char *input;              /* "attitude" or "orbit" */
+    const char *title;              /* one line: spec section and what the law is */
     const char *state;              /* member of aocs_exec_law_states_t */
     const char *state_type;
     const char *config;             /* member of aocs_exec_law_configs_t */
@@ -65,6 +66,14 @@ typedef struct {
     const char *key;     /* fsw_node key the bridge takes it from, "" = none */
 } aocs_registry_exec_field_t;
 
+typedef struct {
+    aocs_status_t value;
+    const char *name;    /* "AOCS_ERR_NULL_ARG" */
+    const char *meaning; /* what the code says (status.def) */
+} aocs_registry_status_t;
+
+extern const aocs_registry_status_t aocs_registry_statuses[]; /* value order */
+extern const size_t aocs_registry_status_count;
 extern const aocs_registry_law_t aocs_registry_laws[];       /* row order = id order, no NONE */
 extern const size_t aocs_registry_law_count;
 extern const aocs_registry_field_t aocs_registry_fields[];   /* laws.def field row order */

@@ -10,7 +10,7 @@
  * config takes), every config field (key, member, type, count, rule, unit,
  * PIL id, variant, reference value), the gain tables of
  * firmware/gains/gain_tables.def, the status codes and executive modes with
- * their names, and the PIL ids of the executive's own CONFIG fields. Python
+ * their names (aocs/status.def), and the PIL ids of the executive's own CONFIG fields. Python
  * reads this file instead of keeping copies (sil/aocs_core/registry.py).
  *
  * Decode mode (a test hook: Python encodes, the C codec decodes): FILE holds
@@ -100,6 +100,9 @@ static void dump_laws(FILE *f)
         (void)fputs(", ", f);
         put_key(f, "input");
         put_str(f, l->input);
+        (void)fputs(", ", f);
+        put_key(f, "title");
+        put_str(f, l->title);
         (void)fputs(", ", f);
         put_key(f, "state");
         put_str(f, l->state);
@@ -201,12 +204,16 @@ static void dump_tables(FILE *f)
 
 static void dump_enums(FILE *f)
 {
-    (void)fputs("  \"status\": [", f);
-    for (int i = 0; i < (int)AOCS_STATUS_COUNT; ++i) {
-        (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
-        put_str(f, aocs_status_name((aocs_status_t)i));
-        (void)fputc('}', f);
+    (void)fputs("  \"status\": [\n", f);
+    for (size_t i = 0u; i < aocs_registry_status_count; ++i) {
+        const aocs_registry_status_t *x = &aocs_registry_statuses[i];
+        (void)fprintf(f, "    {\"value\": %d, \"name\": ", (int)x->value);
+        put_str(f, aocs_status_name(x->value)); /* the firmware's own name function */
+        (void)fputs(", \"meaning\": ", f);
+        put_str(f, x->meaning);
+        (void)fprintf(f, "}%s\n", ((i + 1u) < aocs_registry_status_count) ? "," : "");
     }
+    (void)fputs("  ", f);
     (void)fputs("],\n  \"modes\": [", f);
     for (int i = 0; i < (int)AOCS_EXEC_MODE_COUNT; ++i) {
         (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);

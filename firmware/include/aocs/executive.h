@@ -125,7 +125,7 @@ typedef enum {
     AOCS_GAIN_TABLE_COUNT
 } aocs_gain_table_id_t;
 
-/* Design name of a table ("hinf_regional"); "unknown" when out of range. Total. */
+/* Design name of a table (its tools/gains.toml section); "unknown" when out of range. Total. */
 const char *aocs_gain_table_name(aocs_gain_table_id_t table);
 
 /* The law a table was designed for (LQR_QUAT, HINF or ORBIT_LQR); AOCS_LAW_NONE when out of range. Total. */
@@ -145,7 +145,7 @@ aocs_status_t aocs_gain_table_find(const char *name, aocs_gain_table_id_t *table
  */
 #define AOCS_LAW_CFG_DECL_CFG_OWN(CFG_T, CFG) CFG_T CFG;
 #define AOCS_LAW_CFG_DECL_CFG_SHARED(CFG_T, CFG)
-#define AOCS_LAW_CONFIG_MEMBER(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, ...) \
+#define AOCS_LAW_CONFIG_MEMBER(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, ...) \
     AOCS_LAW_CFG_DECL_##CFG_USE(CFG_T, CFG)
 typedef struct {
     AOCS_LAW_ROWS(AOCS_LAW_CONFIG_MEMBER)
@@ -226,7 +226,7 @@ typedef struct {
 } aocs_exec_output_t;
 
 /* Law states (member STATE of every laws.def row), one of each so a rejected select leaves the active one untouched. */
-#define AOCS_LAW_STATE_MEMBER(ID, NAME, INPUT, STATE, STATE_T, ...) STATE_T STATE;
+#define AOCS_LAW_STATE_MEMBER(ID, NAME, INPUT, TITLE, STATE, STATE_T, ...) STATE_T STATE;
 typedef struct {
     AOCS_LAW_ROWS(AOCS_LAW_STATE_MEMBER)
 } aocs_exec_law_states_t;

@@ -7,7 +7,7 @@
  */
 #include "aocs/budget.h"
 
-#define BUDGET_ROW(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+#define BUDGET_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
                    BUDGET_NS, INSTR_M4F, INSTR_M7, ...)                                                          \
     {(INSTR_M4F), (INSTR_M7)},
 

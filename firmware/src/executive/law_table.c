@@ -19,7 +19,7 @@ typedef struct {
 
 #define LAW_IS_ORBIT_ATTITUDE 0
 #define LAW_IS_ORBIT_ORBIT 1
-#define LAW_INFO_ROW(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+#define LAW_INFO_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
                      BUDGET_NS, ...)                                                                              \
     {(NAME), LAW_IS_ORBIT_##INPUT, (uint64_t)(BUDGET_NS)},
 
@@ -89,7 +89,7 @@ uint64_t aocs_law_budget_ns(aocs_law_id_t law)
  */
 #define LAW_SET_NO_VARIANT(MEMBER, VALUE)
 #define LAW_SET_VARIANT(MEMBER, VALUE) law_cfg.MEMBER = (VALUE);
-#define LAW_INIT_CASE(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+#define LAW_INIT_CASE(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
                       ...)                                                                                      \
     case AOCS_LAW_##ID: {                                                                               \
         CFG_T law_cfg = cfgs->CFG;                                                                      \
@@ -121,7 +121,7 @@ aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec
 /* step of one row: the attitude or the orbit input, by the INPUT column */
 #define LAW_INPUT_ATTITUDE att
 #define LAW_INPUT_ORBIT orbit
-#define LAW_STEP_CASE(ID, NAME, INPUT, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, ...) \
+#define LAW_STEP_CASE(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, ...) \
     case AOCS_LAW_##ID:                                                                      \
         st = STEP(&states->STATE, LAW_INPUT_##INPUT, &u_law);                                \
         break;

@@ -16,10 +16,12 @@ import zlib
 
 import pytest
 
+import registry_text
+from aocs_core import registry
 from aocs_pil import config as nodecfg
 from aocs_pil import frame
 from aocs_wire import netns
-from pil_support import REPO, registry
+from pil_support import REPO
 
 HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 
@@ -61,10 +63,14 @@ def test_constants_and_enums_match_the_c_header():
     assert {f"AOCS_PIL_T_{v}": k for k, v in frame.TYPE_NAMES.items()} == types
     errs = c_enum("aocs_pil_err_t")
     assert errs == {name: i for i, name in enumerate(frame.ERR_NAMES)}
-    # the CONFIG field ids: the executive's rows of pil_frame.h and the law fields of laws.def
-    reg = registry()
-    fields = {f"AOCS_PIL_CFG_{f['name']}": f["pil_id"] for f in reg["pil_exec_fields"] + reg["fields"]}
-    assert fields == {f"AOCS_PIL_CFG_{k}": v[0] for k, v in frame.CFG_FIELDS.items()}
+    # the CONFIG fields: the executive's rows of pil_frame.h and the law fields of laws.def, as the C
+    # sources write them, against what the Python codec encodes (read from the build's registry)
+    kinds = {"REAL": "f", "U64": "u"}
+    want = {x["name"]: (x["pil_id"], kinds[x["kind"]], x["count"]) for x in registry_text.exec_field_rows()}
+    want |= {f["name"]: (f["pil_id"], "s", 0) if f["type"] == "TABLE" else (f["pil_id"], "f", f["count"])
+             for f in registry_text.field_rows()}
+    assert frame.cfg_fields() == want
+    assert frame.cfg_name_by_id() == {v[0]: k for k, v in want.items()}
 
 
 def test_golden_frames_byte_for_byte():
@@ -141,25 +147,28 @@ def c_keys():
                       r'\s*AOCS_LAW_\w+\}', body)
     general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
     assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
-    kinds = {"real": "real", "vec3": "real", "gain": "real", "mat3": "inertia", "table": "gain_table"}
-    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"], f["unit"])
-            for f in registry()["fields"]]
+    # LAW_KEY_ROW of node_config.c over the field rows of laws.def
+    kinds = {"REAL": "real", "VEC3": "real", "GAIN": "real", "MAT3": "inertia", "TABLE": "gain_table"}
+    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"].lower(),
+             f["help"]) for f in registry_text.field_rows()]
     return general + laws
 
 
 def test_key_table_is_node_config_c():
     rows = c_keys()
     assert len(rows) >= 40, "node_config.c KEYS not parsed"
-    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.KEYS]
+    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.keys()]
     assert ours == rows
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
-    reg = registry()
-    assert (reg["none"]["name"],) + tuple(law["name"] for law in reg["laws"]) == nodecfg.LAW_NAMES
-    assert [law["id"] for law in reg["laws"]] == list(range(1, len(nodecfg.LAW_NAMES)))
-    # table ids are the design order of tools/gains.toml; the Python copy lists them by law
-    assert sorted((t["name"], t["law"]) for t in reg["gain_tables"]) == sorted(nodecfg.GAIN_TABLES)
+    """What the mirror accepts as a law and as a gain table of a `<law>.table` key is the C's."""
+    reg = registry.load()
+    assert reg.law_names() == ("none",) + tuple(r["name"] for r in registry_text.law_rows())
+    tables = registry_text.table_rows()
+    for key in (k for k in nodecfg.keys() if k.kind == "gain_table"):
+        assert reg.tables_for(key.law) == tuple(t["name"] for t in tables if t["law"].lower() == key.law)
+        assert nodecfg.table_names(key.law) == ", ".join(reg.tables_for(key.law))
 
 
 def test_values_reach_the_field_list(tmp_path):
