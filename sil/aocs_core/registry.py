@@ -25,7 +25,7 @@ from . import paths
 #: the registry file, relative to the build directory
 JSON_PATH = Path("registry") / "aocs_registry.json"
 #: the schema this module reads (aocs_registry_dump.c DUMP_SCHEMA)
-SCHEMA = 1
+SCHEMA = 2
 #: the PIL targets' names in the registry's instruction budgets
 TARGETS = ("cortex-m4f", "cortex-m7")
 

@@ -1,6 +1,7 @@
 """aocs_plant: the SIL plant simulator (SPEC sections 3 and 4).
 
-Rigid-body attitude and relative-orbit dynamics, disturbances, actuators and
+Rigid-body attitude and relative-orbit dynamics, the effectors acting on them
+(`effectors/`: one module per disturbance or actuator, docs/extending.md) and
 sensors, driven one control period at a time through `Plant`, built from a
 validated scenario file (`scenario.load`). Hot path on plain Python floats.
 """

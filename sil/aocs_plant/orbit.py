@@ -69,6 +69,15 @@ class LinearOrbit:
             self._cache[h] = d
         return d
 
+    def derivative(self, x, force):
+        """xdot = A x + B F (SPEC 2.8) on floats: for the RK4 over the plant's concatenated
+        state when an effector has state (the plain run uses the exact propagate())."""
+        n, m = self.n, self.mass
+        n2 = n * n
+        u, v, w, px, py, pz = x
+        return (n * w - n2 * px + force[0] / m, -n2 * py + force[1] / m, -n * u + 2.0 * n2 * pz + force[2] / m,
+                u + n * pz, v, w - n * px)
+
     def propagate(self, h: float, force, substeps: int = 1) -> None:
         """Advance by h with the force (N, rotating frame) held constant (exact)."""
         del substeps  # exact: substeps do not change the result

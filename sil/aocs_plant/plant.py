@@ -11,21 +11,40 @@ Time is t_k = k * dt from the integer period counter (no accumulated
 rounding). If apply() is not called in a period the actuator keeps the
 previous held command (zero before the first one). A non-finite command is
 refused: the previous held command stays and counters["bad_commands"] counts it.
+
+Everything that acts on the body is an effector (aocs_plant.effectors), built
+from the scenario through the registry; the plant composes them by form, once:
+CONSTANT ones are folded into one torque (force), HELD ones are read at every
+period start, ATTITUDE closures are summed into the rigid body's right-hand
+side, and GENERAL ones (state, or state-dependent) switch the period to one
+RK4 over the concatenated state [body; effector states] (integrator.rk4).
+Without a GENERAL effector the fast stepper of the body alone runs
+(rigid_body.rk4_stepper, or the orbit model's own propagate). DISCRETE
+effectors split the period at their event times and jump the body state.
 """
 from __future__ import annotations
 
 import math
 import time
 
+import numpy as np
+
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec, quat_from_rotvec, quat_mul
 
-from . import disturbances as dist
-from .actuators import Actuator
+from . import effectors
+from .effectors import FORMS, BodyContext, Effector, Form
+from .integrator import rk4
 from .orbit import LinearOrbit, NonlinearOrbit
-from .rigid_body import RigidBody, gg_torque, make_stepper
+from .rigid_body import RigidBody, _mat9, body_derivative, rk4_coupled_stepper, rk4_stepper, sum_terms
 from .sensors import Sensors
 
 __all__ = ["Plant", "integrate_open_loop", "pointing_error_rad", "pointing_error_arcsec", "qe_arcsec"]
+
+_Z3 = (0.0, 0.0, 0.0)
+
+
+def _add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
 class Plant:
@@ -35,33 +54,33 @@ class Plant:
         self.dt = sc.dt
         self.substeps = sc.substeps
         self.k = 0
-        a = sc.actuator
-        self.actuator = Actuator(self.dt, a.axis_limit, a.norm_limit, a.rate_limit, a.lag_tau_s)
         self.counters = {"steps": 0, "commands": 0, "bad_commands": 0, "samples": 0,
                          "invalid_samples": 0}
-        d = sc.disturbances
-        self._applied = (0.0, 0.0, 0.0)
-        if self.kind == "attitude":
+        attitude = self.kind == "attitude"
+        if attitude:
+            J = _mat9(sc.attitude.inertia)
+            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, inertia=J)
+        else:
+            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, mass_kg=sc.orbit.mass_kg)
+        self.effectors = effs = effectors.build(sc.effectors, ctx)
+        self.actuators = [e for e in effs if e.role == "actuator"]
+        self.actuator = self.actuators[0] if self.actuators else None
+        self._compose(effs)
+        if attitude:
             p = sc.attitude
-            self.body = RigidBody(p.inertia, p.q0, p.w0)
-            tq = [0.0, 0.0, 0.0]
-            ct = d.active("constant_torque")
-            if ct is not None:
-                tq = [tq[i] + ct.scale * ct.torque_nm[i] for i in range(3)]
-            srp = d.active("srp_torque")
-            if srp is not None:
-                st = srp.torque_nm
-                tq = [tq[i] + st[i] for i in range(3)]
-            self._const_torque = tuple(tq)
-            self._ggc, self._gg_rate = 0.0, 0.0
-            l2 = d.active("gravity_gradient_l2")
-            ge = d.active("gravity_gradient_earth")
-            if l2 is not None:
-                self._ggc = l2.coefficient
-            elif ge is not None:
-                self._ggc = ge.scale * dist.earth_gg_coefficient(ge.orbit_rate_rad_s)
-                self._gg_rate = ge.orbit_rate_rad_s
-            self._step = make_stepper(self.body.J, self.body.Ji, self._ggc != 0.0)
+            offsets = [e for e in effs if e.inertia_offset is not None]
+            for e in offsets:  # rotating parts whose momentum is an effector state (reaction wheels)
+                J = tuple(J[i] - float(e.inertia_offset[i]) for i in range(9))
+            if offsets and not np.linalg.eigvalsh(np.reshape(J, (3, 3)))[0] > 0.0:
+                raise ValueError("the inertia less the effectors' inertia_offset ("
+                                 f"{', '.join(e.kind for e in offsets)}) is not positive definite")
+            self.body = RigidBody([J[0:3], J[3:6], J[6:9]], p.q0, p.w0)
+            term = sum_terms(e.term() for e in self._terms)
+            self._f = body_derivative(self.body.J, self.body.Ji, term)
+            self._step = rk4_stepper(self._f)
+            self._coupled = None
+            if self._general:
+                self._coupled = rk4_coupled_stepper(self._f, self._effector_rhs(self._general))
             self._qd0 = sc.target.qd0
             self._wd = sc.target.wd
         else:
@@ -70,13 +89,67 @@ class Plant:
                 self.orbit = LinearOrbit(p.n, p.mass_kg, p.x0)
             else:
                 self.orbit = NonlinearOrbit(p.mu, p.orbit_radius_m, p.mass_kg, p.x0)
-            f = d.active("srp_force")
-            self._const_force = f.force_n if f is not None else (0.0, 0.0, 0.0)
-            self._impulse = d.active("impulse")
-            self._impulse_done = False
+        self._applied = _Z3
         self.sensors = Sensors(sc)
         self.sensors.record(self._truth_pair())
         self._sample = None
+
+    def _compose(self, effs) -> None:
+        """Sort the effectors by form, once (the hot path then never asks)."""
+        const = _Z3
+        self._held, self._terms, self._time_varying, self._general = [], [], [], []
+        self._hooked, self._pending, self._slices = [], [], {}
+        self._dist_terms, self._dist_other = [], []
+        lo = 0
+        x0 = []
+        for e in effs:
+            f = e.form
+            if f not in FORMS:
+                raise ValueError(f"effector {e.kind!r}: unknown form {f!r}")
+            n = int(e.state_size)
+            if n and f != Form.GENERAL:
+                raise ValueError(f"effector {e.kind!r}: only a GENERAL effector may have state")
+            s0 = tuple(float(v) for v in e.initial_state())
+            if len(s0) != n:
+                raise ValueError(f"effector {e.kind!r}: initial_state() has {len(s0)} values, state_size {n}")
+            self._slices[id(e)] = (lo, lo + n)
+            x0.extend(s0)
+            if f == Form.CONSTANT:
+                const = _add(const, e.value())
+            elif f == Form.HELD:
+                self._held.append(e)
+            elif f == Form.ATTITUDE:
+                if self.kind != "attitude":
+                    raise ValueError(f"effector {e.kind!r}: an attitude-only term on the orbit plant")
+                self._terms.append(e)
+                if e.time_varying:
+                    self._time_varying.append(e)
+            elif f == Form.GENERAL:
+                self._general.append((e, lo, lo + n))
+            else:
+                self._pending.extend((float(t), e) for t in e.event_times())
+            hooks = e.period_hooks
+            if hooks is None:
+                hooks = type(e).begin_period is not Effector.begin_period \
+                    or type(e).end_period is not Effector.end_period
+            if hooks:
+                self._hooked.append((e, lo, lo + n))
+            if e.role == "disturbance" and f != Form.CONSTANT and f != Form.DISCRETE:
+                (self._dist_terms if f == Form.ATTITUDE else self._dist_other).append(e)
+            lo += n
+        self._pending.sort(key=lambda p: p[0])
+        self._const = const
+        self._const_dist = self._fold(e for e in effs if e.form == Form.CONSTANT and e.role == "disturbance")
+        self._x = tuple(x0)
+        self._held_actuators = [e for e in self._held if e.role == "actuator"]
+        self._general_actuators = [e for e, _, _ in self._general if e.role == "actuator"]
+
+    @staticmethod
+    def _fold(effs):
+        c = _Z3
+        for e in effs:
+            c = _add(c, e.value())
+        return c
 
     # ------------------------------------------------------------------ time
     @property
@@ -101,13 +174,25 @@ class Plant:
             return self._qd0, wd
         return quat_mul(quat_from_rotvec((wd[0] * t, wd[1] * t, wd[2] * t)), self._qd0), wd
 
-    # ------------------------------------------------------------------ sensing
+    # ------------------------------------------------------------------ state
     def _truth_pair(self):
         if self.kind == "attitude":
             return (self.body.q, self.body.w)
         x = self.orbit.x
         return ((x[3], x[4], x[5]), (x[0], x[1], x[2]))
 
+    def body_state(self) -> tuple:
+        """The body state as effectors see it: q + w (attitude) or [u v w x y z] (orbit)."""
+        if self.kind == "attitude":
+            return self.body.q + self.body.w
+        return self.orbit.x
+
+    def effector_state(self, e) -> tuple:
+        """Effector e's own state now (() when it has none)."""
+        lo, hi = self._slices[id(e)]
+        return self._x[lo:hi]
+
+    # ------------------------------------------------------------------ sensing
     def sense(self, t: float | None = None) -> dict:
         """Measurement of the current period (cached: a second call returns the same sample)."""
         if t is not None and abs(t - self.t) > 1e-9 * max(1.0, abs(self.t)):
@@ -131,107 +216,197 @@ class Plant:
     # ------------------------------------------------------------------ actuation
     def apply(self, command) -> bool:
         """Take the command for the current period; False (and ignored) if not finite."""
-        c = tuple(float(x) for x in command)
+        c = tuple(map(float, command))
         if len(c) != 3:
             raise ValueError("command must have 3 components")
         self.counters["commands"] += 1
-        if not all(math.isfinite(x) for x in c):
+        isfinite = math.isfinite
+        if not (isfinite(c[0]) and isfinite(c[1]) and isfinite(c[2])):
             self.counters["bad_commands"] += 1
             return False
-        self.actuator.command(c)
+        for a in self.actuators:
+            a.command(c)
         return True
 
     # ------------------------------------------------------------------ integration
     def advance(self) -> None:
         """Integrate one control period with the held command (ZOH)."""
-        if self.kind == "attitude":
-            self._advance_attitude()
+        t0 = self.k * self.dt
+        hooked = self._hooked
+        x = self._x
+        for e, lo, hi in hooked:
+            e.begin_period(t0, x[lo:hi])
+        T = self._const
+        applied = _Z3
+        for e in self._held:
+            v = e.value()
+            T = (T[0] + v[0], T[1] + v[1], T[2] + v[2])
+        for e in self._held_actuators:
+            v = e.value()
+            applied = (applied[0] + v[0], applied[1] + v[1], applied[2] + v[2])
+        if self._pending:
+            self._period_with_events(t0, T)
+        elif self.kind == "attitude":
+            if self._general:
+                self._segment_general(t0, self.dt, T)
+            else:  # the fast path: the rigid body alone, the torque held
+                n = self.substeps
+                h = self.dt / n
+                body = self.body
+                q, w = body.q, body.w
+                step = self._step
+                tv = self._time_varying
+                if tv:
+                    for i in range(n):
+                        tm = t0 + (i + 0.5) * h
+                        for e in tv:
+                            e.at_time(tm)
+                        q, w = step(q, w, h, T)
+                else:
+                    for _ in range(n):
+                        q, w = step(q, w, h, T)
+                body.q, body.w = q, w
         else:
-            self._advance_orbit()
+            self._segment_orbit(t0, self.dt, T)
+        x = self._x
+        for e, lo, hi in hooked:
+            e.end_period(t0, x[lo:hi])
+        for e in self._general_actuators:
+            v = e.applied
+            applied = (applied[0] + v[0], applied[1] + v[1], applied[2] + v[2])
+        self._applied = applied
         self.k += 1
         self.counters["steps"] = self.k
         self.sensors.record(self._truth_pair())
 
-    def _advance_attitude(self):
-        n = self.substeps
-        h = self.dt / n
-        body = self.body
-        q, w = body.q, body.w
-        step = self._step
-        c = self._const_torque
-        ggc = self._ggc
-        gd = (0.0, 0.0, 1.0)
-        act = self.actuator
-        lag = act.lag_tau_s is not None
-        u = act.held
-        total = (u[0] + c[0], u[1] + c[1], u[2] + c[2])
-        s0 = s1 = s2 = 0.0
-        t0 = self.t
-        for i in range(n):
-            if lag:
-                u = act.substep(h)
-                total = (u[0] + c[0], u[1] + c[1], u[2] + c[2])
-                s0 += u[0]
-                s1 += u[1]
-                s2 += u[2]
-            if self._gg_rate != 0.0:
-                gd = dist.earth_nadir_inertial(self._gg_rate, t0 + (i + 0.5) * h)
-            q, w = step(q, w, h, total, ggc, gd)
-        body.q, body.w = q, w
-        self._applied = (s0 / n, s1 / n, s2 / n) if lag else u
+    def _segment(self, t: float, length: float, T) -> None:
+        if self.kind == "orbit":
+            self._segment_orbit(t, length, T)
+        elif self._general:
+            self._segment_general(t, length, T)
+        else:
+            n = self.substeps
+            h = length / n
+            q, w = self.body.q, self.body.w
+            for i in range(n):
+                tm = t + (i + 0.5) * h
+                for e in self._time_varying:
+                    e.at_time(tm)
+                q, w = self._step(q, w, h, T)
+            self.body.q, self.body.w = q, w
 
-    def _orbit_segment(self, length: float):
+    def _segment_orbit(self, t: float, length: float, T) -> None:
         n = self.substeps
         h = length / n
-        act = self.actuator
-        f = self._const_force
-        s = [0.0, 0.0, 0.0]
-        for _ in range(n):
-            u = act.substep(h)
-            self.orbit.propagate(h, (u[0] + f[0], u[1] + f[1], u[2] + f[2]))
-            for i in range(3):
-                s[i] += u[i] * h
-        return s
-
-    def _advance_orbit(self):
-        imp = self._impulse
-        dt = self.dt
-        split = None
-        if imp is not None and not self._impulse_done:
-            a = imp.time_s - self.t
-            if -1e-9 * dt < a < dt * (1.0 - 1e-9):
-                split = max(0.0, a)
-        if split is None:
-            s = self._orbit_segment(dt)
+        if self._general:
+            y = self.orbit.x + self._x
+            F = self._orbit_rhs
+            for i in range(n):
+                y = rk4(F, t + i * h, y, h, T)
+            self.orbit.x, self._x = y[:6], y[6:]
         else:
-            s = [0.0, 0.0, 0.0]
-            if split > 1e-9 * dt:
-                s = self._orbit_segment(split)
-            dv = imp.delta_v
-            x = self.orbit.x
-            self.orbit.x = (x[0] + dv[0], x[1] + dv[1], x[2] + dv[2], x[3], x[4], x[5])
-            self._impulse_done = True
-            s2 = self._orbit_segment(dt - split)
-            s = [s[i] + s2[i] for i in range(3)]
-        self._applied = (s[0] / dt, s[1] / dt, s[2] / dt)
+            prop = self.orbit.propagate
+            for _ in range(n):
+                prop(h, T)
+
+    def _orbit_rhs(self, t, y, T):
+        body = y[:6]
+        fx, fy, fz = T
+        xdot = []
+        for e, lo, hi in self._general:
+            (a, b, c), d = e.derivative(t, body, y[6 + lo:6 + hi])
+            fx += a
+            fy += b
+            fz += c
+            xdot.extend(d)
+        return self.orbit.derivative(body, (fx, fy, fz)) + tuple(xdot)
+
+    def _segment_general(self, t: float, length: float, T) -> None:
+        """Attitude with effector state: one RK4 over [q, w, effector states] per substep."""
+        n = self.substeps
+        h = length / n
+        body = self.body
+        q, w, x = body.q, body.w, self._x
+        step = self._coupled
+        tv = self._time_varying
+        for i in range(n):
+            for e in tv:
+                e.at_time(t + (i + 0.5) * h)
+            q, w, x = step(q, w, x, t + i * h, h, T)
+        body.q, body.w, self._x = q, w, x
+
+    @staticmethod
+    def _effector_rhs(general):
+        """G(t, body, x) -> (the effectors' torque, their state derivative) for rk4_coupled_stepper."""
+        if len(general) == 1:
+            return general[0][0].derivative  # its state is all of x
+
+        def many(t, body, x):
+            tx = ty = tz = 0.0
+            xdot = []
+            for e, lo, hi in general:
+                (a, b, c), xd = e.derivative(t, body, x[lo:hi])
+                tx += a
+                ty += b
+                tz += c
+                xdot.extend(xd)
+            return (tx, ty, tz), tuple(xdot)
+        return many
+
+    def _period_with_events(self, t0: float, T) -> None:
+        """Split the period at the DISCRETE effectors' events inside it and apply their jumps."""
+        dt = self.dt
+        due = []
+        for te, e in self._pending:
+            a = te - t0
+            if -1e-9 * dt < a < dt * (1.0 - 1e-9):
+                due.append((max(0.0, a), te, e))
+        pos = 0.0
+        for a, te, e in due:
+            if a - pos > 1e-9 * dt:
+                self._segment(t0 + pos, a - pos, T)
+            self._set_body(e.jump(te, self.body_state()))
+            self._pending.remove((te, e))
+            pos = a
+        self._segment(t0 + pos, dt - pos, T)
+
+    def _set_body(self, state) -> None:
+        if self.kind == "attitude":
+            self.body.q, self.body.w = tuple(state[:4]), tuple(state[4:7])
+        else:
+            self.orbit.x = tuple(state)
 
     # ------------------------------------------------------------------ truth
     def disturbance(self):
-        """Disturbance torque (N m, B) or force (N) acting now."""
-        if self.kind != "attitude":
-            return self._const_force
-        c = self._const_torque
-        if self._ggc == 0.0:
+        """Disturbance torque (N m, B) or force (N) acting now: the sum over the effectors
+        of role "disturbance"."""
+        c = self._const_dist
+        if not (self._dist_terms or self._dist_other):
             return c
-        gd = (0.0, 0.0, 1.0)
-        if self._gg_rate != 0.0:
-            gd = dist.earth_nadir_inertial(self._gg_rate, self.t)
-        g = gg_torque(self.body.q, self.body.J, self._ggc, gd)
-        return (c[0] + g[0], c[1] + g[1], c[2] + g[2])
+        t = self.t
+        body = self.body_state()
+        for e in self._dist_terms:
+            if e.time_varying:
+                e.at_time(t)
+            g = e.term()(body[0], body[1], body[2], body[3])
+            c = (c[0] + g[0], c[1] + g[1], c[2] + g[2])
+        for e in self._dist_other:
+            c = _add(c, e.contribution(t, body, self.effector_state(e)))
+        return c
+
+    def effector_truth(self) -> dict:
+        """Every effector's truth fields now, as {"<kind>.<name>": value}."""
+        t, body = self.t, self.body_state()
+        out = {}
+        for e in self.effectors:
+            for name, v in e.truth(t, body, self.effector_state(e)).items():
+                out[f"{e.kind}.{name}"] = v
+        return out
 
     def truth(self) -> dict:
-        out = {"t": self.t, "seq": self.k, "commanded": self.actuator.held,
-               "applied": self._applied, "disturbance": self.disturbance()}
+        act = self.actuator
+        out = {"t": self.t, "seq": self.k, "commanded": act.commanded if act is not None else _Z3,
+               "applied": self._applied, "disturbance": self.disturbance(), "effectors": self.effector_truth()}
         if self.kind == "attitude":
             q, w = self.body.q, self.body.w
             qd, wd = self.target()
@@ -241,8 +416,7 @@ class Plant:
                        qe_arcsec=qe_arcsec(q, qd))
         else:
             x = self.orbit.x
-            out.update(x=x, pos=(x[3], x[4], x[5]), vel=(x[0], x[1], x[2]),
-                       impulse_applied=self._impulse_done)
+            out.update(x=x, pos=(x[3], x[4], x[5]), vel=(x[0], x[1], x[2]))
         return out
 
 

@@ -5,6 +5,9 @@ vectors). Anything unexpected raises ScenarioError("<file>: <dotted.key>:
 <what is wrong>"): unknown or missing keys, wrong types, non-finite numbers,
 non-positive or non-symmetric inertia, unknown law names and inconsistent
 content. The file format, every key, unit and default: docs/scenarios.md.
+The effector sections ([disturbances.<kind>], [actuator]) are read and
+validated by their own modules (aocs_plant.effectors) through the same
+section reader.
 """
 from __future__ import annotations
 
@@ -21,7 +24,8 @@ import numpy as np
 from aocs_core import limits, registry
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
-from . import disturbances as dist
+from . import effectors
+from .effectors.actuator import ActuatorConfig
 from .orbit import MU_EARTH, mean_motion
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -83,100 +87,38 @@ class TargetConfig:
     target_input: tuple
 
 
-@dataclass(frozen=True)
-class ConstantTorque:
-    enabled: bool
-    scale: float
-    torque_nm: tuple
+class Disturbances(Mapping):
+    """The [disturbances.<kind>] configs, in the file's order (each validated by its effector
+    module, aocs_plant.effectors): sc.disturbances.constant_torque is that config, or None when
+    the file has no such section; an unknown kind is an AttributeError."""
 
+    def __init__(self, configs: Mapping[str, Any] | None = None):
+        object.__setattr__(self, "_configs", MappingProxyType(dict(configs or {})))
 
-@dataclass(frozen=True)
-class GravityGradientL2:
-    enabled: bool
-    scale: float
-    mu1: float
-    mu2: float
-    r1_m: float
-    r2_m: float
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if name in self._configs:
+            return self._configs[name]
+        if name in effectors.disturbance_kinds():
+            return None
+        raise AttributeError(f"no disturbance kind {name!r}")
 
-    @property
-    def coefficient(self) -> float:
-        return self.scale * dist.l2_gg_coefficient(self.mu1, self.mu2, self.r1_m, self.r2_m)
+    def __setattr__(self, name, value):
+        raise AttributeError("Disturbances is read-only")
 
+    def __getitem__(self, name: str):
+        return self._configs[name]
 
-@dataclass(frozen=True)
-class GravityGradientEarth:
-    enabled: bool
-    scale: float
-    orbit_rate_rad_s: float
+    def __iter__(self):
+        return iter(self._configs)
 
-
-@dataclass(frozen=True)
-class SrpTorque:
-    enabled: bool
-    scale: float
-    area_m2: float
-    reflectivity: float
-    distance_au: float
-    flux_w_m2: float
-    direction_b: tuple
-    cp_offset_m: tuple
-
-    @property
-    def torque_nm(self) -> tuple:
-        f = self.scale * dist.srp_force_magnitude(self.area_m2, self.reflectivity,
-                                                  self.distance_au, self.flux_w_m2)
-        return dist.srp_torque(tuple(f * d for d in self.direction_b), self.cp_offset_m)
-
-
-@dataclass(frozen=True)
-class SrpForce:
-    enabled: bool
-    scale: float
-    pressure_n_m2: float
-    area_m2: float
-    direction: tuple
-
-    @property
-    def force_n(self) -> tuple:
-        f = self.scale * self.pressure_n_m2 * self.area_m2
-        return tuple(f * d for d in self.direction)
-
-
-@dataclass(frozen=True)
-class Impulse:
-    enabled: bool
-    scale: float
-    time_s: float
-    delta_v_m_s: float
-    direction: tuple
-
-    @property
-    def delta_v(self) -> tuple:
-        return tuple(self.scale * self.delta_v_m_s * d for d in self.direction)
-
-
-@dataclass(frozen=True)
-class Disturbances:
-    constant_torque: ConstantTorque | None = None
-    gravity_gradient_l2: GravityGradientL2 | None = None
-    gravity_gradient_earth: GravityGradientEarth | None = None
-    srp_torque: SrpTorque | None = None
-    srp_force: SrpForce | None = None
-    impulse: Impulse | None = None
+    def __len__(self) -> int:
+        return len(self._configs)
 
     def active(self, name: str):
         d = getattr(self, name)
         return d if (d is not None and d.enabled) else None
-
-
-@dataclass(frozen=True)
-class ActuatorConfig:
-    axis_limit: float | None = None
-    norm_limit: float | None = None
-    rate_limit: float | None = None
-    lag_tau_s: float | None = None
-    realistic_axis_limit: float | None = None
 
 
 @dataclass(frozen=True)
@@ -249,6 +191,8 @@ class Scenario:
     settle: SettleConfig
     metrics: MetricsConfig
     path: str
+    # every effector section (the disturbances and [actuator]), kind -> config, in the file's order
+    effectors: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def dt(self) -> float:
@@ -596,76 +540,10 @@ def _read_target(root: _Section, kind: str):
     return TargetConfig(qd, wd, src)
 
 
-def _onoff(sec: _Section):
-    return sec.boolean("enabled"), sec.number("scale", required=False, default=1.0, nonneg=True)
-
-
-def _unit(sec: _Section, k):
-    v = sec.vector(k)
-    n = math.sqrt(sum(x * x for x in v))
-    if abs(n - 1.0) > 1e-9:
-        sec.fail(sec.key(k), f"must be a unit vector (norm {n!r})")
-    return v
-
-
-ATTITUDE_DISTURBANCES = ("constant_torque", "gravity_gradient_l2", "gravity_gradient_earth", "srp_torque")
-ORBIT_DISTURBANCES = ("srp_force", "impulse")
-
-
-def _read_disturbances(root: _Section, kind: str, duration: float) -> Disturbances:
-    sec = root.table("disturbances", required=False)
-    if sec is None:
-        return Disturbances()
-    allowed = ATTITUDE_DISTURBANCES if kind == "attitude" else ORBIT_DISTURBANCES
-    out = {}
-    for name in sec.remaining():
-        if name not in ATTITUDE_DISTURBANCES + ORBIT_DISTURBANCES:
-            sec.fail(sec.key(name), "unknown key")
-        if name not in allowed:
-            sec.fail(sec.key(name), f"disturbance {name!r} does not apply to a {kind} scenario")
-        d = sec.table(name)
-        en, sc = _onoff(d)
-        if name == "constant_torque":
-            out[name] = ConstantTorque(en, sc, d.vector("torque_nm"))
-        elif name == "gravity_gradient_l2":
-            out[name] = GravityGradientL2(
-                en, sc, d.number("mu1", required=False, default=dist.MU_SUN, positive=True),
-                d.number("mu2", required=False, default=dist.MU_EARTH, positive=True),
-                d.number("r1_m", required=False, default=dist.R1_L2, positive=True),
-                d.number("r2_m", required=False, default=dist.R2_L2, positive=True))
-        elif name == "gravity_gradient_earth":
-            out[name] = GravityGradientEarth(en, sc, d.number("orbit_rate_rad_s", positive=True))
-        elif name == "srp_torque":
-            out[name] = SrpTorque(
-                en, sc, d.number("area_m2", positive=True),
-                d.number("reflectivity", nonneg=True),
-                d.number("distance_au", required=False, default=1.0, positive=True),
-                d.number("flux_w_m2", required=False, default=dist.SOLAR_FLUX_1AU, positive=True),
-                _unit(d, "direction_b"), d.vector("cp_offset_m"))
-        elif name == "srp_force":
-            out[name] = SrpForce(en, sc, d.number("pressure_n_m2", positive=True),
-                                 d.number("area_m2", positive=True), _unit(d, "direction"))
-        elif name == "impulse":
-            t = d.number("time_s", nonneg=True)
-            if t >= duration:
-                d.fail(d.key("time_s"), f"{t} s is not inside the run (duration_s = {duration})")
-            out[name] = Impulse(en, sc, t, d.number("delta_v_m_s", positive=True), _unit(d, "direction"))
-        d.done()
-    sec.done()
-    g1, g2 = out.get("gravity_gradient_l2"), out.get("gravity_gradient_earth")
-    if g1 is not None and g2 is not None and g1.enabled and g2.enabled:
-        sec.fail(sec.key("gravity_gradient_earth"), "cannot be enabled together with gravity_gradient_l2")
-    return Disturbances(**out)
-
-
-def _read_actuator(root: _Section) -> ActuatorConfig:
-    sec = root.table("actuator", required=False)
-    if sec is None:
-        return ActuatorConfig()
-    kw = {k: sec.number(k, required=False, positive=True)
-          for k in ("axis_limit", "norm_limit", "rate_limit", "lag_tau_s", "realistic_axis_limit")}
-    sec.done()
-    return ActuatorConfig(**kw)
+def _read_effectors(root: _Section, kind: str, duration: float, rate: float, substeps: int, plant) -> dict:
+    """[disturbances.<kind>] and [actuator]: each effector module reads its own section."""
+    ctx = effectors.ReadContext(root.file, kind, duration, 1.0 / rate, substeps, plant)
+    return effectors.read(root, ctx)
 
 
 def _read_sensors(root: _Section, kind: str, duration: float) -> SensorConfig:
@@ -782,14 +660,17 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)
     target = _read_target(root, kind)
-    disturbances = _read_disturbances(root, kind, duration)
-    actuator = _read_actuator(root)
+    configs = _read_effectors(root, kind, duration, rate, substeps, att if kind == "attitude" else orb)
+    disturbances = Disturbances({k: c for k, c in configs.items()
+                                 if effectors.REGISTRY[k].group == "disturbances"})
+    actuator = configs["actuator"]
     sensors = _read_sensors(root, kind, duration)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
-                    att, orb, target, disturbances, actuator, sensors, settle, metrics, file)
+                    att, orb, target, disturbances, actuator, sensors, settle, metrics, file,
+                    effectors=MappingProxyType(configs))
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

@@ -306,7 +306,9 @@ def execute(opts: RunOptions) -> RunResult:
     plots = []
     if opts.plots:
         title = f"{sc.id} / {law}" + (f" ({opts.label})" if opts.label else "")
-        plots = plotmod.run_plots(series, out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec)
+        plots = plotmod.run_plots(series, out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
+                                  settle=metrics["settle_criterion"]["criteria"],
+                                  settle_time_s=metrics["settle_time_s"])
         metrics["plots"] = [p.name for p in plots]
     text = json.dumps(metrics, indent=1) + "\n"
     (out / "metrics.json").write_text(text)

@@ -1,7 +1,8 @@
 """`aocs` command line: one entry point, sub-commands implemented by modules.
 
 Each sub-command module exposes `add_arguments(parser)` and `run(args) -> int`;
-they are imported lazily so `aocs list` does not pay for cvxpy.
+only the module of the sub-command given is imported, so `aocs list` or
+`aocs run` does not pay for the others' imports (scipy, cvxpy, matplotlib).
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ SUBCOMMANDS = {
     "run": ("aocs.cmd_run", "run a scenario in the loop (plant + flight software over LCM)"),
     "list": ("aocs.cmd_list", "list scenarios and control laws"),
     "replay": ("aocs.cmd_replay", "replay a recorded LCM log through the flight software"),
+    "play": ("aocs.cmd_play", "publish a recorded LCM log again, paced by its simulation clock (for viewers)"),
     "gains": ("aocs.cmd_gains", "regenerate every gain design and the firmware tables"),
     "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
@@ -29,20 +31,17 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     parser = argparse.ArgumentParser(prog="aocs", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
-    available = {}
+    # only the chosen sub-command's module is imported (each costs numpy, scipy or matplotlib time);
+    # without one (or with --help first) every sub-command is listed from its help text alone
+    chosen = next((a for a in argv if not a.startswith("-")), None)
+    modules = {}
     for name, (module_name, help_text) in SUBCOMMANDS.items():
-        try:
-            module = _load(name)
-        except ModuleNotFoundError as exc:
-            # a sub-command whose module is not there yet is not offered
-            if exc.name and module_name.startswith(exc.name):
-                continue
-            raise
         p = sub.add_parser(name, help=help_text)
-        module.add_arguments(p)
-        available[name] = module
+        if name == chosen:
+            modules[name] = _load(name)
+            modules[name].add_arguments(p)
     args = parser.parse_args(argv)
-    return int(available[args.command].run(args) or 0)
+    return int(modules[args.command].run(args) or 0)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,19 @@
-"""PNG plots of one run (matplotlib, Agg backend, small files).
+"""PNG plots of one run (matplotlib, Agg backend), legible at full size.
 
 run_plots(series, out_dir, title) takes the series computed from the LCM log
 by aocs_analysis.run_metrics.compute and writes:
 
 - attitude: attitude_error.png (true angle 2 asin|qe_vec|, log scale, with
-  the requirement and goal), rates.png (w - wd per axis), torques.png (the
-  saturated command per axis with the saturation limit), step_time.png
-  (executive step time against the step's budget);
-- orbit: position_error.png, velocity_error.png, force.png, step_time.png.
+  the requirement, the goal, the settle threshold and the settle time),
+  rates.png (w - wd per axis), torques.png (the saturated command per axis
+  with the saturation limits), step_time.png (executive step time against
+  the step's budget);
+- orbit: position_error.png, velocity_error.png (with the settle
+  thresholds), force.png, step_time.png.
+
+Every figure: FIG_WIDTH_IN x DPI = 1280 px wide, legends of LEGEND_PT, units
+on every axis, and where a log scale clips small values the clip is stated.
+The same style serves the comparison plots (aocs_compare).
 """
 from __future__ import annotations
 
@@ -28,21 +34,52 @@ def _plt():
     return plt
 
 
-def _save(fig, path: Path) -> Path:
+FIG_WIDTH_IN = 8.0     # x DPI = 1280 px
+DPI = 160
+LEGEND_PT = 9
+LABEL_PT = 10
+TITLE_PT = 11
+#: smallest value a log-scale error plot draws (smaller values are drawn at it, and the axis says so)
+LOG_FLOOR = 1e-12
+
+
+def save(fig, path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=DPI)
     _plt().close(fig)
     return path
 
 
-def _new(title, ylabel):
+def new_axes(title: str, ylabel: str, height_in: float = 4.0, xlabel: str = "t (s)"):
+    """A figure in the house style: title, labelled axes with units, light grid."""
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(7.0, 3.6))
-    ax.set_title(title, fontsize=10)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(ylabel)
+    fig, ax = plt.subplots(figsize=(FIG_WIDTH_IN, height_in))
+    ax.set_title(title, fontsize=TITLE_PT)
+    ax.set_xlabel(xlabel, fontsize=LABEL_PT)
+    ax.set_ylabel(ylabel, fontsize=LABEL_PT)
+    ax.tick_params(labelsize=LABEL_PT - 1)
     ax.grid(True, alpha=0.3)
     return fig, ax
+
+
+def clip_note(ax, floor: float = LOG_FLOOR) -> None:
+    """States, on the figure, that a log axis draws values below floor at floor."""
+    ax.annotate(f"log scale: values below {floor:g} are drawn at {floor:g}", xy=(1.0, -0.16),
+                xycoords="axes fraction", ha="right", va="top", fontsize=LEGEND_PT - 1, color="dimgray")
+
+
+def legend(ax, ncol: int = 1) -> None:
+    ax.legend(fontsize=LEGEND_PT, loc="best", ncol=ncol, framealpha=0.85)
+
+
+def settle_marks(ax, settle_time_s, label_threshold=None, threshold=None, symmetric=False) -> None:
+    """The settle threshold (dashed) and the settle time (dotted vertical line) of a run."""
+    if threshold is not None:
+        ax.axhline(threshold, color="black", ls="-.", lw=1.0, label=label_threshold or f"settle {threshold:g}")
+        if symmetric:
+            ax.axhline(-threshold, color="black", ls="-.", lw=1.0)
+    if settle_time_s is not None:
+        ax.axvline(settle_time_s, color="gray", ls=":", lw=1.2, label=f"settled at {settle_time_s:.1f} s")
 
 
 def _per_axis(ax, t, y, label):
@@ -57,7 +94,7 @@ def _limit_lines(ax, lim, label):
 
 
 def _step_time(series, path, title):
-    fig, ax = _new(f"{title}: executive step time", "step time (ns)")
+    fig, ax = new_axes(f"{title}: executive step time", "step time (ns)")
     t = series["t_cmd"]
     if t.size:
         ax.plot(t, series["step_ns"], ".", ms=2, color="tab:blue", label="step time")
@@ -65,32 +102,38 @@ def _step_time(series, path, title):
         if b.size:
             ax.step(t, b, where="post", color="red", lw=1.0, label="budget")
         ax.set_yscale("log")
-    ax.legend(fontsize=8, loc="upper right")
-    return _save(fig, path)
+    legend(ax)
+    return save(fig, path)
 
 
-def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None) -> list[Path]:
+def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, settle: dict | None = None,
+              settle_time_s: float | None = None) -> list[Path]:
+    """settle: the settle criteria used (metrics settle_criterion.criteria), drawn where they apply."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     files = []
     t = series["t"]
     if series["kind"] == "attitude":
-        fig, ax = _new(f"{title}: pointing error (true angle)", "2 asin|qe_vec| (arcsec)")
-        y = np.maximum(series["true_angle"], 1e-12)
+        settle = settle or {}
+        fig, ax = new_axes(f"{title}: pointing error (true angle)", "2 asin|qe_vec| (arcsec)")
+        clip_note(ax)
+        y = np.maximum(series["true_angle"], LOG_FLOOR)
         ax.semilogy(t, y, lw=1.0, color="tab:blue", label="true angle")
         if requirement is not None:
-            ax.axhline(requirement, color="red", ls="--", lw=1.0, label=f"requirement {requirement:g}")
+            ax.axhline(requirement, color="red", ls="--", lw=1.0, label=f"requirement {requirement:g} arcsec")
         if goal is not None:
-            ax.axhline(goal, color="green", ls="--", lw=1.0, label=f"goal {goal:g}")
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "attitude_error.png"))
+            ax.axhline(goal, color="green", ls="--", lw=1.0, label=f"goal {goal:g} arcsec")
+        settle_marks(ax, settle_time_s, f"settle threshold {settle.get('pointing_arcsec_max', 0):g} arcsec",
+                     settle.get("pointing_arcsec_max"))
+        legend(ax)
+        files.append(save(fig, out / "attitude_error.png"))
 
-        fig, ax = _new(f"{title}: body rate error", "w - wd (rad/s)")
+        fig, ax = new_axes(f"{title}: body rate error", "w - wd (rad/s)")
         _per_axis(ax, t, series["we"], "w")
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "rates.png"))
+        legend(ax)
+        files.append(save(fig, out / "rates.png"))
 
-        fig, ax = _new(f"{title}: commanded torque (after saturation)", "torque (N m)")
+        fig, ax = new_axes(f"{title}: commanded torque (after saturation)", "torque (N m)")
         if series["t_cmd"].size:
             for i in range(3):
                 ax.step(series["t_cmd"], series["u_sat"][:, i], where="post", color=COLORS[i], lw=1.0,
@@ -98,29 +141,34 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None) ->
         _limit_lines(ax, series.get("axis_limit"), "axis limit")
         if series.get("norm_limit") is not None:
             ax.axhline(series["norm_limit"], color="purple", ls=":", lw=1.0, label="norm limit")
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "torques.png"))
+        legend(ax)
+        files.append(save(fig, out / "torques.png"))
     else:
-        fig, ax = _new(f"{title}: position error", "[dx dy dz] (m)")
+        settle = settle or {}
+        fig, ax = new_axes(f"{title}: position error", "[dx dy dz] (m, symlog: linear below 0.1)")
         _per_axis(ax, t, series["pos"], "d")
         ax.set_yscale("symlog", linthresh=0.1)
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "position_error.png"))
+        settle_marks(ax, settle_time_s, f"settle +-{settle.get('pos_abs_max_m', 0):g} m", settle.get("pos_abs_max_m"),
+                     symmetric=True)
+        legend(ax)
+        files.append(save(fig, out / "position_error.png"))
 
-        fig, ax = _new(f"{title}: velocity error", "[du dv dw] (m/s)")
+        fig, ax = new_axes(f"{title}: velocity error", "[du dv dw] (m/s, symlog: linear below 0.01)")
         for i, n in enumerate(("du", "dv", "dw")):
             ax.plot(t, series["vel"][:, i], color=COLORS[i], lw=1.0, label=n)
         ax.set_yscale("symlog", linthresh=0.01)
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "velocity_error.png"))
+        settle_marks(ax, settle_time_s, f"settle +-{settle.get('vel_abs_max_m_s', 0):g} m/s",
+                     settle.get("vel_abs_max_m_s"), symmetric=True)
+        legend(ax)
+        files.append(save(fig, out / "velocity_error.png"))
 
-        fig, ax = _new(f"{title}: commanded force (after saturation)", "force (N)")
+        fig, ax = new_axes(f"{title}: commanded force (after saturation)", "force (N)")
         if series["t_cmd"].size:
             for i in range(3):
                 ax.step(series["t_cmd"], series["u_sat"][:, i], where="post", color=COLORS[i], lw=1.0,
                         label=f"F {AXES[i]}")
         _limit_lines(ax, series.get("axis_limit"), "axis limit")
-        ax.legend(fontsize=8, loc="upper right")
-        files.append(_save(fig, out / "force.png"))
+        legend(ax)
+        files.append(save(fig, out / "force.png"))
     files.append(_step_time(series, out / "step_time.png", title))
     return files

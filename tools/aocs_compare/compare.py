@@ -192,49 +192,66 @@ def md_table(head, body) -> str:
 
 # --------------------------------------------------------------------------- plots
 def overlay_plots(rows: list[Row], out: Path, title: str, kind: str, prefix: str = "",
-                  requirement=None, goal=None, limit=None) -> list[Path]:
-    """Pointing (or position) error of every row on one log plot, and the command norms."""
-    plt = P._plt()
+                  requirement=None, goal=None, limit=None, norm_bounds=(), settle=None) -> list[Path]:
+    """Pointing (or position) error of every row on one log plot, and the command norms, with the
+    requirement, goal, settle threshold, actuator limit and any known bound of the laws
+    (norm_bounds: (value, label) pairs, e.g. mrp_sat's uM) drawn."""
     out.mkdir(parents=True, exist_ok=True)
     ok = [r for r in rows if r.curves]
     files = []
+    floor = P.LOG_FLOOR
     ylabel = "true angle 2 asin|qe_vec| (arcsec)" if kind == "attitude" else "max |position error| (m)"
-    fig, ax = plt.subplots(figsize=(6.4, 3.4))
+    fig, ax = P.new_axes(f"{title}: {'pointing' if kind == 'attitude' else 'position'} error", ylabel, 4.5)
+    P.clip_note(ax, floor)
     for r in ok:
-        ax.semilogy(r.curves["t"], np.maximum(r.curves["err"], 1e-9), lw=0.9, label=r.name)
+        ax.semilogy(r.curves["t"], np.maximum(r.curves["err"], floor), lw=1.0, label=r.name)
     if requirement is not None:
-        ax.axhline(requirement, color="red", ls="--", lw=0.8, label=f"requirement {requirement:g}")
+        ax.axhline(requirement, color="red", ls="--", lw=1.0, label=f"requirement {requirement:g} arcsec")
     if goal is not None:
-        ax.axhline(goal, color="green", ls="--", lw=0.8, label=f"goal {goal:g}")
-    ax.set_title(f"{title}: {'pointing' if kind == 'attitude' else 'position'} error", fontsize=9)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(ylabel, fontsize=8)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6, loc="upper right", ncol=2)
-    files.append(_save(plt, fig, out / f"{prefix}{'pointing_error' if kind == 'attitude' else 'position_error'}.png"))
+        ax.axhline(goal, color="green", ls="--", lw=1.0, label=f"goal {goal:g} arcsec")
+    if settle is not None:
+        value, label = settle
+        ax.axhline(value, color="black", ls="-.", lw=1.0, label=label)
+    P.legend(ax, ncol=2)
+    files.append(P.save(fig, out / f"{prefix}{'pointing_error' if kind == 'attitude' else 'position_error'}.png"))
 
-    fig, ax = plt.subplots(figsize=(6.4, 3.0))
+    unit = "N m" if kind == "attitude" else "N"
+    fig, ax = P.new_axes(f"{title}: commanded {'torque' if kind == 'attitude' else 'force'} norm", f"|u| ({unit})",
+                         4.0)
+    P.clip_note(ax, floor)
     for r in ok:
         u = r.curves["u_norm"]
         if u.size:
-            ax.semilogy(r.curves["t_cmd"], np.maximum(u, 1e-9), lw=0.8, label=r.name)
+            ax.semilogy(r.curves["t_cmd"], np.maximum(u, floor), lw=0.9, label=r.name)
     if limit is not None:
-        ax.axhline(limit * np.sqrt(3.0), color="red", ls=":", lw=0.8, label=f"sqrt(3) x axis limit {limit:g}")
-    unit = "N m" if kind == "attitude" else "N"
-    ax.set_title(f"{title}: commanded {'torque' if kind == 'attitude' else 'force'} norm", fontsize=9)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"|u| ({unit})", fontsize=8)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6, loc="upper right", ncol=2)
-    files.append(_save(plt, fig, out / f"{prefix}{'torque_norm' if kind == 'attitude' else 'force_norm'}.png"))
+        ax.axhline(limit * np.sqrt(3.0), color="red", ls=":", lw=1.0,
+                   label=f"sqrt(3) x axis limit {limit:g} {unit}")
+    for value, label in norm_bounds:
+        ax.axhline(value, color="purple", ls="--", lw=1.0, label=label)
+    P.legend(ax, ncol=2)
+    files.append(P.save(fig, out / f"{prefix}{'torque_norm' if kind == 'attitude' else 'force_norm'}.png"))
     return files
 
 
-def _save(plt, fig, path: Path) -> Path:
-    fig.tight_layout()
-    fig.savefig(path, dpi=72)
-    plt.close(fig)
-    return path
+def known_norm_bounds(sc, rows: list[Row]) -> list[tuple[float, str]]:
+    """Bounds on |u| a law guarantees by construction, to draw on the torque plot: a law whose
+    parameters include u_max (mrp_sat and its tanh variant) keeps |u|_2 <= uM (SPEC 2.7)."""
+    out = []
+    for law in sorted({r.law for r in rows if r.law in sc.control.laws and "u_max" in sc.control.laws[r.law].params}):
+        um = float(sc.control.laws[law].params["u_max"])
+        if all(abs(um - v) > 1e-12 for v, _ in out):
+            out.append((um, f"uM = {um:g} N m (|u| bound of mrp_sat, SPEC 2.7)"))
+    return out
+
+
+def settle_line(sc) -> tuple[float, str] | None:
+    """The settle threshold that is drawn on an error plot of this scenario, if it is an error level."""
+    st = sc.settle
+    if sc.kind == "attitude" and st.pointing_arcsec_max is not None:
+        return st.pointing_arcsec_max, f"settle threshold {st.pointing_arcsec_max:g} arcsec"
+    if sc.kind == "orbit" and st.pos_abs_max_m is not None:
+        return st.pos_abs_max_m, f"settle threshold {st.pos_abs_max_m:g} m"
+    return None
 
 
 # --------------------------------------------------------------------------- report
@@ -277,6 +294,7 @@ def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, 
     rows = run_rows(scenario, variants(sc, laws), out, limit=limit, duration=duration, sets=sets,
                     run_plots=run_plots, quiet=quiet)
     plots = overlay_plots(rows, out, sc.id + ("" if limit is None else f", limit {limit:g}"), sc.kind,
+                          norm_bounds=known_norm_bounds(sc, rows), settle=settle_line(sc),
                           requirement=sc.metrics.requirement_arcsec if sc.kind == "attitude" else None,
                           goal=sc.metrics.goal_arcsec if sc.kind == "attitude" else None, limit=limit)
     ms = [dict(r.metrics, row=r.name, table=r.table) if r.metrics else {"row": r.name, "error": r.error}

@@ -110,9 +110,11 @@ class Results:
         head, body = C.table_rows(rows, kind)
         self.md += [C.md_table(head, body), ""]
 
-    def plots(self, rows, kind, title, prefix, *, torque=True, requirement=None, goal=None, limit=None):
+    def plots(self, rows, kind, title, prefix, *, torque=True, requirement=None, goal=None, limit=None, sc=None):
+        """sc: the scenario, to draw its settle threshold and the laws' known |u| bounds."""
         files = C.overlay_plots(rows, self.fig, title, kind, prefix=prefix, requirement=requirement, goal=goal,
-                                limit=limit)
+                                limit=limit, norm_bounds=C.known_norm_bounds(sc, rows) if sc else (),
+                                settle=C.settle_line(sc) if sc else None)
         if not torque:
             files[1].unlink()
             files = files[:1]
@@ -148,7 +150,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
         irassi[sid] = (sc, rows)
         md += [f"## {sid}: reference gains, reference actuator (no limit)", "", sc.description, ""]
         R.table(rows, "attitude")
-        R.plots(rows, "attitude", f"{sid}, no limit", f"{sid}_", requirement=0.3, goal=0.05)
+        R.plots(rows, "attitude", f"{sid}, no limit", f"{sid}_", requirement=0.3, goal=0.05, sc=sc)
 
     # ---- IRASSI realistic limits
     limited = {}
@@ -230,7 +232,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
     sc_m, m_rows = R.rows("gao_mrp", prefix=False)
     md += ["## gao_mrp: saturated MRP regulator (Gao, Lu, Wang), uM = 0.05 N m", "", sc_m.description, ""]
     R.table(m_rows, "attitude")
-    R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_")
+    R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_", sc=sc_m)
 
     # ---- discussion
     md += discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows)

@@ -36,7 +36,7 @@
 #define DUMP_REAL_NAME "double"
 #endif
 
-#define DUMP_SCHEMA 1
+#define DUMP_SCHEMA 2
 
 static void put_str(FILE *f, const char *s)
 {

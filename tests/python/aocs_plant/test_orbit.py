@@ -1,6 +1,6 @@
 """Orbit plants: SPEC 2.8 linear model against the textbook Clohessy-Wiltshire
-solution (Hill frame) mapped to Bryson's frame, the nonlinear two-body plant,
-and the orbit disturbances (SRP force, debris delta-v) through the facade.
+solution (Hill frame) mapped to Bryson's frame, and the nonlinear two-body plant.
+The orbit disturbances are effectors: test_effectors_srp_force.py, test_effectors_impulse.py.
 
 Frame map used by the tests (derived in aocs_plant/orbit.py's docstring):
 Hill (x_H radial out, y_H along-track, z_H orbit normal) -> Bryson
@@ -11,7 +11,6 @@ import math
 import numpy as np
 import pytest
 
-from aocs_plant import Plant, load
 from aocs_plant.orbit import LinearOrbit, NonlinearOrbit, bryson_matrices, mean_motion
 
 MU = 3.986004418e14
@@ -130,43 +129,3 @@ def test_chief_point_is_an_equilibrium_of_the_nonlinear_plant():
     model = NonlinearOrbit(MU, R, MASS, (0.0,) * 6)
     d = model.derivative((0.0,) * 6, (0.0, 0.0, 0.0))
     assert max(abs(v) for v in d) < 1e-15 * MU / R ** 2
-
-
-def test_constant_srp_force_changes_velocity_by_f_t_over_m():
-    sc = load("landsat8_srp", {"control.enabled": False})
-    plant = Plant(sc)
-    F = 4.4e-6 * 3.0  # N along x
-    assert plant.truth()["disturbance"] == pytest.approx((F, 0.0, 0.0), rel=1e-15)
-    for _ in range(100):  # 10 s
-        plant.advance()
-    dv = plant.truth()["vel"][0]
-    # first order in n t = 0.01: the rotating-frame coupling changes it by < 1e-4 relative
-    assert dv == pytest.approx(F * 10.0 / MASS, rel=1e-3)
-
-
-@pytest.mark.parametrize("model", ["linear", "nonlinear"])
-def test_debris_impulse_applied_once_at_its_time(model):
-    sc = load("landsat8_debris", {"control.enabled": False, "plant.model": model})
-    plant = Plant(sc)
-    while plant.t < 60.0 - 1e-9:
-        plant.advance()
-    assert plant.k == 600
-    assert plant.sense()["vel"] == (0.0, 0.0, 0.0)  # the sample at t = 60 s precedes the hit
-    plant.advance()
-    tr = plant.truth()
-    assert tr["impulse_applied"]
-    assert tr["vel"][0] == pytest.approx(0.015424, rel=1e-3)  # n * 0.1 s ~ 1e-4
-    v_after = tr["vel"][0]
-    for _ in range(10):
-        plant.advance()
-    # no second kick: the velocity only evolves by the slow orbital dynamics
-    assert plant.truth()["vel"][0] == pytest.approx(v_after, rel=1e-3)
-
-
-def test_impulse_between_periods_splits_the_period():
-    sc = load("landsat8_debris", {"control.enabled": False, "disturbances.impulse.time_s": 60.05})
-    plant = Plant(sc)
-    for _ in range(601):
-        plant.advance()
-    # moving for 0.05 s of the 0.1 s period after the hit
-    assert plant.truth()["pos"][0] == pytest.approx(0.015424 * 0.05, rel=1e-2)

@@ -1,4 +1,4 @@
-"""Actuator limits, rate limit, lag and ZOH; sensor noise, bias, latency, faults."""
+"""Sensors (SPEC 3.5): noise, bias, latency, faults; the pointing figures of the truth."""
 import math
 
 import numpy as np
@@ -6,78 +6,6 @@ import pytest
 
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_conj, quat_mul
 from aocs_plant import Plant, load
-from aocs_plant.actuators import Actuator
-
-# ----------------------------------------------------------------- actuators
-
-
-def test_unlimited_by_default():
-    a = Actuator(0.1)
-    assert a.command((5e3, -7e3, 1.0)) == (5e3, -7e3, 1.0)
-    assert a.saturated_count == 0
-
-
-def test_axis_saturation_clips_each_component():
-    a = Actuator(0.1, axis_limit=1.0)
-    assert a.command((5.0, -5.0, 0.1)) == (1.0, -1.0, 0.1)
-    assert a.saturated_count == 1
-    assert a.command((0.5, -0.5, 0.1)) == (0.5, -0.5, 0.1)
-    assert a.saturated_count == 1
-
-
-def test_norm_saturation_keeps_direction():
-    a = Actuator(0.1, norm_limit=1.0)
-    out = a.command((3.0, 4.0, 0.0))
-    np.testing.assert_allclose(out, (0.6, 0.8, 0.0), rtol=1e-15)
-    b = Actuator(0.1, axis_limit=2.0, norm_limit=1.0)  # axis clip first, then the norm
-    np.testing.assert_allclose(b.command((3.0, 0.0, 0.0)), (1.0, 0.0, 0.0))
-
-
-def test_rate_limit_per_control_period():
-    a = Actuator(0.1, rate_limit=1.0)  # 1 N m/s -> 0.1 N m per period
-    outs = [a.command((10.0, -10.0, 0.05))[0] for _ in range(3)]
-    np.testing.assert_allclose(outs, (0.1, 0.2, 0.3), rtol=1e-14)
-    assert a.held[1] == pytest.approx(-0.3) and a.held[2] == 0.05
-    assert a.rate_limited_count == 3
-
-
-def test_first_order_lag_exact_response():
-    tau, dt, n = 0.5, 0.1, 10
-    a = Actuator(dt, lag_tau_s=tau)
-    a.command((1.0, 0.0, -2.0))
-    h = dt / n
-    delivered = []
-    for _ in range(5 * n):  # 0.5 s = one time constant
-        delivered.append(a.substep(h)[0])
-    assert a.output[0] == pytest.approx(1.0 - math.exp(-1.0), rel=1e-13)
-    assert a.output[2] == pytest.approx(-2.0 * (1.0 - math.exp(-1.0)), rel=1e-13)
-    # delivered impulse equals the integral of 1 - exp(-t / tau) over [0, 0.5]
-    assert sum(delivered) * h == pytest.approx(0.5 - tau * (1 - math.exp(-1.0)), rel=1e-12)
-
-
-def test_plant_holds_the_command_over_the_period_and_refuses_nan():
-    sc = load("irassi_large", {"disturbances.gravity_gradient_l2.enabled": False,
-                               "disturbances.constant_torque.enabled": False,
-                               "plant.euler321_deg": [0.0, 0.0, 0.0]})
-    plant = Plant(sc)
-    assert plant.apply((0.0, 2.0, 0.0))
-    plant.advance()
-    # principal axis: w = u dt / Jy exactly (no gyroscopic coupling)
-    assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.1 / 5954.2, rel=1e-13)
-    assert plant.truth()["applied"] == (0.0, 2.0, 0.0)
-    assert not plant.apply((math.nan, 0.0, 0.0))
-    plant.advance()  # previous command still held (ZOH)
-    assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.2 / 5954.2, rel=1e-13)
-    assert plant.counters["bad_commands"] == 1 and plant.counters["commands"] == 2
-
-
-def test_realistic_limit_override_saturates_plant_torque():
-    sc = load("irassi_large")
-    plant = Plant(load("irassi_large", {"actuator.axis_limit": sc.actuator.realistic_axis_limit}))
-    plant.apply((100.0, -100.0, 0.1))
-    plant.advance()
-    assert plant.truth()["applied"] == (0.5, -0.5, 0.1)
-
 
 # ----------------------------------------------------------------- sensors
 

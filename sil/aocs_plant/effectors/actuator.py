@@ -1,0 +1,140 @@
+"""The body-torque (or force) actuator (SPEC 3.4): `[actuator]`, present in every scenario.
+
+Once per control period, on the command (zero-order hold):
+  1. per-axis saturation |c_i| <= axis_limit;
+  2. norm saturation |c| <= norm_limit (scales the vector, keeps its direction);
+  3. rate limit |c_i(k) - c_i(k-1)| <= rate_limit * dt on the held value.
+Every limit is None when absent (unlimited). Without a lag the held value is
+what the body receives over the period (a HELD effector). With `lag_tau_s`
+the delivered value y is the effector's state (3 floats), a first-order lag
+    ydot = (c - y) / tau,
+integrated by the same RK4 as the body, so the body feels y at every stage.
+The period mean of y is then exactly c - tau (y(t_k+1) - y(t_k)) / dt for that
+discretisation (RK4 is linear), which is what `applied` reports. The lag output
+is a convex combination of saturated values up to the RK4 error, and the
+loader requires tau >= the substep dt / substeps (RK4 is stable to ~2.8 h/tau;
+at h/tau = 1 the step response is within 0.7 % of the exponential).
+`realistic_axis_limit` is not applied: the runner's realistic-limit override.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .base import ATTITUDE, ORBIT, ZERO3, Effector, Form, register
+
+LIMIT_KEYS = ("axis_limit", "norm_limit", "rate_limit", "lag_tau_s", "realistic_axis_limit")
+
+
+@dataclass(frozen=True)
+class ActuatorConfig:
+    axis_limit: float | None = None
+    norm_limit: float | None = None
+    rate_limit: float | None = None
+    lag_tau_s: float | None = None
+    realistic_axis_limit: float | None = None
+
+
+@register
+class Actuator(Effector):
+    kind = "actuator"
+    group = None
+    applies_to = (ATTITUDE, ORBIT)
+    role = "actuator"
+
+    @classmethod
+    def read(cls, sec, ctx) -> ActuatorConfig:
+        kw = {k: sec.number(k, required=False, positive=True) for k in LIMIT_KEYS}
+        tau = kw["lag_tau_s"]
+        h = ctx.dt / ctx.substeps
+        if tau is not None and tau < h:
+            sec.fail(sec.key("lag_tau_s"), f"{tau} s is shorter than the integration step dt / substeps = {h!r} s "
+                     "(the lag is integrated by RK4 with the body): raise integrator.substeps")
+        return ActuatorConfig(**kw)
+
+    @classmethod
+    def default(cls, ctx) -> ActuatorConfig:
+        return ActuatorConfig()
+
+    def __init__(self, config: ActuatorConfig, body):
+        super().__init__(config, body)
+        self.dt = float(body.dt)
+        self.axis_limit = config.axis_limit
+        self.norm_limit = config.norm_limit
+        self.rate_limit = config.rate_limit
+        self.lag_tau_s = config.lag_tau_s
+        self.held = ZERO3                  # value after saturation and rate limit
+        self.saturated_count = 0           # periods where 1. or 2. clipped
+        self.rate_limited_count = 0
+        self._applied = ZERO3
+        self._y0 = ZERO3
+        if self.lag_tau_s is None:
+            self.form = Form.HELD
+        else:
+            self.form = Form.GENERAL
+            self.state_size = 3
+        self.period_hooks = self.state_size > 0   # the period mean of the lag output
+
+    # ---------------------------------------------------------------- the command
+    def command(self, c) -> tuple[float, float, float]:
+        """Take a new command at the start of a control period; returns the held value."""
+        c = (float(c[0]), float(c[1]), float(c[2]))
+        clipped = False
+        if self.axis_limit is not None:
+            lim = self.axis_limit
+            s = tuple(min(lim, max(-lim, x)) for x in c)
+            clipped = s != c
+            c = s
+        if self.norm_limit is not None:
+            n = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+            if n > self.norm_limit:
+                k = self.norm_limit / n
+                c = (c[0] * k, c[1] * k, c[2] * k)
+                clipped = True
+        if clipped:
+            self.saturated_count += 1
+        if self.rate_limit is not None:
+            step = self.rate_limit * self.dt
+            p = self.held
+            r = tuple(p[i] + min(step, max(-step, c[i] - p[i])) for i in range(3))
+            if r != c:
+                self.rate_limited_count += 1
+            c = r
+        self.held = c
+        return c
+
+    # ---------------------------------------------------------------- contribution
+    def value(self) -> tuple:
+        return self.held
+
+    def initial_state(self) -> tuple:
+        return ZERO3 if self.state_size else ()
+
+    def derivative(self, t, body, x):
+        c = self.held
+        tau = self.lag_tau_s
+        return x, ((c[0] - x[0]) / tau, (c[1] - x[1]) / tau, (c[2] - x[2]) / tau)
+
+    def begin_period(self, t, x) -> None:
+        self._y0 = x
+
+    def end_period(self, t, x) -> None:
+        c, y0, tau, dt = self.held, self._y0, self.lag_tau_s, self.dt
+        self._applied = (c[0] - tau * (x[0] - y0[0]) / dt, c[1] - tau * (x[1] - y0[1]) / dt,
+                         c[2] - tau * (x[2] - y0[2]) / dt)
+
+    # ---------------------------------------------------------------- truth
+    @property
+    def commanded(self) -> tuple:
+        return self.held
+
+    @property
+    def applied(self) -> tuple:
+        """With the lag: the mean of y over the last period (without it the plant reports the held value)."""
+        return self._applied
+
+    def truth(self, t, body, x) -> dict:
+        out = {"commanded": self.held}
+        if self.state_size:
+            out["output"] = x
+        return out

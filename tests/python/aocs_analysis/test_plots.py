@@ -1,0 +1,64 @@
+"""Run plots are legible: at least 1200 px wide at 150 dpi or more, with the thresholds drawn."""
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+
+from aocs_analysis import plots
+
+
+def _png_size_and_dpi(path):
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    w, h = struct.unpack(">II", data[16:24])
+    dpi = None
+    off = 8
+    while off < len(data):
+        n, kind = struct.unpack(">I4s", data[off:off + 8])
+        if kind == b"pHYs":
+            ppm_x, _, unit = struct.unpack(">IIB", data[off + 8:off + 17])
+            dpi = ppm_x * 0.0254 if unit == 1 else None
+        off += 12 + n
+    return w, h, dpi
+
+
+def _attitude_series(n=200):
+    t = np.arange(n) * 0.1
+    return {"kind": "attitude", "t": t, "true_angle": np.geomspace(1e5, 1e-14, n),
+            "we": np.zeros((n, 3)), "t_cmd": t[:-1], "u_sat": np.full((n - 1, 3), 0.5),
+            "u_unsat": np.ones((n - 1, 3)), "mode": np.ones(n - 1, int), "step_ns": np.full(n - 1, 900.0),
+            "budget_ns": np.full(n - 1, 2000.0), "axis_limit": 0.5, "norm_limit": None}
+
+
+def test_run_plots_are_large_enough_to_read(tmp_path):
+    files = plots.run_plots(_attitude_series(), tmp_path, "test", 0.3, 0.05,
+                            settle={"pointing_arcsec_max": 10.0}, settle_time_s=12.3)
+    assert [f.name for f in files] == ["attitude_error.png", "rates.png", "torques.png", "step_time.png"]
+    for f in files:
+        w, h, dpi = _png_size_and_dpi(f)
+        assert w >= 1200 and h >= 500, (f.name, w, h)
+        assert dpi is not None and dpi >= 150, (f.name, dpi)
+    assert plots.LEGEND_PT >= 8
+
+
+def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
+    seen = []
+    real_save = plots.save
+
+    def spy(fig, path):
+        ax = fig.axes[0]
+        seen.append((path.name, [t.get_text() for t in ax.get_legend().get_texts()],
+                     [t.get_text() for t in ax.texts]))
+        return real_save(fig, path)
+
+    monkeypatch.setattr(plots, "save", spy)
+    plots.run_plots(_attitude_series(), tmp_path, "test", 0.3, 0.05, settle={"pointing_arcsec_max": 10.0},
+                    settle_time_s=12.3)
+    name, labels, notes = seen[0]
+    assert name == "attitude_error.png"
+    assert {"requirement 0.3 arcsec", "goal 0.05 arcsec", "settle threshold 10 arcsec",
+            "settled at 12.3 s"} <= set(labels)
+    assert any("drawn at 1e-12" in n for n in notes)
+    labels = dict((n, lb) for n, lb, _ in seen)["torques.png"]
+    assert "axis limit" in labels
