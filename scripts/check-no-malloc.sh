@@ -9,7 +9,8 @@
 # Checked, for each configuration present under BUILD_ROOT
 # (host, host-float, cortex-m4f, cortex-m7):
 #   - every firmware static library <cfg>/firmware/**/libaocs_*.a
-#     (libaocs_fw.a and the port library): undefined and defined symbols;
+#     (libaocs_fw.a, the PIL library libaocs_pil.a and the port library):
+#     undefined and defined symbols;
 #   - the ARM images <cfg>/aocs_image.elf and aocs_pil.elf: every symbol the link pulled in
 #     (newlib's printf, for example, would bring _malloc_r and _sbrk).
 # Configurations that are not built are reported and skipped; checking

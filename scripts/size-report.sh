@@ -5,7 +5,7 @@
 #   scripts/size-report.sh [BUILD_ROOT]     (default: build)
 #
 # 1. Per module (each firmware .c object: math/*, control/<law>, executive/*,
-#    and the Cortex-M port), text/data/bss from arm-none-eabi-size, side by
+#    the PIL library pil/* and the Cortex-M port), text/data/bss from arm-none-eabi-size, side by
 #    side for cortex-m4f (float) and cortex-m7 (double). Object sizes count
 #    every function of the module; the image keeps only what is called
 #    (--gc-sections), so the image total is the figure that flies.
@@ -33,6 +33,7 @@ module_of() {
   case "$obj" in
     */aocs_fw.dir/src/*) obj=${obj#*/aocs_fw.dir/src/} ;;
     */aocs_fw.dir/gains/*) obj=gains/${obj#*/aocs_fw.dir/gains/} ;;
+    */aocs_pil.dir/src/*) obj=pil/${obj#*/aocs_pil.dir/src/} ;;
     */aocs_port_cm.dir/*) obj=port/${obj#*/aocs_port_cm.dir/} ;;
   esac
   obj=${obj%.obj}
@@ -43,7 +44,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 for t in "${targets[@]}"; do
-  find "$root/$t/firmware" \( -path '*/aocs_fw.dir/*' -o -path '*/aocs_port_cm.dir/*' \) \
+  find "$root/$t/firmware" \( -path '*/aocs_fw.dir/*' -o -path '*/aocs_pil.dir/*' -o -path '*/aocs_port_cm.dir/*' \) \
        -name '*.obj' | sort > "$tmp/$t.objs"
   : > "$tmp/$t.sizes"
   while IFS= read -r obj; do

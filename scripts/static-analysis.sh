@@ -12,8 +12,11 @@
 #
 # Two passes, because exactly one HAL port is linked into any program and
 # both define the hal.h functions (MISRA 8.6 across ports otherwise):
-#   host    firmware/src + gains + port/posix      --platform=unix64
-#   target  firmware/src + gains + port/cortex-m   --platform=unix32 (ILP32, as ARM)
+#   host    firmware/src + gains + pil + port/posix      --platform=unix64
+#   target  firmware/src + gains + pil + port/cortex-m   --platform=unix32 (ILP32, as ARM)
+# firmware/pil is the PIL library (frame codec, budgets): not flight code,
+# but it runs on the target and keeps every firmware rule, so it is analysed
+# with the flight library.
 # cppcheck checks each preprocessor configuration it finds, so both the
 # double and the float (AOCS_REAL_IS_FLOAT) builds are analysed.
 set -euo pipefail
@@ -57,12 +60,13 @@ common=(--addon=misra --std=c99 --language=c
         --suppressions-list="$supp"
         --error-exitcode=1 -q -j "$jobs"
         "--template=$template"
-        -I firmware/include -I firmware)
+        -I firmware/include -I firmware -I firmware/pil/include)
 
 raw="$work/findings-raw.txt"
 : > "$raw"
 sources=(firmware/src)
 [ -d firmware/gains ] && sources+=(firmware/gains)
+[ -d firmware/pil/src ] && sources+=(firmware/pil/src)
 
 run_pass() {
   local name=$1; shift

@@ -69,11 +69,10 @@ def aocs_lcm(aocs_build_dir):
 
 @pytest.fixture(scope="session")
 def status_codes() -> dict[str, int]:
-    """aocs_status_t name -> value, read from firmware/include/aocs/types.h."""
-    text = (REPO / "firmware/include/aocs/types.h").read_text()
-    body = text[text.index("typedef enum {"):text.index("} aocs_status_t;")]
-    names = re.findall(r"^\s*(AOCS_[A-Z0-9_]+)\s*(?:=\s*0)?\s*,", body, re.M)
-    return {name: i for i, name in enumerate(names)}
+    """aocs_status_t name -> value: the rows of firmware/include/aocs/status.def, in order (AOCS_OK = 0)."""
+    text = (REPO / "firmware/include/aocs/status.def").read_text()
+    names = re.findall(r"^\s*X\((\w+), \"", text, re.M)
+    return {f"AOCS_{name}": i for i, name in enumerate(names)}
 
 
 @pytest.fixture(scope="session")

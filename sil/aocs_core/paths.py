@@ -1,6 +1,7 @@
 """Where the runner finds things: the repository, the build tree, the binaries,
-the generated LCM bindings, and firmware facts read from the headers (law ids,
-status names, timing budgets), so none of them is copied by hand.
+the generated LCM bindings. The firmware's facts (law ids and names, their
+fields, budgets, gain tables, status and mode names) come from the build's law
+registry: aocs_core.registry, never a copy.
 
 The build directory is AOCS_BUILD_DIR (default <repo>/build/host), the same
 variable the SIL tests use.
@@ -8,40 +9,16 @@ variable the SIL tests use.
 from __future__ import annotations
 
 import os
-import re
 import shutil
 import sys
-from functools import lru_cache
 from pathlib import Path
 
 import lcm
 
 REPO = Path(__file__).resolve().parents[2]
 
-#: law names in executive.h enum order (the wire's law_id; docs/wire-contract.md)
-LAW_IDS = {
-    "none": 0, "crp_linear": 1, "quat_pd": 2, "quat_nlpd_neg": 3, "quat_nlpd_pos": 4, "smc": 5,
-    "lqr_quat": 6, "hinf": 7, "mrp_sat": 8, "mrp_sat_tanh": 9, "orbit_lqr": 10,
-}
-LAW_NAMES_BY_ID = {v: k for k, v in LAW_IDS.items()}
-
-#: actuator_cmd_t.mode values
+#: actuator_cmd_t.mode values (aocs_exec_mode_t; tests/python/aocs_core check them against the registry)
 MODE_STANDBY, MODE_NOMINAL, MODE_SAFE = 0, 1, 2
-MODE_NAMES = {MODE_STANDBY: "standby", MODE_NOMINAL: "nominal", MODE_SAFE: "safe"}
-
-#: header macro of each law's declared host step budget (AOCS_<LAW>_BUDGET_NS)
-_BUDGET_MACROS = {
-    "crp_linear": ("crp_linear.h", "AOCS_CRP_LINEAR_BUDGET_NS"),
-    "quat_pd": ("quat_pd.h", "AOCS_QUAT_PD_BUDGET_NS"),
-    "quat_nlpd_neg": ("quat_nlpd.h", "AOCS_QUAT_NLPD_BUDGET_NS"),
-    "quat_nlpd_pos": ("quat_nlpd.h", "AOCS_QUAT_NLPD_BUDGET_NS"),
-    "smc": ("smc.h", "AOCS_SMC_BUDGET_NS"),
-    "lqr_quat": ("lqr_quat.h", "AOCS_LQR_QUAT_BUDGET_NS"),
-    "hinf": ("hinf.h", "AOCS_HINF_BUDGET_NS"),
-    "mrp_sat": ("mrp_sat.h", "AOCS_MRP_SAT_BUDGET_NS"),
-    "mrp_sat_tanh": ("mrp_sat.h", "AOCS_MRP_SAT_BUDGET_NS"),
-    "orbit_lqr": ("orbit_lqr.h", "AOCS_ORBIT_LQR_BUDGET_NS"),
-}
 
 
 class SetupError(RuntimeError):
@@ -125,43 +102,3 @@ def python_env() -> dict:
         extra.append(env["PYTHONPATH"])
     env["PYTHONPATH"] = os.pathsep.join(extra)
     return env
-
-
-@lru_cache(maxsize=None)
-def status_names() -> dict[int, str]:
-    """aocs_status_t value -> name, parsed from firmware/include/aocs/types.h ({} if absent)."""
-    p = REPO / "firmware" / "include" / "aocs" / "types.h"
-    try:
-        text = p.read_text()
-        body = text[text.index("typedef enum {"):text.index("} aocs_status_t;")]
-    except (OSError, ValueError):
-        return {}
-    names = re.findall(r"^\s*(AOCS_[A-Z0-9_]+)\s*(?:=\s*0)?\s*,", body, re.M)
-    return dict(enumerate(names))
-
-
-def status_name(code: int) -> str:
-    return status_names().get(int(code), f"status {int(code)}")
-
-
-def status_code(name: str) -> int:
-    """aocs_status_t value of a status name (KeyError when the firmware has no such status)."""
-    for code, n in status_names().items():
-        if n == name:
-            return code
-    raise KeyError(f"no aocs_status_t named {name}")
-
-
-@lru_cache(maxsize=None)
-def law_budget_ns(law: str) -> int:
-    """Declared host step budget of a law (ns), read from its header; the safe-mode budget for 'none'."""
-    inc = REPO / "firmware" / "include" / "aocs"
-    if law == "none":
-        header, macro = inc / "executive.h", "AOCS_EXEC_SAFE_BUDGET_NS"
-    else:
-        name, macro = _BUDGET_MACROS[law]
-        header = inc / "control" / name
-    m = re.search(rf"#define\s+{macro}\s+(\d+)u?", header.read_text())
-    if m is None:
-        raise SetupError(f"{header}: no #define {macro}")
-    return int(m.group(1))

@@ -34,7 +34,7 @@ import time
 
 import lcm
 
-from aocs_core import paths
+from aocs_core import paths, registry
 from aocs_wire import netns, wire
 
 from . import config as nodecfg
@@ -46,7 +46,6 @@ CH_SENSORS, CH_ACTUATOR, CH_COMMAND, CH_STATUS = wire.SENSORS, wire.ACTUATOR, wi
 EXIT_OK, EXIT_RUNTIME, EXIT_CONFIG = 0, 1, 2
 LCM_WAIT_MAX_MS = 100
 STATS_WINDOW = 65536
-MODE_NAMES = ("standby", "nominal", "safe")
 
 
 def log(msg: str) -> None:
@@ -114,7 +113,7 @@ class Bridge:
         self.stop = False
         self.fatal: str | None = None
         # executive state as last reported by the image
-        self.exec_law = nodecfg.LAW_IDS[cfg.law]
+        self.exec_law = registry.law_ids()[cfg.law]
         self.exec_mode = 0
         self.nominal_law = self.exec_law
         self.counters = {n: 0 for n in frame.COUNTER_NAMES}
@@ -152,13 +151,13 @@ class Bridge:
         _, p = self.q.request(frame.T_CONFIG, payload, frame.T_CONFIG_ACK)
         ack = frame.Ack.decode(p)
         if ack.pil_err != 0:
-            name = frame.CFG_NAME_BY_ID.get(ack.field, str(ack.field))
-            key = next((k.name for k in nodecfg.KEYS if k.pil == name), name)
-            detail = f": {paths.status_name(ack.status)}" if ack.status else ""
+            name = frame.cfg_name_by_id().get(ack.field, str(ack.field))
+            key = next((k.name for k in nodecfg.keys() if k.pil == name), name)
+            detail = f": {registry.status_name(ack.status)}" if ack.status else ""
             raise nodecfg.ConfigError(f"{self.cfg.path}:{self.cfg.lines.get(key, 0)}: key '{key}': the image "
                                       f"refused the value ({frame.err_name(ack.pil_err)}{detail})")
         if ack.status != 0:
-            st = paths.status_name(ack.status)
+            st = registry.status_name(ack.status)
             raise nodecfg.ConfigError(f"{self.cfg.path}: the executive rejected the configuration of law "
                                       f"'{self.cfg.law}': {st} (check {nodecfg.status_hint(st, self.cfg.law)})")
         self.exec_law, self.exec_mode, self.budget = ack.exec_law, ack.exec_mode, ack.budget
@@ -312,11 +311,11 @@ class Bridge:
     def apply_command(self, c) -> int:
         """fsw_node apply_command(), the executive call made in the image. Returns an aocs_status_t code."""
         ct = self.t.command_t
-        unknown_law = paths.status_code("AOCS_ERR_UNKNOWN_LAW")
-        mode_invalid = paths.status_code("AOCS_ERR_MODE_INVALID")
+        unknown_law = registry.status_code("AOCS_ERR_UNKNOWN_LAW")
+        mode_invalid = registry.status_code("AOCS_ERR_MODE_INVALID")
         law = self.exec_law
         if c.law_id != ct.LAW_KEEP:
-            if c.law_id < 0 or c.law_id >= len(nodecfg.LAW_NAMES):
+            if c.law_id < 0 or c.law_id >= len(registry.law_names()):
                 return unknown_law
             law = c.law_id
         if c.mode == ct.MODE_STANDBY:
@@ -366,7 +365,7 @@ class Bridge:
                 self.nominal_law = self.exec_law
         else:
             self.n_cmd_rejected += 1
-            log(f"command {msg.request} rejected: {paths.status_name(st)}")
+            log(f"command {msg.request} rejected: {registry.status_name(st)}")
         self.publish_status(False)
 
     # ---------------------------------------------------------------- loop
@@ -426,8 +425,10 @@ class Bridge:
             f"overruns={self.pil_overruns} instructions median={ins['median']} max={ins['max']} budget={budget} "
             f"step_ns median={s['median']} p99={s['p99']} max={s['max']} lost={self.lost} dup={self.duplicate} "
             f"foreign={self.n_foreign} malformed={self.n_malformed}")
-        law_name = nodecfg.LAW_NAMES[self.exec_law] if 0 <= self.exec_law < len(nodecfg.LAW_NAMES) else "unknown"
-        mode_name = MODE_NAMES[self.exec_mode] if 0 <= self.exec_mode < len(MODE_NAMES) else "unknown"
+        reg = registry.load()
+        law = reg.law_by_id(self.exec_law)
+        law_name = law.name if law is not None else "unknown"
+        mode_name = reg.mode_names.get(self.exec_mode, "unknown")
         out = {
             "reason": reason, "run_mode": "lockstep", "law": law_name, "mode": mode_name,
             "steps": self.step_ns.count, "overruns": self.pil_overruns, "slips": 0,

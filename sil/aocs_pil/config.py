@@ -6,6 +6,9 @@ for rule (same keys, value counts, sign rules, number syntax of strtod, error
 messages with file, line and key), so a file fsw_node accepts the bridge
 accepts with the same values, and a file it rejects the bridge rejects with
 the same message. tests/python/aocs_pil/test_frame.py holds the two side by side.
+The general keys are listed here as in node_config.c; the law keys, their
+PIL fields and the gain tables come from the build's law registry
+(aocs_core.registry), as node_config.c expands them from laws.def.
 
 The executive's own validation (aocs_exec_init: ordering rules, inertia,
 limits, gain tables) is not repeated here: the image runs it on the CONFIG
@@ -16,23 +19,12 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
+from aocs_core import registry
+
 from . import frame
-
-#: law names in aocs_law_id_t order (executive.h, docs/wire-contract.md "Law ids")
-LAW_NAMES = ("none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf",
-             "mrp_sat", "mrp_sat_tanh", "orbit_lqr")
-LAW_IDS = {name: i for i, name in enumerate(LAW_NAMES)}
-
-#: compiled gain tables in aocs_gain_table_id_t order: (design name, law)
-GAIN_TABLES = (("lqr_quat_ref", "lqr_quat"), ("lqr_quat_strong", "lqr_quat"), ("hinf_min", "hinf"),
-               ("hinf_regional", "hinf"), ("orbit_lqr_q1", "orbit_lqr"), ("orbit_lqr_q01", "orbit_lqr"),
-               ("orbit_lqr_q10", "orbit_lqr"))
-
-#: `<law>.table` key -> (law, the `<law>.k` key it excludes)
-TABLE_KEYS = {"lqr_quat.table": ("lqr_quat", "lqr_quat.k"), "hinf.table": ("hinf", "hinf.k"),
-              "orbit_lqr.table": ("orbit_lqr", "orbit_lqr.k")}
 
 ANY, POS, NONNEG = "any", "pos", "nonneg"
 
@@ -44,58 +36,66 @@ class Key:
     count: int
     rule: str
     help: str
-    pil: str | None  # PIL CONFIG field (frame.CFG_FIELDS), None = bridge-only key
+    pil: str | None  # PIL CONFIG field (frame.cfg_fields()), None = bridge-only key
+    law: str | None = None   # gain_table keys: the law whose gain tables the key takes
 
 
-#: node_config.c KEYS, in the same order
-KEYS = (
-    Key("law", "law", 1, ANY, "law name (executive.h), none = standby", "LAW"),
-    Key("mode", "run_mode", 1, ANY, "lockstep | realtime", None),
-    Key("control_period_s", "real", 1, POS, "s", "PERIOD_S"),
-    Key("target_q", "real", 4, ANY, "4 numbers, scalar last, unit", "TARGET_Q"),
-    Key("target_w", "real", 3, ANY, "rad/s, 3 numbers", "TARGET_W"),
-    Key("target_w_dot", "real", 3, ANY, "rad/s^2, 3 numbers", "TARGET_W_DOT"),
-    Key("target_rotation_rate", "real", 3, ANY,
-        "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame",
-        "TARGET_ROTATION_RATE"),
-    Key("u_max_axis", "real", 3, NONNEG, "N m (N) per axis, 3 numbers", "U_MAX_AXIS"),
-    Key("u_max_norm", "real", 1, NONNEG, "N m (N), 0 = unused", "U_MAX_NORM"),
-    Key("k_safe", "real", 1, POS, "N m s/rad", "K_SAFE"),
-    Key("recover_good_samples", "u32", 1, POS, "count >= 1", "RECOVER_GOOD_SAMPLES"),
-    Key("missing_max_periods", "u32", 1, POS, "count >= 1", "MISSING_MAX_PERIODS"),
-    Key("stale_timeout_s", "seconds_ns", 1, POS, "s", "STALE_TIMEOUT_NS"),
-    Key("budget_ns", "u64", 1, NONNEG, "ns, 0 = the law's budget", "BUDGET_INSTR"),
-    Key("idle_timeout_s", "double", 1, POS, "s", None),
-    Key("run_timeout_s", "double", 1, NONNEG, "s, 0 = none", None),
-    Key("status_period_s", "double", 1, POS, "s", None),
-    Key("lcm_url", "string", 1, ANY, "LCM provider URL", None),
-    Key("inertia", "inertia", 1, ANY, "kg m^2: 3 numbers (diagonal) or 9 (row-major)", "INERTIA"),
-    Key("crp_linear.k1", "real", 1, POS, "N m s/rad", "CRP_K1"),
-    Key("crp_linear.k2", "real", 1, POS, "N m", "CRP_K2"),
-    Key("quat_pd.kp", "real", 1, POS, "N m", "QUAT_PD_KP"),
-    Key("quat_pd.kd", "real", 1, POS, "N m s/rad", "QUAT_PD_KD"),
-    Key("quat_nlpd.kp", "real", 1, POS, "N m", "QUAT_NLPD_KP"),
-    Key("quat_nlpd.kd", "real", 1, POS, "N m s/rad", "QUAT_NLPD_KD"),
-    Key("smc.lambda", "real", 3, POS, "diagonal of Lambda, 3 numbers", "SMC_LAMBDA"),
-    Key("smc.g", "real", 3, POS, "diagonal of G, 3 numbers", "SMC_G"),
-    Key("smc.eps", "real", 3, POS, "boundary layers, 3 numbers", "SMC_EPS"),
-    Key("lqr_quat.k", "real", 18, ANY, "3x6 gain, 18 numbers row-major, columns qe_vec then we", "LQR_QUAT_K"),
-    Key("lqr_quat.table", "gain_table", 1, ANY, "gain table design name", "LQR_QUAT_TABLE"),
-    Key("hinf.k", "real", 18, ANY, "3x6 gain u = K x, 18 numbers row-major, columns phi theta psi then rates",
-        "HINF_K"),
-    Key("hinf.table", "gain_table", 1, ANY, "gain table design name", "HINF_TABLE"),
-    Key("mrp_sat.k", "real", 1, POS, "N m s", "MRP_K"),
-    Key("mrp_sat.lambda", "real", 1, POS, "attitude gain", "MRP_LAMBDA"),
-    Key("mrp_sat.u_max", "real", 1, POS, "N m, bound on |u|_2", "MRP_U_MAX"),
-    Key("mrp_sat.l1", "real", 3, POS, "S1 linear zone, 3 numbers", "MRP_L1"),
-    Key("mrp_sat.m1", "real", 3, POS, "S1 bound, 3 numbers", "MRP_M1"),
-    Key("mrp_sat.l2", "real", 3, POS, "S2 linear zone, 3 numbers", "MRP_L2"),
-    Key("mrp_sat.m2", "real", 3, POS, "S2 bound, 3 numbers", "MRP_M2"),
-    Key("orbit_lqr.k", "real", 18, ANY,
-        "3x6 gain F = -K x, 18 numbers row-major, columns du dv dw then dx dy dz", "ORBIT_K"),
-    Key("orbit_lqr.table", "gain_table", 1, ANY, "gain table design name", "ORBIT_TABLE"),
+#: node_config.c's general KEYS (the node's and the executive's own keys), in its order:
+#: (name, kind, count, rule, help). Their PIL fields are the registry's executive fields
+#: of the same key; the law keys after them are the registry's field rows (keys()).
+_GENERAL = (
+    ("law", "law", 1, ANY, "law name (executive.h), none = standby"),
+    ("mode", "run_mode", 1, ANY, "lockstep | realtime"),
+    ("control_period_s", "real", 1, POS, "s"),
+    ("target_q", "real", 4, ANY, "4 numbers, scalar last, unit"),
+    ("target_w", "real", 3, ANY, "rad/s, 3 numbers"),
+    ("target_w_dot", "real", 3, ANY, "rad/s^2, 3 numbers"),
+    ("target_rotation_rate", "real", 3, ANY,
+     "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame"),
+    ("u_max_axis", "real", 3, NONNEG, "N m (N) per axis, 3 numbers"),
+    ("u_max_norm", "real", 1, NONNEG, "N m (N), 0 = unused"),
+    ("k_safe", "real", 1, POS, "N m s/rad"),
+    ("recover_good_samples", "u32", 1, POS, "count >= 1"),
+    ("missing_max_periods", "u32", 1, POS, "count >= 1"),
+    ("stale_timeout_s", "seconds_ns", 1, POS, "s"),
+    ("budget_ns", "u64", 1, NONNEG, "ns, 0 = the law's budget"),
+    ("idle_timeout_s", "double", 1, POS, "s"),
+    ("run_timeout_s", "double", 1, NONNEG, "s, 0 = none"),
+    ("status_period_s", "double", 1, POS, "s"),
+    ("lcm_url", "string", 1, ANY, "LCM provider URL"),
 )
-KEY_BY_NAME = {k.name: k for k in KEYS}
+
+#: how node_config.c's LAW_KEY_ROW reads a field of each registry type: (kind, count or None = the field's)
+_LAW_KEY_KIND = {"real": ("real", None), "vec3": ("real", None), "gain": ("real", None),
+                 "mat3": ("inertia", 1), "table": ("gain_table", 1)}
+
+
+@lru_cache(maxsize=None)
+def _keys(reg: registry.Registry) -> tuple[Key, ...]:
+    out = []
+    for name, kind, count, rule, help_ in _GENERAL:
+        x = reg.exec_field_of_key(name)
+        out.append(Key(name, kind, count, rule, help_, x.name if x is not None else None))
+    for f in reg.fields:
+        kind, count = _LAW_KEY_KIND[f.type]
+        out.append(Key(f.key, kind, count if count is not None else f.count, f.rule, f.unit, f.name,
+                       f.law if f.type == "table" else None))
+    return tuple(out)
+
+
+def keys() -> tuple[Key, ...]:
+    """node_config.c KEYS, in the same order: the general keys, then every law field of the registry."""
+    return _keys(registry.load())
+
+
+def key_by_name() -> dict[str, Key]:
+    return {k.name: k for k in keys()}
+
+
+def _table_exclusions(reg: registry.Registry) -> list[tuple[str, str]]:
+    """(`<law>.table` key, the `<law>.k` key it excludes) for every TABLE field."""
+    return [(f.key, reg.gain_field_of(f).key) for f in reg.fields if f.type == "table"]
+
 
 LINE_MAX = 1022          # fgets buffer of 1024: 1022 characters + newline + NUL
 URL_MAX = 255            # AOCS_NODE_URL_MAX - 1
@@ -130,28 +130,29 @@ class NodeConfig:
     def pil_fields(self, clock_hz: float) -> frame.ConfigFields:
         """The CONFIG field list the image applies (aocs_pil_config_decode)."""
         out = frame.ConfigFields()
+        by_name = key_by_name()
         for name, value in self.values:
-            key = KEY_BY_NAME[name]
+            key = by_name[name]
             if name == "budget_ns":
                 if value > 0:
                     # a ns budget at the target's nominal clock, one instruction per cycle
-                    out.add("BUDGET_INSTR", int(math.ceil(value * clock_hz / 1e9)))
+                    out.add(key.pil, int(math.ceil(value * clock_hz / 1e9)))
                 continue
             if name == "stale_timeout_s":
                 continue
             if name == "law":
-                out.add("LAW", LAW_IDS[value])
+                out.add(key.pil, registry.law_ids()[value])
             elif key.kind == "inertia":
                 if len(value) == 3:
                     value = [value[0], 0.0, 0.0, 0.0, value[1], 0.0, 0.0, 0.0, value[2]]
-                out.add("INERTIA", value)
+                out.add(key.pil, value)
             elif key.kind == "gain_table":
                 out.add(key.pil, value)
             elif key.kind == "u32":
                 out.add(key.pil, int(value))
             else:
                 out.add(key.pil, value)
-        out.add("STALE_TIMEOUT_NS", self.stale_timeout_ns or 0)
+        out.add(key_by_name()["stale_timeout_s"].pil, self.stale_timeout_ns or 0)
         return out
 
 
@@ -211,7 +212,7 @@ def _g(x: float) -> str:
 
 
 def table_names(law: str) -> str:
-    return ", ".join(name for name, tlaw in GAIN_TABLES if tlaw == law)
+    return ", ".join(registry.load().tables_for(law))
 
 
 def _set(cfg: NodeConfig, key: Key, value: str) -> None:
@@ -219,7 +220,7 @@ def _set(cfg: NodeConfig, key: Key, value: str) -> None:
     if value == "":
         raise ConfigError(f"key '{key.name}': empty value ({key.help})")
     if key.kind == "law":
-        if value not in LAW_IDS:
+        if value not in registry.law_ids():
             raise ConfigError(f"key 'law': unknown law '{value}'")
         cfg.law = value
         cfg.values.append((key.name, value))
@@ -235,13 +236,13 @@ def _set(cfg: NodeConfig, key: Key, value: str) -> None:
         cfg.lcm_url = value
         return
     if key.kind == "gain_table":
-        law = TABLE_KEYS[key.name][0]
+        law = key.law
         valid = table_names(law)
-        names = dict(GAIN_TABLES)
-        if value not in names:
+        table = registry.load().table(value)
+        if table is None:
             raise ConfigError(f"key '{key.name}': unknown gain table '{value}' (valid names: {valid})")
-        if names[value] != law:
-            raise ConfigError(f"key '{key.name}': gain table '{value}' was designed for law {names[value]}, "
+        if table.law != law:
+            raise ConfigError(f"key '{key.name}': gain table '{value}' was designed for law {table.law}, "
                               f"not {law} (valid names: {valid})")
         cfg.values.append((key.name, value))
         return
@@ -303,6 +304,7 @@ def load(path: str | Path) -> NodeConfig:
     if lines and lines[-1] == "":
         lines.pop()   # the file ends with a newline
     seen: dict[str, int] = {}
+    by_name = key_by_name()
     for lineno, line in enumerate(lines, start=1):
         last_without_newline = (lineno == len(lines)) and not text.endswith("\n")
         if len(line) > LINE_MAX and not (last_without_newline and len(line) == LINE_MAX + 1):
@@ -314,7 +316,7 @@ def load(path: str | Path) -> NodeConfig:
             raise ConfigError(f"{path}:{lineno}: expected 'key = value', got '{line}'")
         k, v = line.split("=", 1)
         k, v = k.strip(_SPACE), v.strip(_SPACE)
-        key = KEY_BY_NAME.get(k)
+        key = by_name.get(k)
         if key is not None and k in seen:
             raise ConfigError(f"{path}:{lineno}: key '{k}' given twice")
         if key is None:
@@ -324,7 +326,7 @@ def load(path: str | Path) -> NodeConfig:
         except ConfigError as exc:
             raise ConfigError(f"{path}:{lineno}: {exc}") from None
         seen[k] = lineno
-    for tkey, (_, kkey) in TABLE_KEYS.items():
+    for tkey, kkey in _table_exclusions(registry.load()):
         lt, lk = seen.get(tkey, 0), seen.get(kkey, 0)
         if lt and lk:
             raise ConfigError(f"{path}:{max(lt, lk)}: keys '{tkey}' (line {lt}) and '{kkey}' (line {lk}) are "
@@ -338,8 +340,9 @@ def load(path: str | Path) -> NodeConfig:
 
 def status_hint(status_name: str, law: str) -> str:
     """fsw_node's status_keys(): which keys to check for an aocs_exec_init status."""
-    gain = {"lqr_quat": "lqr_quat.k / lqr_quat.table", "hinf": "hinf.k / hinf.table",
-            "orbit_lqr": "orbit_lqr.k / orbit_lqr.table"}.get(law, "the gains of the selected law")
+    reg = registry.load()
+    table = reg.table_field(law) if law in reg.law_ids() else None
+    gain = f"{reg.gain_field_of(table).key} / {table.key}" if table is not None else "the gains of the selected law"
     return {
         "AOCS_ERR_RATE_INVALID": "control_period_s",
         "AOCS_ERR_TARGET_INVALID": "target_q / target_w / target_w_dot / target_rotation_rate (a rotating target "

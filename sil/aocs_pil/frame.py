@@ -1,8 +1,9 @@
-"""PIL frame codec, the host side of firmware/include/aocs/pil_frame.h.
+"""PIL frame codec, the host side of firmware/pil/include/aocs/pil_frame.h.
 
-Byte for byte the same layouts as the C codec (firmware/src/pil/pil_frame.c);
+Byte for byte the same layouts as the C codec (firmware/pil/src/pil_frame.c);
 tests/python/aocs_pil/test_frame.py checks the constants against the header and the
 bytes against golden vectors that tests/unit/test_pil_frame.c also checks.
+The CONFIG field ids are the law registry's (aocs_core.registry), never a copy.
 
 Frame: magic u32 ("APIL"), version u8, type u8, length u16, seq u32, payload,
 CRC-32 (zlib.crc32) of everything before it; little-endian; reals binary64.
@@ -13,6 +14,8 @@ import math
 import struct
 import zlib
 from dataclasses import dataclass, field
+
+from aocs_core import registry
 
 MAGIC = 0x4C495041
 VERSION = 1
@@ -47,21 +50,16 @@ ERR_MEANING = {
     "AOCS_PIL_ERR_STATE": "a step or command before the configuration",
 }
 
-# aocs_pil_cfg_field_t: name -> (id, kind, count); kind 'f' binary64, 'u' uint64, 's' name
-CFG_FIELDS: dict[str, tuple[int, str, int]] = {
-    "LAW": (1, "u", 1), "PERIOD_S": (2, "f", 1), "TARGET_Q": (3, "f", 4), "TARGET_W": (4, "f", 3),
-    "TARGET_W_DOT": (5, "f", 3), "TARGET_ROTATION_RATE": (6, "f", 3), "TARGET_T0_NS": (7, "u", 1),
-    "U_MAX_AXIS": (8, "f", 3), "U_MAX_NORM": (9, "f", 1), "K_SAFE": (10, "f", 1),
-    "RECOVER_GOOD_SAMPLES": (11, "u", 1), "MISSING_MAX_PERIODS": (12, "u", 1), "STALE_TIMEOUT_NS": (13, "u", 1),
-    "BUDGET_INSTR": (14, "u", 1), "INERTIA": (15, "f", 9), "CRP_K1": (16, "f", 1), "CRP_K2": (17, "f", 1),
-    "QUAT_PD_KP": (18, "f", 1), "QUAT_PD_KD": (19, "f", 1), "QUAT_NLPD_KP": (20, "f", 1),
-    "QUAT_NLPD_KD": (21, "f", 1), "SMC_LAMBDA": (22, "f", 3), "SMC_G": (23, "f", 3), "SMC_EPS": (24, "f", 3),
-    "LQR_QUAT_K": (25, "f", 18), "LQR_QUAT_TABLE": (26, "s", 0), "HINF_K": (27, "f", 18),
-    "HINF_TABLE": (28, "s", 0), "MRP_K": (29, "f", 1), "MRP_LAMBDA": (30, "f", 1), "MRP_U_MAX": (31, "f", 1),
-    "MRP_L1": (32, "f", 3), "MRP_M1": (33, "f", 3), "MRP_L2": (34, "f", 3), "MRP_M2": (35, "f", 3),
-    "ORBIT_K": (36, "f", 18), "ORBIT_TABLE": (37, "s", 0),
-}
-CFG_NAME_BY_ID = {v[0]: k for k, v in CFG_FIELDS.items()}
+def cfg_fields() -> dict[str, tuple[int, str, int]]:
+    """aocs_pil_cfg_field_t: name -> (id, kind, count); kind 'f' binary64, 'u' uint64, 's' name.
+
+    The executive's fields (AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h) and every law field of
+    laws.def, from the build's law registry."""
+    return registry.load().pil_fields()
+
+
+def cfg_name_by_id() -> dict[int, str]:
+    return {v[0]: k for k, v in cfg_fields().items()}
 
 HELLO = struct.Struct("<7I")
 STEP = struct.Struct("<IQI13d")
@@ -269,14 +267,15 @@ class ConfigFields:
     entries: list = field(default_factory=list)
 
     def add(self, name: str, values) -> None:
-        if name not in CFG_FIELDS:
+        if name not in cfg_fields():
             raise KeyError(f"unknown PIL config field {name}")
         self.entries.append((name, values))
 
     def encode(self) -> bytes:
         out = bytearray()
+        fields = cfg_fields()
         for name, values in self.entries:
-            fid, kind, count = CFG_FIELDS[name]
+            fid, kind, count = fields[name]
             if kind == "s":
                 raw = str(values).encode("ascii")
                 if not 1 <= len(raw) <= TABLE_NAME_MAX:

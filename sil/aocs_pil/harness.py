@@ -33,7 +33,7 @@ from pathlib import Path
 
 import lcm
 
-from aocs_core import paths
+from aocs_core import paths, registry
 from aocs_plant.plant import Plant
 from aocs_plant.scenario import load
 from aocs_wire import fsw_config, netns
@@ -343,19 +343,23 @@ def ulp_diff(x: float, y: float) -> int:
 
 
 # --------------------------------------------------------------------------- report (docs/pil.md)
-#: closed loops compared host / pil-m7 / pil-m4f (scenario, law, scenario overrides)
-EQUIVALENCE = [("irassi_small", "quat_pd", {}), ("irassi_small", "quat_nlpd_neg", {}),
-               ("irassi_small", "quat_nlpd_pos", {}), ("irassi_small", "smc", {}), ("irassi_small", "lqr_quat", {}),
-               ("irassi_small", "lqr_quat", {"laws.lqr_quat.table": "lqr_quat_strong"}),
-               ("irassi_small", "quat_pd", {"actuator.axis_limit": 0.5}),
-               ("gao_mrp", "mrp_sat", {}), ("gao_mrp", "mrp_sat_tanh", {}), ("geo_hinf", "hinf", {}),
-               ("rtc_ex1a", "crp_linear", {}), ("landsat8_q1", "orbit_lqr", {})]
-#: instruction sweep: every law over full reference scenarios (scenario, law)
-SWEEP = [("rtc_ex1a", "crp_linear"), ("rtc_ex2a", "crp_linear"), ("rtc_ex3a", "crp_linear"),
-         ("irassi_small", "quat_pd"), ("irassi_large", "quat_pd"), ("irassi_small", "quat_nlpd_neg"),
-         ("irassi_small", "quat_nlpd_pos"), ("irassi_small", "smc"), ("irassi_large", "smc"),
-         ("irassi_small", "lqr_quat"), ("irassi_large", "lqr_quat"), ("geo_hinf", "hinf"), ("gao_mrp", "mrp_sat"),
-         ("gao_mrp", "mrp_sat_tanh"), ("landsat8_q1", "orbit_lqr"), ("landsat8_debris", "orbit_lqr")]
+#: closed loops compared host / pil-m7 / pil-m4f besides every law on its reference scenario
+#: (scenario, law, scenario overrides): the other gain table, and a saturating actuator
+EQUIVALENCE_EXTRA = [("irassi_small", "lqr_quat", {"laws.lqr_quat.table": "lqr_quat_strong"}),
+                     ("irassi_small", "quat_pd", {"actuator.axis_limit": 0.5})]
+#: instruction sweep: every law on its reference scenario, and these further full reference scenarios
+SWEEP_EXTRA = [("rtc_ex2a", "crp_linear"), ("rtc_ex3a", "crp_linear"), ("irassi_large", "quat_pd"),
+               ("irassi_large", "smc"), ("irassi_large", "lqr_quat"), ("landsat8_debris", "orbit_lqr")]
+
+
+def equivalence_specs() -> list[tuple[str, str, dict]]:
+    """Every law of the registry on its reference scenario, then EQUIVALENCE_EXTRA."""
+    return [(law.reference_scenario, law.name, {}) for law in registry.load().laws] + EQUIVALENCE_EXTRA
+
+
+def sweep_specs() -> list[tuple[str, str]]:
+    """Every law of the registry on its reference scenario, then SWEEP_EXTRA."""
+    return [(law.reference_scenario, law.name) for law in registry.load().laws] + SWEEP_EXTRA
 
 
 def _label(sid, law, ov):
@@ -363,8 +367,9 @@ def _label(sid, law, ov):
     return f"{sid} {law}" + (f" ({extra})" if extra else "")
 
 
-def equivalence_rows(specs=EQUIVALENCE, duration_s=None, log=print) -> list[dict]:
+def equivalence_rows(specs=None, duration_s=None, log=print) -> list[dict]:
     rows = []
+    specs = equivalence_specs() if specs is None else specs
     for sid, law, ov in specs:
         runs = {t: run(sid, law, t, overrides=ov, duration_s=duration_s) for t in ("host", "pil-m7", "pil-m4f")}
         replay = run(sid, law, "pil-m4f", overrides=ov, duration_s=duration_s, sensors=runs["host"].sensors)
@@ -393,8 +398,9 @@ def equivalence_rows(specs=EQUIVALENCE, duration_s=None, log=print) -> list[dict
     return rows
 
 
-def sweep_rows(specs=SWEEP, duration_s=None, log=print) -> list[dict]:
+def sweep_rows(specs=None, duration_s=None, log=print) -> list[dict]:
     rows = []
+    specs = sweep_specs() if specs is None else specs
     for sid, law in specs:
         for t in ("pil-m4f", "pil-m7"):
             r = run_direct(sid, law, t, duration_s=duration_s)

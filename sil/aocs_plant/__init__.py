@@ -8,7 +8,7 @@ validated scenario file (`scenario.load`). Hot path on plain Python floats.
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec
 
 from .plant import Plant, integrate_open_loop
-from .scenario import LAW_NAMES, Scenario, ScenarioError, list_scenarios, load
+from .scenario import Scenario, ScenarioError, law_names, list_scenarios, load
 
 __all__ = ["Plant", "integrate_open_loop", "load", "list_scenarios", "Scenario", "ScenarioError",
-           "LAW_NAMES", "pointing_error_rad", "pointing_error_arcsec", "qe_arcsec"]
+           "law_names", "pointing_error_rad", "pointing_error_arcsec", "qe_arcsec"]

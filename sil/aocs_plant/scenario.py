@@ -21,7 +21,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aocs_core import limits
+from aocs_core import limits, registry
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
 from . import effectors
@@ -30,10 +30,6 @@ from .orbit import MU_EARTH, mean_motion
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 
-ATTITUDE_LAWS = ("crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-                 "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh")
-ORBIT_LAWS = ("orbit_lqr",)
-LAW_NAMES = ATTITUDE_LAWS + ORBIT_LAWS
 KINDS = ("attitude", "orbit")
 ATTITUDE_INPUTS = ("euler321_deg", "rho", "sigma", "quaternion")
 SENSOR_CHANNELS = {"attitude": ("attitude", "rate", "all"),
@@ -386,38 +382,81 @@ def _read_attitude_input(sec: _Section, what: str):
     return q, (k, v)
 
 
-def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
-    def gains(*names, vector=False):
-        out = {}
-        for g in names:
-            out[g] = sec.scalar_or_vector(g, positive=True) if vector else sec.number(g, positive=True)
-        return out
+def law_names(kind: str | None = None) -> tuple[str, ...]:
+    """The laws a scenario may configure (the flight software's law registry, aocs_core.registry),
+    in wire-id order; only those of one kind (attitude, orbit) when given."""
+    reg = registry.load()
+    return tuple(law.name for law in reg.laws if kind is None or law.input == kind)
 
+
+def _gao_bound(p) -> float:
+    """(2/sqrt 3) uM: the largest M2 that keeps |u| <= uM (SPEC 2.7)."""
+    return 2.0 * p["u_max"] / math.sqrt(3.0)
+
+
+def _check_gao(sec: _Section, p):
+    """Gao, Lu, Wang 2010: L1 = M1 < L2 <= M2 <= (2/sqrt 3) uM on every axis (SPEC 2.7)."""
+    tol = 1e-12
+    bound = _gao_bound(p)
+    for l1, m1, l2, m2 in zip(p["l1"], p["m1"], p["l2"], p["m2"]):
+        if abs(l1 - m1) > tol * max(1.0, abs(m1)):
+            sec.fail(sec.key("m1"), f"violates L1 = M1 (L1 = {l1}, M1 = {m1})")
+        if not m1 < l2:
+            sec.fail(sec.key("l2"), f"violates M1 < L2 (M1 = {m1}, L2 = {l2})")
+        if not l2 <= m2:
+            sec.fail(sec.key("m2"), f"violates L2 <= M2 (L2 = {l2}, M2 = {m2})")
+        if m2 > bound * (1.0 + tol):
+            sec.fail(sec.key("m2"), f"violates M2 <= (2/sqrt 3) uM = {bound!r} (M2 = {m2})")
+
+
+def _tanh_extra(sec: _Section, p):
+    """SPEC 2.7 generalised saturation: M3 (default uM). The flight software's tanh variant uses
+    M3 = u_max (mrp_sat.h), so another value cannot fly."""
+    p["m3"] = sec.number("m3", required=False, default=p["u_max"], positive=True)
+    if abs(p["m3"] - p["u_max"]) > 1e-12 * p["u_max"]:
+        sec.fail(sec.key("m3"), f"m3 = {p['m3']} but the flight software's tanh variant uses M3 = u_max = "
+                                f"{p['u_max']}")
+
+
+#: What a scenario says about a law beyond its registry fields (the paper's rules, SPEC 2.7):
+#: law -> ({field: its default computed from the fields read before}, check(sec, params) or None).
+#: L2 = M2 = 2 uM / sqrt 3 when absent; the tanh variant's M3.
+_LAW_RULES = {
+    "mrp_sat": ({"l2": lambda p: (_gao_bound(p),) * 3, "m2": lambda p: p["l2"]}, _check_gao),
+    "mrp_sat_tanh": ({}, _tanh_extra),
+}
+
+
+def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
+    """A law's parameters are the fields of its registry row (aocs_core.registry): one number per
+    real field, a number (every axis) or an array per vec3 field, with the field's sign rule; a law
+    with a gain-table field names its compiled table (`table`, defined under `tables`). The inertia
+    (mat3) is the plant's; a gain matrix (gain) is given by its table."""
+    reg = registry.load()
+    fields = [f for f in reg.fields_of(name) if f.type in ("real", "vec3")]
+    optional, check = _LAW_RULES.get(name, ({}, None))
+    params: dict[str, Any] = {}
+    for f in fields:
+        if f.param not in optional:
+            params[f.param] = _read_field(sec, f)
+    for f in fields:
+        if f.param in optional:
+            value = _read_field(sec, f, required=False)
+            params[f.param] = optional[f.param](params) if value is None else value
+    if check is not None:
+        check(sec, params)
     table = None
     tables: dict[str, Mapping] = {}
-    if name == "crp_linear":
-        params = gains("k1", "k2")
-    elif name in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
-        params = gains("kp", "kd")
-    elif name == "smc":
-        params = gains("lambda", "g", "eps", vector=True)
-    elif name == "mrp_sat":
-        params = gains("u_max", "lambda", "k", "l1", "m1")
-        bound = 2.0 * params["u_max"] / math.sqrt(3.0)
-        # L2 = M2 = 2 uM / sqrt 3 when absent: the computed default (SPEC 2.7)
-        params["l2"] = sec.number("l2", required=False, default=bound, positive=True)
-        params["m2"] = sec.number("m2", required=False, default=params["l2"], positive=True)
-        _check_gao(sec, params, bound)
-    elif name == "mrp_sat_tanh":
-        params = gains("u_max", "lambda", "k")
-        # M3 = uM bounds |u| by uM since |G^T x| <= |x| / 2 for |sigma| <= 1
-        params["m3"] = sec.number("m3", required=False, default=params["u_max"], positive=True)
-    elif name in ("lqr_quat", "orbit_lqr", "hinf"):
-        params = {}
+    tfield = reg.table_field(name)
+    if tfield is not None:
+        compiled = reg.tables_for(name)
         table = sec.string("table")
         tsec = sec.table("tables")
         for tname in list(tsec.remaining()):
             t = tsec.table(tname)
+            if tname not in compiled:
+                t.fail(t.path, f"{tname!r} is not a compiled gain table of {name} "
+                               f"(firmware/gains, `aocs gains`: {', '.join(compiled)})")
             if name == "hinf":
                 entry = {"variant": t.string("variant", choices=("min", "regional"))}
             else:
@@ -430,23 +469,18 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
             sec.fail(sec.key("tables"), "at least one gain table is required")
         if table not in tables:
             sec.fail(sec.key("table"), f"table {table!r} is not defined under {sec.key('tables')}")
-    else:  # pragma: no cover - names are checked before
-        raise AssertionError(name)
     sec.done()
     return LawConfig(name, MappingProxyType(params), table, MappingProxyType(tables))
 
 
-def _check_gao(sec: _Section, p, bound):
-    """Gao, Lu, Wang 2010: L1 = M1 < L2 <= M2 <= (2/sqrt 3) uM (SPEC 2.7)."""
-    tol = 1e-12
-    if abs(p["l1"] - p["m1"]) > tol * max(1.0, abs(p["m1"])):
-        sec.fail(sec.key("m1"), f"violates L1 = M1 (L1 = {p['l1']}, M1 = {p['m1']})")
-    if not p["m1"] < p["l2"]:
-        sec.fail(sec.key("l2"), f"violates M1 < L2 (M1 = {p['m1']}, L2 = {p['l2']})")
-    if not p["l2"] <= p["m2"]:
-        sec.fail(sec.key("m2"), f"violates L2 <= M2 (L2 = {p['l2']}, M2 = {p['m2']})")
-    if p["m2"] > bound * (1.0 + tol):
-        sec.fail(sec.key("m2"), f"violates M2 <= (2/sqrt 3) uM = {bound!r} (M2 = {p['m2']})")
+def _read_field(sec: _Section, f, required: bool = True):
+    """One registry field as a scenario parameter (vec3: a number meaning every axis, or 3 numbers)."""
+    pos, nonneg = f.rule == "pos", f.rule == "nonneg"
+    if f.type == "vec3":
+        if not required and not sec.has(f.param):
+            return None
+        return sec.scalar_or_vector(f.param, n=f.count, positive=pos)
+    return sec.number(f.param, required=required, default=None, positive=pos, nonneg=nonneg)
 
 
 def _read_control(root: _Section, kind: str):
@@ -456,19 +490,19 @@ def _read_control(root: _Section, kind: str):
     csec.done()
     lsec = root.table("laws")
     laws = {}
-    allowed = ATTITUDE_LAWS if kind == "attitude" else ORBIT_LAWS
+    every, allowed = law_names(), law_names(kind)
     for name in lsec.remaining():
         key = lsec.key(name)
-        if name not in LAW_NAMES:
-            lsec.fail(key, f"unknown law {name!r}, expected one of {', '.join(LAW_NAMES)}")
+        if name not in every:
+            lsec.fail(key, f"unknown law {name!r}, expected one of {', '.join(every)}")
         if name not in allowed:
             lsec.fail(key, f"law {name!r} does not apply to a {kind} scenario")
         laws[name] = _read_law(lsec.table(name), name, kind)
     lsec.done()
     if not laws:
         lsec.fail(lsec.path, "at least one law is required")
-    if law not in LAW_NAMES:
-        csec.fail("control.law", f"unknown law {law!r}, expected one of {', '.join(LAW_NAMES)}")
+    if law not in every:
+        csec.fail("control.law", f"unknown law {law!r}, expected one of {', '.join(every)}")
     if law not in laws:
         csec.fail("control.law", f"law {law!r} has no gains under [laws.{law}]")
     return ControlConfig(enabled, law, MappingProxyType(laws))

@@ -18,18 +18,17 @@ import sys
 from pathlib import Path
 
 from aocs_analysis import run_metrics as results
+from aocs_core import registry
 from aocs_plant.scenario import load
 from aocs_wire import netns
 
 from .run import RunFailed, RunOptions, execute
 
-IRASSI_LAWS = ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat")
-
 
 def runs_for(sc) -> list[tuple[str, str | None]]:
-    """(law, gain table or None) for every law of the scenario, every table of table-based laws."""
+    """(law, gain table or None) for every law of the scenario in wire-id order, every table of table-based laws."""
     out = []
-    for law in IRASSI_LAWS:
+    for law in registry.law_names():
         if law not in sc.control.laws:
             continue
         lc = sc.control.laws[law]

@@ -23,7 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from aocs_core.paths import LAW_IDS, MODE_NOMINAL, MODE_SAFE, MODE_STANDBY
+from aocs_core import registry
+from aocs_core.paths import MODE_NOMINAL, MODE_SAFE, MODE_STANDBY
 
 KINDS = ("law", "mode", "target", "malformed", "foreign", "drop", "duplicate", "stale")
 _MODES = {"standby": MODE_STANDBY, "nominal": MODE_NOMINAL, "safe": MODE_SAFE}
@@ -68,7 +69,7 @@ def parse(spec: str) -> Event:
         if v.lstrip("-").isdigit():
             law_id = int(v)
         else:
-            law_id = LAW_IDS.get(v, UNKNOWN_LAW_ID)
+            law_id = registry.law_ids().get(v, UNKNOWN_LAW_ID)
         return Event(t, key, law_id=law_id, text=spec)
     if key == "mode":
         v = val.strip()

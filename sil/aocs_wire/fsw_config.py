@@ -10,8 +10,10 @@ What comes from where (docs/sil.md):
 - law, control period, target (`target_q`; a rotating target as
   `target_rotation_rate`, never `target_w`), inertia (used by smc);
 - gains of EVERY law the scenario defines (so a command may switch law
-  during the run); design-based laws by table name (`lqr_quat.table`,
-  `hinf.table`, `orbit_lqr.table`): the compiled firmware tables fly;
+  during the run): the keys are the law's field rows in the firmware's law
+  registry (aocs_core.registry), valued from the scenario's parameters of the
+  same names; design-based laws by table name (`<law>.table`): the compiled
+  firmware tables fly;
 - limits: the scenario's `actuator.axis_limit` / `norm_limit`, or the
   runner's `--limit`; a scenario without a limit (the reference runs) gets
   UNLIMITED per axis, because the executive requires one limit;
@@ -25,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aocs_core import registry
 from aocs_core.limits import UNLIMITED
 
 
@@ -43,32 +46,24 @@ def _vec(v) -> str:
     return " ".join(_num(x) for x in v)
 
 
-def _law_keys(law_cfg, scenario) -> dict[str, str]:
-    name, p = law_cfg.name, law_cfg.params
-    if name == "crp_linear":
-        return {"crp_linear.k1": _num(p["k1"]), "crp_linear.k2": _num(p["k2"])}
-    if name == "quat_pd":
-        return {"quat_pd.kp": _num(p["kp"]), "quat_pd.kd": _num(p["kd"])}
-    if name in ("quat_nlpd_neg", "quat_nlpd_pos"):
-        return {"quat_nlpd.kp": _num(p["kp"]), "quat_nlpd.kd": _num(p["kd"])}
-    if name == "smc":
-        return {"smc.lambda": _vec(p["lambda"]), "smc.g": _vec(p["g"]), "smc.eps": _vec(p["eps"])}
-    if name == "mrp_sat":
-        out = {"mrp_sat.k": _num(p["k"]), "mrp_sat.lambda": _num(p["lambda"]),
-               "mrp_sat.u_max": _num(p["u_max"])}
-        for key in ("l1", "m1", "l2", "m2"):
-            out[f"mrp_sat.{key}"] = _vec((p[key],) * 3)
-        return out
-    if name == "mrp_sat_tanh":
-        # the firmware's tanh variant uses M = u_max (mrp_sat.h)
-        if abs(p["m3"] - p["u_max"]) > 1e-12 * p["u_max"]:
-            raise ConfigError(f"{scenario.path}: laws.mrp_sat_tanh.m3 = {p['m3']} but the flight "
-                              f"software's tanh variant uses M3 = u_max = {p['u_max']}")
-        return {"mrp_sat.k": _num(p["k"]), "mrp_sat.lambda": _num(p["lambda"]),
-                "mrp_sat.u_max": _num(p["u_max"])}
-    if name in ("lqr_quat", "hinf", "orbit_lqr"):
-        return {f"{name}.table": law_cfg.table}
-    raise ConfigError(f"law {name!r} has no fsw_node keys")  # pragma: no cover
+def _law_keys(law_cfg) -> dict[str, str]:
+    """The keys of one law: every field its registry row takes (aocs_core.registry), valued from the
+    scenario's parameter of the same name (a scalar fills every component of a vector field); a
+    table-based law's gain by table name, so the compiled firmware table flies. The inertia field
+    (mat3) is the plant's, written by node_config() for every attitude law."""
+    reg = registry.load()
+    out: dict[str, str] = {}
+    for f in reg.fields_of(law_cfg.name):
+        if f.type == "table":
+            out[f.key] = law_cfg.table
+        elif f.type in ("real", "vec3"):
+            v = law_cfg.params[f.param]
+            if f.type == "real":
+                out[f.key] = _num(v)
+            else:
+                out[f.key] = _vec(v if isinstance(v, (tuple, list)) else (v,) * f.count)
+        # mat3: the plant's inertia (node_config); gain: given by the TABLE field of the same member
+    return out
 
 
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
@@ -94,7 +89,9 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
         cfg["target_q"] = _vec(sc.target.qd0)
         if any(x != 0.0 for x in sc.target.wd):
             cfg["target_rotation_rate"] = _vec(sc.target.wd)
-        cfg["inertia"] = _vec(np.asarray(sc.attitude.inertia, float).ravel())
+        for f in registry.load().fields:
+            if f.type == "mat3":   # the inertia a law models (smc): the plant's, as the scenario gives it
+                cfg[f.key] = _vec(np.asarray(sc.attitude.inertia, float).ravel())
         jmean = float(np.mean(np.linalg.eigvalsh(np.asarray(sc.attitude.inertia, float))))
         cfg["k_safe"] = _num(0.1 * jmean)
     a = sc.actuator
@@ -106,10 +103,10 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
     if axis is None and a.norm_limit is None:
         cfg["u_max_axis"] = _vec((UNLIMITED,) * 3)
     # every law of the scenario; the selected one last so its shared keys win
-    # (quat_nlpd_neg / _pos share quat_nlpd.*, mrp_sat / mrp_sat_tanh share mrp_sat.*)
+    # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])
     for name in order:
-        cfg.update(_law_keys(sc.control.laws[name], sc))
+        cfg.update(_law_keys(sc.control.laws[name]))
     cfg["idle_timeout_s"] = _num(idle_timeout_s)
     cfg["run_timeout_s"] = _num(run_timeout_s)
     if status_period_s is None:

@@ -308,23 +308,9 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 }
 
 /* ---- configuration ------------------------------------------------------ */
-/* the gain keys of a law whose gain is a 3x6 table */
-static const char *gain_keys(aocs_law_id_t law)
-{
-    switch (law) {
-    case AOCS_LAW_LQR_QUAT:
-        return "lqr_quat.k / lqr_quat.table";
-    case AOCS_LAW_HINF:
-        return "hinf.k / hinf.table";
-    case AOCS_LAW_ORBIT_LQR:
-        return "orbit_lqr.k / orbit_lqr.table";
-    default:
-        return "the gains of the selected law";
-    }
-}
-
 static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
 {
+    static char gain_keys[128]; /* the gain keys of a law whose gain is a 3x6 table */
     switch (st) {
     case AOCS_ERR_RATE_INVALID:
         return "control_period_s";
@@ -340,7 +326,7 @@ static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
     case AOCS_ERR_INERTIA_SINGULAR:
         return "inertia";
     case AOCS_ERR_GAIN_TABLE_INVALID:
-        return gain_keys(law);
+        return aocs_node_config_gain_keys(law, gain_keys, sizeof(gain_keys));
     case AOCS_ERR_PARAM_NOT_FINITE:
         return "u_max_*, k_safe or a gain of the selected law";
     default:

@@ -3,6 +3,9 @@
  * key names a field of aocs_node_config_t, how many numbers it takes and the
  * sign rule checked here, so an error message can always name the key. The
  * executive's own init still validates everything (ordering rules, inertia).
+ * The node's and the executive's general keys are listed here; the keys of
+ * the laws are the config field rows of the law registry
+ * (AOCS_LAW_FIELD_ROWS, firmware/include/aocs/laws.def), expanded below.
  */
 #include "node_config.h"
 
@@ -40,75 +43,55 @@ typedef struct {
     unsigned count;    /* values for KIND_REAL */
     key_rule_t rule;
     const char *help;  /* shown in errors: unit / meaning */
+    aocs_law_id_t law; /* KIND_GAIN_TABLE: the law whose gain tables the key takes */
 } key_def_t;
 
 #define OFF(member) offsetof(aocs_node_config_t, member)
 
+/*
+ * A law field's row of laws.def as a key: REAL, VEC3 and GAIN are COUNT
+ * real_t values at MEMBER; a MAT3 is an inertia (3 or 9 values); a TABLE is
+ * a gain-table design name, copied into MEMBER (the law's gain matrix) for
+ * the law LAW.
+ */
+#define LAW_KEY_KIND_REAL KIND_REAL
+#define LAW_KEY_KIND_VEC3 KIND_REAL
+#define LAW_KEY_KIND_MAT3 KIND_INERTIA
+#define LAW_KEY_KIND_GAIN KIND_REAL
+#define LAW_KEY_KIND_TABLE KIND_GAIN_TABLE
+#define LAW_KEY_COUNT_REAL(COUNT) (COUNT)
+#define LAW_KEY_COUNT_VEC3(COUNT) (COUNT)
+#define LAW_KEY_COUNT_MAT3(COUNT) 1u
+#define LAW_KEY_COUNT_GAIN(COUNT) (COUNT)
+#define LAW_KEY_COUNT_TABLE(COUNT) 1u
+#define LAW_KEY_ROW(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, ...) \
+    {KEY, LAW_KEY_KIND_##TYPE, OFF(exec.laws.MEMBER), LAW_KEY_COUNT_##TYPE(COUNT), RULE_##RULE, HELP, AOCS_LAW_##LAW},
+
 static const key_def_t KEYS[] = {
-    {"law", KIND_LAW, OFF(exec.law), 1u, RULE_ANY, "law name (executive.h), none = standby"},
-    {"mode", KIND_RUN_MODE, OFF(run_mode), 1u, RULE_ANY, "lockstep | realtime"},
-    {"control_period_s", KIND_REAL, OFF(exec.period_s), 1u, RULE_POS, "s"},
-    {"target_q", KIND_REAL, OFF(exec.target.qd_DN), 4u, RULE_ANY, "4 numbers, scalar last, unit"},
-    {"target_w", KIND_REAL, OFF(exec.target.wd_B), 3u, RULE_ANY, "rad/s, 3 numbers"},
-    {"target_w_dot", KIND_REAL, OFF(exec.target.wd_dot_B), 3u, RULE_ANY, "rad/s^2, 3 numbers"},
+    {"law", KIND_LAW, OFF(exec.law), 1u, RULE_ANY, "law name (executive.h), none = standby", AOCS_LAW_NONE},
+    {"mode", KIND_RUN_MODE, OFF(run_mode), 1u, RULE_ANY, "lockstep | realtime", AOCS_LAW_NONE},
+    {"control_period_s", KIND_REAL, OFF(exec.period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
+    {"target_q", KIND_REAL, OFF(exec.target.qd_DN), 4u, RULE_ANY, "4 numbers, scalar last, unit", AOCS_LAW_NONE},
+    {"target_w", KIND_REAL, OFF(exec.target.wd_B), 3u, RULE_ANY, "rad/s, 3 numbers", AOCS_LAW_NONE},
+    {"target_w_dot", KIND_REAL, OFF(exec.target.wd_dot_B), 3u, RULE_ANY, "rad/s^2, 3 numbers", AOCS_LAW_NONE},
     {"target_rotation_rate", KIND_REAL, OFF(exec.target_rotation_rate_D), 3u, RULE_ANY,
-     "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame"},
-    {"u_max_axis", KIND_REAL, OFF(exec.u_max_axis), 3u, RULE_NONNEG, "N m (N) per axis, 3 numbers"},
-    {"u_max_norm", KIND_REAL, OFF(exec.u_max_norm), 1u, RULE_NONNEG, "N m (N), 0 = unused"},
-    {"k_safe", KIND_REAL, OFF(exec.k_safe), 1u, RULE_POS, "N m s/rad"},
-    {"recover_good_samples", KIND_U32, OFF(exec.recover_good_samples), 1u, RULE_POS, "count >= 1"},
-    {"missing_max_periods", KIND_U32, OFF(exec.missing_max_periods), 1u, RULE_POS, "count >= 1"},
-    {"stale_timeout_s", KIND_SECONDS_NS, OFF(exec.stale_timeout_ns), 1u, RULE_POS, "s"},
-    {"budget_ns", KIND_U64, OFF(exec.budget_ns), 1u, RULE_NONNEG, "ns, 0 = the law's budget"},
-    {"idle_timeout_s", KIND_DOUBLE, OFF(idle_timeout_s), 1u, RULE_POS, "s"},
-    {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none"},
-    {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s"},
-    {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL"},
-    {"inertia", KIND_INERTIA, OFF(exec.laws.smc.inertia), 1u, RULE_ANY,
-     "kg m^2: 3 numbers (diagonal) or 9 (row-major)"},
-    {"crp_linear.k1", KIND_REAL, OFF(exec.laws.crp_linear.k1), 1u, RULE_POS, "N m s/rad"},
-    {"crp_linear.k2", KIND_REAL, OFF(exec.laws.crp_linear.k2), 1u, RULE_POS, "N m"},
-    {"quat_pd.kp", KIND_REAL, OFF(exec.laws.quat_pd.kp), 1u, RULE_POS, "N m"},
-    {"quat_pd.kd", KIND_REAL, OFF(exec.laws.quat_pd.kd), 1u, RULE_POS, "N m s/rad"},
-    {"quat_nlpd.kp", KIND_REAL, OFF(exec.laws.quat_nlpd.kp), 1u, RULE_POS, "N m"},
-    {"quat_nlpd.kd", KIND_REAL, OFF(exec.laws.quat_nlpd.kd), 1u, RULE_POS, "N m s/rad"},
-    {"smc.lambda", KIND_REAL, OFF(exec.laws.smc.lambda), 3u, RULE_POS, "diagonal of Lambda, 3 numbers"},
-    {"smc.g", KIND_REAL, OFF(exec.laws.smc.g), 3u, RULE_POS, "diagonal of G, 3 numbers"},
-    {"smc.eps", KIND_REAL, OFF(exec.laws.smc.eps), 3u, RULE_POS, "boundary layers, 3 numbers"},
-    {"lqr_quat.k", KIND_REAL, OFF(exec.laws.lqr_quat.k), 18u, RULE_ANY,
-     "3x6 gain, 18 numbers row-major, columns qe_vec then we"},
-    {"lqr_quat.table", KIND_GAIN_TABLE, OFF(exec.laws.lqr_quat.k), 1u, RULE_ANY, "gain table design name"},
-    {"hinf.k", KIND_REAL, OFF(exec.laws.hinf.k), 18u, RULE_ANY,
-     "3x6 gain u = K x, 18 numbers row-major, columns phi theta psi then rates"},
-    {"hinf.table", KIND_GAIN_TABLE, OFF(exec.laws.hinf.k), 1u, RULE_ANY, "gain table design name"},
-    {"mrp_sat.k", KIND_REAL, OFF(exec.laws.mrp_sat.k), 1u, RULE_POS, "N m s"},
-    {"mrp_sat.lambda", KIND_REAL, OFF(exec.laws.mrp_sat.lambda), 1u, RULE_POS, "attitude gain"},
-    {"mrp_sat.u_max", KIND_REAL, OFF(exec.laws.mrp_sat.u_max), 1u, RULE_POS, "N m, bound on |u|_2"},
-    {"mrp_sat.l1", KIND_REAL, OFF(exec.laws.mrp_sat.l1), 3u, RULE_POS, "S1 linear zone, 3 numbers"},
-    {"mrp_sat.m1", KIND_REAL, OFF(exec.laws.mrp_sat.m1), 3u, RULE_POS, "S1 bound, 3 numbers"},
-    {"mrp_sat.l2", KIND_REAL, OFF(exec.laws.mrp_sat.l2), 3u, RULE_POS, "S2 linear zone, 3 numbers"},
-    {"mrp_sat.m2", KIND_REAL, OFF(exec.laws.mrp_sat.m2), 3u, RULE_POS, "S2 bound, 3 numbers"},
-    {"orbit_lqr.k", KIND_REAL, OFF(exec.laws.orbit_lqr.k), 18u, RULE_ANY,
-     "3x6 gain F = -K x, 18 numbers row-major, columns du dv dw then dx dy dz"},
-    {"orbit_lqr.table", KIND_GAIN_TABLE, OFF(exec.laws.orbit_lqr.k), 1u, RULE_ANY, "gain table design name"},
+     "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame", AOCS_LAW_NONE},
+    {"u_max_axis", KIND_REAL, OFF(exec.u_max_axis), 3u, RULE_NONNEG, "N m (N) per axis, 3 numbers", AOCS_LAW_NONE},
+    {"u_max_norm", KIND_REAL, OFF(exec.u_max_norm), 1u, RULE_NONNEG, "N m (N), 0 = unused", AOCS_LAW_NONE},
+    {"k_safe", KIND_REAL, OFF(exec.k_safe), 1u, RULE_POS, "N m s/rad", AOCS_LAW_NONE},
+    {"recover_good_samples", KIND_U32, OFF(exec.recover_good_samples), 1u, RULE_POS, "count >= 1", AOCS_LAW_NONE},
+    {"missing_max_periods", KIND_U32, OFF(exec.missing_max_periods), 1u, RULE_POS, "count >= 1", AOCS_LAW_NONE},
+    {"stale_timeout_s", KIND_SECONDS_NS, OFF(exec.stale_timeout_ns), 1u, RULE_POS, "s", AOCS_LAW_NONE},
+    {"budget_ns", KIND_U64, OFF(exec.budget_ns), 1u, RULE_NONNEG, "ns, 0 = the law's budget", AOCS_LAW_NONE},
+    {"idle_timeout_s", KIND_DOUBLE, OFF(idle_timeout_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
+    {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none", AOCS_LAW_NONE},
+    {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
+    {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL", AOCS_LAW_NONE},
+    AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)
 };
 
 #define KEY_COUNT (sizeof(KEYS) / sizeof(KEYS[0]))
 
-/* `<law>.table` keys: the law whose gain they set, and the `<law>.k` key they exclude */
-typedef struct {
-    const char *table_key;
-    aocs_law_id_t law;
-    const char *k_key;
-} table_key_t;
-
-static const table_key_t TABLE_KEYS[] = {
-    {"lqr_quat.table", AOCS_LAW_LQR_QUAT, "lqr_quat.k"},
-    {"hinf.table", AOCS_LAW_HINF, "hinf.k"},
-    {"orbit_lqr.table", AOCS_LAW_ORBIT_LQR, "orbit_lqr.k"},
-};
-
-#define TABLE_KEY_COUNT (sizeof(TABLE_KEYS) / sizeof(TABLE_KEYS[0]))
 
 static void set_err(char *err, size_t err_size, const char *fmt, ...)
 {
@@ -136,32 +119,47 @@ static void table_names(aocs_law_id_t law, char *buf, size_t size)
     }
 }
 
-static int set_gain_table(aocs_node_config_t *cfg, const char *key, const char *value, char *err, size_t err_size)
+static int set_gain_table(aocs_node_config_t *cfg, const key_def_t *k, const char *value, char *err,
+                          size_t err_size)
 {
-    const table_key_t *tk = NULL;
     aocs_gain_table_id_t table = AOCS_GAIN_TABLE_COUNT;
     char valid[256];
-    size_t i;
-    for (i = 0u; i < TABLE_KEY_COUNT; ++i) {
-        if (strcmp(TABLE_KEYS[i].table_key, key) == 0) {
-            tk = &TABLE_KEYS[i];
-        }
-    }
-    if (tk == NULL) {
-        set_err(err, err_size, "key '%s': internal error (no gain-table law)", key);
-        return 1;
-    }
-    table_names(tk->law, valid, sizeof(valid));
+    table_names(k->law, valid, sizeof(valid));
     if (aocs_gain_table_find(value, &table) != AOCS_OK) {
-        set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", key, value, valid);
+        set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", k->name, value, valid);
         return 1;
     }
-    if (aocs_gain_table_apply(table, tk->law, &cfg->exec.laws) != AOCS_OK) {
-        set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)", key,
-                value, aocs_law_name(aocs_gain_table_law(table)), aocs_law_name(tk->law), valid);
+    if (aocs_gain_table_apply(table, k->law, &cfg->exec.laws) != AOCS_OK) {
+        set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)",
+                k->name, value, aocs_law_name(aocs_gain_table_law(table)), aocs_law_name(k->law), valid);
         return 1;
     }
     return 0;
+}
+
+/* The key that gives by value the gain a KIND_GAIN_TABLE key gives by name (same offset); NULL if none. */
+static const key_def_t *gain_key_of(const key_def_t *table_key)
+{
+    size_t i;
+    for (i = 0u; i < KEY_COUNT; ++i) {
+        if ((KEYS[i].kind == KIND_REAL) && (KEYS[i].offset == table_key->offset)) {
+            return &KEYS[i];
+        }
+    }
+    return NULL;
+}
+
+const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size)
+{
+    size_t i;
+    for (i = 0u; i < KEY_COUNT; ++i) {
+        const key_def_t *kk = (KEYS[i].kind == KIND_GAIN_TABLE) ? gain_key_of(&KEYS[i]) : NULL;
+        if ((kk != NULL) && (KEYS[i].law == law) && (size > 0u)) {
+            (void)snprintf(buf, size, "%s / %s", kk->name, KEYS[i].name);
+            return buf;
+        }
+    }
+    return "the gains of the selected law";
 }
 
 static const key_def_t *find_key(const char *key)
@@ -351,7 +349,7 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
         (void)snprintf(cfg->lcm_url, sizeof(cfg->lcm_url), "%s", value);
         return 0;
     case KIND_GAIN_TABLE:
-        return set_gain_table(cfg, key, value, err, err_size);
+        return set_gain_table(cfg, k, value, err, err_size);
     default:
         return set_numeric(cfg, k, value, err, err_size);
     }
@@ -450,17 +448,17 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     (void)fclose(f);
     if (rc == 0) {
         size_t i;
-        for (i = 0u; i < TABLE_KEY_COUNT; ++i) {
-            unsigned line_table = seen[find_key(TABLE_KEYS[i].table_key) - KEYS];
-            unsigned line_k = seen[find_key(TABLE_KEYS[i].k_key) - KEYS];
+        for (i = 0u; (rc == 0) && (i < KEY_COUNT); ++i) {
+            const key_def_t *kk = (KEYS[i].kind == KIND_GAIN_TABLE) ? gain_key_of(&KEYS[i]) : NULL;
+            unsigned line_table = seen[i];
+            unsigned line_k = (kk != NULL) ? seen[kk - KEYS] : 0u;
             if ((line_table != 0u) && (line_k != 0u)) {
                 set_err(err, err_size,
                         "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
                         "by table name or by value, not both",
-                        path, (line_table > line_k) ? line_table : line_k, TABLE_KEYS[i].table_key, line_table,
-                        TABLE_KEYS[i].k_key, line_k);
+                        path, (line_table > line_k) ? line_table : line_k, KEYS[i].name, line_table, kk->name,
+                        line_k);
                 rc = 1;
-                break;
             }
         }
     }

@@ -30,11 +30,11 @@ import time
 
 import pytest
 
+from aocs_core import registry
 from aocs_pil import harness
 from aocs_pil.qemu import TARGETS as QEMU_TARGETS
-from pil_support import REPO, TARGETS, image
+from pil_support import TARGETS, image
 
-BUDGET_C = (REPO / "firmware/src/pil/budget.c").read_text()
 CUT = {"irassi_small": ("quat_pd", 60.0), "gao_mrp": ("mrp_sat", 60.0), "geo_hinf": ("hinf", 60.0)}
 #: scenarios whose M7 commands are bit for bit the host's (no libm transcendental function in the step)
 BITWISE = {"irassi_small", "gao_mrp"}
@@ -44,8 +44,8 @@ ARCSEC_PER_RAD = 206264.80624709636
 
 
 def budget(law: str, target: str) -> int:
-    rows = {name: (int(a), int(b)) for a, b, name in re.findall(r"\{(\d+)U, (\d+)U\}, /\* (\w+)", BUDGET_C)}
-    return rows[law][TARGETS.index(target)]
+    """Instruction budget of the law's laws.def row on the target (the build's registry)."""
+    return registry.load().law(law).budget_instructions[{"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}[target]]
 
 
 @pytest.fixture(scope="module")
@@ -81,8 +81,7 @@ def test_every_run_completed(runs, sid):
 
 
 def harness_law_id(law):
-    from aocs_pil.config import LAW_IDS
-    return LAW_IDS[law]
+    return registry.law_ids()[law]
 
 
 @pytest.mark.parametrize("sid", sorted(BITWISE))

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import os
 import random
-import re
 import signal
 import struct
 import subprocess
@@ -21,12 +20,10 @@ import time
 
 import pytest
 
-from aocs_core import paths
+from aocs_core import registry
 from aocs_pil import frame, harness, qemu
-from aocs_pil.config import LAW_IDS
-from pil_support import REPO, TARGETS, configure, image, start
+from pil_support import TARGETS, configure, image, start
 
-BUDGET_C = (REPO / "firmware/src/pil/budget.c").read_text()
 KP, KD = 4.0, 8.0
 QD = (0.1, -0.2, 0.3, 0.9273618495495703)
 
@@ -50,14 +47,20 @@ def unit(v):
     return [x / n for x in v]
 
 
+def law_id(name: str) -> int:
+    """The wire id of a law (the build's law registry)."""
+    return registry.law_ids()[name]
+
+
 def budgets() -> dict[str, tuple[int, int]]:
-    """The firmware budget table (budget.c), law name -> (cortex-m4f, cortex-m7)."""
-    rows = re.findall(r"\{(\d+)U, (\d+)U\}, /\* (\w+)", BUDGET_C)
-    return {name: (int(a), int(b)) for a, b, name in rows}
+    """The firmware budget table (laws.def rows, via the build's registry), law name -> (cortex-m4f, cortex-m7)."""
+    reg = registry.load()
+    return {name: (reg.law(name).budget_instructions["cortex-m4f"], reg.law(name).budget_instructions["cortex-m7"])
+            for name in reg.law_names()}
 
 
 def pd_config(q):
-    return configure(q, law=LAW_IDS["quat_pd"], period_s=0.1, target_q=list(QD), quat_pd_kp=KP, quat_pd_kd=KD,
+    return configure(q, law=law_id("quat_pd"), period_s=0.1, target_q=list(QD), quat_pd_kp=KP, quat_pd_kd=KD,
                      u_max_axis=[0.5, 0.6, 0.7], k_safe=2.0)
 
 
@@ -104,7 +107,7 @@ def test_executive_behind_the_frames(target):
     rng = random.Random(3)
     try:
         ack = pd_config(q)
-        assert (ack.pil_err, ack.status, ack.exec_law, ack.exec_mode) == (0, 0, LAW_IDS["quat_pd"], 1)
+        assert (ack.pil_err, ack.status, ack.exec_law, ack.exec_mode) == (0, 0, law_id("quat_pd"), 1)
         assert ack.budget == budgets()["quat_pd"][TARGETS.index(target)]
         for k in range(20):
             quat = unit([QD[i] + 0.05 * rng.uniform(-1, 1) for i in range(4)])
@@ -219,21 +222,21 @@ def test_configurations_the_image_refuses():
     try:
         names = frame.ERR_NAMES
         ack = configure(q, law=11)                                # no such law
-        assert names[ack.pil_err] == "AOCS_PIL_ERR_FIELD" and ack.field == frame.CFG_FIELDS["LAW"][0]
-        ack = configure(q, law=LAW_IDS["hinf"], u_max_axis=[1, 1, 1], hinf_table="lqr_quat_ref")
-        assert names[ack.pil_err] == "AOCS_PIL_ERR_FIELD" and ack.field == frame.CFG_FIELDS["HINF_TABLE"][0]
+        assert names[ack.pil_err] == "AOCS_PIL_ERR_FIELD" and ack.field == frame.cfg_fields()["LAW"][0]
+        ack = configure(q, law=law_id("hinf"), u_max_axis=[1, 1, 1], hinf_table="lqr_quat_ref")
+        assert names[ack.pil_err] == "AOCS_PIL_ERR_FIELD" and ack.field == frame.cfg_fields()["HINF_TABLE"][0]
         statuses = harness_status_names()
         assert statuses[ack.status] == "AOCS_ERR_GAIN_TABLE_WRONG_LAW"
-        ack = configure(q, law=LAW_IDS["quat_pd"], quat_pd_kp=1.0, quat_pd_kd=1.0)   # no actuator limit
+        ack = configure(q, law=law_id("quat_pd"), quat_pd_kp=1.0, quat_pd_kd=1.0)   # no actuator limit
         assert ack.pil_err == 0 and statuses[ack.status] == "AOCS_ERR_SAT_LIMIT_NOT_POSITIVE"
-        ack = configure(q, law=LAW_IDS["hinf"], u_max_axis=[1, 1, 1], hinf_table="hinf_regional")
-        assert (ack.pil_err, ack.status, ack.exec_law) == (0, 0, LAW_IDS["hinf"])
+        ack = configure(q, law=law_id("hinf"), u_max_axis=[1, 1, 1], hinf_table="hinf_regional")
+        assert (ack.pil_err, ack.status, ack.exec_law) == (0, 0, law_id("hinf"))
     finally:
         q.kill()
 
 
 def harness_status_names():
-    return paths.status_names()
+    return registry.load().status_names
 
 
 def test_closed_link_ends_the_image_with_its_status():
@@ -291,7 +294,7 @@ def test_every_law_within_its_instruction_budget(scenario, law, duration, target
     r = harness.run_direct(scenario, law, target, duration_s=duration)
     budget = budgets()[law][TARGETS.index(target)]
     assert len(r.replies) == round(duration / r.dt)
-    assert all(x.step_status == 0 and x.law == LAW_IDS[law] for x in r.replies)
+    assert all(x.step_status == 0 and x.law == law_id(law) for x in r.replies)
     assert all(x.exact == 1 for x in r.replies), "a count was not exact (SysTick wrap inside a window)"
     assert all(x.budget == budget for x in r.replies)
     worst = max(r.instructions)

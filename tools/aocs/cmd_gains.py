@@ -1,6 +1,8 @@
 """`aocs gains`: regenerate every gain design from tools/gains.toml into the
-firmware tables (firmware/gains/aocs_gains.{h,c}), the report (docs/gains/)
-and optionally a JSON summary; `--check` compares with the committed tables."""
+firmware tables (firmware/gains/aocs_gains.{h,c}) and their registration
+(firmware/gains/gain_tables.def: table ids, names, laws), the report
+(docs/gains/) and optionally a JSON summary; `--check` compares with the
+committed files."""
 from __future__ import annotations
 
 import argparse
@@ -95,7 +97,8 @@ def generate(config: Path) -> tuple[list, dict[str, str]]:
         cfg = load_config(config)
         designs = design_all(cfg)
         files = {tables.HEADER_NAME: tables.emit_header(designs, defines(cfg)),
-                 tables.SOURCE_NAME: tables.emit_source(designs)}
+                 tables.SOURCE_NAME: tables.emit_source(designs),
+                 tables.REGISTRY_NAME: tables.emit_registry(designs)}
         _CACHE[key] = (designs, files)
     return _CACHE[key]
 

@@ -1,23 +1,11 @@
-"""`aocs list`: the scenarios (id, kind, default law, applicable laws, duration) and the laws."""
+"""`aocs list`: the scenarios (id, kind, default law, applicable laws, duration) and the laws
+(from the build's law registry, aocs_core.registry)."""
 from __future__ import annotations
 
 import sys
 
-from aocs_core.paths import LAW_IDS
+from aocs_core import registry
 from aocs_plant.scenario import ScenarioError, list_scenarios, load
-
-LAW_DOC = {
-    "crp_linear": "SPEC 2.1 linear feedback on Cayley-Rodrigues parameters",
-    "quat_pd": "SPEC 2.2 linear quaternion PD",
-    "quat_nlpd_neg": "SPEC 2.3 nonlinear PD, kd (1 - qe.qe)",
-    "quat_nlpd_pos": "SPEC 2.3 nonlinear PD, kd (1 + qe.qe)",
-    "smc": "SPEC 2.4 sliding mode with boundary layer",
-    "lqr_quat": "SPEC 2.5 LQR on the reduced quaternion (compiled gain tables)",
-    "hinf": "SPEC 2.6 H-infinity state feedback, Earth pointing (compiled gain tables)",
-    "mrp_sat": "SPEC 2.7 saturated MRP regulator, linear saturations",
-    "mrp_sat_tanh": "SPEC 2.7 saturated MRP regulator, tanh saturation",
-    "orbit_lqr": "SPEC 2.8 LQR station keeping, force (compiled gain tables)",
-}
 
 
 def add_arguments(p) -> None:
@@ -52,8 +40,7 @@ def run(args) -> int:
     for r in rows:
         print(fmt(r))
     print()
-    print("laws (aocs run --law NAME; wire id in brackets):")
-    for name, lid in LAW_IDS.items():
-        if name != "none":
-            print(f"  {name:<14} [{lid:2d}]  {LAW_DOC[name]}")
+    print("laws (aocs run --law NAME; wire id in brackets; the flight software's law registry):")
+    for law in registry.load().laws:
+        print(f"  {law.name:<14} [{law.id:2d}]  {law.title}")
     return 1 if bad else 0

@@ -13,10 +13,10 @@ import math
 
 import numpy as np
 
-from aocs_core import paths
+from aocs_core import paths, registry
 from aocs_core.conventions import quat_from_rotvec_rows as quat_from_rotvec
 from aocs_core.limits import UNLIMITED
-from aocs_core.paths import LAW_NAMES_BY_ID, MODE_NOMINAL, MODE_SAFE
+from aocs_core.paths import MODE_NOMINAL, MODE_SAFE
 
 from . import metrics as M
 from .gain_tables import designed_gamma
@@ -264,17 +264,23 @@ def _limits(out: dict, series: dict, u: np.ndarray, cfg: dict, sc) -> None:
     series["norm_limit"] = norm_lim
 
 
+def _law_or_none(law_id: int) -> str:
+    """The name of a wire law id; "none" (the standby budget) for an id the registry does not know."""
+    law = registry.load().law_by_id(law_id)
+    return law.name if law is not None else "none"
+
+
 def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | None) -> None:
     """Step times against the budget of each step's law and mode (and PIL instruction counts)."""
     law_nominal = meta["law"]
     override = int(float(cfg.get("budget_ns", "0")))
     if cmd["tick"].size:
-        budgets = np.array([override or (paths.law_budget_ns(LAW_NAMES_BY_ID.get(int(lid), "none"))
-                                         if int(m) == MODE_NOMINAL else paths.law_budget_ns("none"))
+        budgets = np.array([override or (registry.law_budget_ns(_law_or_none(int(lid)))
+                                         if int(m) == MODE_NOMINAL else registry.law_budget_ns("none"))
                             for lid, m in zip(cmd["law_id"], cmd["mode"])], dtype=float)
     else:
         budgets = np.zeros(0)
-    budget_nominal = override or paths.law_budget_ns(law_nominal if law_nominal in paths.LAW_IDS else "none")
+    budget_nominal = override or registry.law_budget_ns(law_nominal if law_nominal in registry.law_ids() else "none")
     ts = M.timing_summary(cmd["step_ns"], budget_nominal, cmd["overrun"].astype(bool))
     out["timing"] = ts.as_dict()
     out["timing"]["steps"] = int(cmd["tick"].size)
@@ -303,7 +309,7 @@ def _counters(out: dict, log, dt: float) -> None:
     status_counts: dict[str, int] = {}
     for code, n in zip(*np.unique(cmd["status"], return_counts=True)):
         if int(code) != 0:
-            status_counts[paths.status_name(int(code))] = int(n)
+            status_counts[registry.status_name(int(code))] = int(n)
     sent = np.unique(log.sensors["tick"][log.sensors["protocol_version"] == paths_version()])
     answered = np.isin(sent, cmd["tick"])
     ticks_sent, ticks_answered = set(sent.tolist()), set(cmd["tick"].tolist())
@@ -327,8 +333,8 @@ def _counters(out: dict, log, dt: float) -> None:
         acks = {int(r): int(s) for r, s in zip(stt["last_request"], stt["last_request_status"]) if r >= 0}
         for c in out["commands"]:
             if c["request"] in acks:
-                c["status"] = paths.status_name(acks[c["request"]])
-    out["final_mode"] = paths.MODE_NAMES.get(int(modes[-1]), str(int(modes[-1]))) if modes.size else None
+                c["status"] = registry.status_name(acks[c["request"]])
+    out["final_mode"] = registry.mode_name(int(modes[-1])) if modes.size else None
 
 
 def _hinf(out: dict, log, sc, cfg: dict) -> None:

@@ -233,10 +233,10 @@ def overlay_plots(rows: list[Row], out: Path, title: str, kind: str, prefix: str
 
 
 def known_norm_bounds(sc, rows: list[Row]) -> list[tuple[float, str]]:
-    """Bounds on |u| a law guarantees by construction, to draw on the torque plot: mrp_sat and its
-    tanh variant keep |u|_2 <= uM (SPEC 2.7)."""
+    """Bounds on |u| a law guarantees by construction, to draw on the torque plot: a law whose
+    parameters include u_max (mrp_sat and its tanh variant) keeps |u|_2 <= uM (SPEC 2.7)."""
     out = []
-    for law in sorted({r.law for r in rows if r.law in ("mrp_sat", "mrp_sat_tanh")}):
+    for law in sorted({r.law for r in rows if r.law in sc.control.laws and "u_max" in sc.control.laws[r.law].params}):
         um = float(sc.control.laws[law].params["u_max"])
         if all(abs(um - v) > 1e-12 for v, _ in out):
             out.append((um, f"uM = {um:g} N m (|u| bound of mrp_sat, SPEC 2.7)"))
@@ -332,7 +332,7 @@ def steady_state_section(sc, rows) -> list[str]:
     for r in rows:
         if r.metrics is None:
             continue
-        if r.law in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
+        if "kp" in sc.control.laws[r.law].params:   # the quaternion PD laws
             kp = np.full(3, float(sc.control.laws[r.law].params["kp"]))
         elif r.law == "lqr_quat" and r.table:
             kp = np.diag(gain_matrix(r.table)[:, :3])

@@ -9,7 +9,7 @@
  * scenario (SPEC 4); each step is bracketed by aocs_hal_time_ns()
  * (clock_gettime(CLOCK_MONOTONIC) on the host), the same clock the
  * executive uses to check its budgets. Per row: median, p99 (nearest rank),
- * worst and mean ns, the declared budget AOCS_<LAW>_BUDGET_NS and how many
+ * worst and mean ns, the declared budget BUDGET_NS (laws.def) and how many
  * steps exceeded it. Rows:
  *   timer      two back-to-back clock reads: the overhead inside every row
  *   law        aocs_<law>_step alone
@@ -45,6 +45,7 @@
 
 #include "aocs/executive.h"
 #include "aocs/hal.h"
+#include "aocs_registry.h"
 #include "gains/aocs_gains.h"
 
 #if defined(AOCS_BENCH_HAVE_CALLGRIND_H)
@@ -72,33 +73,36 @@
 #define BENCH_PI AOCS_R(3.14159265358979323846)
 #define BENCH_DEG AOCS_R(0.017453292519943295)
 
-/* ---- the laws, the step symbol callgrind collects, the reference state family ---- */
+/*
+ * ---- the laws, the step symbol callgrind collects, the reference state family ----
+ * Every row of aocs/laws.def (AOCS_LAW_ROWS), in id order: the step symbol is
+ * its STEP column, the state family follows from its REF column (the law's
+ * SPEC 4 reference scenario): a new law needs no edit here unless its
+ * reference scenario is of a new family.
+ */
 typedef enum {
-    FAM_RTC = 0,   /* crp_linear: rtc_* (SPEC 4), J = I, large angles and rates, 100 Hz */
-    FAM_IRASSI,    /* quat_pd, quat_nlpd, smc, lqr_quat: IRASSI slew at 10 Hz */
-    FAM_GEO,       /* hinf: small errors about a frame turning at the GEO orbit rate */
-    FAM_GAO,       /* mrp_sat: gao_mrp, errors up to 120 deg */
-    FAM_LANDSAT    /* orbit_lqr: landsat8_* relative position and velocity */
+    FAM_RTC = 0,   /* rtc_*: crp_linear, J = I, large angles and rates, 100 Hz */
+    FAM_IRASSI,    /* irassi_*: IRASSI slew at 10 Hz */
+    FAM_GEO,       /* geo_*: small errors about a frame turning at the GEO orbit rate */
+    FAM_GAO,       /* gao_*: errors up to 120 deg */
+    FAM_LANDSAT,   /* landsat8_*: relative position and velocity */
+    FAM_COUNT
 } bench_family_t;
+
+/* scenario name prefix of each family, in bench_family_t order (also --list) */
+static const char *const bench_family_names[FAM_COUNT] = {"rtc", "irassi", "geo", "gao", "landsat8"};
 
 typedef struct {
     aocs_law_id_t id;
-    const char *step_symbol; /* function the callgrind count is restricted to */
-    bench_family_t family;
+    const char *step_symbol;   /* function the callgrind count is restricted to */
+    const char *ref_scenario;  /* decides the family (bench_family_of) */
 } bench_law_info_t;
 
-static const bench_law_info_t bench_law_list[] = {
-    {AOCS_LAW_CRP_LINEAR, "aocs_crp_linear_step", FAM_RTC},
-    {AOCS_LAW_QUAT_PD, "aocs_quat_pd_step", FAM_IRASSI},
-    {AOCS_LAW_QUAT_NLPD_NEG, "aocs_quat_nlpd_step", FAM_IRASSI},
-    {AOCS_LAW_QUAT_NLPD_POS, "aocs_quat_nlpd_step", FAM_IRASSI},
-    {AOCS_LAW_SMC, "aocs_smc_step", FAM_IRASSI},
-    {AOCS_LAW_LQR_QUAT, "aocs_lqr_quat_step", FAM_IRASSI},
-    {AOCS_LAW_HINF, "aocs_hinf_step", FAM_GEO},
-    {AOCS_LAW_MRP_SAT_LINEAR, "aocs_mrp_sat_step", FAM_GAO},
-    {AOCS_LAW_MRP_SAT_TANH, "aocs_mrp_sat_step", FAM_GAO},
-    {AOCS_LAW_ORBIT_LQR, "aocs_orbit_lqr_step", FAM_LANDSAT},
-};
+#define BENCH_LAW_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+                      BUDGET_NS, M4F, M7, REF)                                                                     \
+    {AOCS_LAW_##ID, #STEP, REF},
+
+static const bench_law_info_t bench_law_list[] = {AOCS_LAW_ROWS(BENCH_LAW_ROW)};
 #define BENCH_LAW_COUNT (sizeof(bench_law_list) / sizeof(bench_law_list[0]))
 #define BENCH_EXEC_SYMBOL "aocs_exec_step"
 /*
@@ -180,6 +184,21 @@ static aocs_vec3_t bench_rng_vec3(uint64_t *s, real_t a)
     v.v[1] = bench_rng_sym(s, a);
     v.v[2] = bench_rng_sym(s, a);
     return v;
+}
+
+/* The family of a reference scenario: the longest family name that prefixes it; FAM_COUNT if none. */
+static bench_family_t bench_family_of(const char *scenario)
+{
+    bench_family_t fam = FAM_COUNT;
+    size_t best = 0u;
+    for (int i = 0; i < (int)FAM_COUNT; ++i) {
+        size_t n = strlen(bench_family_names[i]);
+        if ((n > best) && (strncmp(scenario, bench_family_names[i], n) == 0)) {
+            fam = (bench_family_t)i;
+            best = n;
+        }
+    }
+    return fam;
 }
 
 static void bench_family_data(bench_family_t fam, bench_family_data_t *d)
@@ -270,130 +289,32 @@ static void bench_ring_fill(bench_family_t fam, uint64_t seed)
     }
 }
 
-/* ---- law configurations: the reference scenarios of SPEC 4 ---- */
-static void bench_copy_table(real_t dst[3][6], const real_t src[3][6])
+/*
+ * ---- law configurations ----
+ * The reference configuration of the registry (the REF column of every
+ * config field in aocs/laws.def: the SPEC 4 reference scenarios' values);
+ * the states are direct dispatches of the executive (aocs_exec_law_init /
+ * aocs_exec_law_step: the variant forced by the law id), whose switch the
+ * callgrind counts exclude (they collect inside the step symbol only).
+ */
+static int bench_law_configs(aocs_exec_law_configs_t *c)
 {
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 6; ++j) {
-            dst[i][j] = src[i][j];
-        }
+    char err[256];
+    int rc = aocs_registry_reference_configs(c, err, sizeof(err));
+    if (rc != 0) {
+        (void)fprintf(stderr, "bench_laws: reference configuration: %s\n", err);
     }
+    return rc;
 }
 
-static void bench_law_configs(aocs_exec_law_configs_t *c)
-{
-    real_t m2 = (AOCS_R(2.0) * AOCS_R(0.05)) / AOCS_SQRT(AOCS_R(3.0)); /* SPEC 4 gao_mrp: L2 = M2 = 2 uM / sqrt 3 */
-    (void)memset(c, 0, sizeof(*c));
-    c->crp_linear.k1 = AOCS_R(19.0); /* rtc_ex1a/2a */
-    c->crp_linear.k2 = AOCS_R(13.0);
-    c->quat_pd.kp = AOCS_R(4000.0); /* irassi reference gains */
-    c->quat_pd.kd = AOCS_R(8000.0);
-    c->quat_nlpd.kp = AOCS_R(4000.0);
-    c->quat_nlpd.kd = AOCS_R(8000.0);
-    c->quat_nlpd.variant = AOCS_QUAT_NLPD_NEG;
-    c->smc.inertia = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
-    c->smc.lambda = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
-    c->smc.g = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
-    c->smc.eps = aocs_vec3_make(AOCS_R(0.02), AOCS_R(0.02), AOCS_R(0.02));
-    bench_copy_table(c->lqr_quat.k, aocs_gains_lqr_quat_ref_K);
-    bench_copy_table(c->hinf.k, aocs_gains_hinf_min_K);
-    c->mrp_sat.variant = AOCS_MRP_SAT_LINEAR;
-    c->mrp_sat.k = AOCS_R(50.0);
-    c->mrp_sat.lambda = AOCS_R(0.6);
-    c->mrp_sat.u_max = AOCS_R(0.05);
-    c->mrp_sat.l1 = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
-    c->mrp_sat.m1 = c->mrp_sat.l1;
-    c->mrp_sat.l2 = aocs_vec3_make(m2, m2, m2);
-    c->mrp_sat.m2 = c->mrp_sat.l2;
-    bench_copy_table(c->orbit_lqr.k, aocs_gains_orbit_lqr_q1_K);
-}
-
-/* Initialises the law's state in bench_states (variant forced by the id, as the executive does). */
 static aocs_status_t bench_law_init(aocs_law_id_t id, const aocs_exec_law_configs_t *c)
 {
-    aocs_status_t st = AOCS_ERR_UNKNOWN_LAW;
-    aocs_quat_nlpd_config_t nlpd = c->quat_nlpd;
-    aocs_mrp_sat_config_t mrp = c->mrp_sat;
-    switch (id) {
-    case AOCS_LAW_CRP_LINEAR:
-        st = aocs_crp_linear_init(&bench_states.crp_linear, &c->crp_linear);
-        break;
-    case AOCS_LAW_QUAT_PD:
-        st = aocs_quat_pd_init(&bench_states.quat_pd, &c->quat_pd);
-        break;
-    case AOCS_LAW_QUAT_NLPD_NEG:
-        nlpd.variant = AOCS_QUAT_NLPD_NEG;
-        st = aocs_quat_nlpd_init(&bench_states.quat_nlpd_neg, &nlpd);
-        break;
-    case AOCS_LAW_QUAT_NLPD_POS:
-        nlpd.variant = AOCS_QUAT_NLPD_POS;
-        st = aocs_quat_nlpd_init(&bench_states.quat_nlpd_pos, &nlpd);
-        break;
-    case AOCS_LAW_SMC:
-        st = aocs_smc_init(&bench_states.smc, &c->smc);
-        break;
-    case AOCS_LAW_LQR_QUAT:
-        st = aocs_lqr_quat_init(&bench_states.lqr_quat, &c->lqr_quat);
-        break;
-    case AOCS_LAW_HINF:
-        st = aocs_hinf_init(&bench_states.hinf, &c->hinf);
-        break;
-    case AOCS_LAW_MRP_SAT_LINEAR:
-        mrp.variant = AOCS_MRP_SAT_LINEAR;
-        st = aocs_mrp_sat_init(&bench_states.mrp_sat_linear, &mrp);
-        break;
-    case AOCS_LAW_MRP_SAT_TANH:
-        mrp.variant = AOCS_MRP_SAT_TANH;
-        st = aocs_mrp_sat_init(&bench_states.mrp_sat_tanh, &mrp);
-        break;
-    case AOCS_LAW_ORBIT_LQR:
-        st = aocs_orbit_lqr_init(&bench_states.orbit_lqr, &c->orbit_lqr);
-        break;
-    default:
-        break;
-    }
-    return st;
+    return aocs_exec_law_init(&bench_states, c, id);
 }
 
-/* One direct law step (the switch is predicted perfectly; callgrind counts exclude it). */
 static aocs_status_t bench_law_step(aocs_law_id_t id, const bench_sample_t *x, aocs_vec3_t *u)
 {
-    aocs_status_t st = AOCS_ERR_UNKNOWN_LAW;
-    switch (id) {
-    case AOCS_LAW_CRP_LINEAR:
-        st = aocs_crp_linear_step(&bench_states.crp_linear, &x->att, u);
-        break;
-    case AOCS_LAW_QUAT_PD:
-        st = aocs_quat_pd_step(&bench_states.quat_pd, &x->att, u);
-        break;
-    case AOCS_LAW_QUAT_NLPD_NEG:
-        st = aocs_quat_nlpd_step(&bench_states.quat_nlpd_neg, &x->att, u);
-        break;
-    case AOCS_LAW_QUAT_NLPD_POS:
-        st = aocs_quat_nlpd_step(&bench_states.quat_nlpd_pos, &x->att, u);
-        break;
-    case AOCS_LAW_SMC:
-        st = aocs_smc_step(&bench_states.smc, &x->att, u);
-        break;
-    case AOCS_LAW_LQR_QUAT:
-        st = aocs_lqr_quat_step(&bench_states.lqr_quat, &x->att, u);
-        break;
-    case AOCS_LAW_HINF:
-        st = aocs_hinf_step(&bench_states.hinf, &x->att, u);
-        break;
-    case AOCS_LAW_MRP_SAT_LINEAR:
-        st = aocs_mrp_sat_step(&bench_states.mrp_sat_linear, &x->att, u);
-        break;
-    case AOCS_LAW_MRP_SAT_TANH:
-        st = aocs_mrp_sat_step(&bench_states.mrp_sat_tanh, &x->att, u);
-        break;
-    case AOCS_LAW_ORBIT_LQR:
-        st = aocs_orbit_lqr_step(&bench_states.orbit_lqr, &x->orbit, u);
-        break;
-    default:
-        break;
-    }
-    return st;
+    return aocs_exec_law_step(&bench_states, id, &x->att, &x->orbit, u);
 }
 
 /* Executive in lockstep with one law, NOMINAL from the first step. */
@@ -403,7 +324,7 @@ static aocs_status_t bench_exec_init(const bench_law_info_t *info, const aocs_ex
     aocs_exec_config_t cfg;
     bench_family_data_t d;
     aocs_status_t st;
-    bench_family_data(info->family, &d);
+    bench_family_data(bench_family_of(info->ref_scenario), &d);
     aocs_exec_config_default(&cfg);
     cfg.period_s = d.dt_s;
     cfg.law = info->id;
@@ -693,8 +614,7 @@ static const bench_law_info_t *bench_find(const char *name)
 
 static const char *bench_family_name(bench_family_t fam)
 {
-    static const char *const names[] = {"rtc", "irassi", "geo", "gao", "landsat8"};
-    return names[fam];
+    return ((int)fam < (int)FAM_COUNT) ? bench_family_names[fam] : "none";
 }
 
 int main(int argc, char **argv)
@@ -772,13 +692,20 @@ int main(int argc, char **argv)
         for (size_t i = 0u; i < BENCH_LAW_COUNT; ++i) {
             (void)printf("%s %s %llu %s\n", aocs_law_name(bench_law_list[i].id), bench_law_list[i].step_symbol,
                          (unsigned long long)aocs_law_budget_ns(bench_law_list[i].id),
-                         bench_family_name(bench_law_list[i].family));
+                         bench_family_name(bench_family_of(bench_law_list[i].ref_scenario)));
         }
         return 0;
     }
 
-    bench_law_configs(&configs);
+    if (bench_law_configs(&configs) != 0) {
+        rc = 1;
+    }
     for (size_t i = 0u; (i < BENCH_LAW_COUNT) && (rc == 0); ++i) {
+        if (bench_family_of(bench_law_list[i].ref_scenario) == FAM_COUNT) {
+            (void)fprintf(stderr, "bench_laws: %s: reference scenario '%s' is of no state family of the bench\n",
+                          aocs_law_name(bench_law_list[i].id), bench_law_list[i].ref_scenario);
+            rc = 1;
+        }
         if ((any_selected == 0) || (selected[i] != 0)) {
             aocs_status_t st = bench_law_init(bench_law_list[i].id, &configs);
             if (st != AOCS_OK) {
@@ -792,7 +719,7 @@ int main(int argc, char **argv)
     if ((rc == 0) && (cg_steps > 0u)) {
         for (size_t i = 0u; i < BENCH_LAW_COUNT; ++i) {
             if (selected[i] != 0) {
-                bench_ring_fill(bench_law_list[i].family, seed);
+                bench_ring_fill(bench_family_of(bench_law_list[i].ref_scenario), seed);
                 rc = bench_callgrind(&bench_law_list[i], &configs, cg_steps, use_exec);
             }
         }
@@ -807,7 +734,7 @@ int main(int argc, char **argv)
         for (size_t i = 0u; i < BENCH_LAW_COUNT; ++i) {
             if ((any_selected == 0) || (selected[i] != 0)) {
                 const bench_law_info_t *info = &bench_law_list[i];
-                bench_ring_fill(info->family, seed);
+                bench_ring_fill(bench_family_of(info->ref_scenario), seed);
                 if (bench_time_law(info, steps, warmup) != 0) {
                     rc = 1;
                 }

@@ -16,7 +16,7 @@ instruction counts of every control law and of the executive step with it.
    an error, exit 1). The executive count leaves out the HAL clock reads
    inside aocs_exec_step (their count depends on the clock value);
 3. prints one table (law | ns median | ns p99 | ns worst | budget ns |
-   instr/step), the budget check (a law whose declared AOCS_<LAW>_BUDGET_NS
+   instr/step), the budget check (a law whose declared BUDGET_NS (laws.def)
    is below the measured p99 of its step, or of the executive's own step
    time, is listed), and writes everything to --json FILE.
 
@@ -271,7 +271,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"{' and '.join(e['budget_below_p99'])} "
                   f"(law p99 {e['law']['p99_ns']} ns, executive p99 {e['exec_self']['p99_ns']} ns)")
     else:
-        print("# budget check: every declared AOCS_<LAW>_BUDGET_NS is above the measured p99 "
+        print("# budget check: every declared BUDGET_NS (laws.def) is above the measured p99 "
               "(law step and the executive's own step time)")
 
     if args.json is not None:

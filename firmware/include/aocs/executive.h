@@ -38,7 +38,12 @@
  * sample. A zero rate leaves the target exactly as given (bit for bit).
  *
  * Gain tables (gain_tables.c): the designs compiled into gains/aocs_gains.h
- * by name or id, so a config can say "hinf_regional" instead of 18 numbers.
+ * by name or id, so a config can say "<design name>" instead of 18 numbers;
+ * `aocs gains` registers them in gains/gain_tables.def.
+ *
+ * The laws themselves, their configs, states, budgets and config fields are
+ * rows of aocs/laws.def (the law registry); everything here that lists laws
+ * is expanded from it.
  */
 #ifndef AOCS_EXECUTIVE_H
 #define AOCS_EXECUTIVE_H
@@ -48,29 +53,18 @@
 #include "aocs/types.h"
 #include "aocs/math3.h"
 #include "aocs/attitude.h"
-#include "aocs/control/law_io.h"
-#include "aocs/control/crp_linear.h"
-#include "aocs/control/quat_pd.h"
-#include "aocs/control/quat_nlpd.h"
-#include "aocs/control/smc.h"
-#include "aocs/control/lqr_quat.h"
-#include "aocs/control/hinf.h"
-#include "aocs/control/mrp_sat.h"
-#include "aocs/control/orbit_lqr.h"
+#include "aocs/laws.def"
+#include "gains/gain_tables.def"
 
-/* ---- law identifiers (law_table.c) ---- */
+/*
+ * ---- law identifiers (laws.def, law_table.c) ----
+ * AOCS_LAW_NONE = 0, then one id per AOCS_LAW_ROWS row in row order (the
+ * wire values: crp_linear = 1 .. orbit_lqr = 10), then AOCS_LAW_COUNT.
+ */
+#define AOCS_LAW_ENUM_ROW(ID, ...) AOCS_LAW_##ID,
 typedef enum {
-    AOCS_LAW_NONE = 0,          /* no law: STANDBY */
-    AOCS_LAW_CRP_LINEAR,        /* "crp_linear"    SPEC 2.1 */
-    AOCS_LAW_QUAT_PD,           /* "quat_pd"       SPEC 2.2 */
-    AOCS_LAW_QUAT_NLPD_NEG,     /* "quat_nlpd_neg" SPEC 2.3, (1 - qe.qe) */
-    AOCS_LAW_QUAT_NLPD_POS,     /* "quat_nlpd_pos" SPEC 2.3, (1 + qe.qe) */
-    AOCS_LAW_SMC,               /* "smc"           SPEC 2.4 */
-    AOCS_LAW_LQR_QUAT,          /* "lqr_quat"      SPEC 2.5 */
-    AOCS_LAW_HINF,              /* "hinf"          SPEC 2.6 */
-    AOCS_LAW_MRP_SAT_LINEAR,    /* "mrp_sat"       SPEC 2.7, linear saturations */
-    AOCS_LAW_MRP_SAT_TANH,      /* "mrp_sat_tanh"  SPEC 2.7, generalised (tanh) */
-    AOCS_LAW_ORBIT_LQR,         /* "orbit_lqr"     SPEC 2.8, force not torque */
+    AOCS_LAW_NONE = 0, /* no law: STANDBY */
+    AOCS_LAW_ROWS(AOCS_LAW_ENUM_ROW)
     AOCS_LAW_COUNT
 } aocs_law_id_t;
 
@@ -84,10 +78,11 @@ const char *aocs_law_name(aocs_law_id_t law);
  */
 aocs_status_t aocs_law_from_name(const char *name, aocs_law_id_t *law);
 
-/* 1 for the orbit law (input pos/vel, output force), 0 otherwise. Total. */
+/* 1 for an ORBIT law of laws.def (input pos/vel, output force), 0 otherwise. Total. */
 int aocs_law_is_orbit(aocs_law_id_t law);
 
-/* Declared host budget of one step of the law, ns (AOCS_<LAW>_BUDGET_NS). Total (0 if unknown). */
+/* Declared host budget of one step of the law, ns (BUDGET_NS of its laws.def row); AOCS_EXEC_SAFE_BUDGET_NS
+ * for AOCS_LAW_NONE and out of range. Total. */
 uint64_t aocs_law_budget_ns(aocs_law_id_t law);
 
 /* ---- modes ---- */
@@ -119,19 +114,18 @@ typedef struct {
     aocs_vec3_t wd_dot_B;   /* target angular acceleration, rad/s^2 */
 } aocs_exec_target_t;
 
-/* ---- compiled gain tables (gain_tables.c, gains/aocs_gains.h) ---- */
+/*
+ * ---- compiled gain tables (gains/gain_tables.def, gain_tables.c) ----
+ * One id per row of the registration that `aocs gains` writes next to the
+ * tables (design order of tools/gains.toml), then AOCS_GAIN_TABLE_COUNT.
+ */
+#define AOCS_GAIN_TABLE_ENUM_ROW(ID, ...) AOCS_GAIN_TABLE_##ID,
 typedef enum {
-    AOCS_GAIN_TABLE_LQR_QUAT_REF = 0, /* "lqr_quat_ref"    lqr_quat, Q = 200 I6, R = 0.001 I3 */
-    AOCS_GAIN_TABLE_LQR_QUAT_STRONG,  /* "lqr_quat_strong" lqr_quat, Q = 2000 I6, R = 1e-5 I3 */
-    AOCS_GAIN_TABLE_HINF_MIN,         /* "hinf_min"        hinf, plain minimum gamma */
-    AOCS_GAIN_TABLE_HINF_REGIONAL,    /* "hinf_regional"   hinf, with the pole-region constraint */
-    AOCS_GAIN_TABLE_ORBIT_LQR_Q1,     /* "orbit_lqr_q1"    orbit_lqr, Q = I */
-    AOCS_GAIN_TABLE_ORBIT_LQR_Q01,    /* "orbit_lqr_q01"   orbit_lqr, Q = 0.1 I */
-    AOCS_GAIN_TABLE_ORBIT_LQR_Q10,    /* "orbit_lqr_q10"   orbit_lqr, Q = 10 I */
+    AOCS_GAIN_TABLE_ROWS(AOCS_GAIN_TABLE_ENUM_ROW)
     AOCS_GAIN_TABLE_COUNT
 } aocs_gain_table_id_t;
 
-/* Design name of a table ("hinf_regional"); "unknown" when out of range. Total. */
+/* Design name of a table (its tools/gains.toml section); "unknown" when out of range. Total. */
 const char *aocs_gain_table_name(aocs_gain_table_id_t table);
 
 /* The law a table was designed for (LQR_QUAT, HINF or ORBIT_LQR); AOCS_LAW_NONE when out of range. Total. */
@@ -144,21 +138,23 @@ aocs_law_id_t aocs_gain_table_law(aocs_gain_table_id_t table);
  */
 aocs_status_t aocs_gain_table_find(const char *name, aocs_gain_table_id_t *table);
 
-/* One config of each law; only the one selected (at init or by select) must be valid. */
+/*
+ * One config of each law (member CFG of every CFG_OWN row of laws.def); only
+ * the one selected (at init or by select) must be valid. The variants of a
+ * law share one config; the law id forces the variant (VARIANT column).
+ */
+#define AOCS_LAW_CFG_DECL_CFG_OWN(CFG_T, CFG) CFG_T CFG;
+#define AOCS_LAW_CFG_DECL_CFG_SHARED(CFG_T, CFG)
+#define AOCS_LAW_CONFIG_MEMBER(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, ...) \
+    AOCS_LAW_CFG_DECL_##CFG_USE(CFG_T, CFG)
 typedef struct {
-    aocs_crp_linear_config_t crp_linear;
-    aocs_quat_pd_config_t quat_pd;
-    aocs_quat_nlpd_config_t quat_nlpd;   /* variant is forced by the law id (NEG/POS) */
-    aocs_smc_config_t smc;
-    aocs_lqr_quat_config_t lqr_quat;
-    aocs_hinf_config_t hinf;
-    aocs_mrp_sat_config_t mrp_sat;       /* variant is forced by the law id (LINEAR/TANH) */
-    aocs_orbit_lqr_config_t orbit_lqr;
+    AOCS_LAW_ROWS(AOCS_LAW_CONFIG_MEMBER)
 } aocs_exec_law_configs_t;
 
 /*
- * Copies the 3x6 gain of `table` into the config of `law` in *cfgs
- * (lqr_quat.k, hinf.k or orbit_lqr.k); nothing else changes.
+ * Copies the 3x6 gain of `table` into the config of `law` in *cfgs: the
+ * MEMBER of the law's TABLE field in laws.def (lqr_quat.k, hinf.k,
+ * orbit_lqr.k); nothing else changes.
  * AOCS_ERR_NULL_ARG; AOCS_ERR_GAIN_TABLE_UNKNOWN (table out of range);
  * AOCS_ERR_GAIN_TABLE_WRONG_LAW (the table was designed for another law,
  * *cfgs untouched). The law's init still validates the gain.
@@ -180,7 +176,7 @@ typedef struct {
     uint32_t recover_good_samples;/* M: consecutive good samples to leave SAFE, >= 1 */
     uint32_t missing_max_periods; /* N: a gap of >= N missed samples enters SAFE, >= 1 */
     uint64_t stale_timeout_ns;    /* real-time mode: max age (HAL now - sensor time), > 0 there */
-    uint64_t budget_ns;           /* step budget override; 0 = the law's AOCS_<LAW>_BUDGET_NS */
+    uint64_t budget_ns;           /* step budget override; 0 = the law's BUDGET_NS (laws.def) */
     aocs_exec_clock_t clock;
 } aocs_exec_config_t;
 
@@ -229,19 +225,26 @@ typedef struct {
     aocs_exec_counters_t counters;
 } aocs_exec_output_t;
 
-/* Law states, one of each so a rejected select leaves the active one untouched. */
+/* Law states (member STATE of every laws.def row), one of each so a rejected select leaves the active one untouched. */
+#define AOCS_LAW_STATE_MEMBER(ID, NAME, INPUT, TITLE, STATE, STATE_T, ...) STATE_T STATE;
 typedef struct {
-    aocs_crp_linear_t crp_linear;
-    aocs_quat_pd_t quat_pd;
-    aocs_quat_nlpd_t quat_nlpd_neg;
-    aocs_quat_nlpd_t quat_nlpd_pos;
-    aocs_smc_t smc;
-    aocs_lqr_quat_t lqr_quat;
-    aocs_hinf_t hinf;
-    aocs_mrp_sat_t mrp_sat_linear;
-    aocs_mrp_sat_t mrp_sat_tanh;
-    aocs_orbit_lqr_t orbit_lqr;
+    AOCS_LAW_ROWS(AOCS_LAW_STATE_MEMBER)
 } aocs_exec_law_states_t;
+
+/*
+ * Direct dispatch to one law, without the executive's checks (law_table.c;
+ * the executive, the bench and the tests use it).
+ * aocs_exec_law_init initialises states->STATE of `law` from cfgs->CFG, the
+ * variant forced by the law id: the law init's status, AOCS_ERR_UNKNOWN_LAW
+ * for NONE / out of range, AOCS_ERR_NULL_ARG.
+ * aocs_exec_law_step runs one step of `law` (att for attitude laws, orbit
+ * for the orbit law; both must be given); *u is zeroed on any error.
+ */
+aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec_law_configs_t *cfgs,
+                                 aocs_law_id_t law);
+aocs_status_t aocs_exec_law_step(aocs_exec_law_states_t *states, aocs_law_id_t law,
+                                 const aocs_att_input_t *att, const aocs_orbit_input_t *orbit,
+                                 aocs_vec3_t *u);
 
 typedef struct {
     /* cached configuration */

@@ -7,15 +7,6 @@
 
 #include "aocs/executive.h"
 
-/* Initialise the state of one law from its stored config (variants forced by id). */
-aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec_law_configs_t *cfgs,
-                                 aocs_law_id_t law);
-
-/* One law step; u zeroed on any error (AOCS_ERR_UNKNOWN_LAW for NONE/out of range). */
-aocs_status_t aocs_exec_law_step(aocs_exec_law_states_t *states, aocs_law_id_t law,
-                                 const aocs_att_input_t *att, const aocs_orbit_input_t *orbit,
-                                 aocs_vec3_t *u);
-
 /* 1 when law is a real law id (not NONE, not out of range). */
 int aocs_exec_law_is_valid(aocs_law_id_t law);
 

@@ -3,8 +3,9 @@
  * (gains/aocs_gains.h). The id enum lets an image without string parsing
  * (the PIL target) pick a design; the names are the design names of
  * tools/gains.toml and the scenario files (`[laws.hinf] table = ...`).
- * A design added to the generator must be added here too: the unit test
- * test_executive_laws checks AOCS_GAIN_TABLE_COUNT == AOCS_GAINS_TABLE_COUNT.
+ * Both the list (gains/gain_tables.def, written by `aocs gains` with the
+ * tables) and where a table goes (the TABLE field of its law, laws.def) are
+ * expanded here: a design added to tools/gains.toml needs no edit of C.
  */
 #include <stddef.h>
 #include <string.h>
@@ -18,14 +19,10 @@ typedef struct {
     const real_t (*k)[6];     /* the generated 3x6 table */
 } gain_table_t;
 
+#define GAIN_TABLE_ROW(ID, NAME, LAW, SYMBOL) {(NAME), AOCS_LAW_##LAW, (SYMBOL)},
+
 static const gain_table_t gain_tables[AOCS_GAIN_TABLE_COUNT] = {
-    {"lqr_quat_ref", AOCS_LAW_LQR_QUAT, aocs_gains_lqr_quat_ref_K},
-    {"lqr_quat_strong", AOCS_LAW_LQR_QUAT, aocs_gains_lqr_quat_strong_K},
-    {"hinf_min", AOCS_LAW_HINF, aocs_gains_hinf_min_K},
-    {"hinf_regional", AOCS_LAW_HINF, aocs_gains_hinf_regional_K},
-    {"orbit_lqr_q1", AOCS_LAW_ORBIT_LQR, aocs_gains_orbit_lqr_q1_K},
-    {"orbit_lqr_q01", AOCS_LAW_ORBIT_LQR, aocs_gains_orbit_lqr_q01_K},
-    {"orbit_lqr_q10", AOCS_LAW_ORBIT_LQR, aocs_gains_orbit_lqr_q10_K},
+    AOCS_GAIN_TABLE_ROWS(GAIN_TABLE_ROW)
 };
 
 static int table_is_valid(aocs_gain_table_id_t table)
@@ -77,6 +74,22 @@ static void copy_gain(real_t dst[3][6], const real_t (*src)[6])
     }
 }
 
+/*
+ * One case per TABLE field of laws.def: the law whose tables the field
+ * accepts -> the gain matrix (MEMBER) the table is copied into. The other
+ * field types expand to nothing.
+ */
+#define GAIN_DEST_REAL(LAW, MEMBER)
+#define GAIN_DEST_VEC3(LAW, MEMBER)
+#define GAIN_DEST_MAT3(LAW, MEMBER)
+#define GAIN_DEST_GAIN(LAW, MEMBER)
+#define GAIN_DEST_TABLE(LAW, MEMBER)                       \
+    case AOCS_LAW_##LAW:                                  \
+        copy_gain(cfgs->MEMBER, gain_tables[table].k);    \
+        st = AOCS_OK;                                     \
+        break;
+#define GAIN_DEST_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) GAIN_DEST_##TYPE(LAW, MEMBER)
+
 aocs_status_t aocs_gain_table_apply(aocs_gain_table_id_t table, aocs_law_id_t law, aocs_exec_law_configs_t *cfgs)
 {
     aocs_status_t st = AOCS_OK;
@@ -86,13 +99,14 @@ aocs_status_t aocs_gain_table_apply(aocs_gain_table_id_t table, aocs_law_id_t la
         st = AOCS_ERR_GAIN_TABLE_UNKNOWN;
     } else if (gain_tables[table].law != law) {
         st = AOCS_ERR_GAIN_TABLE_WRONG_LAW;
-    } else if (law == AOCS_LAW_LQR_QUAT) {
-        copy_gain(cfgs->lqr_quat.k, gain_tables[table].k);
-    } else if (law == AOCS_LAW_HINF) {
-        copy_gain(cfgs->hinf.k, gain_tables[table].k);
     } else {
-        /* the table's law is one of the three: here ORBIT_LQR */
-        copy_gain(cfgs->orbit_lqr.k, gain_tables[table].k);
+        /* a table registered for a law without a TABLE field has nowhere to go */
+        st = AOCS_ERR_GAIN_TABLE_WRONG_LAW;
+        switch (law) {
+        AOCS_LAW_FIELD_ROWS(GAIN_DEST_CASE)
+        default:
+            break;
+        }
     }
     return st;
 }

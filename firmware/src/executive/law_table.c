@@ -1,23 +1,44 @@
 /*
- * Law table: CLI names, budgets and the dispatch to each law's init/step.
- * The two-variant laws (quat_nlpd, mrp_sat) share one config; the law id
- * decides the variant so a config can never disagree with the selection.
+ * Law table: CLI names, input kinds, budgets and the dispatch to each law's
+ * init/step, all expanded from the rows of aocs/laws.def (nothing here
+ * names a law). The two-variant laws (quat_nlpd, mrp_sat) share one config;
+ * the law id decides the variant (VARIANT column) so a config can never
+ * disagree with the selection.
  */
 #include <stddef.h>
 #include <string.h>
 
 #include "exec_internal.h"
 
-static const char *const law_names[AOCS_LAW_COUNT] = {
-    "none",          "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-    "lqr_quat",      "hinf",       "mrp_sat", "mrp_sat_tanh",  "orbit_lqr",
+/* What the executive needs to know of a law besides its functions. */
+typedef struct {
+    const char *name;   /* CLI name */
+    int is_orbit;       /* 1: orbit input, force output */
+    uint64_t budget_ns; /* declared host budget of one step */
+} law_info_t;
+
+#define LAW_IS_ORBIT_ATTITUDE 0
+#define LAW_IS_ORBIT_ORBIT 1
+#define LAW_INFO_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+                     BUDGET_NS, ...)                                                                              \
+    {(NAME), LAW_IS_ORBIT_##INPUT, (uint64_t)(BUDGET_NS)},
+
+/* indexed by aocs_law_id_t: NONE first, then the rows in id order */
+static const law_info_t law_info[AOCS_LAW_COUNT] = {
+    {"none", 0, (uint64_t)AOCS_EXEC_SAFE_BUDGET_NS},
+    AOCS_LAW_ROWS(LAW_INFO_ROW)
 };
+
+static int law_in_range(aocs_law_id_t law)
+{
+    return (((int)law >= 0) && (law < AOCS_LAW_COUNT)) ? 1 : 0;
+}
 
 const char *aocs_law_name(aocs_law_id_t law)
 {
     const char *name = "unknown";
-    if (((int)law >= 0) && (law < AOCS_LAW_COUNT)) {
-        name = law_names[law];
+    if (law_in_range(law) != 0) {
+        name = law_info[law].name;
     }
     return name;
 }
@@ -29,7 +50,7 @@ aocs_status_t aocs_law_from_name(const char *name, aocs_law_id_t *law)
         st = AOCS_ERR_NULL_ARG;
     } else {
         for (int i = 0; i < (int)AOCS_LAW_COUNT; ++i) {
-            if (strcmp(name, law_names[i]) == 0) {
+            if (strcmp(name, law_info[i].name) == 0) {
                 *law = (aocs_law_id_t)i;
                 st = AOCS_OK;
                 break;
@@ -46,96 +67,48 @@ int aocs_exec_law_is_valid(aocs_law_id_t law)
 
 int aocs_law_is_orbit(aocs_law_id_t law)
 {
-    return (law == AOCS_LAW_ORBIT_LQR) ? 1 : 0;
+    int orbit = 0;
+    if (law_in_range(law) != 0) {
+        orbit = law_info[law].is_orbit;
+    }
+    return orbit;
 }
 
 uint64_t aocs_law_budget_ns(aocs_law_id_t law)
 {
-    uint64_t budget = 0u;
-    switch (law) {
-    case AOCS_LAW_CRP_LINEAR:
-        budget = (uint64_t)AOCS_CRP_LINEAR_BUDGET_NS;
-        break;
-    case AOCS_LAW_QUAT_PD:
-        budget = (uint64_t)AOCS_QUAT_PD_BUDGET_NS;
-        break;
-    case AOCS_LAW_QUAT_NLPD_NEG:
-    case AOCS_LAW_QUAT_NLPD_POS:
-        budget = (uint64_t)AOCS_QUAT_NLPD_BUDGET_NS;
-        break;
-    case AOCS_LAW_SMC:
-        budget = (uint64_t)AOCS_SMC_BUDGET_NS;
-        break;
-    case AOCS_LAW_LQR_QUAT:
-        budget = (uint64_t)AOCS_LQR_QUAT_BUDGET_NS;
-        break;
-    case AOCS_LAW_HINF:
-        budget = (uint64_t)AOCS_HINF_BUDGET_NS;
-        break;
-    case AOCS_LAW_MRP_SAT_LINEAR:
-    case AOCS_LAW_MRP_SAT_TANH:
-        budget = (uint64_t)AOCS_MRP_SAT_BUDGET_NS;
-        break;
-    case AOCS_LAW_ORBIT_LQR:
-        budget = (uint64_t)AOCS_ORBIT_LQR_BUDGET_NS;
-        break;
-    default:
-        budget = (uint64_t)AOCS_EXEC_SAFE_BUDGET_NS;
-        break;
+    uint64_t budget = (uint64_t)AOCS_EXEC_SAFE_BUDGET_NS;
+    if (law_in_range(law) != 0) {
+        budget = law_info[law].budget_ns;
     }
     return budget;
 }
+
+/*
+ * init of one row: a copy of the stored config with the variant forced
+ * (VARIANT: law_cfg.VMEMBER = VVALUE; NO_VARIANT: as stored).
+ */
+#define LAW_SET_NO_VARIANT(MEMBER, VALUE)
+#define LAW_SET_VARIANT(MEMBER, VALUE) law_cfg.MEMBER = (VALUE);
+#define LAW_INIT_CASE(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+                      ...)                                                                                      \
+    case AOCS_LAW_##ID: {                                                                               \
+        CFG_T law_cfg = cfgs->CFG;                                                                      \
+        LAW_SET_##VARIANT(VMEMBER, VVALUE)                                                                \
+        st = INIT(&states->STATE, &law_cfg);                                                              \
+    }                                                                                                   \
+        break;
 
 aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec_law_configs_t *cfgs,
                                  aocs_law_id_t law)
 {
     aocs_status_t st = AOCS_ERR_UNKNOWN_LAW;
-    aocs_quat_nlpd_config_t nlpd;
-    aocs_mrp_sat_config_t mrp;
     aocs_law_id_t id = law;
     if ((states == NULL) || (cfgs == NULL)) {
         id = AOCS_LAW_COUNT; /* falls to the default branch */
         st = AOCS_ERR_NULL_ARG;
     }
     switch (id) {
-    case AOCS_LAW_CRP_LINEAR:
-        st = aocs_crp_linear_init(&states->crp_linear, &cfgs->crp_linear);
-        break;
-    case AOCS_LAW_QUAT_PD:
-        st = aocs_quat_pd_init(&states->quat_pd, &cfgs->quat_pd);
-        break;
-    case AOCS_LAW_QUAT_NLPD_NEG:
-        nlpd = cfgs->quat_nlpd;
-        nlpd.variant = AOCS_QUAT_NLPD_NEG;
-        st = aocs_quat_nlpd_init(&states->quat_nlpd_neg, &nlpd);
-        break;
-    case AOCS_LAW_QUAT_NLPD_POS:
-        nlpd = cfgs->quat_nlpd;
-        nlpd.variant = AOCS_QUAT_NLPD_POS;
-        st = aocs_quat_nlpd_init(&states->quat_nlpd_pos, &nlpd);
-        break;
-    case AOCS_LAW_SMC:
-        st = aocs_smc_init(&states->smc, &cfgs->smc);
-        break;
-    case AOCS_LAW_LQR_QUAT:
-        st = aocs_lqr_quat_init(&states->lqr_quat, &cfgs->lqr_quat);
-        break;
-    case AOCS_LAW_HINF:
-        st = aocs_hinf_init(&states->hinf, &cfgs->hinf);
-        break;
-    case AOCS_LAW_MRP_SAT_LINEAR:
-        mrp = cfgs->mrp_sat;
-        mrp.variant = AOCS_MRP_SAT_LINEAR;
-        st = aocs_mrp_sat_init(&states->mrp_sat_linear, &mrp);
-        break;
-    case AOCS_LAW_MRP_SAT_TANH:
-        mrp = cfgs->mrp_sat;
-        mrp.variant = AOCS_MRP_SAT_TANH;
-        st = aocs_mrp_sat_init(&states->mrp_sat_tanh, &mrp);
-        break;
-    case AOCS_LAW_ORBIT_LQR:
-        st = aocs_orbit_lqr_init(&states->orbit_lqr, &cfgs->orbit_lqr);
-        break;
+    AOCS_LAW_ROWS(LAW_INIT_CASE)
     default:
         if (st != AOCS_ERR_NULL_ARG) {
             st = AOCS_ERR_UNKNOWN_LAW;
@@ -144,6 +117,14 @@ aocs_status_t aocs_exec_law_init(aocs_exec_law_states_t *states, const aocs_exec
     }
     return st;
 }
+
+/* step of one row: the attitude or the orbit input, by the INPUT column */
+#define LAW_INPUT_ATTITUDE att
+#define LAW_INPUT_ORBIT orbit
+#define LAW_STEP_CASE(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, ...) \
+    case AOCS_LAW_##ID:                                                                      \
+        st = STEP(&states->STATE, LAW_INPUT_##INPUT, &u_law);                                \
+        break;
 
 aocs_status_t aocs_exec_law_step(aocs_exec_law_states_t *states, aocs_law_id_t law,
                                  const aocs_att_input_t *att, const aocs_orbit_input_t *orbit,
@@ -157,36 +138,7 @@ aocs_status_t aocs_exec_law_step(aocs_exec_law_states_t *states, aocs_law_id_t l
         st = AOCS_ERR_NULL_ARG;
     }
     switch (id) {
-    case AOCS_LAW_CRP_LINEAR:
-        st = aocs_crp_linear_step(&states->crp_linear, att, &u_law);
-        break;
-    case AOCS_LAW_QUAT_PD:
-        st = aocs_quat_pd_step(&states->quat_pd, att, &u_law);
-        break;
-    case AOCS_LAW_QUAT_NLPD_NEG:
-        st = aocs_quat_nlpd_step(&states->quat_nlpd_neg, att, &u_law);
-        break;
-    case AOCS_LAW_QUAT_NLPD_POS:
-        st = aocs_quat_nlpd_step(&states->quat_nlpd_pos, att, &u_law);
-        break;
-    case AOCS_LAW_SMC:
-        st = aocs_smc_step(&states->smc, att, &u_law);
-        break;
-    case AOCS_LAW_LQR_QUAT:
-        st = aocs_lqr_quat_step(&states->lqr_quat, att, &u_law);
-        break;
-    case AOCS_LAW_HINF:
-        st = aocs_hinf_step(&states->hinf, att, &u_law);
-        break;
-    case AOCS_LAW_MRP_SAT_LINEAR:
-        st = aocs_mrp_sat_step(&states->mrp_sat_linear, att, &u_law);
-        break;
-    case AOCS_LAW_MRP_SAT_TANH:
-        st = aocs_mrp_sat_step(&states->mrp_sat_tanh, att, &u_law);
-        break;
-    case AOCS_LAW_ORBIT_LQR:
-        st = aocs_orbit_lqr_step(&states->orbit_lqr, orbit, &u_law);
-        break;
+    AOCS_LAW_ROWS(LAW_STEP_CASE)
     default:
         if (st != AOCS_ERR_NULL_ARG) {
             st = AOCS_ERR_UNKNOWN_LAW;

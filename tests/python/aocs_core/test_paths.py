@@ -1,36 +1,27 @@
-"""Firmware facts aocs_core.paths reads from the build and the headers.
+"""aocs_core.paths: where the build is, and the mode values it names.
 
-Expected values come from independent sources: the lcm-gen bindings, the
-scenario loader, the firmware headers, the plant's own rotation functions,
-or numbers worked out here.
+Expected values come from independent sources: the environment variable and
+the firmware's own mode names (through the build's registry).
 """
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
-from aocs_core import paths
+from aocs_core import paths, registry
 
 REPO = Path(__file__).resolve().parents[3]
 
 
-
-def test_law_ids_follow_the_executive_enum_and_law_table():
-    header = (REPO / "firmware/include/aocs/executive.h").read_text()
-    body = header[header.index("typedef enum {"):header.index("} aocs_law_id_t;")]
-    enum = re.findall(r"^\s*(AOCS_LAW_[A-Z_]+)", body, re.M)
-    assert enum[-1] == "AOCS_LAW_COUNT" and len(enum) - 1 == len(paths.LAW_IDS)
-    table = (REPO / "firmware/src/executive/law_table.c").read_text()
-    names_block = table[table.index("law_names[AOCS_LAW_COUNT]"):]
-    names = re.findall(r'"([a-z_0-9]+)"', names_block[:names_block.index("};")])
-    assert names == list(paths.LAW_IDS)
-    assert [paths.LAW_IDS[n] for n in names] == list(range(len(names)))
+def test_build_dir_follows_aocs_build_dir(monkeypatch, tmp_path):
+    monkeypatch.setenv("AOCS_BUILD_DIR", str(tmp_path))
+    assert paths.build_dir() == tmp_path.resolve()
+    monkeypatch.delenv("AOCS_BUILD_DIR")
+    assert paths.build_dir() == (REPO / "build" / "host").resolve()
 
 
-def test_budgets_and_status_names_come_from_the_headers():
-    for law in paths.LAW_IDS:
-        assert paths.law_budget_ns(law) > 0
-    assert paths.law_budget_ns("quat_nlpd_neg") == paths.law_budget_ns("quat_nlpd_pos")
-    names = paths.status_names()
-    assert names[0] == "AOCS_OK"
-    assert "AOCS_ERR_UNKNOWN_LAW" in names.values() and "AOCS_ERR_INPUT_NOT_FINITE" in names.values()
+def test_mode_values_are_the_executives():
+    names = registry.load().mode_names
+    assert names[paths.MODE_STANDBY] == "standby"
+    assert names[paths.MODE_NOMINAL] == "nominal"
+    assert names[paths.MODE_SAFE] == "safe"
+    assert len(names) == 3

@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -204,7 +205,7 @@ def test_check_passes_on_committed_tables(generated, capsys):
 
 
 def test_check_fails_on_tampered_copy(generated, tmp_path, capsys):
-    for name in ("aocs_gains.h", "aocs_gains.c"):
+    for name in generated[1]:  # aocs_gains.h, aocs_gains.c, gain_tables.def
         shutil.copy(REPO / "firmware" / "gains" / name, tmp_path / name)
     assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 0
     src = tmp_path / "aocs_gains.c"
@@ -220,13 +221,15 @@ def test_check_fails_on_tampered_copy(generated, tmp_path, capsys):
 
 def test_check_accepts_last_digit_noise_but_not_a_small_real_change(generated, tmp_path, capsys):
     """Solver noise in the 16th digit (another BLAS) passes with a note; 2e-5 does not."""
-    for name in ("aocs_gains.h", "aocs_gains.c"):
+    for name in generated[1]:  # aocs_gains.h, aocs_gains.c, gain_tables.def
         shutil.copy(REPO / "firmware" / "gains" / name, tmp_path / name)
     src = tmp_path / "aocs_gains.c"
     text = src.read_text()
-    original = "AOCS_R(447.21359549995668)"
-    assert original in text
-    src.write_text(text.replace(original, "AOCS_R(447.21359549995691)", 1))
+    # the first entry of lqr_quat_ref (sqrt(Q/R) = 447.2135954999...), moved in its last digits
+    original = re.search(r"AOCS_R\(447\.2135954999\d*\)", text).group(0)
+    noisy = f"AOCS_R({float(original[7:-1]) + 2.3e-13:.17g})"
+    assert noisy != original
+    src.write_text(text.replace(original, noisy, 1))
     capsys.readouterr()
     assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 0
     assert "not bit-for-bit" in capsys.readouterr().out
@@ -238,6 +241,25 @@ def test_check_accepts_last_digit_noise_but_not_a_small_real_change(generated, t
         assert old in text
         src.write_text(text.replace(old, new, 1))
         assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 1
+
+
+def test_table_registration_is_generated_in_design_order(generated, tmp_path, capsys):
+    """gain_tables.def: one row per design of tools/gains.toml, in its order (the table ids)."""
+    designs, files = generated
+    text = files["gain_tables.def"]
+    assert text == (REPO / "firmware" / "gains" / "gain_tables.def").read_text()
+    rows = [ln.strip() for ln in text.splitlines() if ln.strip().startswith("X(")]
+    assert len(rows) == len(designs)
+    for row, d in zip(rows, designs.values()):
+        assert row.startswith(f'X({d.name.upper()}, "{d.name}", {d.inputs["kind"].upper()}, aocs_gains_{d.name}_K)')
+    # a hand edit of the registration is caught like one of the tables
+    for name in files:
+        shutil.copy(REPO / "firmware" / "gains" / name, tmp_path / name)
+    reg = tmp_path / "gain_tables.def"
+    reg.write_text(reg.read_text().replace(", HINF,", ", LQR_QUAT,", 1))
+    capsys.readouterr()
+    assert cmd_gains.run(_args(check=True, out_dir=tmp_path)) == 1
+    assert "gain_tables.def: differs from its design" in capsys.readouterr().err
 
 
 def test_committed_tables_contain_provenance():

@@ -16,12 +16,14 @@ import zlib
 
 import pytest
 
+import registry_text
+from aocs_core import registry
 from aocs_pil import config as nodecfg
 from aocs_pil import frame
 from aocs_wire import netns
 from pil_support import REPO
 
-HEADER = (REPO / "firmware/include/aocs/pil_frame.h").read_text()
+HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 
 GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00,
                     0xED, 0x4A, 0x36, 0x90])
@@ -61,8 +63,14 @@ def test_constants_and_enums_match_the_c_header():
     assert {f"AOCS_PIL_T_{v}": k for k, v in frame.TYPE_NAMES.items()} == types
     errs = c_enum("aocs_pil_err_t")
     assert errs == {name: i for i, name in enumerate(frame.ERR_NAMES)}
-    fields = c_enum("aocs_pil_cfg_field_t")
-    assert fields == {f"AOCS_PIL_CFG_{k}": v[0] for k, v in frame.CFG_FIELDS.items()}
+    # the CONFIG fields: the executive's rows of pil_frame.h and the law fields of laws.def, as the C
+    # sources write them, against what the Python codec encodes (read from the build's registry)
+    kinds = {"REAL": "f", "U64": "u"}
+    want = {x["name"]: (x["pil_id"], kinds[x["kind"]], x["count"]) for x in registry_text.exec_field_rows()}
+    want |= {f["name"]: (f["pil_id"], "s", 0) if f["type"] == "TABLE" else (f["pil_id"], "f", f["count"])
+             for f in registry_text.field_rows()}
+    assert frame.cfg_fields() == want
+    assert frame.cfg_name_by_id() == {v[0]: k for k, v in want.items()}
 
 
 def test_golden_frames_byte_for_byte():
@@ -132,27 +140,35 @@ KIND_MAP = {"REAL": "real", "DOUBLE": "double", "U32": "u32", "U64": "u64", "SEC
 
 
 def c_keys():
+    """node_config.c KEYS: its general rows, then the law field rows of the registry as node_config.c maps them."""
     body = NODE_CONFIG_C[NODE_CONFIG_C.index("static const key_def_t KEYS[] = {"):]
     body = body[:body.index("\n};")]
-    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+)\}',
-                      body)
-    return [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
+    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+),'
+                      r'\s*AOCS_LAW_\w+\}', body)
+    general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
+    assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
+    # LAW_KEY_ROW of node_config.c over the field rows of laws.def
+    kinds = {"REAL": "real", "VEC3": "real", "GAIN": "real", "MAT3": "inertia", "TABLE": "gain_table"}
+    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"].lower(),
+             f["help"]) for f in registry_text.field_rows()]
+    return general + laws
 
 
 def test_key_table_is_node_config_c():
     rows = c_keys()
     assert len(rows) >= 40, "node_config.c KEYS not parsed"
-    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.KEYS]
+    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.keys()]
     assert ours == rows
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
-    law_c = (REPO / "firmware/src/executive/law_table.c").read_text()
-    names = re.search(r"law_names\[AOCS_LAW_COUNT\] = \{(.*?)\};", law_c, re.S).group(1)
-    assert tuple(re.findall(r'"(\w+)"', names)) == nodecfg.LAW_NAMES
-    tables_c = (REPO / "firmware/src/executive/gain_tables.c").read_text()
-    rows = re.findall(r'\{"(\w+)", AOCS_LAW_(\w+), aocs_gains_\w+_K\}', tables_c)
-    assert tuple((n, law.lower()) for n, law in rows) == nodecfg.GAIN_TABLES
+    """What the mirror accepts as a law and as a gain table of a `<law>.table` key is the C's."""
+    reg = registry.load()
+    assert reg.law_names() == ("none",) + tuple(r["name"] for r in registry_text.law_rows())
+    tables = registry_text.table_rows()
+    for key in (k for k in nodecfg.keys() if k.kind == "gain_table"):
+        assert reg.tables_for(key.law) == tuple(t["name"] for t in tables if t["law"].lower() == key.law)
+        assert nodecfg.table_names(key.law) == ", ".join(reg.tables_for(key.law))
 
 
 def test_values_reach_the_field_list(tmp_path):

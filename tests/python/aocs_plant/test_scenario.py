@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from aocs_core.conventions import quat_conj, quat_mul
-from aocs_plant import LAW_NAMES, ScenarioError, list_scenarios, load
+from aocs_plant import ScenarioError, law_names, list_scenarios, load
 
 SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b",
             "landsat8_q1", "landsat8_q01", "landsat8_q10", "landsat8_srp", "landsat8_debris",
@@ -101,8 +101,8 @@ def test_landsat_data():
 def test_gao_and_geo_data():
     sc = load("gao_mrp")
     p = sc.law.params
-    assert (p["u_max"], p["lambda"], p["k"], p["l1"], p["m1"]) == (0.05, 0.6, 50.0, 0.05, 0.05)
-    assert p["l2"] == pytest.approx(2 * 0.05 / math.sqrt(3), rel=1e-15) and p["m2"] == p["l2"]
+    assert (p["u_max"], p["lambda"], p["k"], p["l1"], p["m1"]) == (0.05, 0.6, 50.0, (0.05,) * 3, (0.05,) * 3)
+    assert p["l2"] == pytest.approx((2 * 0.05 / math.sqrt(3),) * 3, rel=1e-15) and p["m2"] == p["l2"]
     assert sc.control.laws["mrp_sat_tanh"].params["m3"] == 0.05
     assert sc.attitude.inertia == ((42.0, 1.8, -1.5), (1.8, 25.0, -1.2), (-1.5, -1.2, 61.8))
     assert sc.attitude.initial_input == ("sigma", (-0.3, -0.4, 0.2))
@@ -115,8 +115,17 @@ def test_gao_and_geo_data():
 
 
 def test_law_names_are_the_spec_list():
-    assert set(LAW_NAMES) == {"crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-                              "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr"}
+    """The scenario's laws are the flight software's registry rows, in wire-id order."""
+    assert law_names() == ("none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
+                           "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr")[1:]
+    assert law_names("orbit") == ("orbit_lqr",)
+    assert "orbit_lqr" not in law_names("attitude") and len(law_names("attitude")) == 9
+
+
+def test_a_table_must_be_a_compiled_one(tmp_path):
+    bad = VALID_ORB.replace("orbit_lqr_q1", "orbit_lqr_q7")
+    expect_error(tmp_path, "t_orb", bad, r"laws\.orbit_lqr\.tables\.orbit_lqr_q7",
+                 "not a compiled gain table of orbit_lqr .*orbit_lqr_q1, orbit_lqr_q01, orbit_lqr_q10")
 
 
 # ----------------------------------------------------------------- malformed files
@@ -163,9 +172,9 @@ duration_s = 100.0
 law = "orbit_lqr"
 
 [laws.orbit_lqr]
-table = "a"
+table = "orbit_lqr_q1"
 
-[laws.orbit_lqr.tables.a]
+[laws.orbit_lqr.tables.orbit_lqr_q1]
 q = 1.0
 r = 1.0
 
@@ -242,7 +251,7 @@ def test_valid_minimal_files_load(tmp_path):
     ("t_att", 'law = "quat_pd"', 'law = "smc"', "control.law", r"no gains under \[laws.smc\]"),
     ("t_orb", "[laws.orbit_lqr]\n", "[laws.quat_pd]\nkp = 1.0\nkd = 1.0\n[laws.orbit_lqr]\n",
      "laws.quat_pd", "does not apply to a orbit scenario"),
-    ("t_orb", 'table = "a"', 'table = "b"', "laws.orbit_lqr.table", "not defined"),
+    ("t_orb", 'table = "orbit_lqr_q1"', 'table = "orbit_lqr_q01"', "laws.orbit_lqr.table", "not defined"),
     # inconsistent content
     ("t_att", "window_s = 10.0", "window_s = 30.0", "metrics.window_s", "longer than duration_s"),
     ("t_att", "duration_s = 20.0", "duration_s = 20.05", "duration_s", "whole number of control periods"),

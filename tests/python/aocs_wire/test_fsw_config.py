@@ -12,7 +12,7 @@ import subprocess
 import pytest
 
 from aocs_core import conventions as rot
-from aocs_plant.scenario import list_scenarios, load
+from aocs_plant.scenario import ScenarioError, list_scenarios, load
 from aocs_wire import fsw_config
 
 
@@ -57,9 +57,9 @@ def test_config_of_the_special_scenarios():
     assert orb["orbit_lqr.table"] == "orbit_lqr_q10" and "target_q" not in orb and "inertia" not in orb
     with pytest.raises(fsw_config.ConfigError, match="no gains"):
         fsw_config.node_config(load("irassi_large"), "hinf")
-    tanh = load("gao_mrp", {"laws.mrp_sat_tanh.m3": 0.04})
-    with pytest.raises(fsw_config.ConfigError, match="m3"):
-        fsw_config.node_config(tanh, "mrp_sat_tanh")
+    # an M3 the flight software's tanh variant cannot fly is refused when the scenario loads
+    with pytest.raises(ScenarioError, match=r"laws\.mrp_sat_tanh\.m3: m3 = 0\.04 but the flight software"):
+        load("gao_mrp", {"laws.mrp_sat_tanh.m3": 0.04})
 
 
 def test_config_file_round_trip(tmp_path):

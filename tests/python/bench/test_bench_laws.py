@@ -4,7 +4,8 @@ What is asserted:
 - the program runs every law of SPEC 2 (and the executive with it) for a few
   steps without a single error and prints a well-formed table whose times are
   ordered (0 < median <= p99 <= worst) and whose budget column is the
-  AOCS_<LAW>_BUDGET_NS read here from the law headers;
+  BUDGET_NS of the law's registry row (firmware/include/aocs/laws.def, read
+  through aocs_core.registry);
 - the states are the documented seeded ring: the checksums of quat_pd and
   orbit_lqr are recomputed here from an independent Python copy of the ring
   (splitmix64, axis/angle draw) and of the two laws' equations (SPEC 2.2, 2.8);
@@ -28,14 +29,12 @@ from pathlib import Path
 
 import pytest
 
+from aocs_core import registry
+
 REPO = Path(__file__).resolve().parents[3]
 BUILD_HINT = "build it first: make build-host (cmake --preset host && cmake --build --preset host)"
 LAWS = ["crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf",
         "mrp_sat", "mrp_sat_tanh", "orbit_lqr"]
-# law name -> the header macro of its budget (variants share their module's budget)
-BUDGET_MACRO = {"crp_linear": "CRP_LINEAR", "quat_pd": "QUAT_PD", "quat_nlpd_neg": "QUAT_NLPD",
-                "quat_nlpd_pos": "QUAT_NLPD", "smc": "SMC", "lqr_quat": "LQR_QUAT", "hinf": "HINF",
-                "mrp_sat": "MRP_SAT", "mrp_sat_tanh": "MRP_SAT", "orbit_lqr": "ORBIT_LQR"}
 RING = 512
 #: tools/bench/bench_laws.py's EXEC_CLOCK_SLACK_INSTR, read from the driver (one source)
 EXEC_SLACK = int(re.search(r"^EXEC_CLOCK_SLACK_INSTR = (\d+)$", (REPO / "tools/bench/bench_laws.py").read_text(),
@@ -80,9 +79,11 @@ def parse_table(text: str):
     return meta, header, rows
 
 
-def header_budgets() -> dict:
-    text = "".join(p.read_text() for p in (REPO / "firmware/include/aocs/control").glob("*.h"))
-    return {m.group(1): int(m.group(2)) for m in re.finditer(r"#define AOCS_(\w+)_BUDGET_NS\s+(\d+)u?\b", text)}
+def registry_budgets() -> dict:
+    """law name -> BUDGET_NS of its laws.def row (the build's registry); the SPEC 2 laws, in wire order."""
+    reg = registry.load()
+    assert [law.name for law in reg.laws] == LAWS
+    return {law.name: law.budget_ns for law in reg.laws}
 
 
 # ---- independent copy of the state ring of bench_laws.c ----
@@ -144,7 +145,7 @@ def test_every_law_runs_and_prints_a_well_formed_table(bench_exe):
     expected = [("timer", "-")] + [(k, law) for law in LAWS for k in ("law", "exec", "exec_self")]
     assert kinds == expected
 
-    budgets = header_budgets()
+    budgets = registry_budgets()
     by = {(r["kind"], r["law"]): r for r in rows}
     for r in rows:
         n, med, p99, worst = (int(r[k]) for k in ("steps", "median_ns", "p99_ns", "worst_ns"))
@@ -155,7 +156,7 @@ def test_every_law_runs_and_prints_a_well_formed_table(bench_exe):
         assert 0 <= int(r["over_budget"]) <= steps, r
         assert int(r["errors"]) == 0, r
         if r["kind"] != "timer":
-            assert int(r["budget_ns"]) == budgets[BUDGET_MACRO[r["law"]]], r
+            assert int(r["budget_ns"]) == budgets[r["law"]], r
             checksum = float(r["checksum"])
             assert math.isfinite(checksum) and checksum != 0.0, r  # the law produced commands
     for law in LAWS:
@@ -168,11 +169,11 @@ def test_list_names_every_law_its_step_symbol_and_budget(bench_exe):
     assert proc.returncode == 0, proc.stderr
     lines = [ln.split() for ln in proc.stdout.splitlines() if not ln.startswith("#")]
     assert [ln[0] for ln in lines] == LAWS
-    budgets = header_budgets()
+    budgets = registry_budgets()
     for name, symbol, budget, _family in lines:
         module = name.replace("_neg", "").replace("_pos", "").replace("_tanh", "")
         assert symbol == f"aocs_{module}_step"
-        assert int(budget) == budgets[BUDGET_MACRO[name]]
+        assert int(budget) == budgets[name]
     assert "executive symbol: aocs_exec_step; excluded: aocs_hal_time_ns,aocs_hal_cycles;" in proc.stdout
     assert "callgrind.h: 1" in proc.stdout, "valgrind/callgrind.h was not found at configure time"
 
@@ -260,7 +261,7 @@ def test_driver_prints_the_table_and_writes_json(bench_exe, valgrind, tmp_path):
     doc = json.loads(out.read_text())
     (entry,) = doc["laws"]
     assert entry["name"] == "orbit_lqr"
-    assert entry["budget_ns"] == header_budgets()["ORBIT_LQR"]
+    assert entry["budget_ns"] == registry_budgets()["orbit_lqr"]
     for kind in ("law", "exec", "exec_self"):
         t = entry[kind]
         assert t["steps"] == 2000 and t["errors"] == 0

@@ -43,7 +43,4 @@ aocs_status_t aocs_crp_linear_init(aocs_crp_linear_t *law, const aocs_crp_linear
 aocs_status_t aocs_crp_linear_step(aocs_crp_linear_t *law, const aocs_att_input_t *in,
                                    aocs_vec3_t *u_out);
 
-/* Host budget of one step, ns; PIL will replace it with instruction counts. */
-#define AOCS_CRP_LINEAR_BUDGET_NS 2000u
-
 #endif /* AOCS_CONTROL_CRP_LINEAR_H */

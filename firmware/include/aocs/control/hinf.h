@@ -35,9 +35,6 @@ typedef struct {
     int initialised;
 } aocs_hinf_t;
 
-/* Declared host timing budget of one step, ns (trigonometry included). */
-#define AOCS_HINF_BUDGET_NS 5000
-
 /* Lower bound on cos(theta) in the Euler-rate conversion (gimbal lock guard). */
 #define AOCS_HINF_COS_PITCH_MIN AOCS_R(1.0e-6)
 

@@ -10,7 +10,8 @@
  *                                 aocs_vec3_t *u_out);
  *       pure apart from the law's own state; on any error *u_out is set to
  *       zero and a status is returned, so the output is never NaN.
- *   #define AOCS_<LAW>_BUDGET_NS  declared host timing budget of one step.
+ * and is registered by its row in aocs/laws.def (name, id, budgets, config
+ * fields), from which the executive and every tool know it.
  */
 #ifndef AOCS_CONTROL_LAW_IO_H
 #define AOCS_CONTROL_LAW_IO_H

@@ -24,9 +24,6 @@ typedef struct {
     int initialised;
 } aocs_lqr_quat_t;
 
-/* Declared host timing budget of one step, ns. */
-#define AOCS_LQR_QUAT_BUDGET_NS 2000
-
 /*
  * Validates and copies cfg: every entry finite (AOCS_ERR_PARAM_NOT_FINITE);
  * the diagonals of the attitude block k[i][i] and of the rate block

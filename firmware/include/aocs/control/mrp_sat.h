@@ -58,9 +58,6 @@ typedef struct {
     uint32_t guard_count;  /* steps in which the final |u| <= uM guard acted */
 } aocs_mrp_sat_t;
 
-/* Declared host timing budget of one step, ns. */
-#define AOCS_MRP_SAT_BUDGET_NS 5000
-
 /*
  * Validates and copies cfg, resets the state. Checks, in this order:
  *   variant known                                  AOCS_ERR_MODE_INVALID

@@ -21,9 +21,6 @@ typedef struct {
     int initialised;
 } aocs_orbit_lqr_t;
 
-/* Declared host timing budget of one step, ns. */
-#define AOCS_ORBIT_LQR_BUDGET_NS 1000
-
 /*
  * Validates and copies cfg: every entry finite (AOCS_ERR_PARAM_NOT_FINITE);
  * the diagonal of the velocity block k[i][i] strictly positive, the damping

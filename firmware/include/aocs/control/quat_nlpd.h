@@ -42,7 +42,4 @@ aocs_status_t aocs_quat_nlpd_init(aocs_quat_nlpd_t *law, const aocs_quat_nlpd_co
 aocs_status_t aocs_quat_nlpd_step(aocs_quat_nlpd_t *law, const aocs_att_input_t *in,
                                   aocs_vec3_t *u_out);
 
-/* Host budget of one step, ns; PIL will replace it with instruction counts. */
-#define AOCS_QUAT_NLPD_BUDGET_NS 2000u
-
 #endif /* AOCS_CONTROL_QUAT_NLPD_H */

@@ -43,7 +43,4 @@ aocs_status_t aocs_smc_init(aocs_smc_t *law, const aocs_smc_config_t *cfg);
  */
 aocs_status_t aocs_smc_step(aocs_smc_t *law, const aocs_att_input_t *in, aocs_vec3_t *u_out);
 
-/* Host budget of one step, ns; PIL will replace it with instruction counts. */
-#define AOCS_SMC_BUDGET_NS 5000u
-
 #endif /* AOCS_CONTROL_SMC_H */

@@ -96,45 +96,44 @@ typedef enum {
  * in the bridge. Entry layout: u8 field, u8 count, then count binary64
  * values (reals), count uint64 values (integers), or count bytes (the design
  * name of a gain table). Fields not given keep aocs_exec_config_default().
+ *
+ * Two lists, one enum: the executive's own fields below (ids 1 .. 14), and
+ * every law field of aocs/laws.def (AOCS_LAW_FIELD_ROWS: id = PIL_ID column,
+ * name AOCS_PIL_CFG_<NAME>, shape from the TYPE column: REAL 1, VEC3 3,
+ * MAT3 9 row-major, GAIN 18 row-major 3x6, TABLE a name). The ids are wire
+ * values: never renumber (tests/unit/test_registry.c pins them).
+ *
+ * AOCS_PIL_EXEC_FIELD_ROWS(X): X(NAME, ID, KIND, COUNT, KEY)
+ *   KIND  REAL (count binary64) or U64 (one uint64)
+ *   KEY   the fsw_node key the bridge takes the value from ("" = none); the
+ *         bridge converts stale_timeout_s to ns and budget_ns to
+ *         instructions at the target's nominal clock
  */
+/* clang-format off */
+#define AOCS_PIL_EXEC_FIELD_ROWS(X)                                                        \
+    X(LAW, 1u, U64, 1u, "law")                                /* aocs_law_id_t */          \
+    X(PERIOD_S, 2u, REAL, 1u, "control_period_s")                                          \
+    X(TARGET_Q, 3u, REAL, 4u, "target_q")                                                  \
+    X(TARGET_W, 4u, REAL, 3u, "target_w")                                                  \
+    X(TARGET_W_DOT, 5u, REAL, 3u, "target_w_dot")                                          \
+    X(TARGET_ROTATION_RATE, 6u, REAL, 3u, "target_rotation_rate")                          \
+    X(TARGET_T0_NS, 7u, U64, 1u, "")                                                       \
+    X(U_MAX_AXIS, 8u, REAL, 3u, "u_max_axis")                                              \
+    X(U_MAX_NORM, 9u, REAL, 1u, "u_max_norm")                                              \
+    X(K_SAFE, 10u, REAL, 1u, "k_safe")                                                     \
+    X(RECOVER_GOOD_SAMPLES, 11u, U64, 1u, "recover_good_samples") /* <= UINT32_MAX */      \
+    X(MISSING_MAX_PERIODS, 12u, U64, 1u, "missing_max_periods")   /* <= UINT32_MAX */      \
+    X(STALE_TIMEOUT_NS, 13u, U64, 1u, "stale_timeout_s")                                   \
+    X(BUDGET_INSTR, 14u, U64, 1u, "budget_ns") /* instruction budget override, 0 = the table */
+/* clang-format on */
+
+#define AOCS_PIL_CFG_EXEC_ENUM(NAME, ID, ...) AOCS_PIL_CFG_##NAME = (ID),
+#define AOCS_PIL_CFG_LAW_ENUM(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, ...) \
+    AOCS_PIL_CFG_##NAME = (PIL_ID),
 typedef enum {
-    AOCS_PIL_CFG_LAW = 1,                  /* u64 x1: aocs_law_id_t */
-    AOCS_PIL_CFG_PERIOD_S = 2,             /* f64 x1 */
-    AOCS_PIL_CFG_TARGET_Q = 3,             /* f64 x4 */
-    AOCS_PIL_CFG_TARGET_W = 4,             /* f64 x3 */
-    AOCS_PIL_CFG_TARGET_W_DOT = 5,         /* f64 x3 */
-    AOCS_PIL_CFG_TARGET_ROTATION_RATE = 6, /* f64 x3 */
-    AOCS_PIL_CFG_TARGET_T0_NS = 7,         /* u64 x1 */
-    AOCS_PIL_CFG_U_MAX_AXIS = 8,           /* f64 x3 */
-    AOCS_PIL_CFG_U_MAX_NORM = 9,           /* f64 x1 */
-    AOCS_PIL_CFG_K_SAFE = 10,              /* f64 x1 */
-    AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES = 11,/* u64 x1 (<= UINT32_MAX) */
-    AOCS_PIL_CFG_MISSING_MAX_PERIODS = 12, /* u64 x1 (<= UINT32_MAX) */
-    AOCS_PIL_CFG_STALE_TIMEOUT_NS = 13,    /* u64 x1 */
-    AOCS_PIL_CFG_BUDGET_INSTR = 14,        /* u64 x1: instruction budget override, 0 = the table */
-    AOCS_PIL_CFG_INERTIA = 15,             /* f64 x9, row-major (smc) */
-    AOCS_PIL_CFG_CRP_K1 = 16,              /* f64 x1 */
-    AOCS_PIL_CFG_CRP_K2 = 17,
-    AOCS_PIL_CFG_QUAT_PD_KP = 18,
-    AOCS_PIL_CFG_QUAT_PD_KD = 19,
-    AOCS_PIL_CFG_QUAT_NLPD_KP = 20,
-    AOCS_PIL_CFG_QUAT_NLPD_KD = 21,
-    AOCS_PIL_CFG_SMC_LAMBDA = 22,          /* f64 x3 */
-    AOCS_PIL_CFG_SMC_G = 23,               /* f64 x3 */
-    AOCS_PIL_CFG_SMC_EPS = 24,             /* f64 x3 */
-    AOCS_PIL_CFG_LQR_QUAT_K = 25,          /* f64 x18, row-major 3x6 */
-    AOCS_PIL_CFG_LQR_QUAT_TABLE = 26,      /* name */
-    AOCS_PIL_CFG_HINF_K = 27,              /* f64 x18 */
-    AOCS_PIL_CFG_HINF_TABLE = 28,          /* name */
-    AOCS_PIL_CFG_MRP_K = 29,               /* f64 x1 */
-    AOCS_PIL_CFG_MRP_LAMBDA = 30,          /* f64 x1 */
-    AOCS_PIL_CFG_MRP_U_MAX = 31,           /* f64 x1 */
-    AOCS_PIL_CFG_MRP_L1 = 32,              /* f64 x3 */
-    AOCS_PIL_CFG_MRP_M1 = 33,
-    AOCS_PIL_CFG_MRP_L2 = 34,
-    AOCS_PIL_CFG_MRP_M2 = 35,
-    AOCS_PIL_CFG_ORBIT_K = 36,             /* f64 x18 */
-    AOCS_PIL_CFG_ORBIT_TABLE = 37          /* name */
+    AOCS_PIL_EXEC_FIELD_ROWS(AOCS_PIL_CFG_EXEC_ENUM)
+    AOCS_LAW_FIELD_ROWS(AOCS_PIL_CFG_LAW_ENUM)
+    AOCS_PIL_CFG_FIELD_MAX = 255 /* ids are one byte on the wire */
 } aocs_pil_cfg_field_t;
 
 /* Decoded header (magic and CRC are checked, not kept). */

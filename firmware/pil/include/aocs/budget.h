@@ -35,6 +35,13 @@ typedef enum {
 #define AOCS_BUDGET_CLOCK_CORTEX_M7_HZ 216000000UL
 
 /*
+ * STANDBY steps (AOCS_LAW_NONE, no law runs); the laws' budgets are the
+ * INSTR_M4F / INSTR_M7 columns of their rows in aocs/laws.def.
+ */
+#define AOCS_BUDGET_STANDBY_INSTR_M4F 1600u /* measured worst 1102 */
+#define AOCS_BUDGET_STANDBY_INSTR_M7 1900u  /* measured worst 1330 */
+
+/*
  * Instructions of one aocs_exec_step with `law` selected on `target`
  * (AOCS_LAW_NONE: a STANDBY step). 0 for an out-of-range law or target
  * (no budget known: every step would count as an overrun). Total.

@@ -795,65 +795,41 @@ typedef enum {
     PIL_VAL_NAME        /* count bytes */
 } pil_val_kind_t;
 
-/* Value kind and count of a field; count 0 = unknown field. */
+/*
+ * Value kind and count of a field; count 0 = unknown field. The executive's
+ * fields by their KIND and COUNT (AOCS_PIL_EXEC_FIELD_ROWS), the law fields
+ * of laws.def by their TYPE: real_t, vec3, mat3 and the 3x6 gain are
+ * binary64 values, COUNT of them; a TABLE field is a name of up to
+ * AOCS_PIL_TABLE_NAME_MAX bytes (the entry gives the length).
+ */
+#define PIL_EXEC_SHAPE_CASE(NAME, ID, KIND, COUNT, ...) \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:                 \
+        *kind = PIL_VAL_##KIND;                         \
+        count = (COUNT);                                \
+        break;
+#define PIL_LAW_KIND_REAL PIL_VAL_REAL
+#define PIL_LAW_KIND_VEC3 PIL_VAL_REAL
+#define PIL_LAW_KIND_MAT3 PIL_VAL_REAL
+#define PIL_LAW_KIND_GAIN PIL_VAL_REAL
+#define PIL_LAW_KIND_TABLE PIL_VAL_NAME
+#define PIL_LAW_COUNT_REAL(COUNT) (COUNT)
+#define PIL_LAW_COUNT_VEC3(COUNT) (COUNT)
+#define PIL_LAW_COUNT_MAT3(COUNT) (COUNT)
+#define PIL_LAW_COUNT_GAIN(COUNT) (COUNT)
+#define PIL_LAW_COUNT_TABLE(COUNT) AOCS_PIL_TABLE_NAME_MAX
+#define PIL_LAW_SHAPE_CASE(NAME, LAW, KEY, MEMBER, TYPE, COUNT, ...) \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:                              \
+        *kind = PIL_LAW_KIND_##TYPE;                                 \
+        count = PIL_LAW_COUNT_##TYPE(COUNT);                         \
+        break;
+
 static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
 {
     uint32_t count = 0U;
     *kind = PIL_VAL_REAL;
     switch (field) {
-    case (uint32_t)AOCS_PIL_CFG_LAW:
-    case (uint32_t)AOCS_PIL_CFG_TARGET_T0_NS:
-    case (uint32_t)AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES:
-    case (uint32_t)AOCS_PIL_CFG_MISSING_MAX_PERIODS:
-    case (uint32_t)AOCS_PIL_CFG_STALE_TIMEOUT_NS:
-    case (uint32_t)AOCS_PIL_CFG_BUDGET_INSTR:
-        *kind = PIL_VAL_U64;
-        count = 1U;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_LQR_QUAT_TABLE:
-    case (uint32_t)AOCS_PIL_CFG_HINF_TABLE:
-    case (uint32_t)AOCS_PIL_CFG_ORBIT_TABLE:
-        *kind = PIL_VAL_NAME;
-        count = AOCS_PIL_TABLE_NAME_MAX; /* maximum; the entry gives the length */
-        break;
-    case (uint32_t)AOCS_PIL_CFG_PERIOD_S:
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_NORM:
-    case (uint32_t)AOCS_PIL_CFG_K_SAFE:
-    case (uint32_t)AOCS_PIL_CFG_CRP_K1:
-    case (uint32_t)AOCS_PIL_CFG_CRP_K2:
-    case (uint32_t)AOCS_PIL_CFG_QUAT_PD_KP:
-    case (uint32_t)AOCS_PIL_CFG_QUAT_PD_KD:
-    case (uint32_t)AOCS_PIL_CFG_QUAT_NLPD_KP:
-    case (uint32_t)AOCS_PIL_CFG_QUAT_NLPD_KD:
-    case (uint32_t)AOCS_PIL_CFG_MRP_K:
-    case (uint32_t)AOCS_PIL_CFG_MRP_LAMBDA:
-    case (uint32_t)AOCS_PIL_CFG_MRP_U_MAX:
-        count = 1U;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W:
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W_DOT:
-    case (uint32_t)AOCS_PIL_CFG_TARGET_ROTATION_RATE:
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_AXIS:
-    case (uint32_t)AOCS_PIL_CFG_SMC_LAMBDA:
-    case (uint32_t)AOCS_PIL_CFG_SMC_G:
-    case (uint32_t)AOCS_PIL_CFG_SMC_EPS:
-    case (uint32_t)AOCS_PIL_CFG_MRP_L1:
-    case (uint32_t)AOCS_PIL_CFG_MRP_M1:
-    case (uint32_t)AOCS_PIL_CFG_MRP_L2:
-    case (uint32_t)AOCS_PIL_CFG_MRP_M2:
-        count = 3U;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_Q:
-        count = 4U;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_INERTIA:
-        count = 9U;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_LQR_QUAT_K:
-    case (uint32_t)AOCS_PIL_CFG_HINF_K:
-    case (uint32_t)AOCS_PIL_CFG_ORBIT_K:
-        count = PIL_CFG_COUNT_MAX;
-        break;
+    AOCS_PIL_EXEC_FIELD_ROWS(PIL_EXEC_SHAPE_CASE)
+    AOCS_LAW_FIELD_ROWS(PIL_LAW_SHAPE_CASE)
     default:
         count = 0U;
         break;
@@ -872,124 +848,69 @@ static void read_gain(pil_reader_t *r, real_t k[3][6])
     }
 }
 
-/* The vector field a 3-value entry fills; NULL for the fields that are not plain vectors. */
-static aocs_vec3_t *cfg_vec3_of(aocs_exec_config_t *cfg, uint32_t field)
+/* 9 values, row-major */
+static void read_mat3(pil_reader_t *r, aocs_mat3_t *m)
 {
-    aocs_vec3_t *v = NULL;
-    switch (field) {
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W:
-        v = &cfg->target.wd_B;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W_DOT:
-        v = &cfg->target.wd_dot_B;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_ROTATION_RATE:
-        v = &cfg->target_rotation_rate_D;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_AXIS:
-        v = &cfg->u_max_axis;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_SMC_LAMBDA:
-        v = &cfg->laws.smc.lambda;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_SMC_G:
-        v = &cfg->laws.smc.g;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_SMC_EPS:
-        v = &cfg->laws.smc.eps;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_L1:
-        v = &cfg->laws.mrp_sat.l1;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_M1:
-        v = &cfg->laws.mrp_sat.m1;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_L2:
-        v = &cfg->laws.mrp_sat.l2;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_M2:
-        v = &cfg->laws.mrp_sat.m2;
-        break;
-    default:
-        v = NULL;
-        break;
+    uint32_t i;
+    for (i = 0U; i < 3U; i++) {
+        m->m[i][0] = r_real(r);
+        m->m[i][1] = r_real(r);
+        m->m[i][2] = r_real(r);
     }
-    return v;
 }
 
-/* The scalar field a 1-value real entry fills; NULL for the others. */
-static real_t *cfg_scalar_of(aocs_exec_config_t *cfg, uint32_t field)
-{
-    real_t *x = NULL;
-    switch (field) {
-    case (uint32_t)AOCS_PIL_CFG_PERIOD_S:
-        x = &cfg->period_s;
+/* One case per real-valued law field of laws.def, by TYPE (TABLE fields are names: none here). */
+#define PIL_READ_REAL(NAME, MEMBER)         \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
+        cfg->laws.MEMBER = r_real(r);       \
         break;
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_NORM:
-        x = &cfg->u_max_norm;
+#define PIL_READ_VEC3(NAME, MEMBER)         \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
+        cfg->laws.MEMBER = r_vec3(r);       \
         break;
-    case (uint32_t)AOCS_PIL_CFG_K_SAFE:
-        x = &cfg->k_safe;
+#define PIL_READ_MAT3(NAME, MEMBER)         \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
+        read_mat3(r, &cfg->laws.MEMBER);    \
         break;
-    case (uint32_t)AOCS_PIL_CFG_CRP_K1:
-        x = &cfg->laws.crp_linear.k1;
+#define PIL_READ_GAIN(NAME, MEMBER)         \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
+        read_gain(r, cfg->laws.MEMBER);     \
         break;
-    case (uint32_t)AOCS_PIL_CFG_CRP_K2:
-        x = &cfg->laws.crp_linear.k2;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_QUAT_PD_KP:
-        x = &cfg->laws.quat_pd.kp;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_QUAT_PD_KD:
-        x = &cfg->laws.quat_pd.kd;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_QUAT_NLPD_KP:
-        x = &cfg->laws.quat_nlpd.kp;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_QUAT_NLPD_KD:
-        x = &cfg->laws.quat_nlpd.kd;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_K:
-        x = &cfg->laws.mrp_sat.k;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_LAMBDA:
-        x = &cfg->laws.mrp_sat.lambda;
-        break;
-    case (uint32_t)AOCS_PIL_CFG_MRP_U_MAX:
-        x = &cfg->laws.mrp_sat.u_max;
-        break;
-    default:
-        x = NULL;
-        break;
-    }
-    return x;
-}
+#define PIL_READ_TABLE(NAME, MEMBER)
+#define PIL_READ_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) PIL_READ_##TYPE(NAME, MEMBER)
 
 /* Real-valued entry of `count` values (count already matches the field). */
 static void cfg_apply_reals(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t field)
 {
-    aocs_vec3_t *v = cfg_vec3_of(cfg, field);
-    real_t *x = cfg_scalar_of(cfg, field);
-    if (v != NULL) {
-        *v = r_vec3(r);
-    } else if (x != NULL) {
-        *x = r_real(r);
-    } else if (field == (uint32_t)AOCS_PIL_CFG_TARGET_Q) {
+    switch (field) {
+    case (uint32_t)AOCS_PIL_CFG_PERIOD_S:
+        cfg->period_s = r_real(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_TARGET_Q:
         cfg->target.qd_DN = r_quat(r);
-    } else if (field == (uint32_t)AOCS_PIL_CFG_INERTIA) {
-        uint32_t i;
-        for (i = 0U; i < 3U; i++) {
-            cfg->laws.smc.inertia.m[i][0] = r_real(r);
-            cfg->laws.smc.inertia.m[i][1] = r_real(r);
-            cfg->laws.smc.inertia.m[i][2] = r_real(r);
-        }
-    } else if (field == (uint32_t)AOCS_PIL_CFG_LQR_QUAT_K) {
-        read_gain(r, cfg->laws.lqr_quat.k);
-    } else if (field == (uint32_t)AOCS_PIL_CFG_HINF_K) {
-        read_gain(r, cfg->laws.hinf.k);
-    } else {
-        /* the remaining 18-value field */
-        read_gain(r, cfg->laws.orbit_lqr.k);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_TARGET_W:
+        cfg->target.wd_B = r_vec3(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_TARGET_W_DOT:
+        cfg->target.wd_dot_B = r_vec3(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_TARGET_ROTATION_RATE:
+        cfg->target_rotation_rate_D = r_vec3(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_U_MAX_AXIS:
+        cfg->u_max_axis = r_vec3(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_U_MAX_NORM:
+        cfg->u_max_norm = r_real(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_K_SAFE:
+        cfg->k_safe = r_real(r);
+        break;
+    AOCS_LAW_FIELD_ROWS(PIL_READ_CASE)
+    default:
+        /* cfg_field_shape admits no other real-valued field */
+        break;
     }
 }
 
@@ -1023,16 +944,25 @@ static int cfg_apply_u64(aocs_exec_config_t *cfg, uint64_t *budget_instr, uint32
     return bad;
 }
 
-/* The law a gain-table field is for. */
+/* The law a gain-table field is for (LAW column of its TABLE row in laws.def). */
+#define PIL_TABLE_LAW_REAL(NAME, LAW)
+#define PIL_TABLE_LAW_VEC3(NAME, LAW)
+#define PIL_TABLE_LAW_MAT3(NAME, LAW)
+#define PIL_TABLE_LAW_GAIN(NAME, LAW)
+#define PIL_TABLE_LAW_TABLE(NAME, LAW)      \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
+        law = AOCS_LAW_##LAW;               \
+        break;
+#define PIL_TABLE_LAW_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) PIL_TABLE_LAW_##TYPE(NAME, LAW)
+
 static aocs_law_id_t cfg_table_law(uint32_t field)
 {
-    aocs_law_id_t law = AOCS_LAW_ORBIT_LQR;
-    if (field == (uint32_t)AOCS_PIL_CFG_LQR_QUAT_TABLE) {
-        law = AOCS_LAW_LQR_QUAT;
-    } else if (field == (uint32_t)AOCS_PIL_CFG_HINF_TABLE) {
-        law = AOCS_LAW_HINF;
-    } else {
-        law = AOCS_LAW_ORBIT_LQR;
+    aocs_law_id_t law = AOCS_LAW_NONE; /* no table fits NONE: aocs_gain_table_apply refuses */
+    switch (field) {
+    AOCS_LAW_FIELD_ROWS(PIL_TABLE_LAW_CASE)
+    default:
+        law = AOCS_LAW_NONE;
+        break;
     }
     return law;
 }

@@ -1,0 +1,27 @@
+/*
+ * Per-law instruction budgets (aocs/budget.h): the INSTR_M4F / INSTR_M7
+ * columns of aocs/laws.def, set from the PIL runs of docs/pil.md
+ * ("Instruction budgets"): budget = 1.4 x (worst whole-step count measured
+ * over the full reference scenarios of the law + 80 for a SAFE-mode step,
+ * which also runs the law in the shadow), rounded up to 100.
+ */
+#include "aocs/budget.h"
+
+#define BUDGET_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
+                   BUDGET_NS, INSTR_M4F, INSTR_M7, ...)                                                          \
+    {(INSTR_M4F), (INSTR_M7)},
+
+uint32_t aocs_budget_instructions(aocs_law_id_t law, aocs_budget_target_t target)
+{
+    /* [law][target]: cortex-m4f (float), cortex-m7 (double) */
+    static const uint32_t budget_table[AOCS_LAW_COUNT][AOCS_BUDGET_TARGET_COUNT] = {
+        {AOCS_BUDGET_STANDBY_INSTR_M4F, AOCS_BUDGET_STANDBY_INSTR_M7}, /* none (STANDBY) */
+        AOCS_LAW_ROWS(BUDGET_ROW)
+    };
+    uint32_t budget = 0U;
+    if (((int32_t)law >= 0) && (law < AOCS_LAW_COUNT) && ((int32_t)target >= 0) &&
+        (target < AOCS_BUDGET_TARGET_COUNT)) {
+        budget = budget_table[law][target];
+    }
+    return budget;
+}

@@ -1,0 +1,123 @@
+"""The registry rows as written in the C sources, read as text (no tests here).
+
+An independent reading of firmware/include/aocs/laws.def, firmware/gains/gain_tables.def
+and the executive rows of firmware/pil/include/aocs/pil_frame.h, for the tests that check
+the build's registry JSON (aocs_core.registry) and the Python consumers against the C.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+LAWS_DEF = REPO / "firmware/include/aocs/laws.def"
+GAIN_TABLES_DEF = REPO / "firmware/gains/gain_tables.def"
+PIL_FRAME_H = REPO / "firmware/pil/include/aocs/pil_frame.h"
+
+
+def _macro_body(text: str, name: str) -> str:
+    """The replacement list of `#define name(X)`, continuation lines joined, comments dropped."""
+    start = text.index(f"#define {name}(X)")
+    lines = []
+    for line in text[start:].splitlines()[1:]:
+        lines.append(line.rstrip("\\").rstrip())
+        if not line.rstrip().endswith("\\"):
+            break
+    return re.sub(r"/\*.*?\*/", " ", " ".join(lines))
+
+
+def _rows(body: str) -> list[list[str]]:
+    """X(...) rows split into their top-level arguments (strings kept whole)."""
+    out, i = [], 0
+    while True:
+        i = body.find("X(", i)
+        if i < 0:
+            return out
+        depth, j, args, cur, in_str = 0, i + 2, [], "", False
+        while True:
+            c = body[j]
+            if in_str:
+                cur += c
+                in_str = c != '"'
+            elif c == '"':
+                cur += c
+                in_str = True
+            elif c == "(":
+                depth += 1
+                cur += c
+            elif c == ")" and depth == 0:
+                args.append(cur.strip())
+                break
+            elif c == ")":
+                depth -= 1
+                cur += c
+            elif c == "," and depth == 0:
+                args.append(cur.strip())
+                cur = ""
+            else:
+                cur += c
+            j += 1
+        out.append(args)
+        i = j
+
+
+def _str(x: str) -> str:
+    assert x.startswith('"') and x.endswith('"'), x
+    return x[1:-1]
+
+
+def _num(x: str) -> int:
+    return int(x.rstrip("uU"))
+
+
+def law_rows() -> list[dict]:
+    """AOCS_LAW_ROWS: one dict per law in row (= id) order."""
+    cols = ("id", "name", "input", "title", "state", "state_type", "config", "config_type", "config_use", "init",
+            "step", "variant", "vmember", "vvalue", "budget_ns", "instr_m4f", "instr_m7", "ref")
+    rows = []
+    for r in _rows(_macro_body(LAWS_DEF.read_text(), "AOCS_LAW_ROWS")):
+        assert len(r) == len(cols), r
+        d = dict(zip(cols, r))
+        for k in ("name", "title", "ref"):
+            d[k] = _str(d[k])
+        for k in ("budget_ns", "instr_m4f", "instr_m7"):
+            d[k] = _num(d[k])
+        rows.append(d)
+    return rows
+
+
+def field_rows() -> list[dict]:
+    """AOCS_LAW_FIELD_ROWS: one dict per config field in row order."""
+    cols = ("name", "law", "key", "member", "type", "count", "rule", "help", "pil_id", "for", "ref")
+    rows = []
+    for r in _rows(_macro_body(LAWS_DEF.read_text(), "AOCS_LAW_FIELD_ROWS")):
+        assert len(r) == len(cols), r
+        d = dict(zip(cols, r))
+        for k in ("key", "help", "ref"):
+            d[k] = _str(d[k])
+        for k in ("count", "pil_id"):
+            d[k] = _num(d[k])
+        rows.append(d)
+    return rows
+
+
+def exec_field_rows() -> list[dict]:
+    """AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h."""
+    cols = ("name", "pil_id", "kind", "count", "key")
+    rows = []
+    for r in _rows(_macro_body(PIL_FRAME_H.read_text(), "AOCS_PIL_EXEC_FIELD_ROWS")):
+        d = dict(zip(cols, r))
+        d["pil_id"], d["count"], d["key"] = _num(d["pil_id"]), _num(d["count"]), _str(d["key"])
+        rows.append(d)
+    return rows
+
+
+def table_rows() -> list[dict]:
+    """AOCS_GAIN_TABLE_ROWS of the generated gain_tables.def, in id order."""
+    cols = ("id", "name", "law", "symbol")
+    rows = []
+    for r in _rows(_macro_body(GAIN_TABLES_DEF.read_text(), "AOCS_GAIN_TABLE_ROWS")):
+        d = dict(zip(cols, r))
+        d["name"] = _str(d["name"])
+        rows.append(d)
+    return rows
