@@ -406,4 +406,19 @@ aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns);
  * plant's rounding (t_s = k dt in double, ns rounding) and nothing else. */
 #define AOCS_EXEC_LOCKSTEP_TOL_DIV 4u
 
+/*
+ * Accepted range of every actuator limit (u_max_axis components and
+ * u_max_norm when set), N m for torque and N for force; aocs_exec_init gives
+ * AOCS_ERR_SAT_LIMIT_NOT_POSITIVE for a limit outside it. 1e-9 is three orders
+ * below the smallest actuator a spacecraft flies (micro-thrusters and
+ * magnetorquers of 1e-6 N or N m): a smaller limit is a unit mistake. 1e9 is
+ * the project's "effectively unlimited" value (aocs_core.limits.UNLIMITED,
+ * written when a scenario sets no limit) and six orders above the largest
+ * attitude actuators (CMGs of ~1e3 N m). Inside this range every square and
+ * sum of squares the saturation forms is a normal number in float and in
+ * double (1e-18 >> FLT_MIN, 3e18 << FLT_MAX), so the limiting is exact.
+ */
+#define AOCS_EXEC_U_LIMIT_MIN AOCS_R(1.0e-9)
+#define AOCS_EXEC_U_LIMIT_MAX AOCS_R(1.0e9)
+
 #endif /* AOCS_EXECUTIVE_H */
