@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report results demo clean
+        pil-test pil-report results demo clean build-host-sanitize
 
 setup:
 	@scripts/setup.sh
@@ -21,9 +21,15 @@ $(addprefix build-,$(PRESETS)): build-%: setup
 	@cmake --preset $* >/dev/null
 	@cmake --build --preset $* -j $(JOBS)
 
-unit-test: build-host build-host-float
+# the firmware, tests and fsw_node with ASan + UBSan (no recovery): preset host-sanitize
+build-host-sanitize: setup
+	@cmake --preset host-sanitize >/dev/null
+	@cmake --build --preset host-sanitize -j $(JOBS)
+
+unit-test: build-host build-host-float build-host-sanitize
 	ctest --preset host -j $(JOBS)
 	ctest --preset host-float -j $(JOBS)
+	ctest --preset host-sanitize -j $(JOBS)
 
 # the firmware image of each ARM target, run under QEMU (exit status 0 = pass)
 image-test: build-cortex-m4f build-cortex-m7
@@ -41,8 +47,8 @@ static-analysis: setup
 no-malloc: build
 	@scripts/check-no-malloc.sh
 
-# the SIL and PIL end-to-end tests need the host node and both ARM images
-py-test: build-host build-cortex-m4f build-cortex-m7
+# the SIL and PIL end-to-end tests need the host node (and its sanitizer build) and both ARM images
+py-test: build-host build-host-sanitize build-cortex-m4f build-cortex-m7
 	@scripts/run-pytest.sh
 
 size-report: build-cortex-m4f build-cortex-m7
