@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report results demo clean
+        pil-test pil-report results demo clean build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -21,9 +21,30 @@ $(addprefix build-,$(PRESETS)): build-%: setup
 	@cmake --preset $* >/dev/null
 	@cmake --build --preset $* -j $(JOBS)
 
-unit-test: build-host build-host-float
+# the firmware, tests and fsw_node with ASan + UBSan (no recovery): preset host-sanitize
+build-host-sanitize: setup
+	@cmake --preset host-sanitize >/dev/null
+	@cmake --build --preset host-sanitize -j $(JOBS)
+
+unit-test: build-host build-host-float build-host-sanitize
 	ctest --preset host -j $(JOBS)
 	ctest --preset host-float -j $(JOBS)
+	ctest --preset host-sanitize -j $(JOBS)
+
+# libFuzzer targets of tests/fuzz (clang): a bounded run of each in make test,
+# long runs with make fuzz (FUZZ_SECONDS per target)
+FUZZ_SECONDS       ?= 600
+FUZZ_SMOKE_SECONDS ?= 20
+
+build-fuzz: setup
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz -j $(JOBS)
+
+fuzz-smoke: build-fuzz
+	@tests/fuzz/run.sh $(FUZZ_SMOKE_SECONDS)
+
+fuzz: build-fuzz
+	@tests/fuzz/run.sh $(FUZZ_SECONDS)
 
 # the firmware image of each ARM target, run under QEMU (exit status 0 = pass)
 image-test: build-cortex-m4f build-cortex-m7
@@ -41,8 +62,8 @@ static-analysis: setup
 no-malloc: build
 	@scripts/check-no-malloc.sh
 
-# the SIL and PIL end-to-end tests need the host node and both ARM images
-py-test: build-host build-cortex-m4f build-cortex-m7
+# the SIL and PIL end-to-end tests need the host node (and its sanitizer build) and both ARM images
+py-test: build-host build-host-sanitize build-cortex-m4f build-cortex-m7
 	@scripts/run-pytest.sh
 
 size-report: build-cortex-m4f build-cortex-m7
@@ -55,7 +76,7 @@ bench-laws: build-host
 demo: build-host
 	@build/host/firmware/port/posix/aocs_demo
 
-test: build unit-test image-test static-analysis lint no-malloc py-test
+test: build unit-test image-test static-analysis lint no-malloc py-test fuzz-smoke
 	@echo "make test: all checks passed"
 
 # main job: irassi_large with every IRASSI law, comparison table and plots

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a fresh Debian bookworm machine:
 # Debian packages (compilers, cmocka, ARM cross toolchain, QEMU, cppcheck,
-# valgrind) and a Python venv (.venv) from requirements.txt with the project's
-# own package (the `aocs` CLI) installed into it. Idempotent and quick when
+# valgrind, clang and its sanitizer/libFuzzer runtime for tests/fuzz) and a
+# Python venv (.venv) from requirements.txt with the project's own package
+# (the `aocs` CLI) installed into it. Idempotent and quick when
 # everything is already there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,6 +14,7 @@ APT_PACKAGES=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
   qemu-system-arm
   cppcheck valgrind iproute2 util-linux
+  clang libclang-rt-14-dev
   python3 python3-venv
   default-jdk-headless
 )

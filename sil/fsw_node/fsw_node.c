@@ -28,6 +28,7 @@
 #include "aocs_lcm_command_t.h"
 #include "aocs_lcm_sensors_t.h"
 #include "aocs_lcm_status_t.h"
+#include "node_checks.h"
 #include "node_config.h"
 #include "node_stats.h"
 #include "node_wire.h"
@@ -50,8 +51,8 @@ typedef struct {
     aocs_exec_output_t out;       /* last executive output */
     int have_out;
     aocs_node_seq_t seq;          /* AOCS_SENSORS frame sequence */
-    int64_t frame_cmd;            /* our counters on AOCS_ACTUATOR_CMD / AOCS_STATUS */
-    int64_t frame_status;
+    uint64_t frame_cmd;           /* our counters on AOCS_ACTUATOR_CMD / AOCS_STATUS (sent modulo 2^63) */
+    uint64_t frame_status;
     uint64_t sensor_frames;       /* AOCS_SENSORS messages received (any content) */
     uint64_t n_foreign;
     uint64_t n_malformed;
@@ -63,7 +64,7 @@ typedef struct {
     uint64_t t_start_ns;
     uint64_t t_last_sensor_ns;    /* HAL time of the last AOCS_SENSORS message */
     /* real-time mode */
-    int have_epoch;               /* rotating target: t0 mapped onto the HAL clock */
+    aocs_node_epoch_t epoch;      /* rotating target: t0 mapped onto the HAL clock */
     aocs_exec_timer_t timer;
     int have_new_sample;
     aocs_lcm_sensors_t latest;
@@ -85,6 +86,14 @@ static void on_signal(int sig)
 static int64_t to_i64(uint64_t x)
 {
     return (x > (uint64_t)INT64_MAX) ? INT64_MAX : (int64_t)x;
+}
+
+/* next value of one of our frame counters: 0, 1, ... INT64_MAX, then 0 again (no signed arithmetic) */
+static int64_t next_frame(uint64_t *counter)
+{
+    const int64_t f = (int64_t)(*counter & (uint64_t)INT64_MAX);
+    *counter += 1u; /* unsigned: wraps modulo 2^64, and the mask above keeps the sent value in range */
+    return f;
 }
 
 /* status reported with a command: the first thing that went wrong */
@@ -112,7 +121,7 @@ static void publish_actuator(node_t *n, aocs_status_t step_rc, int64_t tick, int
     int i;
     memset(&m, 0, sizeof(m));
     m.protocol_version = AOCS_LCM_ACTUATOR_CMD_T_PROTOCOL_VERSION;
-    m.frame = n->frame_cmd++;
+    m.frame = next_frame(&n->frame_cmd);
     m.utime = utime;
     m.tick = tick;
     m.law_id = (int16_t)o->law;
@@ -147,7 +156,7 @@ static void publish_status(node_t *n, int exiting)
     aocs_node_stats_summary_t s = aocs_node_stats_summary(&g_stats, g_scratch);
     memset(&m, 0, sizeof(m));
     m.protocol_version = AOCS_LCM_STATUS_T_PROTOCOL_VERSION;
-    m.frame = n->frame_status++;
+    m.frame = next_frame(&n->frame_status);
     m.utime = to_i64(aocs_hal_time_ns() / 1000u);
     m.run_mode = (n->cfg.run_mode == AOCS_NODE_RUN_REALTIME) ? AOCS_LCM_STATUS_T_RUN_REALTIME
                                                              : AOCS_LCM_STATUS_T_RUN_LOCKSTEP;
@@ -184,25 +193,20 @@ static void on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 {
     node_t *n = (node_t *)user;
     aocs_lcm_sensors_t msg;
-    int used;
+    aocs_node_decode_t d;
     (void)channel;
-    n->sensor_frames++;
+    n->sensor_frames = aocs_node_add_sat(n->sensor_frames, 1u);
     n->t_last_sensor_ns = aocs_hal_time_ns();
-    if (rbuf->data_size > (uint32_t)INT32_MAX) {
-        n->n_malformed++;
+    d = aocs_node_decode_sensors(rbuf->data, rbuf->data_size, &msg);
+    if (d == AOCS_NODE_DECODE_MALFORMED) {
+        n->n_malformed = aocs_node_add_sat(n->n_malformed, 1u);
         return;
     }
-    used = aocs_lcm_sensors_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg);
-    if ((used < 0) || (used != (int)rbuf->data_size)) {
-        n->n_malformed++;
-        if (used >= 0) {
-            (void)aocs_lcm_sensors_t_decode_cleanup(&msg);
-        }
+    if (d == AOCS_NODE_DECODE_FOREIGN) {
+        n->n_foreign = aocs_node_add_sat(n->n_foreign, 1u);
         return;
     }
-    if (msg.protocol_version != AOCS_LCM_SENSORS_T_PROTOCOL_VERSION) {
-        n->n_foreign++;
-    } else if (aocs_node_seq_check(&n->seq, msg.frame) != AOCS_NODE_SEQ_DUPLICATE) {
+    if (aocs_node_seq_accepted(aocs_node_seq_check(&n->seq, msg.frame)) != 0) {
         if (n->cfg.run_mode == AOCS_NODE_RUN_LOCKSTEP) {
             aocs_exec_input_t in;
             aocs_status_t rc;
@@ -222,84 +226,29 @@ static void on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 }
 
 /* ---- AOCS_COMMAND ------------------------------------------------------- */
-static aocs_status_t apply_command(node_t *n, const aocs_lcm_command_t *c)
-{
-    aocs_law_id_t law = n->exec.law;
-    aocs_exec_target_t target;
-    const aocs_exec_target_t *tp = NULL;
-    int i;
-
-    if (c->law_id != AOCS_LCM_COMMAND_T_LAW_KEEP) {
-        if ((c->law_id < 0) || (c->law_id >= (int16_t)AOCS_LAW_COUNT)) {
-            return AOCS_ERR_UNKNOWN_LAW;
-        }
-        law = (aocs_law_id_t)c->law_id;
-    }
-    if (c->mode == AOCS_LCM_COMMAND_T_MODE_STANDBY) {
-        law = AOCS_LAW_NONE;
-    } else if (c->mode == AOCS_LCM_COMMAND_T_MODE_NOMINAL) {
-        if (law == AOCS_LAW_NONE) {
-            law = n->nominal_law;
-        }
-        if (law == AOCS_LAW_NONE) {
-            return AOCS_ERR_MODE_INVALID; /* no law known to be nominal with */
-        }
-    } else if (c->mode != AOCS_LCM_COMMAND_T_MODE_KEEP) {
-        /* SAFE is entered by the executive's fault logic only */
-        return AOCS_ERR_MODE_INVALID;
-    } else {
-        /* MODE_KEEP: the law (if any) decides */
-    }
-    if (c->set_target != 0) {
-        for (i = 0; i < 4; ++i) {
-            target.qd_DN.q[i] = (real_t)c->qd[i];
-        }
-        for (i = 0; i < 3; ++i) {
-            target.wd_B.v[i] = (real_t)c->wd[i];
-            target.wd_dot_B.v[i] = AOCS_R(0.0);
-        }
-        tp = &target;
-    }
-    if ((c->law_id == AOCS_LCM_COMMAND_T_LAW_KEEP) && (c->mode == AOCS_LCM_COMMAND_T_MODE_KEEP) && (tp == NULL)) {
-        return AOCS_OK; /* nothing asked */
-    }
-    return aocs_exec_select(&n->exec, law, tp);
-}
-
 static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
     node_t *n = (node_t *)user;
     aocs_lcm_command_t msg;
     aocs_status_t st;
-    int used;
+    aocs_node_decode_t d;
     (void)channel;
-    if (rbuf->data_size > (uint32_t)INT32_MAX) {
-        n->n_malformed++;
+    d = aocs_node_decode_command(rbuf->data, rbuf->data_size, &msg);
+    if (d == AOCS_NODE_DECODE_MALFORMED) {
+        n->n_malformed = aocs_node_add_sat(n->n_malformed, 1u);
         return;
     }
-    used = aocs_lcm_command_t_decode(rbuf->data, 0, (int)rbuf->data_size, &msg);
-    if ((used < 0) || (used != (int)rbuf->data_size)) {
-        n->n_malformed++;
-        if (used >= 0) {
-            (void)aocs_lcm_command_t_decode_cleanup(&msg);
-        }
+    if (d == AOCS_NODE_DECODE_FOREIGN) {
+        n->n_foreign = aocs_node_add_sat(n->n_foreign, 1u);
         return;
     }
-    if (msg.protocol_version != AOCS_LCM_COMMAND_T_PROTOCOL_VERSION) {
-        n->n_foreign++;
-        (void)aocs_lcm_command_t_decode_cleanup(&msg);
-        return;
-    }
-    st = apply_command(n, &msg);
+    st = aocs_node_command_apply(&n->exec, &n->nominal_law, &msg);
     n->last_request = msg.request;
     n->last_request_status = (int32_t)st;
     if (st == AOCS_OK) {
-        n->n_cmd_accepted++;
-        if (n->exec.law != AOCS_LAW_NONE) {
-            n->nominal_law = n->exec.law;
-        }
+        n->n_cmd_accepted = aocs_node_add_sat(n->n_cmd_accepted, 1u);
     } else {
-        n->n_cmd_rejected++;
+        n->n_cmd_rejected = aocs_node_add_sat(n->n_cmd_rejected, 1u);
         (void)fprintf(stderr, "fsw_node: command %lld rejected: %s\n", (long long)msg.request,
                       aocs_status_name(st));
     }
@@ -342,6 +291,10 @@ static int load_config(node_t *n, const char *path)
         (void)fprintf(stderr, "fsw_node: config error: %s\n", err);
         return 1;
     }
+    if (aocs_node_timeouts_check(&n->cfg, err, sizeof(err)) != 0) {
+        (void)fprintf(stderr, "fsw_node: config error: %s: %s\n", path, err);
+        return 1;
+    }
     n->cfg.exec.clock = (n->cfg.run_mode == AOCS_NODE_RUN_REALTIME) ? AOCS_EXEC_CLOCK_REALTIME
                                                                     : AOCS_EXEC_CLOCK_LOCKSTEP;
     st = aocs_exec_init(&n->exec, &n->cfg.exec);
@@ -357,11 +310,10 @@ static int load_config(node_t *n, const char *path)
 /* ---- loops -------------------------------------------------------------- */
 static int lcm_wait(node_t *n, uint64_t wait_ns, unsigned *errors)
 {
-    int ms = (int)((wait_ns + NS_PER_MS - 1u) / NS_PER_MS);
+    /* whole ms, at least 1, at most LCM_WAIT_MAX_MS: clamped in uint64_t before the int conversion */
+    const uint64_t wait_ms = (wait_ns / NS_PER_MS) + (((wait_ns % NS_PER_MS) != 0u) ? 1u : 0u);
+    int ms = (wait_ms > (uint64_t)LCM_WAIT_MAX_MS) ? LCM_WAIT_MAX_MS : (int)wait_ms;
     int rc;
-    if (ms > LCM_WAIT_MAX_MS) {
-        ms = LCM_WAIT_MAX_MS;
-    }
     if (ms < 1) {
         ms = 1;
     }
@@ -449,13 +401,12 @@ static const char *run_realtime(node_t *n, int *failed)
         missed = (n->timer.slips != slips_before) ? 1 : 0;
         if (n->have_new_sample != 0) {
             aocs_exec_input_t in;
-            if (n->have_epoch == 0) {
-                /* the sensor time base is the HAL clock here: sim time 0 of the
-                 * plant (the rotating target's t0) is rx time - t_s of the first sample */
-                uint64_t t_sim_ns = aocs_node_seconds_to_ns(n->latest.t_s);
-                uint64_t t0 = (n->latest_rx_ns > t_sim_ns) ? (n->latest_rx_ns - t_sim_ns) : 0u;
-                (void)aocs_exec_set_target_epoch(&n->exec, t0);
-                n->have_epoch = 1;
+            /* the sensor time base is the HAL clock here: sim time 0 of the plant (the
+             * rotating target's t0) is rx time - t_s, set by the first sample and moved
+             * only by K consistent later ones (node_wire.h, aocs_node_epoch_update) */
+            if (aocs_node_epoch_update(&n->epoch, n->latest_rx_ns, aocs_node_seconds_to_ns(n->latest.t_s),
+                                       n->cfg.exec.stale_timeout_ns) != 0) {
+                (void)aocs_exec_set_target_epoch(&n->exec, n->epoch.t0_ns);
             }
             aocs_node_sensors_to_input(&n->latest, n->latest_rx_ns, &in);
             n->have_new_sample = 0;
@@ -485,12 +436,14 @@ static void report(node_t *n, const char *reason)
     const char *run = (n->cfg.run_mode == AOCS_NODE_RUN_REALTIME) ? "realtime" : "lockstep";
     (void)fprintf(stderr,
                   "fsw_node: %s end (%s): steps=%llu overruns=%llu step_ns median=%llu p99=%llu max=%llu "
-                  "jitter_ns max=%llu rms=%.0f lost=%llu dup=%llu foreign=%llu malformed=%llu\n",
+                  "jitter_ns max=%llu rms=%.0f lost=%llu dup=%llu jump=%llu seq_resync=%llu exec_resync=%lu "
+                  "foreign=%llu malformed=%llu\n",
                   run, reason, (unsigned long long)g_stats.count, (unsigned long long)overruns(n),
                   (unsigned long long)s.median, (unsigned long long)s.p99, (unsigned long long)s.max,
                   (unsigned long long)n->timer.jitter_max_abs_ns, jitter_rms, (unsigned long long)n->seq.lost,
-                  (unsigned long long)n->seq.duplicate, (unsigned long long)n->n_foreign,
-                  (unsigned long long)n->n_malformed);
+                  (unsigned long long)n->seq.duplicate, (unsigned long long)n->seq.jump,
+                  (unsigned long long)n->seq.resyncs, (unsigned long)n->exec.resyncs,
+                  (unsigned long long)n->n_foreign, (unsigned long long)n->n_malformed);
     (void)printf("{\"fsw_node\": {\"reason\": \"%s\", \"run_mode\": \"%s\", \"law\": \"%s\", \"mode\": \"%s\", "
                  "\"steps\": %llu, \"overruns\": %llu, \"slips\": %llu, "
                  "\"step_ns\": {\"n\": %llu, \"median\": %llu, \"p99\": %llu, \"max\": %llu}, "

@@ -4,35 +4,132 @@
 #include <math.h>
 #include <string.h>
 
+/* half the counter range: a difference at or above it is a frame behind (two's complement view) */
+#define SEQ_BEHIND 0x8000000000000000ull
+
+uint64_t aocs_node_add_sat(uint64_t a, uint64_t b)
+{
+    return (UINT64_MAX - a < b) ? UINT64_MAX : (a + b);
+}
+
+/* ---- payload decoding ----------------------------------------------------- */
+aocs_node_decode_t aocs_node_decode_sensors(const void *data, uint32_t size, aocs_lcm_sensors_t *msg)
+{
+    aocs_node_decode_t r = AOCS_NODE_DECODE_MALFORMED;
+    int used;
+    if ((data == NULL) || (msg == NULL) || (size > (uint32_t)INT32_MAX)) {
+        return AOCS_NODE_DECODE_MALFORMED;
+    }
+    used = aocs_lcm_sensors_t_decode(data, 0, (int)size, msg);
+    if (used < 0) {
+        r = AOCS_NODE_DECODE_MALFORMED;
+    } else if (used != (int)size) {
+        /* trailing bytes: not the message it claims to be */
+        (void)aocs_lcm_sensors_t_decode_cleanup(msg);
+        r = AOCS_NODE_DECODE_MALFORMED;
+    } else if (msg->protocol_version != AOCS_LCM_SENSORS_T_PROTOCOL_VERSION) {
+        (void)aocs_lcm_sensors_t_decode_cleanup(msg);
+        r = AOCS_NODE_DECODE_FOREIGN;
+    } else {
+        r = AOCS_NODE_DECODE_OK;
+    }
+    return r;
+}
+
+aocs_node_decode_t aocs_node_decode_command(const void *data, uint32_t size, aocs_lcm_command_t *msg)
+{
+    aocs_node_decode_t r = AOCS_NODE_DECODE_MALFORMED;
+    int used;
+    if ((data == NULL) || (msg == NULL) || (size > (uint32_t)INT32_MAX)) {
+        return AOCS_NODE_DECODE_MALFORMED;
+    }
+    used = aocs_lcm_command_t_decode(data, 0, (int)size, msg);
+    if (used < 0) {
+        r = AOCS_NODE_DECODE_MALFORMED;
+    } else if (used != (int)size) {
+        (void)aocs_lcm_command_t_decode_cleanup(msg);
+        r = AOCS_NODE_DECODE_MALFORMED;
+    } else if (msg->protocol_version != AOCS_LCM_COMMAND_T_PROTOCOL_VERSION) {
+        (void)aocs_lcm_command_t_decode_cleanup(msg);
+        r = AOCS_NODE_DECODE_FOREIGN;
+    } else {
+        r = AOCS_NODE_DECODE_OK;
+    }
+    return r;
+}
+
+/* ---- frame counter sequence ------------------------------------------------- */
 void aocs_node_seq_reset(aocs_node_seq_t *seq)
 {
     memset(seq, 0, sizeof(*seq));
 }
 
+int aocs_node_seq_accepted(aocs_node_seq_result_t r)
+{
+    return ((r == AOCS_NODE_SEQ_OK) || (r == AOCS_NODE_SEQ_GAP) || (r == AOCS_NODE_SEQ_RESYNC)) ? 1 : 0;
+}
+
+/* 1 when counter b is 1..W after counter a (modulo 2^64) */
+static int seq_continues(uint64_t a, uint64_t b)
+{
+    const uint64_t d = b - a;
+    return ((d >= 1u) && (d <= (uint64_t)AOCS_NODE_SEQ_WINDOW)) ? 1 : 0;
+}
+
 aocs_node_seq_result_t aocs_node_seq_check(aocs_node_seq_t *seq, int64_t frame)
 {
+    /* the two's complement bits of the counter: every difference below is modulo 2^64 */
+    const uint64_t f = (uint64_t)frame;
     aocs_node_seq_result_t r = AOCS_NODE_SEQ_OK;
     if (seq->have_last == 0) {
         seq->have_last = 1;
-        seq->last = frame;
-    } else if (frame <= seq->last) {
-        seq->duplicate++;
-        r = AOCS_NODE_SEQ_DUPLICATE;
-    } else {
-        if (frame > seq->last + 1) {
-            seq->lost += (uint64_t)(frame - seq->last - 1);
+        seq->last = f;
+        seq->cand_run = 0u;
+    } else if (seq_continues(seq->last, f) != 0) {
+        const uint64_t d = f - seq->last;
+        if (d > 1u) {
+            seq->lost = aocs_node_add_sat(seq->lost, d - 1u);
             r = AOCS_NODE_SEQ_GAP;
         }
-        seq->last = frame;
+        seq->last = f;
+        seq->cand_run = 0u;
+    } else {
+        /* dropped; a resynchronisation candidate */
+        const uint64_t d = f - seq->last;
+        if ((seq->cand_run > 0u) && (seq_continues(seq->cand_last, f) != 0)) {
+            seq->cand_run += 1u;
+        } else {
+            seq->cand_run = 1u;
+        }
+        seq->cand_last = f;
+        if (seq->cand_run >= AOCS_NODE_SEQ_RESYNC_FRAMES) {
+            seq->last = f;
+            seq->cand_run = 0u;
+            seq->resyncs = aocs_node_add_sat(seq->resyncs, 1u);
+            r = AOCS_NODE_SEQ_RESYNC;
+        } else if ((d == 0u) || (d >= SEQ_BEHIND)) {
+            seq->duplicate = aocs_node_add_sat(seq->duplicate, 1u);
+            r = AOCS_NODE_SEQ_DUPLICATE;
+        } else {
+            seq->jump = aocs_node_add_sat(seq->jump, 1u);
+            r = AOCS_NODE_SEQ_JUMP;
+        }
     }
     return r;
 }
 
+/* ---- conversions --------------------------------------------------------------- */
 uint64_t aocs_node_seconds_to_ns(double t_s)
 {
     uint64_t ns = 0u;
-    if (isfinite(t_s) && (t_s > 0.0) && (t_s < 1.8e10)) {
-        ns = (uint64_t)llround(t_s * 1.0e9);
+    if (isfinite(t_s) && (t_s > 0.0) && (t_s < AOCS_NODE_SECONDS_MAX)) {
+        /* x < 1.8e19 < 2^64: the floor is exactly representable in uint64_t */
+        const double x = t_s * 1.0e9;
+        const double r = floor(x);
+        ns = (uint64_t)r;
+        if ((x - r) >= 0.5) {
+            ns += 1u; /* half away from zero, as llround and the PIL bridge's mirror */
+        }
     }
     return ns;
 }
@@ -61,4 +158,95 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
         in->pos_m.v[i] = (real_t)msg->pos[i];
         in->vel_mps.v[i] = (real_t)msg->vel[i];
     }
+}
+
+/* ---- commands -------------------------------------------------------------------- */
+aocs_status_t aocs_node_command_apply(aocs_exec_t *exec, aocs_law_id_t *nominal_law, const aocs_lcm_command_t *c)
+{
+    aocs_law_id_t law;
+    aocs_exec_target_t target;
+    const aocs_exec_target_t *tp = NULL;
+    aocs_status_t st;
+    int i;
+
+    if ((exec == NULL) || (nominal_law == NULL) || (c == NULL)) {
+        return AOCS_ERR_NULL_ARG;
+    }
+    law = exec->law;
+    if (c->law_id != AOCS_LCM_COMMAND_T_LAW_KEEP) {
+        if ((c->law_id < 0) || (c->law_id >= (int16_t)AOCS_LAW_COUNT)) {
+            return AOCS_ERR_UNKNOWN_LAW;
+        }
+        law = (aocs_law_id_t)c->law_id;
+    }
+    if (c->mode == AOCS_LCM_COMMAND_T_MODE_STANDBY) {
+        law = AOCS_LAW_NONE;
+    } else if (c->mode == AOCS_LCM_COMMAND_T_MODE_NOMINAL) {
+        if (law == AOCS_LAW_NONE) {
+            law = *nominal_law;
+        }
+        if (law == AOCS_LAW_NONE) {
+            return AOCS_ERR_MODE_INVALID; /* no law known to be nominal with */
+        }
+    } else if (c->mode != AOCS_LCM_COMMAND_T_MODE_KEEP) {
+        /* SAFE is entered by the executive's fault logic only */
+        return AOCS_ERR_MODE_INVALID;
+    } else {
+        /* MODE_KEEP: the law (if any) decides */
+    }
+    if (c->set_target != 0) {
+        for (i = 0; i < 4; ++i) {
+            target.qd_DN.q[i] = (real_t)c->qd[i];
+        }
+        for (i = 0; i < 3; ++i) {
+            target.wd_B.v[i] = (real_t)c->wd[i];
+            target.wd_dot_B.v[i] = AOCS_R(0.0);
+        }
+        tp = &target;
+    }
+    if ((c->law_id == AOCS_LCM_COMMAND_T_LAW_KEEP) && (c->mode == AOCS_LCM_COMMAND_T_MODE_KEEP) && (tp == NULL)) {
+        return AOCS_OK; /* nothing asked */
+    }
+    st = aocs_exec_select(exec, law, tp);
+    if ((st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
+        *nominal_law = exec->law;
+    }
+    return st;
+}
+
+/* ---- real-time epoch --------------------------------------------------------------- */
+static uint64_t abs_diff(uint64_t a, uint64_t b)
+{
+    return (a >= b) ? (a - b) : (b - a);
+}
+
+int aocs_node_epoch_update(aocs_node_epoch_t *ep, uint64_t rx_ns, uint64_t t_sim_ns, uint64_t tol_ns)
+{
+    int set = 0;
+    /* sim time 0 on the HAL clock; a sample from "before the clock started" maps to 0 */
+    const uint64_t e = (rx_ns > t_sim_ns) ? (rx_ns - t_sim_ns) : 0u;
+    if (ep == NULL) {
+        return 0;
+    }
+    if (ep->have == 0) {
+        ep->have = 1;
+        ep->t0_ns = e;
+        ep->cand_run = 0u;
+        set = 1;
+    } else if (abs_diff(e, ep->t0_ns) <= tol_ns) {
+        ep->cand_run = 0u;
+    } else {
+        if ((ep->cand_run > 0u) && (abs_diff(e, ep->cand_ns) <= tol_ns)) {
+            ep->cand_run += 1u;
+        } else {
+            ep->cand_run = 1u;
+        }
+        ep->cand_ns = e;
+        if (ep->cand_run >= AOCS_NODE_SEQ_RESYNC_FRAMES) {
+            ep->t0_ns = e;
+            ep->cand_run = 0u;
+            set = 1;
+        }
+    }
+    return set;
 }

@@ -338,7 +338,8 @@ def test_rotating_target_follows_plant_target(fsw_node, lcm_link, aocs_lcm, tol,
     geo = load("geo_hinf").target
     # 1) geo_hinf as written: LVLH target rotating at (0, -w0, 0) from the identity
     target = _plant_target(geo.qd0, geo.wd)
-    node = fsw_node(target_q=" ".join(repr(x) for x in geo.qd0),
+    # the samples are one control period apart (frame acceptance, docs/wire-contract.md)
+    node = fsw_node(target_q=" ".join(repr(x) for x in geo.qd0), control_period_s=600,
                     target_rotation_rate=" ".join(repr(x) for x in geo.wd))
     node.wait_ready(lcm_link)
     q, w = unit([0.004, -0.004, 0.004, 1.0]), [1e-5, -6.292115e-05, -1e-5]
@@ -355,7 +356,7 @@ def test_rotating_target_follows_plant_target(fsw_node, lcm_link, aocs_lcm, tol,
     #    target by command: it becomes qd0 at the time of the last sample
     qd0, w_d = unit([0.3, -0.2, 0.5, 0.8]), (0.02, -0.05, 0.03)
     target = _plant_target(qd0, w_d)
-    node = fsw_node("general", target_q=" ".join(repr(x) for x in qd0),
+    node = fsw_node("general", target_q=" ".join(repr(x) for x in qd0), control_period_s=3,
                     target_rotation_rate=" ".join(repr(x) for x in w_d))
     node.wait_ready(lcm_link)
     q, w = unit([0.25, -0.1, 0.45, 0.85]), [0.01, -0.02, 0.005]

@@ -39,6 +39,31 @@ static double norm_d(aocs_vec3_t v)
     return m * sqrt(a * a + b * b + c * c);
 }
 
+/*
+ * The exact norm for the bound checks: long double (64-bit significand on
+ * x86-64) with max-abs scaling; its own error (~1e-19 relative) is far below
+ * one ulp of a double, so "exact <= max_norm" is checked, not "within an ulp".
+ */
+static long double norm_exact(aocs_vec3_t v)
+{
+    long double m = 0.0L;
+    long double s = 0.0L;
+    for (int i = 0; i < 3; ++i) {
+        long double a = fabsl((long double)v.v[i]);
+        if (a > m) {
+            m = a;
+        }
+    }
+    if (!(m > 0.0L)) {
+        return 0.0L;
+    }
+    for (int i = 0; i < 3; ++i) {
+        long double r = (long double)v.v[i] / m;
+        s += r * r;
+    }
+    return m * sqrtl(s);
+}
+
 static void test_clamp_per_axis_values(void **state)
 {
     (void)state;
@@ -94,12 +119,13 @@ static void test_scale_to_norm_random(void **state)
         aocs_vec3_t out = aocs_sat_scale_to_norm(u, max_norm, &sat);
         double nu = norm_d(u);
         double no = norm_d(out);
+        /* exact bound, whatever the rounding: the true norm of the result never exceeds the limit */
+        assert_true(norm_exact(out) <= (long double)max_norm);
         if (nu > (double)max_norm * (1.0 + 4.0 * REAL_EPS_D)) {
             ++n_scaled;
             assert_int_equal(sat, 1);
-            /* bound: at most one real_t rounding above max_norm, and on it */
-            assert_true(no <= (double)max_norm * (1.0 + 2.0 * REAL_EPS_D));
-            assert_true(no >= (double)max_norm * (1.0 - 12.0 * REAL_EPS_D));
+            /* on the bound: below it by at most the 8 eps margin and the pull-back steps */
+            assert_true(no >= (double)max_norm * (1.0 - 24.0 * REAL_EPS_D));
             /* direction kept: cross product ~0 and same sense */
             double ud[3];
             double od[3];
@@ -114,17 +140,95 @@ static void test_scale_to_norm_random(void **state)
             assert_true(cn <= 8.0 * REAL_EPS_D * nu * no);
             double dot = ud[0] * od[0] + ud[1] * od[1] + ud[2] * od[2];
             assert_true(dot > 0.0);
-        } else if (nu < (double)max_norm * (1.0 - 4.0 * REAL_EPS_D)) {
+        } else if (nu < (double)max_norm * (1.0 - 16.0 * REAL_EPS_D)) {
             assert_int_equal(sat, 0);
             for (int i = 0; i < 3; ++i) {
                 assert_true(SAME(out.v[i], u.v[i]));
             }
         } else {
-            /* within rounding of the bound: either answer is right, bound holds */
-            assert_true(no <= (double)max_norm * (1.0 + 2.0 * REAL_EPS_D));
+            /* within the margin of the bound: scaled or not, the exact bound above holds */
         }
     }
     assert_true(n_scaled > 1000); /* the branch under test was exercised */
+}
+
+/* 10^e for e uniform in [lo, hi), as real_t */
+static real_t pow10_real(test_rng_t *rng, double lo, double hi)
+{
+    return (real_t)pow(10.0, test_rng_uniform(rng, lo, hi));
+}
+
+#if defined(AOCS_REAL_IS_FLOAT)
+#define EXP_RANGE 37.0  /* |x| from 1e-37 to 1e37: normal floats */
+#define LIMIT_EXP 30.0
+#else
+#define EXP_RANGE 300.0
+#define LIMIT_EXP 250.0
+#endif
+
+/*
+ * Exactness at every scale: components of unrelated magnitudes (one 1e300,
+ * one 1e-300 in double; 1e37 / 1e-37 in float) against limits from 1e-250 to
+ * 1e250 (float 1e-30 .. 1e30): the exact norm of the result never exceeds
+ * the limit. Before the scale-aware computation, rounding let it exceed by
+ * an ulp or more.
+ */
+static void test_scale_to_norm_exact_at_every_scale(void **state)
+{
+    (void)state;
+    test_rng_t rng = {0xa11ced5u};
+    for (int k = 0; k < 200000; ++k) {
+        aocs_vec3_t u;
+        for (int i = 0; i < 3; ++i) {
+            real_t mag = pow10_real(&rng, -EXP_RANGE, EXP_RANGE);
+            u.v[i] = (test_rng_uniform(&rng, 0.0, 1.0) < 0.5) ? -mag : mag;
+        }
+        if ((k % 3) == 0) {
+            /* two equal components near the limit: the rounding of the scaling matters most */
+            u.v[1] = u.v[0];
+        }
+        real_t max_norm = pow10_real(&rng, -LIMIT_EXP, LIMIT_EXP);
+        if ((k % 5) == 0) {
+            max_norm = (real_t)(norm_d(u) * (1.0 - test_rng_uniform(&rng, 0.0, 64.0) * REAL_EPS_D));
+            if (!(max_norm > AOCS_R(0.0)) || !(isfinite(max_norm) != 0)) {
+                continue;
+            }
+        }
+        int sat = -1;
+        aocs_vec3_t out = aocs_sat_scale_to_norm(u, max_norm, &sat);
+        if (!(norm_exact(out) <= (long double)max_norm)) {
+            print_error("k=%d u=(%.17g %.17g %.17g) max_norm=%.17g: |out| = %.21Lg\n", k, (double)u.v[0],
+                        (double)u.v[1], (double)u.v[2], (double)max_norm, norm_exact(out));
+            fail();
+        }
+        assert_int_equal(aocs_sat_norm_above(out, max_norm), 0);
+    }
+}
+
+static void test_norm_above(void **state)
+{
+    (void)state;
+    /* (3, 4, 0): norm 5 */
+    aocs_vec3_t v = aocs_vec3_make(AOCS_R(3.0), AOCS_R(-4.0), AOCS_R(0.0));
+    assert_int_equal(aocs_sat_norm_above(v, AOCS_R(4.9)), 1);
+    assert_int_equal(aocs_sat_norm_above(v, AOCS_R(5.1)), 0);
+    assert_int_equal(aocs_sat_norm_above(v, (real_t)INFINITY), 0);
+    assert_int_equal(aocs_sat_norm_above(v, (real_t)NAN), 1);
+    assert_int_equal(aocs_sat_norm_above(aocs_vec3_zero(), AOCS_R(0.0)), 0);
+    assert_int_equal(aocs_sat_norm_above(aocs_vec3_make((real_t)INFINITY, AOCS_R(0.0), AOCS_R(0.0)), AOCS_R(1.0)), 1);
+    /* no overflow of |v|^2: huge components are compared, not squared */
+    v = aocs_vec3_make((real_t)HUGE_REAL, (real_t)HUGE_REAL, AOCS_R(0.0));
+    assert_int_equal(aocs_sat_norm_above(v, (real_t)HUGE_REAL), 1);
+    assert_int_equal(aocs_sat_norm_above(v, (real_t)(2.0 * HUGE_REAL)), 0);
+    /* no underflow of |v|^2 either: 1e-30 (float) / 1e-200 (double) components */
+#if defined(AOCS_REAL_IS_FLOAT)
+    const real_t tiny = AOCS_R(1e-30);
+#else
+    const real_t tiny = AOCS_R(1e-200);
+#endif
+    v = aocs_vec3_make(tiny, tiny, tiny); /* norm sqrt(3) tiny */
+    assert_int_equal(aocs_sat_norm_above(v, tiny * AOCS_R(1.7)), 1);
+    assert_int_equal(aocs_sat_norm_above(v, tiny * AOCS_R(1.75)), 0);
 }
 
 static void test_scale_to_norm_hand_value(void **state)
@@ -295,6 +399,8 @@ int main(void)
         cmocka_unit_test(test_clamp_per_axis_values),
         cmocka_unit_test(test_clamp_per_axis_nonfinite),
         cmocka_unit_test(test_scale_to_norm_random),
+        cmocka_unit_test(test_scale_to_norm_exact_at_every_scale),
+        cmocka_unit_test(test_norm_above),
         cmocka_unit_test(test_scale_to_norm_hand_value),
         cmocka_unit_test(test_scale_to_norm_huge_and_nonfinite),
         cmocka_unit_test(test_linear_plain_clamp_when_l_equals_m),

@@ -266,6 +266,11 @@ typedef struct {
     aocs_vec3_t last_u_cmd;       /* held by step_no_input below the missing threshold */
     aocs_exec_counters_t counters;
     int initialised;
+    /* frame acceptance (end of this file): the resynchronisation candidates */
+    uint32_t resync_run;          /* consecutive rejected samples, each continuing the one before (< K) */
+    uint32_t resync_tick;         /* tick and sensor time of the last of them */
+    uint64_t resync_t_ns;
+    uint32_t resyncs;             /* resynchronisations so far (saturates at UINT32_MAX) */
 } aocs_exec_t;
 
 /*
@@ -365,5 +370,58 @@ aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns);
 
 /* Host budget of safe/standby steps (no law), ns. */
 #define AOCS_EXEC_SAFE_BUDGET_NS 2000u
+
+/*
+ * ---- Frame acceptance (executive.c; docs/wire-contract.md "Frame acceptance") ----
+ * No single sample can move the tick/time reference of aocs_exec_step far.
+ * With T the period, K = AOCS_EXEC_RESYNC_FRAMES, G = AOCS_EXEC_TICK_JUMP_MAX,
+ * a sample b continues a sample a when
+ *     g = b.tick - a.tick (modulo 2^32) is in [1, G], and
+ *     lockstep:  |(b.t - a.t) - g T| <= T / AOCS_EXEC_LOCKSTEP_TOL_DIV
+ *                (sensor time advances by the ticks' periods, within T / 4),
+ *     real time: b.t > a.t.
+ * Real time only: every sample must also lie on the HAL clock within
+ * [now - stale_timeout_ns, now + T]; one outside is stale and nothing else.
+ *
+ * A sample that continues the reference (the last accepted sample) is
+ * accepted and becomes the reference (a gap g > 1 counts g - 1 missing). The
+ * first sample after init is accepted as it is. Any other sample is stale
+ * (counted, SAFE, reference untouched) and a resynchronisation candidate:
+ * K consecutive candidates, each continuing the one before, resynchronise;
+ * the K-th becomes the reference and is treated as accepted (no missing
+ * counted for the jump; exec.resyncs counts them). An accepted sample drops
+ * the candidates. So one bad sample (any tick, any time, first one or not)
+ * costs itself and at most K - 1 later good samples: the executive is
+ * NOMINAL again at the latest with the (K - 1 + M)-th good sample after it
+ * (M = recover_good_samples), and with the M-th when the bad sample did not
+ * continue the reference.
+ *
+ * K = 3: one bad sample can never resynchronise, two forged samples that
+ * agree with each other cannot either, and a plant that really restarts its
+ * tick or time is followed after 3 samples (0.3 s at 10 Hz).
+ */
+#define AOCS_EXEC_RESYNC_FRAMES 3u
+/* Largest tick step that continues the reference: 1024 periods (102 s at 10 Hz),
+ * far beyond any real loss burst (N missing samples already enter SAFE). */
+#define AOCS_EXEC_TICK_JUMP_MAX 1024u
+/* Lockstep: sensor time must advance by g periods within T / 4. Any tolerance
+ * below T / 2 keeps tick and time unambiguous; T / 4 leaves room for the
+ * plant's rounding (t_s = k dt in double, ns rounding) and nothing else. */
+#define AOCS_EXEC_LOCKSTEP_TOL_DIV 4u
+
+/*
+ * Accepted range of every actuator limit (u_max_axis components and
+ * u_max_norm when set), N m for torque and N for force; aocs_exec_init gives
+ * AOCS_ERR_SAT_LIMIT_NOT_POSITIVE for a limit outside it. 1e-9 is three orders
+ * below the smallest actuator a spacecraft flies (micro-thrusters and
+ * magnetorquers of 1e-6 N or N m): a smaller limit is a unit mistake. 1e9 is
+ * the project's "effectively unlimited" value (aocs_core.limits.UNLIMITED,
+ * written when a scenario sets no limit) and six orders above the largest
+ * attitude actuators (CMGs of ~1e3 N m). Inside this range every square and
+ * sum of squares the saturation forms is a normal number in float and in
+ * double (1e-18 >> FLT_MIN, 3e18 << FLT_MAX), so the limiting is exact.
+ */
+#define AOCS_EXEC_U_LIMIT_MIN AOCS_R(1.0e-9)
+#define AOCS_EXEC_U_LIMIT_MAX AOCS_R(1.0e9)
 
 #endif /* AOCS_EXECUTIVE_H */

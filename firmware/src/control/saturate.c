@@ -60,7 +60,9 @@ aocs_vec3_t aocs_sat_clamp_per_axis(aocs_vec3_t u, aocs_vec3_t limit, int *satur
 /*
  * |v|_2 of a finite vector without overflow or underflow: amax * sqrt(sum
  * (v_i / amax)^2). Returns amax in *amax_out and the root in *root_out
- * (root in [1, sqrt 3] when amax > 0).
+ * (root in [1, sqrt 3] when amax > 0). A quotient v_i / amax that underflows
+ * belongs to a component below amax * REAL_MIN: its error is far below one
+ * ulp of the norm.
  */
 static void sat_norm_parts(const real_t v[3], real_t *amax_out, real_t *root_out)
 {
@@ -81,6 +83,40 @@ static void sat_norm_parts(const real_t v[3], real_t *amax_out, real_t *root_out
     *amax_out = amax;
     *root_out = AOCS_SQRT(sum);
 }
+
+/*
+ * 1 when the norm of the finite vector v, computed as amax * root, exceeds
+ * lim (compared as root > lim / amax: no overflow of the norm itself; the
+ * quotient underflows to 0 only when amax is far above lim). The computed
+ * root is within 3 eps (relative) of the exact one.
+ */
+static int sat_norm_above(const real_t v[3], real_t lim)
+{
+    real_t amax = AOCS_R(0.0);
+    real_t root = AOCS_R(0.0);
+    sat_norm_parts(v, &amax, &root);
+    return ((amax > AOCS_R(0.0)) && (root > (lim / amax))) ? 1 : 0;
+}
+
+int aocs_sat_norm_above(aocs_vec3_t v, real_t limit)
+{
+    int above = 1;
+    if ((aocs_vec3_is_finite(v) != 0) && (isnan(limit) == 0)) {
+        above = (isinf(limit) != 0) ? 0 : sat_norm_above(v.v, limit);
+    }
+    return above;
+}
+
+/*
+ * Norm margin: the computed norm of the result is at most
+ * max_norm (1 - SAT_NORM_MARGIN); its error is below 3 eps (sat_norm_above),
+ * so the exact norm stays below max_norm with room to spare, whoever
+ * evaluates it and in whichever precision.
+ */
+#define SAT_NORM_MARGIN (AOCS_R(8.0) * AOCS_REAL_EPS)
+/* shrink steps of the final pull-back: a few of (1 - 4 eps), then halvings (subnormal results) */
+#define SAT_SHRINK_FINE_STEPS 4
+#define SAT_SHRINK_MAX_STEPS 64
 
 aocs_vec3_t aocs_sat_scale_to_norm(aocs_vec3_t u, real_t max_norm, int *saturated)
 {
@@ -111,9 +147,8 @@ aocs_vec3_t aocs_sat_scale_to_norm(aocs_vec3_t u, real_t max_norm, int *saturate
     } else if (isinf(max_norm) != 0) {
         /* no limit: out = u */
     } else {
+        const real_t thr = max_norm * (AOCS_R(1.0) - SAT_NORM_MARGIN);
         real_t dir[3];
-        real_t amax = AOCS_R(0.0);
-        real_t root = AOCS_R(0.0);
         if (has_inf != 0) {
             /* direction of the infinite components only (their limit ratio) */
             for (int i = 0; i < 3; ++i) {
@@ -124,21 +159,34 @@ aocs_vec3_t aocs_sat_scale_to_norm(aocs_vec3_t u, real_t max_norm, int *saturate
                 dir[i] = u.v[i];
             }
         }
-        sat_norm_parts(dir, &amax, &root);
-        /* |u| > max_norm  <=>  root > max_norm / amax (no overflow of |u|) */
-        if ((has_inf != 0) || ((amax > AOCS_R(0.0)) && (root > (max_norm / amax)))) {
-            real_t f = max_norm / root;
-            real_t amax2 = AOCS_R(0.0);
-            real_t root2 = AOCS_R(0.0);
+        if ((has_inf != 0) || (sat_norm_above(dir, thr) != 0)) {
+            real_t amax = AOCS_R(0.0);
+            real_t root = AOCS_R(0.0);
+            real_t f;
+            int k = 0;
+            sat_norm_parts(dir, &amax, &root);
+            /*
+             * out = (u / amax) (max_norm / root): each factor is scale-free
+             * (|u_i / amax| <= 1, root in [1, sqrt 3]), so nothing overflows
+             * or underflows whatever the magnitude of u and of the limit;
+             * forming max_norm / |u| first would underflow for a huge u.
+             */
+            f = max_norm / root;
             for (int i = 0; i < 3; ++i) {
                 out.v[i] = (dir[i] / amax) * f;
             }
-            /* rounding may land a few ulps above max_norm: pull it back */
-            sat_norm_parts(out.v, &amax2, &root2);
-            if (root2 > (max_norm / amax2)) {
-                real_t shrink = AOCS_R(1.0) - (AOCS_R(4.0) * AOCS_REAL_EPS);
+            /* roundings land within a few eps of max_norm: pull back below the margin */
+            while ((k < SAT_SHRINK_MAX_STEPS) && (sat_norm_above(out.v, thr) != 0)) {
+                const real_t shrink = (k < SAT_SHRINK_FINE_STEPS) ? (AOCS_R(1.0) - (AOCS_R(4.0) * AOCS_REAL_EPS))
+                                                                  : AOCS_R(0.5);
                 for (int i = 0; i < 3; ++i) {
                     out.v[i] *= shrink;
+                }
+                ++k;
+            }
+            if (sat_norm_above(out.v, thr) != 0) {
+                for (int i = 0; i < 3; ++i) {
+                    out.v[i] = AOCS_R(0.0); /* not reachable for a normal max_norm; zero is within any limit */
                 }
             }
             sat = 1;

@@ -9,9 +9,6 @@
 #include "aocs/hal.h"
 #include "exec_internal.h"
 
-/* Half the tick range: a tick "gap" larger than this is a tick that went backwards. */
-#define TICK_BACKWARDS 0x80000000u
-
 const char *aocs_exec_mode_name(aocs_exec_mode_t mode)
 {
     const char *name = "unknown";
@@ -201,18 +198,105 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
 }
 
 /*
- * Sample freshness: ticks and sensor time must advance; a tick gap counts
- * the samples that never came. Updates the tick/time reference unless the
- * sample is stale (a stale sample must not move the reference backwards).
+ * 1 when sample (tick, t) continues the sample (ref_tick, ref_t): the tick
+ * advances by g in [1, G] (modulo 2^32: the counter may wrap) and the time
+ * advances, in lockstep by g periods within T / AOCS_EXEC_LOCKSTEP_TOL_DIV
+ * (executive.h, "Frame acceptance"). *gap_out = g. Unsigned arithmetic only:
+ * g T <= 1024 * 1e12 ns, no wrap.
+ */
+static int sample_continues(const aocs_exec_t *exec, uint32_t ref_tick, uint64_t ref_t_ns, uint32_t tick,
+                            uint64_t t_ns, uint32_t *gap_out)
+{
+    int ok = 0;
+    const uint32_t gap = tick - ref_tick;
+    *gap_out = gap;
+    if ((gap >= 1u) && (gap <= AOCS_EXEC_TICK_JUMP_MAX) && (t_ns > ref_t_ns)) {
+        if (exec->cfg.clock == AOCS_EXEC_CLOCK_LOCKSTEP) {
+            const uint64_t dt = t_ns - ref_t_ns;
+            const uint64_t expected = (uint64_t)gap * exec->period_ns;
+            const uint64_t tol = exec->period_ns / (uint64_t)AOCS_EXEC_LOCKSTEP_TOL_DIV;
+            uint64_t err = 0u;
+            if (dt >= expected) {
+                err = dt - expected;
+            } else {
+                err = expected - dt;
+            }
+            if (err <= tol) {
+                ok = 1;
+            }
+        } else {
+            ok = 1;
+        }
+    }
+    return ok;
+}
+
+/* Real time: 1 when t lies on the HAL clock within [now - stale_timeout, now + T]. */
+static int sample_on_hal_clock(const aocs_exec_t *exec, uint64_t t_ns)
+{
+    const uint64_t now = aocs_hal_time_ns();
+    int ok = 1;
+    if ((now > t_ns) && ((now - t_ns) > exec->cfg.stale_timeout_ns)) {
+        ok = 0; /* too old */
+    } else if ((t_ns > now) && ((t_ns - now) > exec->period_ns)) {
+        ok = 0; /* from the future: no clock the adapter reads runs ahead of ours by a period */
+    } else {
+        ok = 1;
+    }
+    return ok;
+}
+
+static void take_reference(aocs_exec_t *exec, const aocs_exec_input_t *in)
+{
+    exec->have_sample = 1;
+    exec->last_tick = in->tick;
+    exec->last_t_sensor_ns = in->t_sensor_ns;
+    exec->resync_run = 0u;
+}
+
+/*
+ * A sample that does not continue the reference: one more resynchronisation
+ * candidate. Returns 1 when it completes K consecutive candidates (each
+ * continuing the one before): the caller then takes it as the reference.
+ */
+static int resync_candidate(aocs_exec_t *exec, const aocs_exec_input_t *in)
+{
+    uint32_t gap = 0u;
+    int resync = 0;
+    if ((exec->resync_run > 0u) &&
+        (sample_continues(exec, exec->resync_tick, exec->resync_t_ns, in->tick, in->t_sensor_ns, &gap) != 0)) {
+        exec->resync_run += 1u;
+    } else {
+        exec->resync_run = 1u;
+    }
+    exec->resync_tick = in->tick;
+    exec->resync_t_ns = in->t_sensor_ns;
+    if (exec->resync_run >= AOCS_EXEC_RESYNC_FRAMES) {
+        resync = 1;
+    }
+    return resync;
+}
+
+/*
+ * Frame acceptance (executive.h, "Frame acceptance"): a sample is fresh when
+ * it continues the tick/time reference (a tick gap counts the samples that
+ * never came), or when it completes a resynchronisation; otherwise it is
+ * stale and the reference does not move, so no single sample, however far
+ * its tick or time, can make the later good ones stale.
  */
 static aocs_status_t sample_timing_check(aocs_exec_t *exec, const aocs_exec_input_t *in)
 {
     aocs_status_t st = AOCS_OK;
-    if (exec->have_sample != 0) {
-        uint32_t gap = in->tick - exec->last_tick; /* modulo 2^32: the counter may wrap */
-        if ((gap == 0u) || (gap >= TICK_BACKWARDS) || (in->t_sensor_ns <= exec->last_t_sensor_ns)) {
-            st = AOCS_ERR_INPUT_STALE;
-        } else if (gap > 1u) {
+    uint32_t gap = 0u;
+    if ((exec->cfg.clock == AOCS_EXEC_CLOCK_REALTIME) && (sample_on_hal_clock(exec, in->t_sensor_ns) == 0)) {
+        /* the HAL clock is the authority in real time: such a sample is no candidate either */
+        st = AOCS_ERR_INPUT_STALE;
+        exec->resync_run = 0u;
+    } else if (exec->have_sample == 0) {
+        take_reference(exec, in);
+    } else if (sample_continues(exec, exec->last_tick, exec->last_t_sensor_ns, in->tick, in->t_sensor_ns, &gap) !=
+               0) {
+        if (gap > 1u) {
             /* periods already reported by step_no_input are not counted twice */
             if ((gap - 1u) > exec->missing_run) {
                 aocs_exec_count(&exec->counters.missing, (gap - 1u) - exec->missing_run);
@@ -220,21 +304,13 @@ static aocs_status_t sample_timing_check(aocs_exec_t *exec, const aocs_exec_inpu
             if ((gap - 1u) >= exec->cfg.missing_max_periods) {
                 st = AOCS_ERR_INPUT_MISSING;
             }
-        } else {
-            st = AOCS_OK;
         }
-    }
-    if ((st == AOCS_OK) && (exec->cfg.clock == AOCS_EXEC_CLOCK_REALTIME)) {
-        /* real time: the sample's age against the HAL clock (same time base) */
-        uint64_t now = aocs_hal_time_ns();
-        if ((now > in->t_sensor_ns) && ((now - in->t_sensor_ns) > exec->cfg.stale_timeout_ns)) {
-            st = AOCS_ERR_INPUT_STALE;
-        }
-    }
-    if (st != AOCS_ERR_INPUT_STALE) {
-        exec->have_sample = 1;
-        exec->last_tick = in->tick;
-        exec->last_t_sensor_ns = in->t_sensor_ns;
+        take_reference(exec, in);
+    } else if (resync_candidate(exec, in) != 0) {
+        take_reference(exec, in);
+        aocs_exec_count(&exec->resyncs, 1u);
+    } else {
+        st = AOCS_ERR_INPUT_STALE;
     }
     return st;
 }

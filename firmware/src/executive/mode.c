@@ -9,13 +9,6 @@
 #include "aocs/control/saturate.h"
 #include "exec_internal.h"
 
-/*
- * Margin kept below the norm limit: the norm of the scaled vector, evaluated
- * by anyone in any precision, must not exceed the limit (a few roundings of
- * the real_t norm and of the scaling, each <= eps relative).
- */
-#define NORM_MARGIN (AOCS_R(8.0) * AOCS_REAL_EPS)
-
 void aocs_exec_count(uint32_t *counter, uint32_t n)
 {
     if (counter != NULL) {
@@ -128,6 +121,12 @@ static int axis_limits_enabled(const aocs_exec_config_t *cfg)
     return ((l.v[0] > AOCS_R(0.0)) && (l.v[1] > AOCS_R(0.0)) && (l.v[2] > AOCS_R(0.0))) ? 1 : 0;
 }
 
+/* 1 when a set limit lies in the accepted range [AOCS_EXEC_U_LIMIT_MIN, AOCS_EXEC_U_LIMIT_MAX] (executive.h) */
+static int limit_in_range(real_t lim)
+{
+    return ((lim >= AOCS_EXEC_U_LIMIT_MIN) && (lim <= AOCS_EXEC_U_LIMIT_MAX)) ? 1 : 0;
+}
+
 aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg)
 {
     aocs_status_t st = AOCS_OK;
@@ -141,6 +140,9 @@ aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg)
         for (int i = 0; i < 3; ++i) {
             if (cfg->u_max_axis.v[i] > AOCS_R(0.0)) {
                 n_pos++;
+                if (limit_in_range(cfg->u_max_axis.v[i]) == 0) {
+                    st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
+                }
             } else if (cfg->u_max_axis.v[i] < AOCS_R(0.0)) {
                 st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
             } else {
@@ -148,12 +150,14 @@ aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg)
             }
         }
         if (st == AOCS_OK) {
-            /* per-axis: all three set or none; at least one kind of limit set */
+            /* per-axis: all three set or none; at least one kind of limit set; each set one in range */
             if ((n_pos != 3) && (n_zero != 3)) {
                 st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
             } else if (cfg->u_max_norm < AOCS_R(0.0)) {
                 st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
             } else if ((n_pos != 3) && !(cfg->u_max_norm > AOCS_R(0.0))) {
+                st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
+            } else if ((cfg->u_max_norm > AOCS_R(0.0)) && (limit_in_range(cfg->u_max_norm) == 0)) {
                 st = AOCS_ERR_SAT_LIMIT_NOT_POSITIVE;
             } else {
                 st = AOCS_OK;
@@ -163,6 +167,33 @@ aocs_status_t aocs_exec_limits_check(const aocs_exec_config_t *cfg)
     return st;
 }
 
+/* Exact per-axis guard: each component within [-lim_i, lim_i], compared directly (independent of the helper). */
+static aocs_vec3_t axis_guard(const aocs_exec_config_t *cfg, aocs_vec3_t u, int *sat)
+{
+    aocs_vec3_t out = u;
+    for (int i = 0; i < 3; ++i) {
+        if (!(out.v[i] <= cfg->u_max_axis.v[i])) {
+            out.v[i] = cfg->u_max_axis.v[i];
+            *sat = 1;
+        } else if (!(out.v[i] >= -cfg->u_max_axis.v[i])) {
+            out.v[i] = -cfg->u_max_axis.v[i];
+            *sat = 1;
+        } else {
+            /* within the limit */
+        }
+    }
+    return out;
+}
+
+/*
+ * Per-axis clip, then the norm scaling (saturate.h: scale-aware, exact norm
+ * below the limit), then the per-axis guard again: the scaling multiplies
+ * every component by max_norm / |u| < 1, but a component far below the
+ * largest one is rounded in that product and could land an ulp above its
+ * own (much smaller) limit. The guard only lowers magnitudes, so the norm
+ * stays below its limit; the last check (never true for a scaled result) is
+ * the independent line of defence.
+ */
 aocs_vec3_t aocs_exec_saturate(const aocs_exec_config_t *cfg, aocs_vec3_t u, int *saturated)
 {
     aocs_vec3_t out = u;
@@ -173,37 +204,21 @@ aocs_vec3_t aocs_exec_saturate(const aocs_exec_config_t *cfg, aocs_vec3_t u, int
         out = aocs_vec3_zero();
         sat = 1;
     } else {
-        if (axis_limits_enabled(cfg) != 0) {
+        const int axis = axis_limits_enabled(cfg);
+        if (axis != 0) {
             out = aocs_sat_clamp_per_axis(out, cfg->u_max_axis, &s);
             sat |= s;
-            /* guard: exact comparison against the limit, independent of the helper */
-            for (int i = 0; i < 3; ++i) {
-                if (!(out.v[i] <= cfg->u_max_axis.v[i])) {
-                    out.v[i] = cfg->u_max_axis.v[i];
-                    sat = 1;
-                } else if (!(out.v[i] >= -cfg->u_max_axis.v[i])) {
-                    out.v[i] = -cfg->u_max_axis.v[i];
-                    sat = 1;
-                } else {
-                    /* within the limit */
-                }
-            }
+            out = axis_guard(cfg, out, &sat);
         }
         if (cfg->u_max_norm > AOCS_R(0.0)) {
-            real_t safe_norm = cfg->u_max_norm * (AOCS_R(1.0) - NORM_MARGIN);
-            real_t n;
             out = aocs_sat_scale_to_norm(out, cfg->u_max_norm, &s);
             sat |= s;
-            n = aocs_vec3_norm(out);
-            /* guard: pull back into the margin (scaling down keeps the per-axis limits) */
-            if (!AOCS_IS_FINITE(n)) {
+            if (axis != 0) {
+                out = axis_guard(cfg, out, &sat);
+            }
+            if (aocs_sat_norm_above(out, cfg->u_max_norm) != 0) {
                 out = aocs_vec3_zero();
                 sat = 1;
-            } else if (n > safe_norm) {
-                out = aocs_vec3_scale(out, safe_norm / n);
-                sat = 1;
-            } else {
-                /* within the limit */
             }
         }
         if (aocs_vec3_is_finite(out) == 0) {

@@ -1,7 +1,9 @@
 /*
  * Real-time period timer: absolute deadlines t0 + k * period (no drift from
  * accumulating sleep errors), cycle slips, jitter statistics. Pure integer
- * time arithmetic; only the RMS accumulator is real_t.
+ * time arithmetic; only the RMS accumulator is real_t. Wrap rule: times are
+ * uint64_t ns of the HAL clock and wrap modulo 2^64 (after 584 years of
+ * uptime); the signed jitter saturates at +-INT64_MAX (jitter_signed).
  */
 #include <stddef.h>
 
@@ -36,6 +38,16 @@ aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns)
         }
     }
     return st;
+}
+
+/*
+ * +-abs as int64_t without signed overflow: magnitudes above INT64_MAX (a
+ * clock 292 years off) saturate, so negating never meets INT64_MIN.
+ */
+static int64_t jitter_signed(uint64_t abs_ns, int negative)
+{
+    const int64_t mag = (abs_ns > (uint64_t)INT64_MAX) ? INT64_MAX : (int64_t)abs_ns;
+    return (negative != 0) ? -mag : mag;
 }
 
 aocs_status_t aocs_exec_timer_init(aocs_exec_timer_t *tmr, uint64_t period_ns, uint64_t t0_ns)
@@ -78,11 +90,11 @@ aocs_status_t aocs_exec_timer_period_start(aocs_exec_timer_t *tmr, uint64_t now_
             tmr->k += skipped;
             ideal += skipped * tmr->period_ns;
             abs_jitter = now_ns - ideal;
-            jitter = (int64_t)abs_jitter;
+            jitter = jitter_signed(abs_jitter, 0);
         } else {
             /* woke early (a sleep that returned before its deadline) */
             abs_jitter = ideal - now_ns;
-            jitter = -(int64_t)abs_jitter;
+            jitter = jitter_signed(abs_jitter, 1);
         }
         tmr->jitter_last_ns = jitter;
         if (abs_jitter > tmr->jitter_max_abs_ns) {

@@ -22,14 +22,28 @@ aocs_vec3_t aocs_sat_clamp_per_axis(aocs_vec3_t u, aocs_vec3_t limit, int *satur
 
 /*
  * Scale the whole vector down to |u|_2 = max_norm when |u|_2 > max_norm,
- * keeping its direction (SPEC 3, limit on the vector norm). The norm is
- * computed with max-abs prescaling, so |u| up to REAL_MAX does not overflow;
- * the result satisfies |out|_2 <= max_norm as computed in real_t (a last
- * rounding step that lands one ulp above is pulled back). If some components
- * are +-Inf (and none NaN) the direction of the infinite components is kept.
- * *saturated (may be NULL) is 1 when u was scaled (or zeroed), else 0.
+ * keeping its direction (SPEC 3, limit on the vector norm). Scale-aware: the
+ * norm is computed as amax sqrt(sum (u_i / amax)^2) (amax = max |u_i|) and the
+ * result as (u / amax) (max_norm / root), so nothing overflows or underflows
+ * for any finite u and any normal max_norm. Exact bound: the computed norm of
+ * the result is at most max_norm (1 - 8 eps) (pulled back when rounding lands
+ * above), and that computation is within 3 eps of the exact norm, so the
+ * exact |out|_2 < max_norm; a scaled result is above max_norm (1 - 24 eps)
+ * (normal max_norm).
+ * A u within 8 eps below max_norm may be scaled too (the margin). If some
+ * components are +-Inf (and none NaN) the direction of the infinite
+ * components is kept. *saturated (may be NULL) is 1 when u was scaled (or
+ * zeroed), else 0.
  */
 aocs_vec3_t aocs_sat_scale_to_norm(aocs_vec3_t u, real_t max_norm, int *saturated);
+
+/*
+ * 1 when |v|_2, computed scale-aware as above, is above limit (no overflow
+ * or underflow of the norm itself); 1 as well for a non-finite v or a NaN
+ * limit (nothing can be said), 0 for limit = +Inf. A result of
+ * aocs_sat_scale_to_norm(u, limit) always gives 0 here. Total.
+ */
+int aocs_sat_norm_above(aocs_vec3_t v, real_t limit);
 
 /*
  * Linear saturation function of Gao, Lu, Wang 2010 (SPEC 2.7): phi(x) = x for

@@ -1,0 +1,173 @@
+/*
+ * Shared pieces of the libFuzzer targets (tests/fuzz/README.md): a reader of
+ * the fuzz bytes, a valid configuration of every law, and the invariant of
+ * every executive output (finite command within every enabled limit, the
+ * norm checked exactly in long double). A violated invariant aborts, which
+ * libFuzzer reports as a crash with the input that caused it.
+ */
+#ifndef AOCS_FUZZ_SUPPORT_H
+#define AOCS_FUZZ_SUPPORT_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aocs/executive.h"
+
+/* ---- byte reader: past the end every read gives zeros ---- */
+typedef struct {
+    const uint8_t *p;
+    size_t n;
+    size_t pos;
+} fuzz_reader_t;
+
+static inline void fuzz_bytes(fuzz_reader_t *r, void *out, size_t k)
+{
+    uint8_t *o = (uint8_t *)out;
+    for (size_t i = 0; i < k; ++i) {
+        o[i] = (r->pos < r->n) ? r->p[r->pos++] : 0u;
+    }
+}
+
+static inline int fuzz_more(const fuzz_reader_t *r)
+{
+    return (r->pos < r->n) ? 1 : 0;
+}
+
+static inline uint8_t fuzz_u8(fuzz_reader_t *r)
+{
+    uint8_t v;
+    fuzz_bytes(r, &v, 1u);
+    return v;
+}
+
+static inline uint16_t fuzz_u16(fuzz_reader_t *r)
+{
+    uint16_t v;
+    fuzz_bytes(r, &v, sizeof(v));
+    return v;
+}
+
+static inline uint32_t fuzz_u32(fuzz_reader_t *r)
+{
+    uint32_t v;
+    fuzz_bytes(r, &v, sizeof(v));
+    return v;
+}
+
+static inline uint64_t fuzz_u64(fuzz_reader_t *r)
+{
+    uint64_t v;
+    fuzz_bytes(r, &v, sizeof(v));
+    return v;
+}
+
+/* any double, NaN and Inf included (raw bits) */
+static inline double fuzz_f64(fuzz_reader_t *r)
+{
+    double v;
+    fuzz_bytes(r, &v, sizeof(v));
+    return v;
+}
+
+/* 10^e with e from a u16 spread over [lo, hi]: a plausible magnitude */
+static inline double fuzz_mag(fuzz_reader_t *r, double lo, double hi)
+{
+    return pow(10.0, lo + (hi - lo) * ((double)fuzz_u16(r) / 65535.0));
+}
+
+/* ---- a valid configuration of every law (values of tests/unit/test_executive_laws.c) ---- */
+static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
+{
+    memset(laws, 0, sizeof(*laws));
+    laws->crp_linear.k1 = AOCS_R(19.0);
+    laws->crp_linear.k2 = AOCS_R(13.0);
+    laws->quat_pd.kp = AOCS_R(4.0);
+    laws->quat_pd.kd = AOCS_R(8.0);
+    laws->quat_nlpd.kp = AOCS_R(3.0);
+    laws->quat_nlpd.kd = AOCS_R(7.0);
+    laws->smc.inertia = aocs_mat3_diag(aocs_vec3_make(AOCS_R(10.0), AOCS_R(12.0), AOCS_R(15.0)));
+    laws->smc.inertia.m[0][1] = AOCS_R(0.5);
+    laws->smc.inertia.m[1][0] = AOCS_R(0.5);
+    laws->smc.lambda = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
+    laws->smc.g = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
+    laws->smc.eps = aocs_vec3_make(AOCS_R(0.02), AOCS_R(0.02), AOCS_R(0.02));
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 6; ++j) {
+            real_t off = AOCS_R(0.1) * (real_t)(i + 1) - AOCS_R(0.05) * (real_t)j;
+            laws->lqr_quat.k[i][j] = off;
+            laws->hinf.k[i][j] = -off;
+            laws->orbit_lqr.k[i][j] = AOCS_R(0.01) * off;
+        }
+        laws->lqr_quat.k[i][i] = AOCS_R(20.0);
+        laws->lqr_quat.k[i][3 + i] = AOCS_R(30.0);
+        laws->hinf.k[i][i] = AOCS_R(-5.0);
+        laws->hinf.k[i][3 + i] = AOCS_R(-9.0);
+        laws->orbit_lqr.k[i][i] = AOCS_R(2.0);
+        laws->orbit_lqr.k[i][3 + i] = AOCS_R(0.3);
+    }
+    laws->mrp_sat.k = AOCS_R(50.0);
+    laws->mrp_sat.lambda = AOCS_R(0.6);
+    laws->mrp_sat.u_max = AOCS_R(0.05);
+    laws->mrp_sat.l1 = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
+    laws->mrp_sat.m1 = laws->mrp_sat.l1;
+    {
+        real_t m2 = AOCS_R(2.0) * AOCS_R(0.05) / AOCS_SQRT(AOCS_R(3.0));
+        laws->mrp_sat.l2 = aocs_vec3_make(m2, m2, m2);
+        laws->mrp_sat.m2 = laws->mrp_sat.l2;
+    }
+}
+
+/* ---- the invariant ---- */
+static inline long double fuzz_norm_exact(aocs_vec3_t v)
+{
+    long double m = 0.0L;
+    long double s = 0.0L;
+    for (int i = 0; i < 3; ++i) {
+        long double a = fabsl((long double)v.v[i]);
+        if (a > m) {
+            m = a;
+        }
+    }
+    if (!(m > 0.0L)) {
+        return 0.0L;
+    }
+    for (int i = 0; i < 3; ++i) {
+        long double q = (long double)v.v[i] / m;
+        s += q * q;
+    }
+    return m * sqrtl(s);
+}
+
+static inline void fuzz_fail(const char *what, const aocs_exec_config_t *cfg, aocs_vec3_t u)
+{
+    (void)fprintf(stderr, "fuzz invariant violated: %s: u_cmd = (%.17g %.17g %.17g), axis (%.17g %.17g %.17g), norm %.17g\n",
+                  what, (double)u.v[0], (double)u.v[1], (double)u.v[2], (double)cfg->u_max_axis.v[0],
+                  (double)cfg->u_max_axis.v[1], (double)cfg->u_max_axis.v[2], (double)cfg->u_max_norm);
+    abort();
+}
+
+/* every output of the executive: finite, within every enabled limit (exact norm) */
+static inline void fuzz_check_output(const aocs_exec_config_t *cfg, const aocs_exec_output_t *out)
+{
+    const aocs_vec3_t u = out->u_cmd;
+    if (aocs_vec3_is_finite(u) == 0) {
+        fuzz_fail("command not finite", cfg, u);
+    }
+    if ((cfg->u_max_axis.v[0] > AOCS_R(0.0)) && (cfg->u_max_axis.v[1] > AOCS_R(0.0)) &&
+        (cfg->u_max_axis.v[2] > AOCS_R(0.0))) {
+        for (int i = 0; i < 3; ++i) {
+            if (!(fabsl((long double)u.v[i]) <= (long double)cfg->u_max_axis.v[i])) {
+                fuzz_fail("per-axis limit exceeded", cfg, u);
+            }
+        }
+    }
+    if ((cfg->u_max_norm > AOCS_R(0.0)) && !(fuzz_norm_exact(u) <= (long double)cfg->u_max_norm)) {
+        fuzz_fail("norm limit exceeded", cfg, u);
+    }
+}
+
+#endif /* AOCS_FUZZ_SUPPORT_H */

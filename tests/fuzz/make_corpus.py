@@ -1,0 +1,173 @@
+"""Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/).
+
+The seeds are committed; this script documents how they were made and
+remakes them after a change of a wire format:
+
+    .venv/bin/python tests/fuzz/make_corpus.py [BUILD_DIR]
+
+BUILD_DIR (default build/host) holds the generated LCM Python bindings. Each
+seed is a realistic input in the target's layout (see the target's source):
+valid frames and configurations, plus the forged ones of issue 11, so the
+fuzzer starts from inputs that reach deep into the code.
+"""
+from __future__ import annotations
+
+import hashlib
+import struct
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(REPO / "sil"))
+
+from aocs_pil import frame  # noqa: E402  (the project's own PIL codec, the C one's mirror)
+
+Q = (0.0, 0.0, 0.0871557427476582, 0.9961946980917455)
+W = (0.01, -0.02, 0.03)
+
+
+def _bindings(build: Path):
+    sys.path.insert(0, str(build / "lcmtypes" / "python"))
+    import aocs_lcm  # deferred: generated at build time, path known only here
+
+    return aocs_lcm
+
+
+def _write(target: str, name: str, data: bytes) -> None:
+    d = HERE / "corpus" / target
+    d.mkdir(parents=True, exist_ok=True)
+    (d / f"{name}-{hashlib.sha1(data).hexdigest()[:8]}").write_bytes(data)
+
+
+def _chunks(payloads) -> bytes:
+    return b"".join(struct.pack("<H", len(p)) + p for p in payloads)
+
+
+def sensors_seeds(t) -> None:
+    s = t.sensors_t
+
+    def msg(frame_no, tick, t_s, valid=s.VALID_ATTITUDE | s.VALID_RATE, version=None, q=Q, w=W):
+        m = s()
+        m.protocol_version = s.PROTOCOL_VERSION if version is None else version
+        m.frame, m.utime, m.tick, m.t_s, m.valid = frame_no, tick * 100000, tick, t_s, valid
+        m.q, m.w, m.pos, m.vel = list(q), list(w), [1.0, -1.0, -6.0], [0.05, -0.1, 0.35]
+        return m.encode()
+
+    good = [msg(k, k, 0.1 * k) for k in range(8)]
+    _write("fuzz_sensors", "lockstep_good", bytes([4]) + _chunks(good))
+    _write("fuzz_sensors", "realtime_good", bytes([5]) + _chunks(good))
+    _write("fuzz_sensors", "future_time", bytes([4]) + _chunks(good[:4] + [msg(4, 4, 1e9)] + good[5:]))
+    _write("fuzz_sensors", "int64_max", bytes([4]) + _chunks(good[:4] + [msg(2**63 - 1, 4, 0.4)] + good[4:]))
+    _write("fuzz_sensors", "int64_min_max", bytes([4]) + _chunks([msg(-(2**63), 0, 0.0), msg(2**63 - 1, 1, 0.1)]
+                                                                  + good))
+    _write("fuzz_sensors", "tick_far", bytes([4]) + _chunks(good[:3] + [msg(3, 3 + 2**30, 1e8)] + good[4:]))
+    _write("fuzz_sensors", "orbit", bytes([20]) + _chunks([msg(k, k, 0.1 * k, valid=12) for k in range(5)]))
+    _write("fuzz_sensors", "malformed", bytes([4]) + _chunks([b"", good[0][:-3], good[1] + b"\0",
+                                                              msg(2, 2, 0.2, version=7), good[3]]))
+    _write("fuzz_sensors", "big_times", bytes([4]) + _chunks([msg(k, k, t) for k, t in
+                                                              enumerate((9.3e9, 1e10, 1.79e10, 1e300, -1.0))]))
+
+
+def command_seeds(t) -> None:
+    c = t.command_t
+
+    def cmd(request, law_id=c.LAW_KEEP, mode=c.MODE_KEEP, qd=None, wd=(0.0, 0.0, 0.0)):
+        m = c()
+        m.protocol_version, m.frame, m.utime, m.request = c.PROTOCOL_VERSION, request, 0, request
+        m.law_id, m.mode, m.set_target = law_id, mode, qd is not None
+        m.qd, m.wd = list(qd if qd is not None else (0.0, 0.0, 0.0, 1.0)), list(wd)
+        return m.encode()
+
+    _write("fuzz_commands", "laws", bytes([2]) + _chunks([cmd(i, law_id=i) for i in range(-1, 12)]))
+    _write("fuzz_commands", "modes", bytes([2]) + _chunks([cmd(i, mode=m) for i, m in enumerate((-1, 0, 1, 2, 3))]))
+    _write("fuzz_commands", "targets", bytes([1]) + _chunks([cmd(1, qd=(0.1, -0.2, 0.3, 0.9273618495495703)),
+                                                             cmd(2, qd=(0, 0, 0, 2)), cmd(3, qd=Q, wd=(1e-3, 0, 0))]))
+    _write("fuzz_commands", "standby_nominal", bytes([6]) + _chunks([cmd(1, mode=0), cmd(2, mode=1),
+                                                                     cmd(3, law_id=10, mode=1)]))
+
+
+CONFIGS = {
+    "base": "law = quat_pd\nmode = lockstep\ncontrol_period_s = 0.1\nquat_pd.kp = 4\nquat_pd.kd = 8\n"
+            "u_max_axis = 0.5 0.6 0.7\nk_safe = 2\nrecover_good_samples = 3\nidle_timeout_s = 5\n",
+    "realtime": "law = crp_linear\nmode = realtime\ncontrol_period_s = 0.02\ncrp_linear.k1 = 19\n"
+                "crp_linear.k2 = 13\nu_max_norm = 0.2\nstale_timeout_s = 0.05\nrun_timeout_s = 10\n",
+    "tables": "law = hinf\nhinf.table = hinf_regional\nlqr_quat.table = lqr_quat_ref\n"
+              "orbit_lqr.table = orbit_lqr_q1\nu_max_axis = 1 1 1\nu_max_norm = 1.5\n",
+    "smc": "law = smc\nu_max_axis = 1, 1, 1\ninertia = 10 12 15\nsmc.lambda = 1 1 1\nsmc.g = 0.05 0.05 0.05\n"
+           "smc.eps = 0.02 0.02 0.02\n# comment\n\ntarget_q = 0 0 0.2588190451 0.9659258263\n",
+    "mrp": "law = mrp_sat_tanh\nu_max_axis = 1 1 1\nmrp_sat.k = 50\nmrp_sat.lambda = 0.6\nmrp_sat.u_max = 0.05\n"
+           "mrp_sat.l1 = 0.05 0.05 0.05\nmrp_sat.m1 = 0.05 0.05 0.05\nmrp_sat.l2 = 0.0577 0.0577 0.0577\n"
+           "mrp_sat.m2 = 0.0577 0.0577 0.0577\n",
+    "rotating": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 0.2 0.2 0.2\n"
+                "target_rotation_rate = 0 -7.292115e-5 0\n",
+    "orbit": "law = orbit_lqr\norbit_lqr.k = " + " ".join(["0.1"] * 18) + "\nu_max_norm = 2\nbudget_ns = 5000\n",
+    "issue11_limits": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 1e150 1e-170 1e150\n"
+                      "u_max_norm = 1e150\n",
+    "issue11_timeouts": "law = none\nu_max_norm = 1\nidle_timeout_s = 2e10\nstatus_period_s = 1e-10\n",
+    "errors": "law = quat_pd\nbogus = 1\n",
+}
+
+
+def config_seeds() -> None:
+    for name, text in CONFIGS.items():
+        _write("fuzz_node_config", name, text.encode())
+
+
+def exec_seeds() -> None:
+    def step(tick_mode=0, time_mode=0, valid=0x83, extra=b""):
+        # op 0 (step), tick mode, time mode, [raw fields], valid flags | 0x80 (unit q from 3 bytes)
+        return bytes([0, tick_mode, time_mode]) + extra + bytes([valid, 10, 20, 30]) + struct.pack(
+            "<9d", *W, 1.0, 0.01, -1.0, 0.0, 5.0, -0.01)
+
+    header = bytes([2, 0, 0]) + struct.pack("<4H", 30000, 30000, 30000, 30000) + bytes([3, 3]) + struct.pack(
+        "<H", 32)
+    body = b"".join(step() for _ in range(6))
+    _write("fuzz_exec_step", "lockstep_quat_pd", header + body)
+    _write("fuzz_exec_step", "future_time", header + step() + step(time_mode=255, extra=struct.pack("<Q", 10**27 % 2**64))
+           + b"".join(step() for _ in range(6)))
+    _write("fuzz_exec_step", "tick_far", header + step() + step(tick_mode=255, extra=struct.pack("<I", 2**30))
+           + b"".join(step() for _ in range(6)))
+    rt = bytes([7, 1 | (2 << 1), 5]) + struct.pack("<4H", 20000, 40000, 60000, 30000) + bytes([2, 2]) + struct.pack(
+        "<H", 10)
+    _write("fuzz_exec_step", "realtime_both_limits", rt + b"".join(step(valid=0x83) for _ in range(6))
+           + bytes([6, 6, 6]) + b"".join(step() for _ in range(4)))
+    sel = bytes([7, 5, 3]) + struct.pack("<4d", 0, 0, 0, 1) + bytes([3, 20, 20, 20])
+    _write("fuzz_exec_step", "select", header + step() + sel + step() + bytes([7, 0, 0]) + struct.pack("<4d", 0, 0, 0, 1)
+           + step())
+    orbit = bytes([10, 2 << 1, 0]) + struct.pack("<4H", 30000, 30000, 30000, 40000) + bytes([3, 3]) + struct.pack(
+        "<H", 32)
+    _write("fuzz_exec_step", "orbit", orbit + b"".join(step(valid=0x84) for _ in range(5)))
+
+
+def pil_seeds() -> None:
+    fr = frame
+    step = fr.encode_step(1, 100_000_000, 3, Q, W, (0, 0, 0), (0, 0, 0))
+    _write("fuzz_pil_frame", "step", fr.encode(fr.T_STEP, 1, step))
+    _write("fuzz_pil_frame", "select", fr.encode(fr.T_SELECT, 2, fr.encode_select(2, Q)))
+    cfg = fr.ConfigFields()
+    cfg.add("LAW", 2)
+    cfg.add("QUAT_PD_KP", 4.0)
+    cfg.add("QUAT_PD_KD", 8.0)
+    cfg.add("U_MAX_AXIS", [0.5, 0.6, 0.7])
+    cfg.add("HINF_TABLE", "hinf_regional")
+    _write("fuzz_pil_frame", "config", fr.encode(fr.T_CONFIG, 0, cfg.encode()))
+    _write("fuzz_pil_frame", "config_payload", cfg.encode())
+    _write("fuzz_pil_frame", "hello", fr.encode(fr.T_HELLO, 0, fr.HELLO.pack(1, 4, 7, 1, 10, 10, 3)))
+    _write("fuzz_pil_frame", "bye", fr.encode(fr.T_BYE, 9))
+    _write("fuzz_pil_frame", "bad_crc", fr.encode(fr.T_STEP, 1, step)[:-1] + b"\0")
+
+
+def main(argv: list[str]) -> int:
+    build = Path(argv[1]) if len(argv) > 1 else REPO / "build" / "host"
+    t = _bindings(build.resolve())
+    sensors_seeds(t)
+    command_seeds(t)
+    config_seeds()
+    exec_seeds()
+    pil_seeds()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
