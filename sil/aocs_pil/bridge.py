@@ -40,6 +40,7 @@ from aocs_wire import netns, wire
 from . import config as nodecfg
 from . import frame
 from .qemu import TARGETS, ImageError, Qemu, QemuError, describe_exit
+from .sequence import FrameSequence
 
 PROG = "aocs_pil.bridge"
 CH_SENSORS, CH_ACTUATOR, CH_COMMAND, CH_STATUS = wire.SENSORS, wire.ACTUATOR, wire.COMMAND, wire.STATUS
@@ -123,10 +124,7 @@ class Bridge:
         self.frame_cmd = 0
         self.frame_status = 0
         self.sensor_frames = 0
-        self.have_last = False
-        self.last_frame = 0
-        self.lost = 0
-        self.duplicate = 0
+        self.seq = FrameSequence()
         self.n_foreign = 0
         self.n_malformed = 0
         self.n_cmd_accepted = 0
@@ -221,14 +219,9 @@ class Bridge:
         if msg.protocol_version != st.PROTOCOL_VERSION:
             self.n_foreign += 1
             return
-        # frame sequence (node_wire.c aocs_node_seq_check)
-        if self.have_last and msg.frame <= self.last_frame:
-            self.duplicate += 1
+        # frame sequence: fsw_node's rule (node_wire.c aocs_node_seq_check, aocs_pil.sequence)
+        if not FrameSequence.accepted(self.seq.check(msg.frame)):
             return
-        if self.have_last and msg.frame > self.last_frame + 1:
-            self.lost += msg.frame - self.last_frame - 1
-        self.have_last = True
-        self.last_frame = msg.frame
         self.step(msg)
 
     def step(self, msg) -> None:
@@ -299,8 +292,8 @@ class Bridge:
         c = r.counters
         m.n_invalid, m.n_stale, m.n_missing, m.n_law_error = c["invalid"], c["stale"], c["missing"], c["law_error"]
         m.n_overrun = r.pil_overruns
-        m.n_lost = self.lost
-        m.n_duplicate = self.duplicate
+        m.n_lost = self.seq.lost
+        m.n_duplicate = self.seq.duplicate
         m.n_foreign = self.n_foreign
         m.n_malformed = self.n_malformed
         m.n_cmd_accepted = self.n_cmd_accepted
@@ -423,7 +416,7 @@ class Bridge:
         budget = self.instr_max_budget or self.budget
         log(f"lockstep end ({reason}): target={self.target.name} steps={self.step_ns.count} "
             f"overruns={self.pil_overruns} instructions median={ins['median']} max={ins['max']} budget={budget} "
-            f"step_ns median={s['median']} p99={s['p99']} max={s['max']} lost={self.lost} dup={self.duplicate} "
+            f"step_ns median={s['median']} p99={s['p99']} max={s['max']} lost={self.seq.lost} dup={self.seq.duplicate} "
             f"foreign={self.n_foreign} malformed={self.n_malformed}")
         reg = registry.load()
         law = reg.law_by_id(self.exec_law)
@@ -433,7 +426,7 @@ class Bridge:
             "reason": reason, "run_mode": "lockstep", "law": law_name, "mode": mode_name,
             "steps": self.step_ns.count, "overruns": self.pil_overruns, "slips": 0,
             "step_ns": s, "jitter_ns": {"max_abs": 0, "rms": 0.0},
-            "sensor_frames": self.sensor_frames, "lost": self.lost, "duplicate": self.duplicate,
+            "sensor_frames": self.sensor_frames, "lost": self.seq.lost, "duplicate": self.seq.duplicate,
             "foreign": self.n_foreign, "malformed": self.n_malformed,
             "invalid": c["invalid"], "stale": c["stale"], "missing": c["missing"], "law_error": c["law_error"],
             "mode_transitions": c["mode_transitions"], "saturated": c["saturated"],
