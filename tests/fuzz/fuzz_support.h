@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "aocs/executive.h"
+#include "../unit/exact_norm.h"
 
 /* ---- byte reader: past the end every read gives zeros ---- */
 typedef struct {
@@ -122,25 +123,6 @@ static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
 }
 
 /* ---- the invariant ---- */
-static inline long double fuzz_norm_exact(aocs_vec3_t v)
-{
-    long double m = 0.0L;
-    long double s = 0.0L;
-    for (int i = 0; i < 3; ++i) {
-        long double a = fabsl((long double)v.v[i]);
-        if (a > m) {
-            m = a;
-        }
-    }
-    if (!(m > 0.0L)) {
-        return 0.0L;
-    }
-    for (int i = 0; i < 3; ++i) {
-        long double q = (long double)v.v[i] / m;
-        s += q * q;
-    }
-    return m * sqrtl(s);
-}
 
 static inline void fuzz_fail(const char *what, const aocs_exec_config_t *cfg, aocs_vec3_t u)
 {
@@ -165,7 +147,7 @@ static inline void fuzz_check_output(const aocs_exec_config_t *cfg, const aocs_e
             }
         }
     }
-    if ((cfg->u_max_norm > AOCS_R(0.0)) && !(fuzz_norm_exact(u) <= (long double)cfg->u_max_norm)) {
+    if ((cfg->u_max_norm > AOCS_R(0.0)) && !(exact_norm(u) <= (long double)cfg->u_max_norm)) {
         fuzz_fail("norm limit exceeded", cfg, u);
     }
 }

@@ -7,6 +7,7 @@
  * the test (k_safe = 1: u = -w exactly).
  */
 #include "test_support.h"
+#include "exact_norm.h"
 
 #include <string.h>
 
@@ -20,25 +21,6 @@
 #endif
 
 /* exact norm for the checks: long double with max-abs scaling (see test_saturate.c) */
-static long double norm_exact(aocs_vec3_t v)
-{
-    long double m = 0.0L;
-    long double s = 0.0L;
-    for (int i = 0; i < 3; ++i) {
-        long double a = fabsl((long double)v.v[i]);
-        if (a > m) {
-            m = a;
-        }
-    }
-    if (!(m > 0.0L)) {
-        return 0.0L;
-    }
-    for (int i = 0; i < 3; ++i) {
-        long double r = (long double)v.v[i] / m;
-        s += r * r;
-    }
-    return m * sqrtl(s);
-}
 
 static void limits_config(aocs_exec_config_t *cfg, aocs_vec3_t axis, real_t norm)
 {
@@ -111,7 +93,7 @@ static void check_within(const aocs_exec_config_t *cfg, aocs_vec3_t u, aocs_vec3
             }
         }
     }
-    if ((cfg->u_max_norm > AOCS_R(0.0)) && !(norm_exact(out) <= (long double)cfg->u_max_norm)) {
+    if ((cfg->u_max_norm > AOCS_R(0.0)) && !(exact_norm(out) <= (long double)cfg->u_max_norm)) {
         ok = 0;
     }
     if (ok == 0) {
@@ -119,7 +101,7 @@ static void check_within(const aocs_exec_config_t *cfg, aocs_vec3_t u, aocs_vec3
                     "%.21Lg\n",
                     k, (double)u.v[0], (double)u.v[1], (double)u.v[2], (double)cfg->u_max_axis.v[0],
                     (double)cfg->u_max_axis.v[1], (double)cfg->u_max_axis.v[2], (double)cfg->u_max_norm,
-                    (double)out.v[0], (double)out.v[1], (double)out.v[2], norm_exact(out));
+                    (double)out.v[0], (double)out.v[1], (double)out.v[2], exact_norm(out));
         fail();
     }
 }

@@ -5,6 +5,7 @@
  * Expected values come from the definitions evaluated here in double.
  */
 #include "law_test_support.h"
+#include "exact_norm.h"
 
 #include "aocs/control/saturate.h"
 
@@ -39,30 +40,7 @@ static double norm_d(aocs_vec3_t v)
     return m * sqrt(a * a + b * b + c * c);
 }
 
-/*
- * The exact norm for the bound checks: long double (64-bit significand on
- * x86-64) with max-abs scaling; its own error (~1e-19 relative) is far below
- * one ulp of a double, so "exact <= max_norm" is checked, not "within an ulp".
- */
-static long double norm_exact(aocs_vec3_t v)
-{
-    long double m = 0.0L;
-    long double s = 0.0L;
-    for (int i = 0; i < 3; ++i) {
-        long double a = fabsl((long double)v.v[i]);
-        if (a > m) {
-            m = a;
-        }
-    }
-    if (!(m > 0.0L)) {
-        return 0.0L;
-    }
-    for (int i = 0; i < 3; ++i) {
-        long double r = (long double)v.v[i] / m;
-        s += r * r;
-    }
-    return m * sqrtl(s);
-}
+/* the exact norm for the bound checks: exact_norm.h (shared with the executive tests and fuzz targets) */
 
 static void test_clamp_per_axis_values(void **state)
 {
@@ -120,7 +98,7 @@ static void test_scale_to_norm_random(void **state)
         double nu = norm_d(u);
         double no = norm_d(out);
         /* exact bound, whatever the rounding: the true norm of the result never exceeds the limit */
-        assert_true(norm_exact(out) <= (long double)max_norm);
+        assert_true(exact_norm(out) <= (long double)max_norm);
         if (nu > (double)max_norm * (1.0 + 4.0 * REAL_EPS_D)) {
             ++n_scaled;
             assert_int_equal(sat, 1);
@@ -196,9 +174,9 @@ static void test_scale_to_norm_exact_at_every_scale(void **state)
         }
         int sat = -1;
         aocs_vec3_t out = aocs_sat_scale_to_norm(u, max_norm, &sat);
-        if (!(norm_exact(out) <= (long double)max_norm)) {
+        if (!(exact_norm(out) <= (long double)max_norm)) {
             print_error("k=%d u=(%.17g %.17g %.17g) max_norm=%.17g: |out| = %.21Lg\n", k, (double)u.v[0],
-                        (double)u.v[1], (double)u.v[2], (double)max_norm, norm_exact(out));
+                        (double)u.v[1], (double)u.v[2], (double)max_norm, exact_norm(out));
             fail();
         }
         assert_int_equal(aocs_sat_norm_above(out, max_norm), 0);

@@ -36,7 +36,7 @@ from aocs_wire import lcmlog
 
 from .compare import designed_gamma, gain_matrix
 
-#: default sweep, rad/s: from the loop's bandwidth (slowest pole 0.05 /s for hinf_regional) to 1 rad/s
+#: default sweep, rad/s: from below the loop's bandwidth (slowest closed-loop pole 0.05 /s for geo_hinf) to 1 rad/s
 FREQUENCIES = (0.003, 0.01, 0.03, 0.1, 0.3, 1.0)
 #: disturbance amplitude, N m: 10x the scenario's constant torque, small enough to stay linear
 AMPLITUDE_NM = 1e-3
