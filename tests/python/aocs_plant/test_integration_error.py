@@ -43,9 +43,9 @@ def test_local_estimate_matches_the_true_error_of_a_period():
     assert est == pytest.approx(true_err, rel=0.1)
 
 
-def _pd_run(sid, substeps):
+def _pd_run(sid, substeps, every=None):
     sc = load(sid, {"integrator.substeps": substeps})
-    p, chk = Plant(sc), StepDoubling(sc)
+    p, chk = Plant(sc), (StepDoubling(sc) if every is None else StepDoubling(sc, every))
     k1, k2 = (sc.control.laws["crp_linear"].params[k] for k in ("k1", "k2"))
     for _ in range(sc.n_steps):
         s = p.sense()
@@ -67,8 +67,17 @@ def test_rtc_needs_its_ten_substeps():
     one, ten = _pd_run("rtc_ex1a", 1), _pd_run("rtc_ex1a", 10)
     assert one["exceeds_tolerance"] and not ten["exceeds_tolerance"]
     assert one["attitude_arcsec_sum"] > 1e3 * ten["attitude_arcsec_sum"]
-    assert one["tolerance_arcsec"] == 1e-3 and one["periods"] == 4000
+    assert one["tolerance_arcsec"] == 1e-3 and one["periods"] == 4000 and one["checked_periods"] >= 400
     assert "step doubling" in one["method"]
+
+
+def test_sampled_check_agrees_with_checking_every_period():
+    """The run checks one period in CHECK_EVERY; its extrapolated sum and its largest local error
+    stay close to those of checking every period (the local error moves smoothly)."""
+    sampled, every = _pd_run("rtc_ex1a", 1), _pd_run("rtc_ex1a", 1, every=1)
+    assert every["checked_periods"] == every["periods"] == 4000
+    assert sampled["attitude_arcsec_sum"] == pytest.approx(every["attitude_arcsec_sum"], rel=0.5)
+    assert sampled["attitude_arcsec_local_max"] == pytest.approx(every["attitude_arcsec_local_max"], rel=0.5)
 
 
 def test_exact_linear_orbit_has_no_integration_error():
