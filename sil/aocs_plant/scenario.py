@@ -12,6 +12,7 @@ section reader.
 from __future__ import annotations
 
 import copy
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -335,6 +336,14 @@ class _Section:
     def remaining(self):
         return list(self.data.keys())
 
+    def only(self, known) -> None:
+        """Refuse, before anything is read, a key the section cannot have (named, with the known ones)."""
+        unknown = sorted(k for k in self.data if k not in known)
+        if unknown:
+            close = difflib.get_close_matches(unknown[0], known, n=1, cutoff=0.5)
+            self.fail(self.key(unknown[0]), "unknown key" + (f" (did you mean {close[0]!r}?)" if close else "")
+                      + f"; known: {', '.join(known)}")
+
     def done(self):
         if self.data:
             k = sorted(self.data)[0]
@@ -418,6 +427,9 @@ def _tanh_extra(sec: _Section, p):
                                 f"{p['u_max']}")
 
 
+#: keys a law section may hold beyond its registry fields (read by the law's check below)
+_LAW_EXTRA_KEYS = {"mrp_sat_tanh": ("m3",)}
+
 #: What a scenario says about a law beyond its registry fields (the paper's rules, SPEC 2.7):
 #: law -> ({field: its default computed from the fields read before}, check(sec, params) or None).
 #: L2 = M2 = 2 uM / sqrt 3 when absent; the tanh variant's M3.
@@ -434,6 +446,9 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
     (mat3) is the plant's; a gain matrix (gain) is given by its table."""
     reg = registry.load()
     fields = [f for f in reg.fields_of(name) if f.type in ("real", "vec3")]
+    known = ([f.param for f in fields] + list(_LAW_EXTRA_KEYS.get(name, ()))
+             + (["table", "tables"] if reg.table_field(name) is not None else []))
+    sec.only(known)  # a misspelt key is named as such, not reported as the key it was meant to be
     optional, check = _LAW_RULES.get(name, ({}, None))
     params: dict[str, Any] = {}
     for f in fields:

@@ -105,3 +105,20 @@ def test_cli_run_prints_the_table_and_lcm_logger_can_record(private_netns, fsw_n
 def test_replay_refuses_a_missing_log(private_netns, capsys, tmp_path):
     assert cli.main(["replay", str(tmp_path / "nope.lcmlog")]) == 2
     assert "aocs replay: error:" in capsys.readouterr().err
+
+
+def test_a_scenario_file_anywhere_runs_by_its_path(private_netns, capsys, tmp_path):
+    """docs/extending.md, "Adding a scenario": a new file with its own id, outside sil/scenarios/."""
+    from aocs_plant.scenario import SCENARIO_DIR
+
+    text = (SCENARIO_DIR / "irassi_small.toml").read_text().replace('id = "irassi_small"', 'id = "my_case"')
+    path = tmp_path / "my_case.toml"
+    path.write_text(text)
+    rc = cli.main(["run", str(path), "--duration", "5", "-q", "--no-plots", "--out", str(tmp_path / "o"),
+                   "--json", str(tmp_path / "m.json")])
+    assert rc == 0, capsys.readouterr().err
+    assert json.loads((tmp_path / "m.json").read_text())["scenario"] == "my_case"
+    path.write_text(text.replace("kp = 4000.0", "kq = 4000.0", 1))
+    assert cli.main(["run", str(path), "--duration", "5", "-q", "--no-plots", "--out", str(tmp_path / "o2")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(path) in err and "kq" in err, err

@@ -372,3 +372,10 @@ def test_run_timing_edges_that_are_accepted():
     assert sc.n_steps == 1_000_000
     sc = load("irassi_large", {"duration_s": 0.1, "metrics.window_s": 0.1})
     assert sc.n_steps == 1
+
+
+def test_a_misspelt_gain_key_is_named_not_reported_as_the_missing_one():
+    with pytest.raises(ScenarioError, match=re.escape("laws.quat_pd.kq: unknown key (did you mean 'kp'?); known: kp, kd")):
+        load("irassi_small", {"laws.quat_pd.kq": 4000.0, "laws.quat_pd.kp": None})
+    with pytest.raises(ScenarioError, match=re.escape("laws.smc.lamda: unknown key (did you mean 'lambda'?)")):
+        load("irassi_small", {"laws.smc.lamda": 1.0})
