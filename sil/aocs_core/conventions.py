@@ -111,14 +111,29 @@ def quat_to_euler321(q: Quat) -> Vec3:
 
 
 def crp_to_quat(rho) -> Quat:
-    """q = [rho; 1] / sqrt(1 + |rho|^2) (SPEC 4, rtc scenarios)."""
-    d = math.sqrt(1.0 + rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2])
-    return (rho[0] / d, rho[1] / d, rho[2] / d, 1.0 / d)
+    """q = [rho; 1] / sqrt(1 + |rho|^2) (SPEC 4, rtc scenarios). Where |rho|^2 would overflow
+    (|rho| near 1e154 and beyond: within 1e-154 rad of 180 deg) the same vector is normalised
+    scaled by its largest component, so q stays unit and finite (q4 -> 0)."""
+    ss = rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2]
+    if ss < 1e300:
+        d = math.sqrt(1.0 + ss)
+        return (rho[0] / d, rho[1] / d, rho[2] / d, 1.0 / d)
+    m = max(abs(rho[0]), abs(rho[1]), abs(rho[2]))
+    v = (rho[0] / m, rho[1] / m, rho[2] / m, 1.0 / m)
+    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3])
+    return (v[0] / n, v[1] / n, v[2] / n, v[3] / n)
 
 
 def mrp_to_quat(sigma) -> Quat:
-    """q = [2 sigma; 1 - s.s] / (1 + s.s) (inverse of sigma = q_vec / (1 + q4))."""
+    """q = [2 sigma; 1 - s.s] / (1 + s.s) (inverse of sigma = q_vec / (1 + q4)). Where s.s would
+    overflow, the shadow set -sigma / s.s (the same attitude, SPEC 1) is converted instead."""
     ss = sigma[0] * sigma[0] + sigma[1] * sigma[1] + sigma[2] * sigma[2]
+    if not ss < 1e300:
+        m = max(abs(sigma[0]), abs(sigma[1]), abs(sigma[2]))
+        u = (sigma[0] / m, sigma[1] / m, sigma[2] / m)
+        k = -1.0 / (m * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]))   # -sigma / s.s without forming s.s
+        sigma = (u[0] * k, u[1] * k, u[2] * k)
+        ss = sigma[0] * sigma[0] + sigma[1] * sigma[1] + sigma[2] * sigma[2]
     d = 1.0 + ss
     return (2 * sigma[0] / d, 2 * sigma[1] / d, 2 * sigma[2] / d, (1.0 - ss) / d)
 

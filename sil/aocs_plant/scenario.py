@@ -233,6 +233,9 @@ class _Section:
         return f"{self.path}.{k}" if self.path else k
 
     def fail(self, key: str, what: str):
+        # one line whatever the key or value holds: control characters are shown escaped
+        key = key if key.isprintable() else repr(key)
+        what = what if what.isprintable() else what.encode("unicode_escape").decode("ascii")
         raise ScenarioError(f"{self.file}: {key}: {what}")
 
     def has(self, k: str) -> bool:
@@ -267,6 +270,8 @@ class _Section:
             return v
         if isinstance(v, bool) or not isinstance(v, int):
             self.fail(self.key(k), f"expected an integer, got {_tname(v)}")
+        if not -2 ** 63 <= v < 2 ** 63:
+            self.fail(self.key(k), f"an integer of {len(str(abs(v)))} digits is beyond the range of a 64-bit integer")
         if minimum is not None and v < minimum:
             self.fail(self.key(k), f"must be >= {minimum}, got {v}")
         return v
@@ -280,6 +285,8 @@ class _Section:
     def _check_number(self, key, v, positive=False, nonneg=False):
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             self.fail(key, f"expected a number, got {_tname(v)}")
+        if isinstance(v, int) and abs(v) > 2 ** 1023:
+            self.fail(key, f"an integer of {len(str(abs(v)))} digits is beyond the range of a double")
         v = float(v)
         if not math.isfinite(v):
             self.fail(key, f"must be finite, got {v}")

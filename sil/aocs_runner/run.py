@@ -135,6 +135,8 @@ def check_options(opts: RunOptions) -> None:
     """Refuses, before anything starts, what the run could not honour (ValueError naming the option)."""
     if opts.law is not None and not opts.law.strip():
         raise ValueError("--law: empty law name (aocs list shows the laws)")
+    if opts.law is not None and not opts.law.isprintable():
+        raise ValueError(f"--law {opts.law!r}: not a law name (aocs list shows the laws)")
     if opts.duration is not None and not (math.isfinite(opts.duration) and opts.duration > 0.0):
         raise ValueError(f"--duration {opts.duration:g}: must be a finite number of seconds above 0")
     rt = opts.reply_timeout

@@ -27,11 +27,24 @@ DEFAULT_REPORT = REPO / "docs" / "gains"
 _CACHE: dict[str, tuple[list, dict[str, str]]] = {}
 
 
+class GainsConfigError(ValueError):
+    """The design configuration cannot be read or lacks what a design needs (one line, naming file and key)."""
+
+
 def load_config(path: Path) -> dict:
     import tomllib  # deferred: only when a design file is read
 
-    with open(path, "rb") as f:
-        return tomllib.load(f)
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except FileNotFoundError:
+        raise GainsConfigError(f"{path}: no such design configuration file") from None
+    except IsADirectoryError:
+        raise GainsConfigError(f"{path}: is a folder, not a design configuration file") from None
+    except UnicodeDecodeError as exc:
+        raise GainsConfigError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise GainsConfigError(f"{path}: not valid TOML: {exc}") from None
 
 
 def design_all(cfg: dict) -> list:
@@ -91,11 +104,15 @@ def defines(cfg: dict) -> list[tuple[str, float, str]]:
 
 def generate(config: Path) -> tuple[list, dict[str, str]]:
     """Designs and the text of the two table files; cached per config content."""
-    text = Path(config).read_bytes()
-    key = hashlib.sha256(text).hexdigest()
+    cfg = load_config(config)
+    key = hashlib.sha256(Path(config).read_bytes()).hexdigest()
     if key not in _CACHE:
-        cfg = load_config(config)
-        designs = design_all(cfg)
+        try:
+            designs = design_all(cfg)
+        except KeyError as exc:
+            raise GainsConfigError(f"{config}: missing key {exc.args[0]!r} (tools/gains.toml shows every key)") from None
+        except (TypeError, ValueError, AttributeError) as exc:
+            raise GainsConfigError(f"{config}: a value of the wrong type or size ({exc})") from None
         files = {tables.HEADER_NAME: tables.emit_header(designs, defines(cfg)),
                  tables.SOURCE_NAME: tables.emit_source(designs),
                  tables.REGISTRY_NAME: tables.emit_registry(designs)}
@@ -219,6 +236,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     try:
         designs, files = generate(args.config)
+    except GainsConfigError as exc:
+        print(f"aocs gains: error: {exc}", file=sys.stderr)
+        return 2
     except DesignError as exc:
         print(f"aocs gains: FAILED: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 2

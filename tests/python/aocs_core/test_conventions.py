@@ -118,3 +118,20 @@ def test_row_forms_match_the_scalar_forms():
 def test_one_arcsec_per_radian_everywhere():
     assert cv.ARCSEC_PER_RAD == 180.0 * 3600.0 / math.pi
     assert metrics.ARCSEC_PER_RAD is cv.ARCSEC_PER_RAD
+
+
+def test_gibbs_and_mrp_inputs_beyond_the_square_overflow_stay_unit_and_finite():
+    """Scenario inputs plant.rho = [1e160, 0, 0] or sigma = [1e200, 0, 0] (issue 11): no overflow to inf/NaN
+    or division by zero; the same attitude as the limit of the formula (180 deg about x; identity for MRP)."""
+    q = cv.crp_to_quat((1e160, 0.0, 0.0))
+    assert all(math.isfinite(x) for x in q) and math.isclose(cv.quat_norm(q), 1.0, rel_tol=1e-15)
+    assert q[0] == 1.0 and 0.0 < q[3] < 1e-150
+    q = cv.crp_to_quat((3e200, -4e200, 0.0))
+    assert q[:3] == pytest.approx((0.6, -0.8, 0.0), rel=1e-15) and math.isclose(cv.quat_norm(q), 1.0, rel_tol=1e-15)
+    for sigma in ((1e200, 0.0, 0.0), (1e160, -1e160, 5e159)):
+        q = cv.mrp_to_quat(sigma)
+        assert all(math.isfinite(x) for x in q) and math.isclose(cv.quat_norm(q), 1.0, rel_tol=1e-15)
+        assert abs(q[3]) == pytest.approx(1.0)
+    # below the overflow the formulas are untouched, bit for bit
+    assert cv.crp_to_quat((-10.0, 15.0, 15.0)) == tuple(x / math.sqrt(1.0 + 550.0) for x in (-10.0, 15.0, 15.0, 1.0))
+    assert cv.mrp_to_quat((3.0, 0.0, 0.0)) == (0.6, 0.0, 0.0, -0.8)

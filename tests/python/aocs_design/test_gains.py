@@ -289,3 +289,22 @@ def test_json_has_required_keys(generated, tmp_path):
         else:
             assert e["are_residual"] >= 0
     np.testing.assert_array_equal(np.array(data["hinf_min"]["K"]), generated[0]["hinf_min"].k)
+
+
+@pytest.mark.parametrize("content,message", [
+    (None, "no such design configuration file"),
+    (b"x = [\n", "not valid TOML"),
+    (b"\xff\xfe = 1\n", "not UTF-8 text (byte 0)"),
+    (b"[plants.irassi]\ninertia_diag = [1.0, 2.0, 3.0]\n", "missing key 'designs'"),
+    (b'[plants.irassi]\ninertia_diag = "abc"\n[designs.x]\nkind = "lqr_quat"\nplant = "irassi"\nq = 1.0\nr = 1.0\n',
+     "a value of the wrong type or size"),
+])
+def test_a_bad_design_configuration_is_one_line_and_exit_2(tmp_path, capsys, content, message):
+    cfg = tmp_path / "g.toml"
+    if content is not None:
+        cfg.write_bytes(content)
+    out = tmp_path / "out"
+    assert cmd_gains.run(_args(config=cfg, out_dir=out, no_report=True)) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("aocs gains: error: ") and str(cfg) in err and message in err, err
+    assert not out.exists()
