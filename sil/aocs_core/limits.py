@@ -5,9 +5,8 @@
 UNLIMITED = 1.0e9
 
 # ---- run timing (the scenario loader refuses values outside; docs/scenarios.md)
-#: the executive's control period range is [1 us, 1000 s] (aocs_exec_period_to_ns, executive.h)
-CONTROL_RATE_HZ_MIN = 1.0e-3
-CONTROL_RATE_HZ_MAX = 1.0e6
+# the control rate and the actuator limits are bounded by the executive's own ranges, read from the
+# build's registry (aocs_core.registry: limits; executive.h AOCS_EXEC_PERIOD_*, AOCS_EXEC_U_LIMIT_*)
 #: longest run: 1e7 s (116 days) keeps t in ns far inside uint64 and ticks far inside the wire's
 #: int64 / the executive's uint32 tick with wrap, and is longer than any attitude study needs
 DURATION_S_MAX = 1.0e7

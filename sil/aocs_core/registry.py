@@ -110,6 +110,8 @@ class Registry:
                                                         for t in data["gain_tables"])
         self.exec_fields: tuple[ExecField, ...] = tuple(
             ExecField(x["name"], x["pil_id"], x["kind"], x["count"], x["key"]) for x in data["pil_exec_fields"])
+        #: the executive's accepted ranges (executive.h): actuator limits (N m or N), control period (s)
+        self.limits: dict[str, float] = {k: float(v) for k, v in data["limits"].items()}
         self.status_names: dict[int, str] = {s["value"]: s["name"] for s in data["status"]}
         self.mode_names: dict[int, str] = {m["value"]: m["name"] for m in data["modes"]}
         self._law = {law.name: law for law in (self.none, *self.laws)}

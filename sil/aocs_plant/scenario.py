@@ -666,9 +666,11 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     reference = root.string("reference")
     kind = root.string("kind", choices=KINDS)
     rate = root.number("control_rate_hz", positive=True)
-    if not limits.CONTROL_RATE_HZ_MIN <= rate <= limits.CONTROL_RATE_HZ_MAX:
-        root.fail("control_rate_hz", f"{rate:g} Hz is outside [{limits.CONTROL_RATE_HZ_MIN:g}, "
-                                     f"{limits.CONTROL_RATE_HZ_MAX:g}] Hz (the flight software's period range)")
+    lim = registry.load().limits   # the executive's own ranges, from the build (executive.h)
+    rate_min, rate_max = 1.0 / lim["period_max_s"], 1.0 / lim["period_min_s"]
+    if not rate_min <= rate <= rate_max:
+        root.fail("control_rate_hz", f"{rate:g} Hz is outside [{rate_min:g}, {rate_max:g}] Hz (the flight "
+                                     "software's period range, executive.h)")
     duration = root.number("duration_s", positive=True)
     if duration > limits.DURATION_S_MAX:
         root.fail("duration_s", f"{duration:g} s is longer than {limits.DURATION_S_MAX:g} s")

@@ -242,6 +242,11 @@ static void dump_registry(FILE *f)
     (void)fprintf(f, "{\n  \"schema\": %d,\n  \"real_t\": \"%s\",\n", DUMP_SCHEMA, DUMP_REAL_NAME);
     (void)fprintf(f, "  \"pil\": {\"version\": %u, \"table_name_max\": %u},\n", (unsigned)AOCS_PIL_VERSION,
                   (unsigned)AOCS_PIL_TABLE_NAME_MAX);
+    /* the executive's accepted ranges: the scenario loader applies the same ones (aocs_core.registry) */
+    (void)fprintf(f, "  \"limits\": {\"u_limit_min\": %.17g, \"u_limit_max\": %.17g, "
+                     "\"period_min_s\": %.17g, \"period_max_s\": %.17g},\n",
+                  (double)AOCS_EXEC_U_LIMIT_MIN, (double)AOCS_EXEC_U_LIMIT_MAX,
+                  (double)AOCS_EXEC_PERIOD_MIN_US * 1e-6, (double)AOCS_EXEC_PERIOD_MAX_US * 1e-6);
     dump_laws(f);
     dump_fields(f);
     dump_tables(f);

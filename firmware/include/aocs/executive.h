@@ -424,4 +424,13 @@ aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns);
 #define AOCS_EXEC_U_LIMIT_MIN AOCS_R(1.0e-9)
 #define AOCS_EXEC_U_LIMIT_MAX AOCS_R(1.0e9)
 
+/*
+ * Accepted control period, whole microseconds (aocs_exec_period_to_ns):
+ * 1 us (a 1 MHz loop, far above any attitude loop) to 1000 s (slower is not
+ * a control loop). The scenario loader reads both from the build's registry
+ * (tools/registry), so it cannot accept a rate the executive refuses.
+ */
+#define AOCS_EXEC_PERIOD_MIN_US AOCS_R(1.0)
+#define AOCS_EXEC_PERIOD_MAX_US AOCS_R(1.0e9)
+
 #endif /* AOCS_EXECUTIVE_H */

@@ -9,9 +9,9 @@
 
 #include "aocs/executive.h"
 
-/* Periods outside [1 us, 1000 s] are not a control rate this firmware serves. */
-#define PERIOD_MIN_US AOCS_R(1.0)
-#define PERIOD_MAX_US AOCS_R(1.0e9)
+/* Periods outside [1 us, 1000 s] are not a control rate this firmware serves (executive.h). */
+#define PERIOD_MIN_US AOCS_EXEC_PERIOD_MIN_US
+#define PERIOD_MAX_US AOCS_EXEC_PERIOD_MAX_US
 
 aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns)
 {

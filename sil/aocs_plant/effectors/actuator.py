@@ -21,6 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from aocs_core import registry
+
 from .base import ATTITUDE, ORBIT, ZERO3, Effector, Form, register
 
 LIMIT_KEYS = ("axis_limit", "norm_limit", "rate_limit", "lag_tau_s", "realistic_axis_limit")
@@ -45,6 +47,11 @@ class Actuator(Effector):
     @classmethod
     def read(cls, sec, ctx) -> ActuatorConfig:
         kw = {k: sec.number(k, required=False, positive=True) for k in LIMIT_KEYS}
+        lim = registry.load().limits   # the executive refuses a limit outside its range (executive.h)
+        for k in ("axis_limit", "norm_limit", "realistic_axis_limit"):
+            if kw[k] is not None and not lim["u_limit_min"] <= kw[k] <= lim["u_limit_max"]:
+                sec.fail(sec.key(k), f"{kw[k]:g} is outside [{lim['u_limit_min']:g}, {lim['u_limit_max']:g}] "
+                                     "(N m or N: the flight software's accepted range, executive.h)")
         tau = kw["lag_tau_s"]
         h = ctx.dt / ctx.substeps
         if tau is not None and tau < h:

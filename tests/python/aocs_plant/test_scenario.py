@@ -379,3 +379,17 @@ def test_a_misspelt_gain_key_is_named_not_reported_as_the_missing_one():
         load("irassi_small", {"laws.quat_pd.kq": 4000.0, "laws.quat_pd.kp": None})
     with pytest.raises(ScenarioError, match=re.escape("laws.smc.lamda: unknown key (did you mean 'lambda'?)")):
         load("irassi_small", {"laws.smc.lamda": 1.0})
+
+
+def test_loader_and_executive_share_the_limit_and_rate_ranges():
+    """The loader's bounds are the executive's (read from the build's registry, executive.h), so a scenario
+    the loader accepts is one fsw_node accepts (tests/e2e/test_integrity.py checks the node at the edges)."""
+    from aocs_core import registry
+    lim = registry.load().limits
+    assert (lim["u_limit_min"], lim["u_limit_max"], lim["period_min_s"], lim["period_max_s"]) == (1e-9, 1e9, 1e-6, 1e3)
+    assert load("irassi_large", {"actuator.axis_limit": lim["u_limit_min"]}).actuator.axis_limit == 1e-9
+    assert load("irassi_large", {"actuator.norm_limit": lim["u_limit_max"]}).actuator.norm_limit == 1e9
+    for key, value in (("actuator.axis_limit", 0.99e-9), ("actuator.norm_limit", 1.01e9)):
+        with pytest.raises(ScenarioError, match=re.escape(f"{key}: ") + ".*flight software's accepted range"):
+            load("irassi_large", {key: value})
+    assert load("irassi_large", {"control_rate_hz": 1.0 / lim["period_max_s"], "duration_s": 1000.0}).dt == 1000.0
