@@ -495,14 +495,25 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
     return LawConfig(name, MappingProxyType(params), table, MappingProxyType(tables))
 
 
+#: a law parameter flies in double (host, M7) and in float (M4F): a non-zero one must be a normal
+#: number in both, or fsw_node (strtod underflow) or the float image (a zero gain) refuses it
+FLOAT_NORMAL_MIN, FLOAT_MAX = 1.1754943508222875e-38, 3.4028234663852886e38
+
+
 def _read_field(sec: _Section, f, required: bool = True):
     """One registry field as a scenario parameter (vec3: a number meaning every axis, or 3 numbers)."""
     pos, nonneg = f.rule == "pos", f.rule == "nonneg"
     if f.type == "vec3":
         if not required and not sec.has(f.param):
             return None
-        return sec.scalar_or_vector(f.param, n=f.count, positive=pos)
-    return sec.number(f.param, required=required, default=None, positive=pos, nonneg=nonneg)
+        value = sec.scalar_or_vector(f.param, n=f.count, positive=pos)
+    else:
+        value = sec.number(f.param, required=required, default=None, positive=pos, nonneg=nonneg)
+    for x in (value if isinstance(value, tuple) else () if value is None else (value,)):
+        if x != 0.0 and not FLOAT_NORMAL_MIN <= abs(x) <= FLOAT_MAX:
+            sec.fail(sec.key(f.param), f"{x:g} is outside the magnitudes both precisions of the flight software "
+                                       f"represent ([{FLOAT_NORMAL_MIN:.4g}, {FLOAT_MAX:.4g}], or 0)")
+    return value
 
 
 def _read_control(root: _Section, kind: str):

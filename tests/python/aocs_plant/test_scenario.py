@@ -393,3 +393,11 @@ def test_loader_and_executive_share_the_limit_and_rate_ranges():
         with pytest.raises(ScenarioError, match=re.escape(f"{key}: ") + ".*flight software's accepted range"):
             load("irassi_large", {key: value})
     assert load("irassi_large", {"control_rate_hz": 1.0 / lim["period_max_s"], "duration_s": 1000.0}).dt == 1000.0
+
+
+@pytest.mark.parametrize("value", [5e-324, 1e-39, 1e39])
+def test_a_law_parameter_must_fly_in_both_precisions(value):
+    """5e-324 was accepted by the loader and refused by fsw_node (issue 11): the loader now refuses what
+    either precision of the flight software cannot represent as a normal number."""
+    with pytest.raises(ScenarioError, match=re.escape("laws.quat_pd.kp: ") + ".*both precisions"):
+        load("irassi_small", {"laws.quat_pd.kp": value})
