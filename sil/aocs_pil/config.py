@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from aocs_core import registry
+from aocs_core import paths, registry
 
 from . import frame
 
@@ -331,11 +331,39 @@ def load(path: str | Path) -> NodeConfig:
         if lt and lk:
             raise ConfigError(f"{path}:{max(lt, lk)}: keys '{tkey}' (line {lt}) and '{kkey}' (line {lk}) are "
                               "mutually exclusive: give the gain by table name or by value, not both")
+    problem = timeouts_problem(cfg)
+    if problem:
+        raise ConfigError(f"{path}: {problem}")
     if "stale_timeout_s" not in seen:
         p = cfg.period_s
         cfg.stale_timeout_ns = int(2.0e9 * p + 0.5) if 0.0 < p < 1.0e6 else 0
     cfg.lines = seen
     return cfg
+
+
+@lru_cache(maxsize=None)
+def timeout_ranges() -> dict[str, tuple[float, float]]:
+    """fsw_node's timeout ranges, s, read from sil/fsw_node/node_checks.h (their one definition)."""
+    text = (paths.REPO / "sil" / "fsw_node" / "node_checks.h").read_text()
+
+    def macro(name):
+        return float(re.search(rf"#define\s+AOCS_NODE_{name}\s+([0-9.eE+-]+)", text).group(1))
+    return {"idle_timeout_s": (macro("IDLE_TIMEOUT_MIN_S"), macro("IDLE_TIMEOUT_MAX_S")),
+            "run_timeout_s": (macro("RUN_TIMEOUT_MIN_S"), macro("RUN_TIMEOUT_MAX_S")),
+            "status_period_s": (macro("STATUS_PERIOD_MIN_S"), macro("STATUS_PERIOD_MAX_S"))}
+
+
+def timeouts_problem(cfg: NodeConfig) -> str | None:
+    """node_checks.c aocs_node_timeouts_check: the first timeout out of its range, in fsw_node's words."""
+    for key in ("idle_timeout_s", "run_timeout_s", "status_period_s"):
+        lo, hi = timeout_ranges()[key]
+        v = getattr(cfg, key)
+        if key == "run_timeout_s" and v == 0.0:
+            continue
+        if not lo <= v <= hi:
+            extra = " or 0 (no limit)" if key == "run_timeout_s" else ""
+            return f"key '{key}': {_g(v)} s is outside [{_g(lo)}, {_g(hi)}] s{extra}"
+    return None
 
 
 def status_hint(status_name: str, law: str) -> str:

@@ -219,6 +219,11 @@ BAD_CONFIGS = {
     "table_family": "orbit_lqr.table = lqr_quat_ref\n",
     "table_and_k": "lqr_quat.table = lqr_quat_ref\n" + "lqr_quat.k = " + " ".join(["1"] * 18) + "\n",
     "long_line": "# " + "x" * 1030 + "\n",
+    # the node's timeout ranges (node_checks.h), which the bridge applies too (issue 11)
+    "idle_range": "law = none\nu_max_norm = 1\nidle_timeout_s = 2e10\n",
+    "idle_tiny": "law = none\nu_max_norm = 1\nidle_timeout_s = 1e-10\n",
+    "run_range": "law = none\nu_max_norm = 1\nrun_timeout_s = 1e300\n",
+    "status_range": "law = none\nu_max_norm = 1\nstatus_period_s = 1e-5\n",
 }
 
 
