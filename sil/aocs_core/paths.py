@@ -9,8 +9,10 @@ variable the SIL tests use.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import sys
+from functools import lru_cache
 from pathlib import Path
 
 import lcm
@@ -102,3 +104,14 @@ def python_env() -> dict:
         extra.append(env["PYTHONPATH"])
     env["PYTHONPATH"] = os.pathsep.join(extra)
     return env
+
+
+@lru_cache(maxsize=None)
+def header_number(relpath: str, macro: str) -> float:
+    """The number a C header defines (`#define MACRO 1.5e-3` or `1024u`), read from the source tree:
+    for the few fsw_node facts the Python mirrors need (node_wire.h, node_checks.h), so none is copied."""
+    text = (REPO / relpath).read_text()
+    m = re.search(rf"^#define\s+{re.escape(macro)}\s+([0-9.eE+-]+)[uUlL]*\b", text, re.M)
+    if m is None:
+        raise SetupError(f"{REPO / relpath}: no #define {macro}")
+    return float(m.group(1))

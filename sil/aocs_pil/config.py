@@ -341,13 +341,10 @@ def load(path: str | Path) -> NodeConfig:
     return cfg
 
 
-@lru_cache(maxsize=None)
 def timeout_ranges() -> dict[str, tuple[float, float]]:
     """fsw_node's timeout ranges, s, read from sil/fsw_node/node_checks.h (their one definition)."""
-    text = (paths.REPO / "sil" / "fsw_node" / "node_checks.h").read_text()
-
     def macro(name):
-        return float(re.search(rf"#define\s+AOCS_NODE_{name}\s+([0-9.eE+-]+)", text).group(1))
+        return paths.header_number("sil/fsw_node/node_checks.h", f"AOCS_NODE_{name}")
     return {"idle_timeout_s": (macro("IDLE_TIMEOUT_MIN_S"), macro("IDLE_TIMEOUT_MAX_S")),
             "run_timeout_s": (macro("RUN_TIMEOUT_MIN_S"), macro("RUN_TIMEOUT_MAX_S")),
             "status_period_s": (macro("STATUS_PERIOD_MIN_S"), macro("STATUS_PERIOD_MAX_S"))}

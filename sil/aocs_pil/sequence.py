@@ -9,22 +9,16 @@ can therefore never silence the bridge. W and K are read from node_wire.h, their
 """
 from __future__ import annotations
 
-import re
-from functools import lru_cache
-
 from aocs_core import paths
 
 _MASK = (1 << 64) - 1
 _BEHIND = 1 << 63
 
 
-@lru_cache(maxsize=None)
 def constants() -> tuple[int, int]:
     """(W, K) = (AOCS_NODE_SEQ_WINDOW, AOCS_NODE_SEQ_RESYNC_FRAMES) from sil/fsw_node/node_wire.h."""
-    text = (paths.REPO / "sil" / "fsw_node" / "node_wire.h").read_text()
-    w = int(re.search(r"#define\s+AOCS_NODE_SEQ_WINDOW\s+(\d+)u?", text).group(1))
-    k = int(re.search(r"#define\s+AOCS_NODE_SEQ_RESYNC_FRAMES\s+(\d+)u?", text).group(1))
-    return w, k
+    h = "sil/fsw_node/node_wire.h"
+    return int(paths.header_number(h, "AOCS_NODE_SEQ_WINDOW")), int(paths.header_number(h, "AOCS_NODE_SEQ_RESYNC_FRAMES"))
 
 
 class FrameSequence:
