@@ -106,6 +106,20 @@ def _step_time(series, path, title):
     return save(fig, path)
 
 
+def _command_plot(series: dict, path: Path, title: str, ylabel: str, symbol: str) -> Path:
+    """The saturated command per axis (zero-order hold) with the limits the flight software applied."""
+    fig, ax = new_axes(title, ylabel)
+    if series["t_cmd"].size:
+        for i in range(3):
+            ax.step(series["t_cmd"], series["u_sat"][:, i], where="post", color=COLORS[i], lw=1.0,
+                    label=f"{symbol} {AXES[i]}")
+    _limit_lines(ax, series.get("axis_limit"), "axis limit")
+    if series.get("norm_limit") is not None:
+        ax.axhline(series["norm_limit"], color="purple", ls=":", lw=1.0, label="norm limit")
+    legend(ax)
+    return save(fig, path)
+
+
 def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, settle: dict | None = None,
               settle_time_s: float | None = None) -> list[Path]:
     """settle: the settle criteria used (metrics settle_criterion.criteria), drawn where they apply."""
@@ -133,16 +147,8 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, se
         legend(ax)
         files.append(save(fig, out / "rates.png"))
 
-        fig, ax = new_axes(f"{title}: commanded torque (after saturation)", "torque (N m)")
-        if series["t_cmd"].size:
-            for i in range(3):
-                ax.step(series["t_cmd"], series["u_sat"][:, i], where="post", color=COLORS[i], lw=1.0,
-                        label=f"u {AXES[i]}")
-        _limit_lines(ax, series.get("axis_limit"), "axis limit")
-        if series.get("norm_limit") is not None:
-            ax.axhline(series["norm_limit"], color="purple", ls=":", lw=1.0, label="norm limit")
-        legend(ax)
-        files.append(save(fig, out / "torques.png"))
+        files.append(_command_plot(series, out / "torques.png", f"{title}: commanded torque (after saturation)",
+                                   "torque (N m)", "u"))
     else:
         settle = settle or {}
         fig, ax = new_axes(f"{title}: position error", "[dx dy dz] (m, symlog: linear below 0.1)")
@@ -162,13 +168,7 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, se
         legend(ax)
         files.append(save(fig, out / "velocity_error.png"))
 
-        fig, ax = new_axes(f"{title}: commanded force (after saturation)", "force (N)")
-        if series["t_cmd"].size:
-            for i in range(3):
-                ax.step(series["t_cmd"], series["u_sat"][:, i], where="post", color=COLORS[i], lw=1.0,
-                        label=f"F {AXES[i]}")
-        _limit_lines(ax, series.get("axis_limit"), "axis limit")
-        legend(ax)
-        files.append(save(fig, out / "force.png"))
+        files.append(_command_plot(series, out / "force.png", f"{title}: commanded force (after saturation)",
+                                   "force (N)", "F"))
     files.append(_step_time(series, out / "step_time.png", title))
     return files
