@@ -157,6 +157,8 @@ static inline aocs_att_input_t make_input(dq_t q, const double w[3], dq_t qd, co
     in.wd_B = dv_to_real(wd);
     in.wd_dot_B = dv_to_real(wd_dot);
     in.dt_s = (real_t)dt;
+    in.u_max_axis = aocs_vec3_zero();
+    in.u_max_norm = AOCS_R(0.0);
     return in;
 }
 
@@ -170,6 +172,8 @@ static inline aocs_att_input_t make_input_real(aocs_quat_t q, aocs_vec3_t w, aoc
     in.wd_B = wd;
     in.wd_dot_B = aocs_vec3_zero();
     in.dt_s = AOCS_R(0.1);
+    in.u_max_axis = aocs_vec3_zero();
+    in.u_max_norm = AOCS_R(0.0);
     return in;
 }
 
@@ -620,6 +624,8 @@ static inline int check_q_sign_invariance(law_step_fn_t step, void *law, const s
         in.wd_B = test_random_vec3(&rng, sw->wd_scale);
         in.wd_dot_B = (sw->wd_dot_scale > 0.0) ? test_random_vec3(&rng, sw->wd_dot_scale) : aocs_vec3_zero();
         in.dt_s = AOCS_R(0.1);
+        in.u_max_axis = aocs_vec3_zero();
+        in.u_max_norm = AOCS_R(0.0);
         if (fabs(dq_mul(dq_from_real(in.q_BN), dq_inv(dq_from_real(in.qd_DN))).q[3]) < sw->min_abs_qe4) {
             continue;
         }

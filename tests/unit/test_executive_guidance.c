@@ -437,6 +437,8 @@ static void test_zero_rate_bit_for_bit(void **state)
         att.wd_B = cfg.target.wd_B;
         att.wd_dot_B = cfg.target.wd_dot_B;
         att.dt_s = cfg.period_s;
+        att.u_max_axis = aocs_vec3_zero();
+        att.u_max_norm = AOCS_R(0.0);
         aocs_vec3_t u;
         assert_int_equal(aocs_smc_step(&smc, &att, &u), AOCS_OK);
         assert_memory_equal(&out.u_unsat, &u, sizeof(u));

@@ -167,7 +167,8 @@ static void test_every_law_matches_direct_call(void **state)
         assert_int_equal(aocs_exec_select(&exec, (aocs_law_id_t)id, &tgt), AOCS_OK);
         for (int r = 0; r < 20; ++r) {
             aocs_exec_input_t in = random_sample(&rng, tick++, 0.05, 100.0);
-            aocs_att_input_t att = {in.q_BN, in.w_BN_B, tgt.qd_DN, tgt.wd_B, tgt.wd_dot_B, cfg.period_s};
+            aocs_att_input_t att = {in.q_BN, in.w_BN_B, tgt.qd_DN, tgt.wd_B, tgt.wd_dot_B, cfg.period_s,
+                                    cfg.u_max_axis, cfg.u_max_norm};
             aocs_orbit_input_t orb = {in.vel_mps, in.pos_m, cfg.period_s};
             aocs_vec3_t u_direct;
             aocs_status_t st = direct_step((aocs_law_id_t)id, &cfg.laws, &att, &orb, &u_direct);
@@ -195,7 +196,7 @@ static void test_variant_inputs_discriminate(void **state)
     aocs_quat_t q;
     assert_int_equal(aocs_quat_normalize(aocs_quat_make(AOCS_R(0.3), AOCS_R(0.2), AOCS_R(-0.4), AOCS_R(0.8)), &q), AOCS_OK);
     aocs_att_input_t att = {q, aocs_vec3_make(AOCS_R(0.02), AOCS_R(-0.01), AOCS_R(0.03)), aocs_quat_identity(),
-                            aocs_vec3_zero(), aocs_vec3_zero(), AOCS_R(0.1)};
+                            aocs_vec3_zero(), aocs_vec3_zero(), AOCS_R(0.1), aocs_vec3_zero(), AOCS_R(0.0)};
     aocs_orbit_input_t orb = {aocs_vec3_zero(), aocs_vec3_zero(), AOCS_R(0.1)};
     aocs_vec3_t a;
     aocs_vec3_t b;
@@ -257,7 +258,7 @@ static void run_saturation_sweep(aocs_vec3_t axis, real_t norm_lim)
             /* unsaturated value preserved: it is the law's own output */
             {
                 aocs_att_input_t att = {in.q_BN, in.w_BN_B, cfg.target.qd_DN, cfg.target.wd_B, cfg.target.wd_dot_B,
-                                        cfg.period_s};
+                                        cfg.period_s, cfg.u_max_axis, cfg.u_max_norm};
                 aocs_orbit_input_t orb = {in.vel_mps, in.pos_m, cfg.period_s};
                 aocs_vec3_t u_direct;
                 assert_int_equal(direct_step((aocs_law_id_t)id, &cfg.laws, &att, &orb, &u_direct), AOCS_OK);

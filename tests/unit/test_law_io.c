@@ -22,6 +22,8 @@ static aocs_att_input_t valid_att_input(void)
     in.wd_B = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.001), AOCS_R(0.0));
     in.wd_dot_B = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1e-4));
     in.dt_s = AOCS_R(0.1);
+    in.u_max_axis = aocs_vec3_zero();
+    in.u_max_norm = AOCS_R(0.0);
     return in;
 }
 

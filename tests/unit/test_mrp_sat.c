@@ -141,6 +141,8 @@ static aocs_att_input_t random_input(test_rng_t *rng)
     in.wd_B = test_random_vec3(rng, 1e-3);
     in.wd_dot_B = aocs_vec3_zero();
     in.dt_s = AOCS_R(0.1);
+    in.u_max_axis = aocs_vec3_zero();
+    in.u_max_norm = AOCS_R(0.0);
     return in;
 }
 
@@ -421,6 +423,8 @@ static loop_result_t run_loop(const aocs_mrp_sat_config_t *cfg, const plant_t *p
     for (int k = 0; k < n; ++k) {
         aocs_att_input_t in = make_input_real(dq_to_real(s.q), dv_to_real(s.w), aocs_quat_identity(), aocs_vec3_zero());
         in.dt_s = (real_t)dt;
+        in.u_max_axis = aocs_vec3_zero();
+        in.u_max_norm = AOCS_R(0.0);
         aocs_vec3_t u;
         assert_int_equal(aocs_mrp_sat_step(&law, &in, &u), AOCS_OK);
         double nu = norm_d(u);

@@ -286,6 +286,8 @@ static void test_init_rejects_zero_and_accepts_the_reference(void **state)
     att.qd_DN = aocs_quat_identity();
     att.w_BN_B = aocs_vec3_make(AOCS_R(0.001), AOCS_R(0.0), AOCS_R(-0.002));
     att.dt_s = AOCS_R(0.1);
+    att.u_max_axis = aocs_vec3_zero();
+    att.u_max_norm = AOCS_R(0.0);
     (void)memset(&orb, 0, sizeof(orb));
     orb.pos_m = aocs_vec3_make(AOCS_R(1.0), AOCS_R(-2.0), AOCS_R(3.0));
     orb.dt_s = AOCS_R(0.1);

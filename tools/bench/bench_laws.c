@@ -277,6 +277,8 @@ static void bench_ring_fill(bench_family_t fam, uint64_t seed)
         x->att.wd_B = d.wd_B;
         x->att.wd_dot_B = aocs_vec3_zero();
         x->att.dt_s = d.dt_s;
+        x->att.u_max_axis = aocs_vec3_zero();
+        x->att.u_max_norm = AOCS_R(0.0);
         x->orbit.vel_mps = bench_rng_vec3(&s, d.vel_max_mps);
         x->orbit.pos_m = bench_rng_vec3(&s, d.pos_max_m);
         x->orbit.dt_s = d.dt_s;

@@ -423,6 +423,8 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         att.wd_B = target.wd_B;
         att.wd_dot_B = target.wd_dot_B;
         att.dt_s = exec->cfg.period_s;
+        att.u_max_axis = exec->cfg.u_max_axis;
+        att.u_max_norm = exec->cfg.u_max_norm;
         orbit.pos_m = in->pos_m;
         orbit.vel_mps = in->vel_mps;
         orbit.dt_s = exec->cfg.period_s;

@@ -26,6 +26,11 @@ typedef struct {
     aocs_vec3_t wd_B;      /* target rate in B, rad/s (we = w - wd, SPEC 1) */
     aocs_vec3_t wd_dot_B;  /* target angular acceleration in B, rad/s^2 */
     real_t dt_s;           /* control period, s (> 0) */
+    /* The limits the executive will saturate this step's command to (aocs_exec_config_t
+     * u_max_axis, u_max_norm; 0 = that limit unused). Laws with integral action read them
+     * for anti-windup (SPEC 5.2); the other laws ignore them. */
+    aocs_vec3_t u_max_axis; /* per-axis limit, N m; all 0 = unused */
+    real_t u_max_norm;      /* limit of |u|_2, N m; 0 = unused */
 } aocs_att_input_t;
 
 /* Orbit (station keeping) laws, SPEC 2.8 state order. */
