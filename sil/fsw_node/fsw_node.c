@@ -278,6 +278,20 @@ static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
         return aocs_node_config_gain_keys(law, gain_keys, sizeof(gain_keys));
     case AOCS_ERR_PARAM_NOT_FINITE:
         return "u_max_*, k_safe or a gain of the selected law";
+    case AOCS_ERR_GUIDANCE_MODE_INVALID:
+        return "guidance.mode";
+    case AOCS_ERR_GUIDANCE_PROFILE_INVALID:
+        return "guidance.profile";
+    case AOCS_ERR_GUIDANCE_MARGIN_INVALID:
+        return "guidance.margin (in (0, 1])";
+    case AOCS_ERR_GUIDANCE_RATE_LIMIT_INVALID:
+        return "guidance.rate_limit";
+    case AOCS_ERR_GUIDANCE_JERK_TIME_INVALID:
+        return "guidance.jerk_time (> 0 and <= 1000 s with jerk_limited, 0 with bang_coast_bang)";
+    case AOCS_ERR_GUIDANCE_TARGET_MOVING:
+        return "guidance.mode = slew needs target_w = target_w_dot = target_rotation_rate = 0";
+    case AOCS_ERR_GUIDANCE_ENVELOPE_INVALID:
+        return "u_max_axis / u_max_norm";
     default:
         return "the keys of the selected law";
     }
