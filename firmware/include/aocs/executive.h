@@ -79,6 +79,10 @@ const char *aocs_law_name(aocs_law_id_t law);
  */
 aocs_status_t aocs_law_from_name(const char *name, aocs_law_id_t *law);
 
+/* 1 for a law whose formula includes the slew feedforward (AOCS_LAW_FEEDFORWARD_IN_FORMULA of laws.def:
+ * the executive adds none to it), 0 otherwise. Total. */
+int aocs_law_has_feedforward(aocs_law_id_t law);
+
 /* 1 for an ORBIT law of laws.def (input pos/vel, output force), 0 otherwise. Total. */
 int aocs_law_is_orbit(aocs_law_id_t law);
 

@@ -78,7 +78,7 @@ static aocs_status_t rotating_target_check(const aocs_exec_target_t *target, int
 /* 1 in guidance mode SLEW (a commanded target starts a slew) */
 static int slew_mode(const aocs_exec_config_t *cfg)
 {
-    return (cfg->guidance.mode == AOCS_GUIDANCE_MODE_SLEW) ? 1 : 0;
+    return ((cfg->guidance.mode == AOCS_GUIDANCE_MODE_SLEW) ? 1 : 0);
 }
 
 /* Guidance config (aocs_exec_init): the mode, and in SLEW mode a fixed target and a valid slew config. */
@@ -197,11 +197,16 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
 {
     aocs_status_t st = exec_ready(exec);
     if (st == AOCS_OK) {
+        /* a rotating target or a slew brings its own wd / wd_dot: a fixed one given too is ambiguous */
+        int moving_forbidden = 0;
+        if ((exec->target_rotating != 0) || (slew_mode(&exec->cfg) != 0)) {
+            moving_forbidden = 1;
+        }
         if (((int)law < 0) || (law >= AOCS_LAW_COUNT)) {
             st = AOCS_ERR_UNKNOWN_LAW;
         } else if ((target != NULL) &&
                    ((aocs_exec_target_check(target) != AOCS_OK) ||
-                    (rotating_target_check(target, ((exec->target_rotating != 0) || (slew_mode(&exec->cfg) != 0)) ? 1 : 0) != AOCS_OK))) {
+                    (rotating_target_check(target, moving_forbidden) != AOCS_OK))) {
             st = AOCS_ERR_TARGET_INVALID;
         } else if ((law != AOCS_LAW_NONE) && (law != exec->law)) {
             /* one state per law: a failing init leaves the active law untouched */
@@ -210,7 +215,10 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
             st = AOCS_OK;
         }
         if (st == AOCS_OK) {
-            const int from_standby = (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0;
+            int from_standby = 0;
+            if (exec->mode == AOCS_EXEC_MODE_STANDBY) {
+                from_standby = 1;
+            }
             if (target != NULL) {
                 exec->target = *target;
                 exec->slew_pending = slew_mode(&exec->cfg); /* SLEW: flown from the next good sample */
@@ -436,19 +444,6 @@ static aocs_exec_target_t slew_target(aocs_exec_t *exec, const aocs_exec_input_t
     return target;
 }
 
-/* 1 when the law's own formula contains the slew feedforward (AOCS_LAW_FEEDFORWARD_IN_FORMULA, laws.def). */
-static int law_has_feedforward(aocs_law_id_t law)
-{
-    int has = 0;
-#define AOCS_EXEC_FF_ROW(ID)            \
-    if (law == AOCS_LAW_##ID) {         \
-        has = 1;                        \
-    }
-    AOCS_LAW_FEEDFORWARD_IN_FORMULA(AOCS_EXEC_FF_ROW)
-#undef AOCS_EXEC_FF_ROW
-    return has;
-}
-
 static aocs_exec_target_t guidance_target(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st)
 {
     aocs_exec_target_t target = exec->target;
@@ -463,6 +458,8 @@ static aocs_exec_target_t guidance_target(aocs_exec_t *exec, const aocs_exec_inp
         if (in_st == AOCS_OK) {
             aocs_exec_guidance_rates(in->q_BN, target.qd_DN, w_D, in->w_BN_B, &target.wd_B, &target.wd_dot_B);
         }
+    } else {
+        /* fixed target, step mode: the commanded target as it is */
     }
     return target;
 }
@@ -552,7 +549,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         if (exec->mode == AOCS_EXEC_MODE_NOMINAL) {
             out->u_unsat = u_law;
             if ((slew_mode(&exec->cfg) != 0) && (aocs_law_is_orbit(exec->law) == 0) &&
-                (law_has_feedforward(exec->law) == 0)) {
+                (aocs_law_has_feedforward(exec->law) == 0)) {
                 /* SPEC 5.1: u_ff = J wd_dot + wd x (J wd + h_wheels), no wheel array yet (h_wheels = 0) */
                 out->u_ff = aocs_slew_feedforward(exec->cfg.guidance.slew.inertia_kgm2, target.wd_B,
                                                   target.wd_dot_B, aocs_vec3_zero());

@@ -17,12 +17,12 @@
 
 static real_t max_r(real_t a, real_t b)
 {
-    return (a > b) ? a : b;
+    return ((a > b) ? a : b);
 }
 
 static real_t min_r(real_t a, real_t b)
 {
-    return (a < b) ? a : b;
+    return ((a < b) ? a : b);
 }
 
 aocs_status_t aocs_slew_config_check(const aocs_slew_config_t *cfg)
@@ -37,7 +37,7 @@ aocs_status_t aocs_slew_config_check(const aocs_slew_config_t *cfg)
     } else if (!AOCS_IS_FINITE(cfg->rate_limit_radps) || (cfg->rate_limit_radps < AOCS_R(0.0))) {
         st = AOCS_ERR_GUIDANCE_RATE_LIMIT_INVALID;
     } else if (!AOCS_IS_FINITE(cfg->jerk_time_s) || (cfg->jerk_time_s < AOCS_R(0.0)) ||
-               (cfg->jerk_time_s > AOCS_SLEW_JERK_TIME_MAX_S) ||
+               (cfg->jerk_time_s > (real_t)AOCS_SLEW_JERK_TIME_MAX_S) ||
                ((cfg->profile == AOCS_SLEW_PROFILE_JERK_LIMITED) && !(cfg->jerk_time_s > AOCS_R(0.0))) ||
                ((cfg->profile == AOCS_SLEW_PROFILE_BANG_COAST_BANG) && (cfg->jerk_time_s > AOCS_R(0.0)))) {
         st = AOCS_ERR_GUIDANCE_JERK_TIME_INVALID;
@@ -62,7 +62,7 @@ real_t aocs_slew_alpha_box(aocs_vec3_t u_max_axis_Nm, aocs_vec3_t a, aocs_vec3_t
             /* this axis carries no reference torque */
         }
     }
-    return (bad != 0) ? AOCS_R(0.0) : alpha;
+    return ((bad != 0) ? AOCS_R(0.0) : alpha);
 }
 
 real_t aocs_slew_alpha_norm(real_t u_max_norm_Nm, aocs_vec3_t a, aocs_vec3_t b)
@@ -70,8 +70,8 @@ real_t aocs_slew_alpha_norm(real_t u_max_norm_Nm, aocs_vec3_t a, aocs_vec3_t b)
     /* |.| is convex: over conv{+-a, +-a + b} its maximum is at a vertex, |a + b| or |a - b| (>= |a|) */
     const real_t need = max_r(aocs_vec3_norm(aocs_vec3_add(a, b)), aocs_vec3_norm(aocs_vec3_sub(a, b)));
     real_t alpha = AOCS_R(0.0);
-    if (AOCS_IS_FINITE(need) && AOCS_IS_FINITE(u_max_norm_Nm)) {
-        alpha = (need > AOCS_R(0.0)) ? (u_max_norm_Nm / need) : AOCS_REAL_MAX;
+    if ((AOCS_IS_FINITE(need)) && (AOCS_IS_FINITE(u_max_norm_Nm))) {
+        alpha = ((need > AOCS_R(0.0)) ? (u_max_norm_Nm / need) : AOCS_REAL_MAX);
     }
     return alpha;
 }
@@ -163,10 +163,14 @@ aocs_status_t aocs_slew_plan(aocs_slew_t *slew, const aocs_slew_config_t *cfg, c
     if ((slew == NULL) || (cfg == NULL) || (env == NULL)) {
         st = AOCS_ERR_NULL_ARG;
     } else {
-        const int q0_ok = (aocs_quat_is_finite(q0_BN) != 0) &&
-                          (AOCS_FABS(aocs_quat_norm(q0_BN) - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL);
-        const int qf_ok = (aocs_quat_is_finite(qf_DN) != 0) &&
-                          (AOCS_FABS(aocs_quat_norm(qf_DN) - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL);
+        int q0_ok = 0;
+        int qf_ok = 0;
+        if ((aocs_quat_is_finite(q0_BN) != 0) && (AOCS_FABS(aocs_quat_norm(q0_BN) - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL)) {
+            q0_ok = 1;
+        }
+        if ((aocs_quat_is_finite(qf_DN) != 0) && (AOCS_FABS(aocs_quat_norm(qf_DN) - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL)) {
+            qf_ok = 1;
+        }
         if ((q0_ok == 0) || (qf_ok == 0) || (aocs_quat_normalize(q0_BN, &q0) != AOCS_OK) ||
             (aocs_quat_normalize(qf_DN, &qf) != AOCS_OK)) {
             st = AOCS_ERR_QUAT_NOT_UNIT;
@@ -217,7 +221,10 @@ static void pulse_eval(const aocs_slew_t *s, real_t tau, real_t *acc, real_t *ra
     const real_t tj = s->jerk_time_s;
     const real_t ap = s->accel_radps2;
     const real_t v = s->rate_radps;
-    const real_t j = (tj > AOCS_R(0.0)) ? (ap / tj) : AOCS_R(0.0);
+    real_t j = AOCS_R(0.0);
+    if (tj > AOCS_R(0.0)) {
+        j = ap / tj;
+    }
     if (tau < tj) {
         *acc = j * tau;
         *rate = AOCS_R(0.5) * j * tau * tau;

@@ -46,7 +46,7 @@ typedef enum {
 } aocs_slew_profile_t;
 
 /* Longest accepted jerk ramp, s (a longer one is a unit mistake: the slews last minutes). */
-#define AOCS_SLEW_JERK_TIME_MAX_S AOCS_R(1000.0)
+#define AOCS_SLEW_JERK_TIME_MAX_S 1000u
 
 typedef struct {
     aocs_slew_profile_t profile;
