@@ -1,7 +1,7 @@
 /*
  * The law registry (firmware/include/aocs/laws.def) and what is expanded
  * from it: every row consistent with itself and with the others, the wire
- * values pinned (law ids 0..10 in the historical order, PIL field ids), and
+ * values pinned (law ids 0..11 in the historical order, PIL field ids), and
  * every derived table agreeing with the rows:
  *   - names unique, ids contiguous and equal to the wire values, name <-> id
  *     round trip for every row (aocs_law_name / aocs_law_from_name);
@@ -26,7 +26,7 @@
 /* ---- the wire values (docs/wire-contract.md "Law ids", docs/pil.md CONFIG fields) ---- */
 static const char *const WIRE_LAWS[] = {
     "none",    "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-    "lqr_quat", "hinf",      "mrp_sat", "mrp_sat_tanh",  "orbit_lqr",
+    "lqr_quat", "hinf",      "mrp_sat", "mrp_sat_tanh",  "orbit_lqr", "quat_pid",
 };
 #define N_WIRE_LAWS ((int)(sizeof(WIRE_LAWS) / sizeof(WIRE_LAWS[0])))
 
@@ -41,7 +41,8 @@ static const wire_field_t WIRE_LAW_FIELDS[] = {
     {"smc.g", 23u},          {"smc.eps", 24u},        {"lqr_quat.k", 25u},      {"lqr_quat.table", 26u},
     {"hinf.k", 27u},         {"hinf.table", 28u},     {"mrp_sat.k", 29u},       {"mrp_sat.lambda", 30u},
     {"mrp_sat.u_max", 31u},  {"mrp_sat.l1", 32u},     {"mrp_sat.m1", 33u},      {"mrp_sat.l2", 34u},
-    {"mrp_sat.m2", 35u},     {"orbit_lqr.k", 36u},    {"orbit_lqr.table", 37u},
+    {"mrp_sat.m2", 35u},     {"orbit_lqr.k", 36u},    {"orbit_lqr.table", 37u},   {"quat_pid.kp", 38u},
+    {"quat_pid.kd", 39u},    {"quat_pid.ki", 40u},    {"quat_pid.z_max", 41u},
 };
 #define N_WIRE_LAW_FIELDS ((int)(sizeof(WIRE_LAW_FIELDS) / sizeof(WIRE_LAW_FIELDS[0])))
 
@@ -68,6 +69,7 @@ static void test_law_ids_are_the_wire_values(void **state)
     assert_int_equal(AOCS_LAW_MRP_SAT_LINEAR, 8);
     assert_int_equal(AOCS_LAW_MRP_SAT_TANH, 9);
     assert_int_equal(AOCS_LAW_ORBIT_LQR, 10);
+    assert_int_equal(AOCS_LAW_QUAT_PID, 11);
     /* new laws are appended: the historical ones keep their ids and names */
     assert_true((int)AOCS_LAW_COUNT >= N_WIRE_LAWS);
     for (int i = 0; i < N_WIRE_LAWS; ++i) {
@@ -135,6 +137,34 @@ static void test_shared_configs_and_variants(void **state)
             assert_true(l->variant_number >= 0);
         }
     }
+}
+
+/* a FROM_FIELD row names one field of another law's config, which then applies to it too */
+static void test_from_field_rows_name_a_field(void **state)
+{
+    int n_from = 0;
+    (void)state;
+    for (size_t i = 0u; i < aocs_registry_law_count; ++i) {
+        const aocs_registry_law_t *l = &aocs_registry_laws[i];
+        int found = 0;
+        if (l->from_field == NULL) {
+            assert_null(l->from_member);
+            continue;
+        }
+        n_from++;
+        assert_non_null(l->from_member);
+        assert_null(l->variant_value); /* one column: a variant or a copied field */
+        for (size_t j = 0u; j < aocs_registry_field_count; ++j) {
+            const aocs_registry_field_t *f = &aocs_registry_fields[j];
+            if (strcmp(f->member, l->from_field) == 0) {
+                found++;
+                assert_int_not_equal(f->law, l->id);
+                assert_int_equal(aocs_registry_field_applies(f, l), 1);
+            }
+        }
+        assert_int_equal(found, 1);
+    }
+    assert_true(n_from >= 1); /* quat_pid takes the inertia field */
 }
 
 static void test_budgets_are_set_and_derived(void **state)
@@ -432,6 +462,7 @@ int main(void)
         cmocka_unit_test(test_law_ids_are_the_wire_values),
         cmocka_unit_test(test_rows_are_contiguous_unique_and_round_trip),
         cmocka_unit_test(test_shared_configs_and_variants),
+        cmocka_unit_test(test_from_field_rows_name_a_field),
         cmocka_unit_test(test_budgets_are_set_and_derived),
         cmocka_unit_test(test_pil_ids_are_the_wire_values_and_unique),
         cmocka_unit_test(test_fields_fit_their_law),

@@ -25,8 +25,10 @@ const size_t aocs_registry_status_count = sizeof(aocs_registry_statuses) / sizeo
 #define REG_INPUT_ORBIT "orbit"
 #define REG_OWNER_CFG_OWN 1
 #define REG_OWNER_CFG_SHARED 0
-#define REG_VARIANT_NO_VARIANT(MEMBER, VALUE) NULL, NULL, -1
-#define REG_VARIANT_VARIANT(MEMBER, VALUE) #MEMBER, #VALUE, (int)(VALUE)
+/* variant member, value, number; then the FROM_FIELD member and the field member it is copied from */
+#define REG_VARIANT_NO_VARIANT(MEMBER, VALUE) NULL, NULL, -1, NULL, NULL
+#define REG_VARIANT_VARIANT(MEMBER, VALUE) #MEMBER, #VALUE, (int)(VALUE), NULL, NULL
+#define REG_VARIANT_FROM_FIELD(MEMBER, PATH) NULL, NULL, -1, #MEMBER, #PATH
 #define REG_LAW_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE,   \
                     BUDGET_NS, M4F, M7, REF)                                                                       \
     {AOCS_LAW_##ID, "AOCS_LAW_" #ID, NAME, REG_INPUT_##INPUT, TITLE, #STATE, #STATE_T, #CFG, #CFG_T, REG_OWNER_##CFG_USE, \
@@ -79,6 +81,9 @@ const aocs_registry_law_t *aocs_registry_law(aocs_law_id_t id)
 int aocs_registry_field_applies(const aocs_registry_field_t *field, const aocs_registry_law_t *law)
 {
     const aocs_registry_law_t *owner = aocs_registry_law(field->law);
+    if ((owner != NULL) && (law != NULL) && (law->from_field != NULL) && (strcmp(field->member, law->from_field) == 0)) {
+        return 1; /* FROM_FIELD: the law takes that field of another law (laws.def) */
+    }
     if ((owner == NULL) || (law == NULL) || (strcmp(owner->config, law->config) != 0)) {
         return 0;
     }

@@ -131,6 +131,16 @@ static void dump_laws(FILE *f)
             put_str(f, l->variant_value);
             (void)fprintf(f, ", \"number\": %d}", l->variant_number);
         }
+        (void)fputs(", \"from_field\": ", f);
+        if (l->from_field == NULL) {
+            (void)fputs("null", f);
+        } else {
+            (void)fputs("{\"member\": ", f);
+            put_str(f, l->from_member);
+            (void)fputs(", \"field\": ", f);
+            put_str(f, l->from_field);
+            (void)fputs("}", f);
+        }
         (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                       (unsigned long long)l->budget_ns, (unsigned)l->instr_m4f, (unsigned)l->instr_m7);
         put_key(f, "reference_scenario");
