@@ -46,7 +46,14 @@ static void all_law_configs(aocs_exec_law_configs_t *laws, real_t gain_scale)
         laws->hinf.k[i][3 + i] = AOCS_R(-9.0) * gain_scale;
         laws->orbit_lqr.k[i][i] = AOCS_R(2.0) * gain_scale;
         laws->orbit_lqr.k[i][3 + i] = AOCS_R(0.3) * gain_scale;
+        for (int j = 0; j < 9; ++j) {
+            laws->lqr_quat_i.k[i][j] = AOCS_R(0.02) * (real_t)(j - i) * gain_scale; /* small couplings */
+        }
+        laws->lqr_quat_i.k[i][i] = AOCS_R(1.0) * gain_scale;
+        laws->lqr_quat_i.k[i][3 + i] = AOCS_R(20.0) * gain_scale;
+        laws->lqr_quat_i.k[i][6 + i] = AOCS_R(30.0) * gain_scale;
     }
+    laws->lqr_quat_i.z_max = AOCS_R(10.0);
     /* quat_pid: its inertia is smc.inertia, copied in by the executive (laws.def FROM_FIELD) */
     laws->quat_pid.kp = AOCS_R(4.0) * gain_scale;
     laws->quat_pid.kd = AOCS_R(8.0) * gain_scale;
@@ -68,9 +75,10 @@ static void all_law_configs(aocs_exec_law_configs_t *laws, real_t gain_scale)
 /* the laws with a state across steps (integral laws, SPEC 5.2): their direct twin persists */
 static int law_is_stateful(aocs_law_id_t id)
 {
-    return (id == AOCS_LAW_QUAT_PID) ? 1 : 0;
+    return ((id == AOCS_LAW_QUAT_PID) || (id == AOCS_LAW_LQR_QUAT_I)) ? 1 : 0;
 }
 static aocs_quat_pid_t direct_pid;
+static aocs_lqr_quat_i_t direct_lqr_i;
 
 /*
  * direct call of law `id`, independent of the executive's dispatch table. A
@@ -90,6 +98,13 @@ static aocs_status_t direct_step_state(aocs_law_id_t id, const aocs_exec_law_con
             assert_int_equal(aocs_quat_pid_init(&direct_pid, &c), AOCS_OK);
         }
         st = aocs_quat_pid_step(&direct_pid, att, u);
+        break;
+    }
+    case AOCS_LAW_LQR_QUAT_I: {
+        if (fresh != 0) {
+            assert_int_equal(aocs_lqr_quat_i_init(&direct_lqr_i, &laws->lqr_quat_i), AOCS_OK);
+        }
+        st = aocs_lqr_quat_i_step(&direct_lqr_i, att, u);
         break;
     }
     case AOCS_LAW_CRP_LINEAR: {

@@ -272,61 +272,11 @@ static void test_conditional_integration_rules(void **state)
     assert_close(z.v[0], 0.5, 0.0);
 }
 
-/* ---- closed loop: rigid body (SPEC 1), the law once per 0.1 s period, torque held, saturated here ---- */
-typedef struct {
-    double overshoot_rad;  /* largest excursion past the target, along the slew axis */
-    double final_err_rad;  /* true angle at the end */
-    double max_late_rad;   /* largest true angle over the last tenth of the run */
-} loop_result_t;
-
-static double err_angle_rad(dq_t q, dq_t qd)
-{
-    dq_t qe = dq_mul(q, dq_inv(qd));
-    double v = sqrt(qe.q[0] * qe.q[0] + qe.q[1] * qe.q[1] + qe.q[2] * qe.q[2]);
-    return 2.0 * atan2(v, fabs(qe.q[3]));
-}
-
-/*
- * Runs steps periods of 0.1 s from q0 at rest towards qd. lim > 0: the actuator clamps each axis
- * to lim (N m); tell_law: the law's input carries that limit (anti-windup on) or not (0: the law
- * integrates as if unlimited). d: constant disturbance torque (N m). axis: unit slew axis (B).
- */
-static loop_result_t run_loop(aocs_quat_pid_t *law, const dmat_t *j, dq_t q0, dq_t qd, double lim, int tell_law,
+/* ---- closed loop: law_test_support.h run_saturated_loop ---- */
+static sat_loop_result_t run_loop(aocs_quat_pid_t *law, const dmat_t *j, dq_t q0, dq_t qd, double lim, int tell_law,
                               const double d[3], const double axis[3], int steps)
 {
-    plant_t p;
-    dq_t q = q0;
-    double w[3] = {0.0, 0.0, 0.0};
-    loop_result_t r = {0.0, 0.0, 0.0};
-    plant_init(&p, j);
-    for (int k = 0; k < steps; ++k) {
-        aocs_att_input_t in = make_input(q, w, qd, ZERO3, ZERO3, 0.1);
-        aocs_vec3_t u;
-        double held[3];
-        if ((lim > 0.0) && (tell_law != 0)) {
-            in.u_max_axis = aocs_vec3_make((real_t)lim, (real_t)lim, (real_t)lim);
-        }
-        assert_int_equal(aocs_quat_pid_step(law, &in, &u), AOCS_OK);
-        for (int i = 0; i < 3; ++i) {
-            double ui = (double)u.v[i];
-            if (lim > 0.0) {
-                ui = (ui > lim) ? lim : ((ui < -lim) ? -lim : ui);
-            }
-            held[i] = ui + d[i];
-        }
-        plant_rk4(&p, plant_zoh_torque, held, &q, w, 0.1);
-        /* past the target: the error along the slew axis changes sign (qe = q qd^-1, started at -axis) */
-        dq_t qe = dq_mul(q, dq_inv(qd));
-        double s = (qe.q[3] >= 0.0) ? 1.0 : -1.0;
-        double along = 2.0 * s * (qe.q[0] * axis[0] + qe.q[1] * axis[1] + qe.q[2] * axis[2]);
-        r.overshoot_rad = (along > r.overshoot_rad) ? along : r.overshoot_rad;
-        double a = err_angle_rad(q, qd);
-        if (k >= steps - steps / 10) {
-            r.max_late_rad = (a > r.max_late_rad) ? a : r.max_late_rad;
-        }
-        r.final_err_rad = a;
-    }
-    return r;
+    return run_saturated_loop(pid_step, law, j, q0, qd, lim, tell_law, d, axis, steps);
 }
 
 static void test_anti_windup_bounds_the_overshoot(void **state)
@@ -339,11 +289,11 @@ static void test_anti_windup_bounds_the_overshoot(void **state)
     const double deg = PI / 180.0;
     aocs_quat_pid_t aw = make_law(ref_cfg());
     aocs_quat_pid_t no_aw = make_law(pid_cfg(400.0, 2000.0, 12.0, 1.0e6, &J_IRASSI)); /* no clamp */
-    loop_result_t with = run_loop(&aw, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
-    loop_result_t without = run_loop(&no_aw, &J_IRASSI, q0, qd, 1.0, 0, ZERO3, axis, 6000);
+    sat_loop_result_t with = run_loop(&aw, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
+    sat_loop_result_t without = run_loop(&no_aw, &J_IRASSI, q0, qd, 1.0, 0, ZERO3, axis, 6000);
     /* the PD part alone (ki -> 0) overshoots too: the rate of the saturated arc, braked at 1 N m */
     aocs_quat_pid_t pd = make_law(pid_cfg(400.0, 2000.0, 1.0e-9, 0.01, &J_IRASSI));
-    loop_result_t pd_only = run_loop(&pd, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
+    sat_loop_result_t pd_only = run_loop(&pd, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
     print_message("anti-windup: overshoot %.4f deg (PD alone %.4f deg, without anti-windup %.4f deg), final %.3g arcsec\n",
                   with.overshoot_rad / deg, pd_only.overshoot_rad / deg, without.overshoot_rad / deg,
                   with.final_err_rad / deg * 3600.0);
@@ -364,7 +314,7 @@ static void test_integral_rejects_a_constant_disturbance(void **state)
     dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
     dq_t q0 = dq_mul(dq_axis_angle(0.0, 0.0, -1.0, 1.0 * PI / 180.0), qd);
     aocs_quat_pid_t law = make_law(ref_cfg());
-    loop_result_t r = run_loop(&law, &J_IRASSI, q0, qd, 0.0, 0, d, axis, 15000);
+    sat_loop_result_t r = run_loop(&law, &J_IRASSI, q0, qd, 0.0, 0, d, axis, 15000);
     /* the P-type rest point (quat_pd with the same kp): qe_i = d_i / kp, true angle 2 asin(sqrt 3 d / kp) */
     const double p_type_rad = 2.0 * asin(sqrt(3.0) * 1.18e-3 / 400.0);
     print_message("disturbance: final %.3g rad, max over the last 150 s %.3g rad, P-type %.3g rad\n",
@@ -456,7 +406,7 @@ static void test_near_the_boundary_still_converges(void **state)
     dq_t q0 = dq_axis_angle(0.0, 0.0, 1.0, 2.0 * PI / 180.0);
     /* J = 1, kp = 1, kd = 1: boundary ki = 1; ki = 0.8: slow but decaying (roots of s^3 + s^2 + 0.5 s + 0.4) */
     aocs_quat_pid_t law = make_law(pid_cfg(1.0, 1.0, 0.8, 10.0, &eye));
-    loop_result_t r = run_loop(&law, &eye, q0, qd, 0.0, 0, ZERO3, axis, 20000);
+    sat_loop_result_t r = run_loop(&law, &eye, q0, qd, 0.0, 0, ZERO3, axis, 20000);
     assert_true(r.max_late_rad < 1.0e-3 * 2.0 * PI / 180.0);
 }
 

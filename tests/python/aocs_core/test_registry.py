@@ -19,7 +19,7 @@ from aocs_core import paths, registry
 
 #: the wire values (docs/wire-contract.md "Law ids"): never change
 WIRE_LAWS = ("none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf",
-             "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid")
+             "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid", "lqr_quat_i")
 
 
 @pytest.fixture(scope="module")
