@@ -11,7 +11,7 @@
  * dt = 0.1 s) its phase lag of dt/2 is negligible.
  *
  * Anti-windup (conditional integration, Wie, Space Vehicle Dynamics and
- * Control, integrator windup; Markley & Crassidis 2014 7.x PID): the law gives
+ * Control, integrator windup; Markley & Crassidis 2014, PID attitude control): the law gives
  * its command u (before the executive's saturation) and the sensitivity
  * S = du/dz of u to its integral state (quat_pid: -ki I; lqr_quat_i: -K_z).
  * Component j of z is NOT advanced by dz_j = dt e_j when the increment

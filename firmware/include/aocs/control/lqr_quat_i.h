@@ -1,7 +1,7 @@
 /*
  * lqr_quat_i: LQR with integral action on the reduced-quaternion error model
  * (SPEC 5.2; the model of SPEC 2.5 augmented with the integral of the error,
- * Markley & Crassidis 2014, 7.x; Wie, Space Vehicle Dynamics and Control).
+ * Markley & Crassidis 2014; Wie, Space Vehicle Dynamics and Control).
  *
  * Model linearised at qe_vec = 0, w = 0: x = [z; qe_vec; we], z' = qe_vec,
  * qe_vec' = 0.5 we, J we' = u:

@@ -1,6 +1,6 @@
 /*
  * quat_pid: quaternion PD plus the integral of the attitude error, SPEC 5.2
- * (Markley & Crassidis 2014, 7.x PID attitude control; Wie, Space Vehicle
+ * (Markley & Crassidis 2014, attitude control with integral action; Wie, Space Vehicle
  * Dynamics and Control):
  *     u = -kp s qe_vec - kd we - ki z,   z' = s qe_vec,   s = sign(qe4),
  * qe = q (x) qd^-1, we = w - wd, sign(0) = +1 (SPEC 1: q and -q give the same
