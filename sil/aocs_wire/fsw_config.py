@@ -17,6 +17,8 @@ What comes from where (docs/sil.md):
 - limits: the scenario's `actuator.axis_limit` / `norm_limit`, or the
   runner's `--limit`; a scenario without a limit (the reference runs) gets
   UNLIMITED per axis, because the executive requires one limit;
+- guidance: the scenario's [guidance] as the guidance.* keys, only in
+  slew mode (step mode, the default, writes none);
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
 """
@@ -102,6 +104,15 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
         cfg["u_max_norm"] = _num(a.norm_limit)
     if axis is None and a.norm_limit is None:
         cfg["u_max_axis"] = _vec((UNLIMITED,) * 3)
+    g = getattr(sc, "guidance", None)
+    if sc.kind == "attitude" and g is not None and g.mode != "step":
+        # [guidance] (docs/wire-contract.md guidance.*); the inertia is the plant's `inertia` key above.
+        # Step mode writes nothing: the reference runs' configuration stays as it was
+        cfg["guidance.mode"] = g.mode
+        cfg["guidance.profile"] = g.profile
+        cfg["guidance.margin"] = _num(g.margin)
+        cfg["guidance.rate_limit"] = _num(g.rate_limit_radps)
+        cfg["guidance.jerk_time"] = _num(g.jerk_time_s)
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])
