@@ -839,16 +839,19 @@ static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
 }
 
 /* 3 x cols values, row-major, into the rows of a gain (3x6, or 3x9 for lqr_quat_i) */
+static void read_gain_row(pil_reader_t *r, real_t *row, uint32_t cols)
+{
+    uint32_t j;
+    for (j = 0U; j < cols; j++) {
+        row[j] = r_real(r);
+    }
+}
+
 static void read_gain(pil_reader_t *r, real_t *k0, real_t *k1, real_t *k2, uint32_t cols)
 {
-    real_t *const k[3] = {k0, k1, k2};
-    uint32_t i;
-    uint32_t j;
-    for (i = 0U; i < 3U; i++) {
-        for (j = 0U; j < cols; j++) {
-            k[i][j] = r_real(r);
-        }
-    }
+    read_gain_row(r, k0, cols);
+    read_gain_row(r, k1, cols);
+    read_gain_row(r, k2, cols);
 }
 
 /* 9 values, row-major */

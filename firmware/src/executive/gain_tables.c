@@ -69,17 +69,21 @@ aocs_status_t aocs_gain_table_find(const char *name, aocs_gain_table_id_t *table
     return st;
 }
 
+static void copy_row(real_t *dst, const real_t *src, uint32_t cols)
+{
+    for (uint32_t j = 0U; j < cols; ++j) {
+        dst[j] = src[j];
+    }
+}
+
 /* the table's rows into the rows of a law's gain of cols columns; a shape mismatch copies nothing */
 static aocs_status_t copy_gain(const aocs_gain_rows_t *src, real_t *d0, real_t *d1, real_t *d2, uint32_t cols)
 {
     aocs_status_t st = AOCS_ERR_GAIN_TABLE_WRONG_LAW;
     if (src->cols == cols) {
-        real_t *const dst[3] = {d0, d1, d2};
-        for (uint32_t i = 0U; i < 3U; ++i) {
-            for (uint32_t j = 0U; j < cols; ++j) {
-                dst[i][j] = src->row[i][j];
-            }
-        }
+        copy_row(d0, src->row[0], cols);
+        copy_row(d1, src->row[1], cols);
+        copy_row(d2, src->row[2], cols);
         st = AOCS_OK;
     }
     return st;
