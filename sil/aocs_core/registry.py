@@ -65,6 +65,7 @@ class Law:
     budget_instructions: dict     # target -> instructions of one executive step
     reference_scenario: str       # sil/scenarios/<name>.toml ("" for none)
     field_keys: tuple[str, ...]   # the keys of the fields its config takes
+    from_field: str | None = None  # laws.def FROM_FIELD: the member of another law's field copied in at init
 
     @property
     def is_orbit(self) -> bool:
@@ -105,7 +106,8 @@ class Registry:
         self.none = Law(n["id"], n["name"], "", "standby: zero command", "", None, n["budget_ns"], dict(n["budget_instructions"]), "", ())
         self.laws: tuple[Law, ...] = tuple(
             Law(x["id"], x["name"], x["input"], x["title"], x["config"], (x["variant"] or {}).get("value"), x["budget_ns"],
-                dict(x["budget_instructions"]), x["reference_scenario"], tuple(x["fields"])) for x in data["laws"])
+                dict(x["budget_instructions"]), x["reference_scenario"], tuple(x["fields"]),
+                (x.get("from_field") or {}).get("field")) for x in data["laws"])
         self.gain_tables: tuple[GainTable, ...] = tuple(GainTable(t["id"], t["name"], t["law"])
                                                         for t in data["gain_tables"])
         self.exec_fields: tuple[ExecField, ...] = tuple(

@@ -349,7 +349,8 @@ EQUIVALENCE_EXTRA = [("irassi_small", "lqr_quat", {"laws.lqr_quat.table": "lqr_q
                      ("irassi_small", "quat_pd", {"actuator.axis_limit": 0.5})]
 #: instruction sweep: every law on its reference scenario, and these further full reference scenarios
 SWEEP_EXTRA = [("rtc_ex2a", "crp_linear"), ("rtc_ex3a", "crp_linear"), ("irassi_large", "quat_pd"),
-               ("irassi_large", "smc"), ("irassi_large", "lqr_quat"), ("landsat8_debris", "orbit_lqr")]
+               ("irassi_large", "smc"), ("irassi_large", "lqr_quat"), ("landsat8_debris", "orbit_lqr"),
+               ("irassi_large", "quat_pid"), ("irassi_large", "lqr_quat_i")]
 
 
 def equivalence_specs() -> list[tuple[str, str, dict]]:

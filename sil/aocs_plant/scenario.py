@@ -499,7 +499,10 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
             if name == "hinf":
                 entry = {"variant": t.string("variant", choices=("min", "regional"))}
             else:
-                entry = {"q": t.scalar_or_vector("q", n=6, positive=True),
+                # the design weights: Q on the law's state (the columns of its gain: 6, or 9 for
+                # lqr_quat_i), R on the torque / force
+                n_state = reg.gain_field_of(tfield).count // 3
+                entry = {"q": t.scalar_or_vector("q", n=n_state, positive=True),
                          "r": t.scalar_or_vector("r", n=3, positive=True)}
             t.done()
             tables[tname] = MappingProxyType(entry)

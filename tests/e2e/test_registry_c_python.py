@@ -116,16 +116,24 @@ def test_the_runners_configuration_of_the_reference_scenario_is_accepted(law, fs
 
 def test_every_pil_field_reaches_its_member(dump_bin, tmp_path):
     reg = registry.load()
-    cf = frame.ConfigFields()
-    expect = {}
+    # every field once, in as few CONFIG payloads as fit AOCS_PIL_PAYLOAD_MAX (all of them no longer
+    # fit one since the 3x9 gain of lqr_quat_i): each payload decoded on its own
+    groups: list[dict] = [{}]
     for i, f in enumerate(x for x in reg.fields if x.type != "table"):
         vals = [float(10 * i + k + 1) + 0.25 for k in range(f.count)]
-        cf.add(f.name, vals)
-        expect[f.name] = vals
-    out = decode(dump_bin, cf.encode(), tmp_path)
-    assert (out["pil_err"], out["status"]) == ("AOCS_PIL_OK", "AOCS_OK"), out
-    for name, vals in expect.items():
-        assert out["values"][name] == vals, name
+        trial = frame.ConfigFields(list(groups[-1].items()) + [(f.name, vals)])
+        try:
+            trial.encode()
+        except ValueError:
+            groups.append({})
+        groups[-1][f.name] = vals
+    assert sum(len(g) for g in groups) == sum(1 for x in reg.fields if x.type != "table")
+    for n, expect in enumerate(groups):
+        (tmp_path / str(n)).mkdir()
+        out = decode(dump_bin, frame.ConfigFields(list(expect.items())).encode(), tmp_path / str(n))
+        assert (out["pil_err"], out["status"]) == ("AOCS_PIL_OK", "AOCS_OK"), out
+        for name, vals in expect.items():
+            assert out["values"][name] == vals, name
 
 
 @pytest.mark.parametrize("table", [r["name"] for r in registry_text.table_rows()])

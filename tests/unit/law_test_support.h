@@ -660,4 +660,63 @@ static inline aocs_status_t law_torque(law_step_fn_t step, void *law, dq_t q, co
     return st;
 }
 
+/* ---- closed loop with an actuator limit and a disturbance (the integral laws, SPEC 5.2): rigid body
+ * (SPEC 1), the law once per 0.1 s period, its torque held, clamped per axis, plus the disturbance ---- */
+typedef struct {
+    double overshoot_rad;  /* largest excursion past the target, along the slew axis */
+    double final_err_rad;  /* true angle at the end */
+    double max_late_rad;   /* largest true angle over the last tenth of the run */
+} sat_loop_result_t;
+
+static inline double sat_loop_err_angle_rad(dq_t q, dq_t qd)
+{
+    dq_t qe = dq_mul(q, dq_inv(qd));
+    double v = sqrt(qe.q[0] * qe.q[0] + qe.q[1] * qe.q[1] + qe.q[2] * qe.q[2]);
+    return 2.0 * atan2(v, fabs(qe.q[3]));
+}
+
+/*
+ * Runs steps periods of 0.1 s from q0 at rest towards qd. lim > 0: the actuator clamps each axis
+ * to lim (N m); tell_law: the law's input carries that limit (anti-windup on) or not (0: the law
+ * integrates as if unlimited). d: constant disturbance torque (N m). axis: unit slew axis (B).
+ */
+static inline sat_loop_result_t run_saturated_loop(law_step_fn_t step, void *law, const dmat_t *j, dq_t q0, dq_t qd,
+                                               double lim, int tell_law, const double d[3], const double axis[3],
+                                               int steps)
+{
+    plant_t p;
+    dq_t q = q0;
+    double w[3] = {0.0, 0.0, 0.0};
+    sat_loop_result_t r = {0.0, 0.0, 0.0};
+    plant_init(&p, j);
+    for (int k = 0; k < steps; ++k) {
+        aocs_att_input_t in = make_input(q, w, qd, ZERO3, ZERO3, 0.1);
+        aocs_vec3_t u;
+        double held[3];
+        if ((lim > 0.0) && (tell_law != 0)) {
+            in.u_max_axis = aocs_vec3_make((real_t)lim, (real_t)lim, (real_t)lim);
+        }
+        assert_int_equal(step(law, &in, &u), AOCS_OK);
+        for (int i = 0; i < 3; ++i) {
+            double ui = (double)u.v[i];
+            if (lim > 0.0) {
+                ui = (ui > lim) ? lim : ((ui < -lim) ? -lim : ui);
+            }
+            held[i] = ui + d[i];
+        }
+        plant_rk4(&p, plant_zoh_torque, held, &q, w, 0.1);
+        /* past the target: the error along the slew axis changes sign (qe = q qd^-1, started at -axis) */
+        dq_t qe = dq_mul(q, dq_inv(qd));
+        double s = (qe.q[3] >= 0.0) ? 1.0 : -1.0;
+        double along = 2.0 * s * (qe.q[0] * axis[0] + qe.q[1] * axis[1] + qe.q[2] * axis[2]);
+        r.overshoot_rad = (along > r.overshoot_rad) ? along : r.overshoot_rad;
+        double a = sat_loop_err_angle_rad(q, qd);
+        if (k >= steps - steps / 10) {
+            r.max_late_rad = (a > r.max_late_rad) ? a : r.max_late_rad;
+        }
+        r.final_err_rad = a;
+    }
+    return r;
+}
+
 #endif /* AOCS_LAW_TEST_SUPPORT_H */

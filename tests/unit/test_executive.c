@@ -664,7 +664,7 @@ static void test_law_names(void **state)
     (void)state;
     static const char *const expected[AOCS_LAW_COUNT] = {
         "none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-        "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr",
+        "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid", "lqr_quat_i",
     };
     for (int i = 0; i < (int)AOCS_LAW_COUNT; ++i) {
         aocs_law_id_t id = AOCS_LAW_COUNT;

@@ -20,14 +20,20 @@
 /* the generated arrays by design name, written out here independently of gain_tables.c */
 typedef struct {
     const char *name;
-    const real_t (*k)[6];
+    const real_t *k; /* first entry of the 3 x n array, row-major */
+    size_t n;        /* its number of entries: 18 (3x6) or 27 (3x9) */
 } expected_table_t;
 
+#define EXPECTED_ROW(NAME, SYMBOL) {(NAME), &(SYMBOL)[0][0], sizeof(SYMBOL) / sizeof(real_t)}
 static const expected_table_t EXPECTED[] = {
-    {"lqr_quat_ref", aocs_gains_lqr_quat_ref_K},   {"lqr_quat_strong", aocs_gains_lqr_quat_strong_K},
-    {"hinf_min", aocs_gains_hinf_min_K},           {"hinf_regional", aocs_gains_hinf_regional_K},
-    {"orbit_lqr_q1", aocs_gains_orbit_lqr_q1_K},   {"orbit_lqr_q01", aocs_gains_orbit_lqr_q01_K},
-    {"orbit_lqr_q10", aocs_gains_orbit_lqr_q10_K},
+    EXPECTED_ROW("lqr_quat_ref", aocs_gains_lqr_quat_ref_K),
+    EXPECTED_ROW("lqr_quat_strong", aocs_gains_lqr_quat_strong_K),
+    EXPECTED_ROW("hinf_min", aocs_gains_hinf_min_K),
+    EXPECTED_ROW("hinf_regional", aocs_gains_hinf_regional_K),
+    EXPECTED_ROW("orbit_lqr_q1", aocs_gains_orbit_lqr_q1_K),
+    EXPECTED_ROW("orbit_lqr_q01", aocs_gains_orbit_lqr_q01_K),
+    EXPECTED_ROW("orbit_lqr_q10", aocs_gains_orbit_lqr_q10_K),
+    EXPECTED_ROW("lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K),
 };
 #define N_EXPECTED ((int)(sizeof(EXPECTED) / sizeof(EXPECTED[0])))
 
@@ -35,7 +41,9 @@ static const expected_table_t EXPECTED[] = {
 static aocs_law_id_t law_of_name(const char *name)
 {
     aocs_law_id_t law = AOCS_LAW_NONE;
-    if (strncmp(name, "lqr_quat_", 9) == 0) {
+    if (strncmp(name, "lqr_quat_i_", 11) == 0) {
+        law = AOCS_LAW_LQR_QUAT_I;
+    } else if (strncmp(name, "lqr_quat_", 9) == 0) {
         law = AOCS_LAW_LQR_QUAT;
     } else if (strncmp(name, "hinf_", 5) == 0) {
         law = AOCS_LAW_HINF;
@@ -47,16 +55,20 @@ static aocs_law_id_t law_of_name(const char *name)
     return law;
 }
 
-/* the 3x6 gain field of law in c */
-static real_t (*law_gain(aocs_exec_law_configs_t *c, aocs_law_id_t law))[6]
+/* the gain field of law in c (3x6, 3x9 for lqr_quat_i), by its first entry; *cols its columns */
+static real_t *law_gain(aocs_exec_law_configs_t *c, aocs_law_id_t law, int *cols)
 {
-    real_t(*k)[6] = NULL;
+    real_t *k = NULL;
+    *cols = 6;
     if (law == AOCS_LAW_LQR_QUAT) {
-        k = c->lqr_quat.k;
+        k = &c->lqr_quat.k[0][0];
     } else if (law == AOCS_LAW_HINF) {
-        k = c->hinf.k;
+        k = &c->hinf.k[0][0];
+    } else if (law == AOCS_LAW_LQR_QUAT_I) {
+        k = &c->lqr_quat_i.k[0][0];
+        *cols = 9;
     } else {
-        k = c->orbit_lqr.k;
+        k = &c->orbit_lqr.k[0][0];
     }
     return k;
 }
@@ -104,10 +116,12 @@ static void test_apply_copies_the_generated_array(void **state)
         assert_int_equal(aocs_gain_table_find(EXPECTED[e].name, &id), AOCS_OK);
         fill_pattern(&c);
         before = c;
+        int cols = 0;
         assert_int_equal(aocs_gain_table_apply(id, law, &c), AOCS_OK);
-        assert_memory_equal(law_gain(&c, law), EXPECTED[e].k, sizeof(real_t) * 18u);
+        assert_memory_equal(law_gain(&c, law, &cols), EXPECTED[e].k, sizeof(real_t) * EXPECTED[e].n);
+        assert_int_equal((size_t)(3 * cols), EXPECTED[e].n);
         /* nothing else moved: the old struct with only that gain replaced */
-        memcpy(law_gain(&before, law), EXPECTED[e].k, sizeof(real_t) * 18u);
+        memcpy(law_gain(&before, law, &cols), EXPECTED[e].k, sizeof(real_t) * EXPECTED[e].n);
         assert_memory_equal(&c, &before, sizeof(c));
     }
 }
@@ -115,14 +129,15 @@ static void test_apply_copies_the_generated_array(void **state)
 static void test_wrong_law_and_unknown(void **state)
 {
     (void)state;
-    const aocs_law_id_t laws[4] = {AOCS_LAW_LQR_QUAT, AOCS_LAW_HINF, AOCS_LAW_ORBIT_LQR, AOCS_LAW_QUAT_PD};
+    const aocs_law_id_t laws[5] = {AOCS_LAW_LQR_QUAT, AOCS_LAW_HINF, AOCS_LAW_ORBIT_LQR, AOCS_LAW_QUAT_PD,
+                                   AOCS_LAW_LQR_QUAT_I};
     aocs_exec_law_configs_t c;
     aocs_exec_law_configs_t before;
     fill_pattern(&c);
     before = c;
     for (int i = 0; i < (int)AOCS_GAIN_TABLE_COUNT; ++i) {
         aocs_gain_table_id_t id = (aocs_gain_table_id_t)i;
-        for (int l = 0; l < 4; ++l) {
+        for (int l = 0; l < 5; ++l) {
             if (laws[l] != aocs_gain_table_law(id)) {
                 assert_int_equal(aocs_gain_table_apply(id, laws[l], &c), AOCS_ERR_GAIN_TABLE_WRONG_LAW);
                 assert_memory_equal(&c, &before, sizeof(c));
@@ -160,6 +175,7 @@ static void test_executive_runs_each_table(void **state)
         cfg.law = aocs_gain_table_law(id);
         cfg.u_max_norm = AOCS_R(1.0e6);
         assert_int_equal(aocs_gain_table_apply(id, cfg.law, &cfg.laws), AOCS_OK);
+        cfg.laws.lqr_quat_i.z_max = AOCS_R(1.0); /* not in its table: lqr_quat_i.z_max */
         assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
         memset(&in, 0, sizeof(in));
         in.tick = 1u;
@@ -171,13 +187,15 @@ static void test_executive_runs_each_table(void **state)
         assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
         assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
         assert_int_equal(out.law_status, AOCS_OK);
-        /* zero angles and a rate / velocity along axis 2: the torque is the table's column 4 (index 4) */
-        real_t(*k)[6] = law_gain(&cfg.laws, cfg.law);
+        /* zero angles (and z = 0) and a rate / velocity along axis 2: the torque is the table's rate
+           column of axis 2 (index 4; lqr_quat_i x = [z; qe_vec; we]: index 7) */
+        int cols = 0;
+        const real_t *k = law_gain(&cfg.laws, cfg.law, &cols);
         double sign = (cfg.law == AOCS_LAW_HINF) ? 1.0 : -1.0; /* hinf u = +K x, the LQRs -K x */
         double mag = (cfg.law == AOCS_LAW_ORBIT_LQR) ? 0.01 : 0.001;
-        int col = (cfg.law == AOCS_LAW_ORBIT_LQR) ? 1 : 4; /* orbit: x = [du dv dw dx dy dz] */
+        int col = (cfg.law == AOCS_LAW_ORBIT_LQR) ? 1 : ((cfg.law == AOCS_LAW_LQR_QUAT_I) ? 7 : 4);
         for (int r = 0; r < 3; ++r) {
-            assert_close(out.u_unsat.v[r], sign * (double)k[r][col] * mag, TOL_TIGHT);
+            assert_close(out.u_unsat.v[r], sign * (double)k[r * cols + col] * mag, TOL_TIGHT);
         }
     }
 }

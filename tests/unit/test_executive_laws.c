@@ -46,7 +46,19 @@ static void all_law_configs(aocs_exec_law_configs_t *laws, real_t gain_scale)
         laws->hinf.k[i][3 + i] = AOCS_R(-9.0) * gain_scale;
         laws->orbit_lqr.k[i][i] = AOCS_R(2.0) * gain_scale;
         laws->orbit_lqr.k[i][3 + i] = AOCS_R(0.3) * gain_scale;
+        for (int j = 0; j < 9; ++j) {
+            laws->lqr_quat_i.k[i][j] = AOCS_R(0.02) * (real_t)(j - i) * gain_scale; /* small couplings */
+        }
+        laws->lqr_quat_i.k[i][i] = AOCS_R(1.0) * gain_scale;
+        laws->lqr_quat_i.k[i][3 + i] = AOCS_R(20.0) * gain_scale;
+        laws->lqr_quat_i.k[i][6 + i] = AOCS_R(30.0) * gain_scale;
     }
+    laws->lqr_quat_i.z_max = AOCS_R(10.0);
+    /* quat_pid: its inertia is smc.inertia, copied in by the executive (laws.def FROM_FIELD) */
+    laws->quat_pid.kp = AOCS_R(4.0) * gain_scale;
+    laws->quat_pid.kd = AOCS_R(8.0) * gain_scale;
+    laws->quat_pid.ki = AOCS_R(1.0) * gain_scale;
+    laws->quat_pid.z_max = AOCS_R(10.0);
     laws->mrp_sat.variant = AOCS_MRP_SAT_TANH; /* overridden by law id */
     laws->mrp_sat.k = AOCS_R(50.0);
     laws->mrp_sat.lambda = AOCS_R(0.6);
@@ -60,12 +72,41 @@ static void all_law_configs(aocs_exec_law_configs_t *laws, real_t gain_scale)
     }
 }
 
-/* direct call of law `id`, independent of the executive's dispatch table */
-static aocs_status_t direct_step(aocs_law_id_t id, const aocs_exec_law_configs_t *laws, const aocs_att_input_t *att,
-                                 const aocs_orbit_input_t *orb, aocs_vec3_t *u)
+/* the laws with a state across steps (integral laws, SPEC 5.2): their direct twin persists */
+static int law_is_stateful(aocs_law_id_t id)
+{
+    return ((id == AOCS_LAW_QUAT_PID) || (id == AOCS_LAW_LQR_QUAT_I)) ? 1 : 0;
+}
+static aocs_quat_pid_t direct_pid;
+static aocs_lqr_quat_i_t direct_lqr_i;
+
+/*
+ * direct call of law `id`, independent of the executive's dispatch table. A
+ * stateless law is initialised on every call; a stateful one keeps its twin
+ * above, initialised when fresh != 0 (as the executive does on selection).
+ */
+static aocs_status_t direct_step_state(aocs_law_id_t id, const aocs_exec_law_configs_t *laws,
+                                       const aocs_att_input_t *att, const aocs_orbit_input_t *orb, aocs_vec3_t *u,
+                                       int fresh)
 {
     aocs_status_t st = AOCS_ERR_UNKNOWN_LAW;
     switch (id) {
+    case AOCS_LAW_QUAT_PID: {
+        if (fresh != 0) {
+            aocs_quat_pid_config_t c = laws->quat_pid;
+            c.inertia = laws->smc.inertia; /* laws.def FROM_FIELD */
+            assert_int_equal(aocs_quat_pid_init(&direct_pid, &c), AOCS_OK);
+        }
+        st = aocs_quat_pid_step(&direct_pid, att, u);
+        break;
+    }
+    case AOCS_LAW_LQR_QUAT_I: {
+        if (fresh != 0) {
+            assert_int_equal(aocs_lqr_quat_i_init(&direct_lqr_i, &laws->lqr_quat_i), AOCS_OK);
+        }
+        st = aocs_lqr_quat_i_step(&direct_lqr_i, att, u);
+        break;
+    }
     case AOCS_LAW_CRP_LINEAR: {
         aocs_crp_linear_t l;
         assert_int_equal(aocs_crp_linear_init(&l, &laws->crp_linear), AOCS_OK);
@@ -127,6 +168,12 @@ static aocs_status_t direct_step(aocs_law_id_t id, const aocs_exec_law_configs_t
     return st;
 }
 
+static aocs_status_t direct_step(aocs_law_id_t id, const aocs_exec_law_configs_t *laws, const aocs_att_input_t *att,
+                                 const aocs_orbit_input_t *orb, aocs_vec3_t *u)
+{
+    return direct_step_state(id, laws, att, orb, u, 1);
+}
+
 static aocs_exec_input_t random_sample(test_rng_t *rng, uint32_t tick, double w_scale, double pos_scale)
 {
     aocs_exec_input_t in;
@@ -171,7 +218,8 @@ static void test_every_law_matches_direct_call(void **state)
                                     cfg.u_max_axis, cfg.u_max_norm};
             aocs_orbit_input_t orb = {in.vel_mps, in.pos_m, cfg.period_s};
             aocs_vec3_t u_direct;
-            aocs_status_t st = direct_step((aocs_law_id_t)id, &cfg.laws, &att, &orb, &u_direct);
+            /* the executive initialised the law on selection: so is the twin of a stateful one */
+            aocs_status_t st = direct_step_state((aocs_law_id_t)id, &cfg.laws, &att, &orb, &u_direct, r == 0);
             assert_int_equal(st, AOCS_OK);
             assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
             assert_int_equal(out.law, id);
@@ -255,8 +303,10 @@ static void run_saturation_sweep(aocs_vec3_t axis, real_t norm_lim)
             if (out.mode != AOCS_EXEC_MODE_NOMINAL) {
                 continue; /* a CRP sample near 180 deg: safe mode, limits checked above */
             }
-            /* unsaturated value preserved: it is the law's own output */
-            {
+            /* unsaturated value preserved: it is the law's own output (a stateful law: on its first
+             * step after selection, where its state is the init's; the executive also steps it in
+             * SAFE, which the twin here does not see) */
+            if ((law_is_stateful((aocs_law_id_t)id) == 0) || (r == 0)) {
                 aocs_att_input_t att = {in.q_BN, in.w_BN_B, cfg.target.qd_DN, cfg.target.wd_B, cfg.target.wd_dot_B,
                                         cfg.period_s, cfg.u_max_axis, cfg.u_max_norm};
                 aocs_orbit_input_t orb = {in.vel_mps, in.pos_m, cfg.period_s};

@@ -60,10 +60,28 @@ static aocs_att_input_t att_input(aocs_quat_t q, aocs_vec3_t w)
     return make_input_real(q, w, aocs_quat_identity(), aocs_vec3_zero());
 }
 
+/* the 3x9 tables (lqr_quat_i, SPEC 5.2); test_lqr_quat_i.c checks the law on them */
+static const struct {
+    const char *name;
+    const real_t (*k)[9];
+} all_tables9[] = {
+    {"lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K},
+};
+
 static void test_tables_finite(void **state)
 {
     (void)state;
-    assert_int_equal(AOCS_GAINS_TABLE_COUNT, (int)(sizeof all_tables / sizeof all_tables[0]));
+    assert_int_equal(AOCS_GAINS_TABLE_COUNT,
+                     (int)(sizeof all_tables / sizeof all_tables[0] + sizeof all_tables9 / sizeof all_tables9[0]));
+    for (size_t t = 0; t < sizeof all_tables9 / sizeof all_tables9[0]; ++t) {
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 9; ++j) {
+                assert_true(AOCS_IS_FINITE(all_tables9[t].k[i][j]));
+            }
+            assert_true((all_tables9[t].k[i][i] > 0) && (all_tables9[t].k[i][3 + i] > 0) &&
+                        (all_tables9[t].k[i][6 + i] > 0));
+        }
+    }
     for (size_t t = 0; t < sizeof all_tables / sizeof all_tables[0]; ++t) {
         int nonzero = 0;
         for (int i = 0; i < 3; ++i) {

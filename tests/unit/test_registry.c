@@ -1,7 +1,7 @@
 /*
  * The law registry (firmware/include/aocs/laws.def) and what is expanded
  * from it: every row consistent with itself and with the others, the wire
- * values pinned (law ids 0..10 in the historical order, PIL field ids), and
+ * values pinned (law ids 0..12 in the historical order, PIL field ids), and
  * every derived table agreeing with the rows:
  *   - names unique, ids contiguous and equal to the wire values, name <-> id
  *     round trip for every row (aocs_law_name / aocs_law_from_name);
@@ -26,7 +26,7 @@
 /* ---- the wire values (docs/wire-contract.md "Law ids", docs/pil.md CONFIG fields) ---- */
 static const char *const WIRE_LAWS[] = {
     "none",    "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-    "lqr_quat", "hinf",      "mrp_sat", "mrp_sat_tanh",  "orbit_lqr",
+    "lqr_quat", "hinf",      "mrp_sat", "mrp_sat_tanh",  "orbit_lqr", "quat_pid", "lqr_quat_i",
 };
 #define N_WIRE_LAWS ((int)(sizeof(WIRE_LAWS) / sizeof(WIRE_LAWS[0])))
 
@@ -41,7 +41,9 @@ static const wire_field_t WIRE_LAW_FIELDS[] = {
     {"smc.g", 23u},          {"smc.eps", 24u},        {"lqr_quat.k", 25u},      {"lqr_quat.table", 26u},
     {"hinf.k", 27u},         {"hinf.table", 28u},     {"mrp_sat.k", 29u},       {"mrp_sat.lambda", 30u},
     {"mrp_sat.u_max", 31u},  {"mrp_sat.l1", 32u},     {"mrp_sat.m1", 33u},      {"mrp_sat.l2", 34u},
-    {"mrp_sat.m2", 35u},     {"orbit_lqr.k", 36u},    {"orbit_lqr.table", 37u},
+    {"mrp_sat.m2", 35u},     {"orbit_lqr.k", 36u},    {"orbit_lqr.table", 37u},   {"quat_pid.kp", 38u},
+    {"quat_pid.kd", 39u},    {"quat_pid.ki", 40u},    {"quat_pid.z_max", 41u},   {"lqr_quat_i.k", 42u},
+    {"lqr_quat_i.table", 43u}, {"lqr_quat_i.z_max", 44u},
 };
 #define N_WIRE_LAW_FIELDS ((int)(sizeof(WIRE_LAW_FIELDS) / sizeof(WIRE_LAW_FIELDS[0])))
 
@@ -71,6 +73,8 @@ static void test_law_ids_are_the_wire_values(void **state)
     assert_int_equal(AOCS_LAW_MRP_SAT_LINEAR, 8);
     assert_int_equal(AOCS_LAW_MRP_SAT_TANH, 9);
     assert_int_equal(AOCS_LAW_ORBIT_LQR, 10);
+    assert_int_equal(AOCS_LAW_QUAT_PID, 11);
+    assert_int_equal(AOCS_LAW_LQR_QUAT_I, 12);
     /* new laws are appended: the historical ones keep their ids and names */
     assert_true((int)AOCS_LAW_COUNT >= N_WIRE_LAWS);
     for (int i = 0; i < N_WIRE_LAWS; ++i) {
@@ -140,6 +144,34 @@ static void test_shared_configs_and_variants(void **state)
     }
 }
 
+/* a FROM_FIELD row names one field of another law's config, which then applies to it too */
+static void test_from_field_rows_name_a_field(void **state)
+{
+    int n_from = 0;
+    (void)state;
+    for (size_t i = 0u; i < aocs_registry_law_count; ++i) {
+        const aocs_registry_law_t *l = &aocs_registry_laws[i];
+        int found = 0;
+        if (l->from_field == NULL) {
+            assert_null(l->from_member);
+            continue;
+        }
+        n_from++;
+        assert_non_null(l->from_member);
+        assert_null(l->variant_value); /* one column: a variant or a copied field */
+        for (size_t j = 0u; j < aocs_registry_field_count; ++j) {
+            const aocs_registry_field_t *f = &aocs_registry_fields[j];
+            if (strcmp(f->member, l->from_field) == 0) {
+                found++;
+                assert_int_not_equal(f->law, l->id);
+                assert_int_equal(aocs_registry_field_applies(f, l), 1);
+            }
+        }
+        assert_int_equal(found, 1);
+    }
+    assert_true(n_from >= 1); /* quat_pid takes the inertia field */
+}
+
 static void test_budgets_are_set_and_derived(void **state)
 {
     (void)state;
@@ -160,7 +192,8 @@ static void test_budgets_are_set_and_derived(void **state)
     assert_int_equal(aocs_budget_instructions(AOCS_LAW_COUNT, AOCS_BUDGET_TARGET_CORTEX_M7), 0u);
 }
 
-static uint32_t type_count(const char *type)
+/* the PIL count of a type; a gain is 3 x n (3x6, or 3x9 for lqr_quat_i): its count must be one of those */
+static uint32_t type_count(const char *type, uint32_t count)
 {
     uint32_t n = 0u;
     if (strcmp(type, "real") == 0) {
@@ -170,7 +203,7 @@ static uint32_t type_count(const char *type)
     } else if (strcmp(type, "mat3") == 0) {
         n = 9u;
     } else if (strcmp(type, "gain") == 0) {
-        n = 18u;
+        n = ((count == 18u) || (count == 27u)) ? count : 18u;
     } else if (strcmp(type, "table") == 0) {
         n = 1u;
     }
@@ -221,7 +254,7 @@ static void test_fields_fit_their_law(void **state)
         size_t cfg_len;
         assert_non_null(owner);
         cfg_len = strlen(owner->config);
-        assert_int_equal(f->count, type_count(f->type));
+        assert_int_equal(f->count, type_count(f->type, f->count));
         assert_true(owner->config_owner || (strcmp(f->type, "table") == 0));
         /* the member is in the owner's config */
         assert_int_equal(strncmp(f->member, owner->config, cfg_len), 0);
@@ -331,12 +364,16 @@ static int expect_reals(const real_t *got, uint32_t n, real_t base)
 #define T_AT_MAT3(MEMBER) (&cfg.laws.MEMBER.m[0][0])
 #define T_AT_GAIN(MEMBER) (&cfg.laws.MEMBER[0][0])
 #define T_AT_TABLE(MEMBER) (&cfg.laws.MEMBER[0][0])
-#define T_FIELD_CHECK(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, ...) \
+/* the member holds exactly COUNT reals (a TABLE field: its gain's), so the codec's count is its size */
+#define T_FIELD_CHECK(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, ...)                                \
+    if (strcmp(#TYPE, "TABLE") != 0) {                                                                      \
+        assert_int_equal(sizeof(cfg.laws.MEMBER) / sizeof(real_t), (COUNT));                                \
+    }                                                                                                       \
     check_field(#NAME, (aocs_pil_cfg_field_t)(PIL_ID), (COUNT), strcmp(#TYPE, "TABLE") == 0, AOCS_LAW_##LAW, \
-                &cfg, T_AT_##TYPE(MEMBER));
+                &cfg, T_AT_##TYPE(MEMBER), (uint32_t)(sizeof(cfg.laws.MEMBER) / sizeof(real_t)));
 
 static void check_field(const char *name, aocs_pil_cfg_field_t id, uint32_t count, int is_table, aocs_law_id_t law,
-                        aocs_exec_config_t *cfg_out, const real_t *at)
+                        aocs_exec_config_t *cfg_out, const real_t *at, uint32_t member_reals)
 {
     uint8_t buf[AOCS_PIL_PAYLOAD_MAX];
     uint32_t pos = 0u;
@@ -344,7 +381,7 @@ static void check_field(const char *name, aocs_pil_cfg_field_t id, uint32_t coun
     uint32_t field = 0u;
     aocs_status_t status = AOCS_OK;
     aocs_pil_err_t err;
-    real_t vals[18];
+    real_t vals[27];
     aocs_exec_config_default(cfg_out);
     if (is_table) {
         /* the first table of the law, by name: its matrix lands in the member */
@@ -371,7 +408,7 @@ static void check_field(const char *name, aocs_pil_cfg_field_t id, uint32_t coun
     }
     if (is_table) {
         int nonzero = 0;
-        for (uint32_t i = 0u; i < 18u; ++i) {
+        for (uint32_t i = 0u; i < member_reals; ++i) {
             nonzero += (AOCS_FABS(at[i]) > AOCS_R(0.0)) ? 1 : 0;
         }
         assert_true(nonzero > 0);
@@ -435,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_law_ids_are_the_wire_values),
         cmocka_unit_test(test_rows_are_contiguous_unique_and_round_trip),
         cmocka_unit_test(test_shared_configs_and_variants),
+        cmocka_unit_test(test_from_field_rows_name_a_field),
         cmocka_unit_test(test_budgets_are_set_and_derived),
         cmocka_unit_test(test_pil_ids_are_the_wire_values_and_unique),
         cmocka_unit_test(test_fields_fit_their_law),

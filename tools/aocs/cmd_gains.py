@@ -60,6 +60,14 @@ def design_all(cfg: dict) -> list:
                       "J": f"diag({', '.join(f'{v:g}' for v in p['inertia_diag'])}) kg m^2",
                       "Q": f"{d['q']:g} I6", "R": f"{d['r']:g} I3"}
             out.append(riccati.lqr(name, kind, a, b, d["q"] * np.eye(6), d["r"] * np.eye(3), inputs))
+        elif kind == "lqr_quat_i":
+            a, b = models.lqr_quat_i_model(p["inertia_diag"])
+            qd = np.asarray(d["q"], float) * np.ones(9)     # a scalar (times I9) or the 9 diagonal weights
+            inputs = {"law": "SPEC 5.2 lqr_quat_i, u = -K [z; sign(qe4) qe_vec; we], z' = sign(qe4) qe_vec",
+                      "kind": kind,
+                      "J": f"diag({', '.join(f'{v:g}' for v in p['inertia_diag'])}) kg m^2",
+                      "Q": f"diag({', '.join(f'{v:g}' for v in qd)})", "R": f"{d['r']:g} I3"}
+            out.append(riccati.lqr(name, kind, a, b, np.diag(qd), d["r"] * np.eye(3), inputs))
         elif kind == "orbit_lqr":
             a, b = models.orbit_model(p["mass"], p["radius"], p["mu"])
             n = models.mean_motion(p["mu"], p["radius"])

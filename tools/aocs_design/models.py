@@ -17,6 +17,19 @@ def lqr_quat_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
     return a, b
 
 
+def lqr_quat_i_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
+    """SPEC 5.2: x = [z; qe_vec; we], z' = qe_vec, qe_vec' = 0.5 we, J we' = u:
+    A = [[0, I, 0], [0, 0, 0.5 I], [0, 0, 0]], B = [[0], [0], [J^-1]] (the SPEC 2.5 model
+    with the integral of the attitude error in front)."""
+    a6, b6 = lqr_quat_model(inertia_diag)
+    a = np.zeros((9, 9))
+    a[0:3, 3:6] = np.eye(3)
+    a[3:9, 3:9] = a6
+    b = np.zeros((9, 3))
+    b[3:9, :] = b6
+    return a, b
+
+
 def mean_motion(mu: float, radius: float) -> float:
     """n = sqrt(g / R) = sqrt(mu / R^3) (SPEC 2.8)."""
     return math.sqrt(mu / radius**3)

@@ -23,8 +23,8 @@ def write_plots(designs, out: Path) -> list[str]:
     plt.rcParams.update({"font.size": 8, "svg.hashsalt": "aocs"})
     files = []
     families = [("lqr_quat", "lqr_quat (SPEC 2.5)"), ("orbit_lqr", "orbit_lqr (SPEC 2.8)"),
-                ("hinf", "hinf (SPEC 2.6)")]
-    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2), dpi=80)
+                ("hinf", "hinf (SPEC 2.6)"), ("lqr_quat_i", "lqr_quat_i (SPEC 5.2)")]
+    fig, axes = plt.subplots(1, 4, figsize=(13, 3.2), dpi=80)
     for ax, (kind, title) in zip(axes, families):
         for d in designs:
             if d.inputs["kind"] == kind:

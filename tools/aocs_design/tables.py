@@ -25,6 +25,12 @@ def _matrix(k: np.ndarray) -> str:
     return "{\n" + ",\n".join(rows) + "\n}"
 
 
+def _shape(k: np.ndarray) -> str:
+    """The C array shape of a table: [3][6], or [3][9] for lqr_quat_i (the state size of its law)."""
+    rows, cols = np.shape(k)
+    return f"[{rows}][{cols}]"
+
+
 def _pole_lines(poles) -> list[str]:
     st = pole_stats(poles)
     slow = max(st, key=lambda p: p["re"])
@@ -64,10 +70,11 @@ def _comment(lines: list[str]) -> str:
 
 def emit_header(designs, defines: list[tuple[str, float, str]]) -> str:
     out = [
-        "/*\n * AOCS constant gain tables (SPEC 2.5, 2.6, 2.8), from tools/gains.toml.\n"
+        "/*\n * AOCS constant gain tables (SPEC 2.5, 2.6, 2.8, 5.2), from tools/gains.toml.\n"
         f" * {DO_NOT_EDIT}.\n"
         " * Conventions: lqr_quat u = -K [sign(qe4) qe_vec; we]; orbit_lqr F = -K x,\n"
-        " * x = [du dv dw dx dy dz]; hinf u = +K x, x = [phi theta psi phidot thetadot psidot].\n */\n",
+        " * x = [du dv dw dx dy dz]; hinf u = +K x, x = [phi theta psi phidot thetadot psidot];\n"
+        " * lqr_quat_i (3x9) u = -K [z; sign(qe4) qe_vec; we].\n */\n",
         "#ifndef AOCS_GAINS_H\n#define AOCS_GAINS_H\n\n#include \"aocs/types.h\"\n\n",
         "/* Design inputs (SI units) */\n",
     ]
@@ -77,7 +84,7 @@ def emit_header(designs, defines: list[tuple[str, float, str]]) -> str:
     out.append(f"#define AOCS_GAINS_TABLE_COUNT {len(designs)}\n\n")
     for d in designs:
         out.append(f"/* {d.name}: {d.inputs['law']} */\n")
-        out.append(f"extern const real_t aocs_gains_{d.name}_K[3][6];\n")
+        out.append(f"extern const real_t aocs_gains_{d.name}_K{_shape(d.k)};\n")
     out.append("\n#endif /* AOCS_GAINS_H */\n")
     return "".join(out)
 
@@ -87,7 +94,7 @@ def emit_source(designs) -> str:
            "#include \"gains/aocs_gains.h\"\n"]
     for d in designs:
         out.append("\n" + _comment(provenance(d)))
-        out.append(f"const real_t aocs_gains_{d.name}_K[3][6] = {_matrix(d.k)};\n")
+        out.append(f"const real_t aocs_gains_{d.name}_K{_shape(d.k)} = {_matrix(d.k)};\n")
     return "".join(out)
 
 
@@ -111,7 +118,7 @@ def emit_registry(designs) -> str:
         " *   NAME    design name (configuration files, scenarios, PIL CONFIG frames)\n"
         " *   LAW     AOCS_LAW_<LAW> (aocs/laws.def) whose gain layout the table has; its\n"
         " *           TABLE field says which gain matrix the table is copied into\n"
-        " *   SYMBOL  the 3x6 table of aocs_gains.h\n"
+        " *   SYMBOL  the table of aocs_gains.h: 3 x (the state size of LAW), 3x6 or 3x9\n"
         " */\n"
         "#ifndef AOCS_GAIN_TABLES_DEF\n#define AOCS_GAIN_TABLES_DEF\n\n"
         "#define AOCS_GAIN_TABLE_ROWS(X) \\\n"

@@ -25,8 +25,10 @@ const size_t aocs_registry_status_count = sizeof(aocs_registry_statuses) / sizeo
 #define REG_INPUT_ORBIT "orbit"
 #define REG_OWNER_CFG_OWN 1
 #define REG_OWNER_CFG_SHARED 0
-#define REG_VARIANT_NO_VARIANT(MEMBER, VALUE) NULL, NULL, -1
-#define REG_VARIANT_VARIANT(MEMBER, VALUE) #MEMBER, #VALUE, (int)(VALUE)
+/* variant member, value, number; then the FROM_FIELD member and the field member it is copied from */
+#define REG_VARIANT_NO_VARIANT(MEMBER, VALUE) NULL, NULL, -1, NULL, NULL
+#define REG_VARIANT_VARIANT(MEMBER, VALUE) #MEMBER, #VALUE, (int)(VALUE), NULL, NULL
+#define REG_VARIANT_FROM_FIELD(MEMBER, PATH) NULL, NULL, -1, #MEMBER, #PATH
 #define REG_LAW_ROW(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE,   \
                     BUDGET_NS, M4F, M7, REF)                                                                       \
     {AOCS_LAW_##ID, "AOCS_LAW_" #ID, NAME, REG_INPUT_##INPUT, TITLE, #STATE, #STATE_T, #CFG, #CFG_T, REG_OWNER_##CFG_USE, \
@@ -79,6 +81,9 @@ const aocs_registry_law_t *aocs_registry_law(aocs_law_id_t id)
 int aocs_registry_field_applies(const aocs_registry_field_t *field, const aocs_registry_law_t *law)
 {
     const aocs_registry_law_t *owner = aocs_registry_law(field->law);
+    if ((owner != NULL) && (law != NULL) && (law->from_field != NULL) && (strcmp(field->member, law->from_field) == 0)) {
+        return 1; /* FROM_FIELD: the law takes that field of another law (laws.def) */
+    }
     if ((owner == NULL) || (law == NULL) || (strcmp(owner->config, law->config) != 0)) {
         return 0;
     }
@@ -176,13 +181,16 @@ static int ref_mat3(const char *key, const char *text, aocs_mat3_t *m, char *err
     return 0;
 }
 
-static int ref_gain(const char *key, const char *text, real_t k[3][6], char *err, size_t err_size)
+/* 3 x cols numbers, row-major, into the rows of a gain (3x6, or 3x9 for lqr_quat_i) */
+static int ref_gain(const char *key, const char *text, real_t *k0, real_t *k1, real_t *k2, int cols, char *err,
+                    size_t err_size)
 {
-    double v[18];
-    int rc = ref_count(key, text, v, 18, err, err_size);
+    double v[27];
+    real_t *const k[3] = {k0, k1, k2};
+    int rc = ((cols > 0) && (cols <= 9)) ? ref_count(key, text, v, 3 * cols, err, err_size) : -1;
     if (rc == 0) {
-        for (int i = 0; i < 18; ++i) {
-            k[i / 6][i % 6] = (real_t)v[i];
+        for (int i = 0; i < 3 * cols; ++i) {
+            k[i / cols][i % cols] = (real_t)v[i];
         }
     }
     return rc;
@@ -206,7 +214,8 @@ static int ref_table(const char *key, const char *text, aocs_law_id_t law, aocs_
 #define REF_APPLY_REAL(LAW, KEY, MEMBER, REF) ref_real(KEY, REF, &c->MEMBER, err, err_size)
 #define REF_APPLY_VEC3(LAW, KEY, MEMBER, REF) ref_vec3(KEY, REF, &c->MEMBER, err, err_size)
 #define REF_APPLY_MAT3(LAW, KEY, MEMBER, REF) ref_mat3(KEY, REF, &c->MEMBER, err, err_size)
-#define REF_APPLY_GAIN(LAW, KEY, MEMBER, REF) ref_gain(KEY, REF, c->MEMBER, err, err_size)
+#define REF_APPLY_GAIN(LAW, KEY, MEMBER, REF) \
+    ref_gain(KEY, REF, c->MEMBER[0], c->MEMBER[1], c->MEMBER[2], (int)(sizeof(c->MEMBER[0]) / sizeof(c->MEMBER[0][0])), err, err_size)
 #define REF_APPLY_TABLE(LAW, KEY, MEMBER, REF) ref_table(KEY, REF, AOCS_LAW_##LAW, c, err, err_size)
 #define REF_FIELD(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, FOR, REF) \
     if ((rc == 0) && ((REF)[0] != '\0')) {                                            \

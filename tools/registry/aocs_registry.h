@@ -31,6 +31,8 @@ typedef struct {
     const char *variant_member;     /* NULL without a variant */
     const char *variant_value;      /* enum constant name, NULL without a variant */
     int variant_number;             /* its value, -1 without a variant */
+    const char *from_member;        /* FROM_FIELD: the member of its config set at init, else NULL */
+    const char *from_field;         /* ... from this field member of another law ("smc.inertia"), else NULL */
     uint64_t budget_ns;             /* host budget of one law step */
     uint32_t instr_m4f;             /* instruction budgets of one executive step */
     uint32_t instr_m7;
@@ -89,7 +91,7 @@ const aocs_registry_law_t *aocs_registry_law(aocs_law_id_t id);
 /*
  * 1 when `field` belongs to the configuration `law` uses: the field's law has
  * the same config member, and the field is for every variant or for the
- * law's own variant.
+ * law's own variant; or the field is the one a FROM_FIELD row copies in.
  */
 int aocs_registry_field_applies(const aocs_registry_field_t *field, const aocs_registry_law_t *law);
 

@@ -131,6 +131,16 @@ static void dump_laws(FILE *f)
             put_str(f, l->variant_value);
             (void)fprintf(f, ", \"number\": %d}", l->variant_number);
         }
+        (void)fputs(", \"from_field\": ", f);
+        if (l->from_field == NULL) {
+            (void)fputs("null", f);
+        } else {
+            (void)fputs("{\"member\": ", f);
+            put_str(f, l->from_member);
+            (void)fputs(", \"field\": ", f);
+            put_str(f, l->from_field);
+            (void)fputs("}", f);
+        }
         (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                       (unsigned long long)l->budget_ns, (unsigned)l->instr_m4f, (unsigned)l->instr_m7);
         put_key(f, "reference_scenario");
@@ -285,8 +295,10 @@ static void put_u64_value(FILE *f, int *first, const char *name, uint64_t v)
 #define DECODED_REAL(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER, 1);
 #define DECODED_VEC3(NAME, MEMBER) put_value(f, &first, #NAME, cfg->laws.MEMBER.v, 3);
 #define DECODED_MAT3(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER.m[0][0], 9);
-#define DECODED_GAIN(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], 18);
-#define DECODED_TABLE(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], 18);
+/* a gain, 3x6 or 3x9, as its row-major values */
+#define DECODED_GAIN_COUNT(MEMBER) ((int)(sizeof(cfg->laws.MEMBER) / sizeof(cfg->laws.MEMBER[0][0])))
+#define DECODED_GAIN(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], DECODED_GAIN_COUNT(MEMBER));
+#define DECODED_TABLE(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], DECODED_GAIN_COUNT(MEMBER));
 #define DECODED_FIELD(NAME, LAW, KEY, MEMBER, TYPE, ...) DECODED_##TYPE(NAME, MEMBER)
 
 static void dump_decoded(FILE *f, const aocs_exec_config_t *cfg, uint64_t budget_instr)

@@ -707,7 +707,8 @@ aocs_pil_err_t aocs_pil_error_decode(const uint8_t *p, uint32_t len, aocs_pil_er
 }
 
 /* ---- CONFIG field list ---- */
-#define PIL_CFG_COUNT_MAX 18U
+/* the widest real field: the 3x9 gain of lqr_quat_i (laws.def GAIN) */
+#define PIL_CFG_COUNT_MAX 27U
 
 aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                          const real_t *values, uint32_t count)
@@ -798,7 +799,7 @@ typedef enum {
 /*
  * Value kind and count of a field; count 0 = unknown field. The executive's
  * fields by their KIND and COUNT (AOCS_PIL_EXEC_FIELD_ROWS), the law fields
- * of laws.def by their TYPE: real_t, vec3, mat3 and the 3x6 gain are
+ * of laws.def by their TYPE: real_t, vec3, mat3 and the 3x6 or 3x9 gain are
  * binary64 values, COUNT of them; a TABLE field is a name of up to
  * AOCS_PIL_TABLE_NAME_MAX bytes (the entry gives the length).
  */
@@ -837,15 +838,20 @@ static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
     return count;
 }
 
-static void read_gain(pil_reader_t *r, real_t k[3][6])
+/* 3 x cols values, row-major, into the rows of a gain (3x6, or 3x9 for lqr_quat_i) */
+static void read_gain_row(pil_reader_t *r, real_t *row, uint32_t cols)
 {
-    uint32_t i;
     uint32_t j;
-    for (i = 0U; i < 3U; i++) {
-        for (j = 0U; j < 6U; j++) {
-            k[i][j] = r_real(r);
-        }
+    for (j = 0U; j < cols; j++) {
+        row[j] = r_real(r);
     }
+}
+
+static void read_gain(pil_reader_t *r, real_t *k0, real_t *k1, real_t *k2, uint32_t cols)
+{
+    read_gain_row(r, k0, cols);
+    read_gain_row(r, k1, cols);
+    read_gain_row(r, k2, cols);
 }
 
 /* 9 values, row-major */
@@ -872,9 +878,10 @@ static void read_mat3(pil_reader_t *r, aocs_mat3_t *m)
     case (uint32_t)AOCS_PIL_CFG_##NAME:     \
         read_mat3(r, &cfg->laws.MEMBER);    \
         break;
-#define PIL_READ_GAIN(NAME, MEMBER)         \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
-        read_gain(r, cfg->laws.MEMBER);     \
+#define PIL_READ_GAIN(NAME, MEMBER)                                                          \
+    case (uint32_t)AOCS_PIL_CFG_##NAME:                                                      \
+        read_gain(r, cfg->laws.MEMBER[0], cfg->laws.MEMBER[1], cfg->laws.MEMBER[2],          \
+                  (uint32_t)(sizeof(cfg->laws.MEMBER[0]) / sizeof(cfg->laws.MEMBER[0][0]))); \
         break;
 #define PIL_READ_TABLE(NAME, MEMBER)
 #define PIL_READ_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) PIL_READ_##TYPE(NAME, MEMBER)

@@ -12,14 +12,18 @@
 
 #include "gains/aocs_gains.h"
 #include "exec_internal.h"
+#include "aocs/control/gain_matrix.h"
 
 typedef struct {
     const char *name;         /* design name */
     aocs_law_id_t law;        /* the law whose gain layout the table has */
-    const real_t (*k)[6];     /* the generated 3x6 table */
+    aocs_gain_rows_t k;       /* the generated 3 x cols table (3x6, or 3x9 for lqr_quat_i), by rows */
 } gain_table_t;
 
-#define GAIN_TABLE_ROW(ID, NAME, LAW, SYMBOL) {(NAME), AOCS_LAW_##LAW, (SYMBOL)},
+/* columns of a 3 x n gain array (a table of aocs_gains.h, or the gain member of a law config) */
+#define GAIN_COLS(K) ((uint32_t)(sizeof((K)[0]) / sizeof((K)[0][0])))
+#define GAIN_TABLE_ROW(ID, NAME, LAW, SYMBOL) \
+    {(NAME), AOCS_LAW_##LAW, {{(SYMBOL)[0], (SYMBOL)[1], (SYMBOL)[2]}, GAIN_COLS(SYMBOL)}},
 
 static const gain_table_t gain_tables[AOCS_GAIN_TABLE_COUNT] = {
     AOCS_GAIN_TABLE_ROWS(GAIN_TABLE_ROW)
@@ -65,13 +69,24 @@ aocs_status_t aocs_gain_table_find(const char *name, aocs_gain_table_id_t *table
     return st;
 }
 
-static void copy_gain(real_t dst[3][6], const real_t (*src)[6])
+static void copy_row(real_t *dst, const real_t *src, uint32_t cols)
 {
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 6; ++j) {
-            dst[i][j] = src[i][j];
-        }
+    for (uint32_t j = 0U; j < cols; ++j) {
+        dst[j] = src[j];
     }
+}
+
+/* the table's rows into the rows of a law's gain of cols columns; a shape mismatch copies nothing */
+static aocs_status_t copy_gain(const aocs_gain_rows_t *src, real_t *d0, real_t *d1, real_t *d2, uint32_t cols)
+{
+    aocs_status_t st = AOCS_ERR_GAIN_TABLE_WRONG_LAW;
+    if (src->cols == cols) {
+        copy_row(d0, src->row[0], cols);
+        copy_row(d1, src->row[1], cols);
+        copy_row(d2, src->row[2], cols);
+        st = AOCS_OK;
+    }
+    return st;
 }
 
 /*
@@ -83,10 +98,10 @@ static void copy_gain(real_t dst[3][6], const real_t (*src)[6])
 #define GAIN_DEST_VEC3(LAW, MEMBER)
 #define GAIN_DEST_MAT3(LAW, MEMBER)
 #define GAIN_DEST_GAIN(LAW, MEMBER)
-#define GAIN_DEST_TABLE(LAW, MEMBER)                       \
-    case AOCS_LAW_##LAW:                                  \
-        copy_gain(cfgs->MEMBER, gain_tables[table].k);    \
-        st = AOCS_OK;                                     \
+#define GAIN_DEST_TABLE(LAW, MEMBER)                                                                   \
+    case AOCS_LAW_##LAW:                                                                              \
+        st = copy_gain(&gain_tables[table].k, cfgs->MEMBER[0], cfgs->MEMBER[1], cfgs->MEMBER[2],      \
+                       GAIN_COLS(cfgs->MEMBER));                                                      \
         break;
 #define GAIN_DEST_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) GAIN_DEST_##TYPE(LAW, MEMBER)
 

@@ -100,10 +100,12 @@ uint64_t aocs_law_budget_ns(aocs_law_id_t law)
 
 /*
  * init of one row: a copy of the stored config with the variant forced
- * (VARIANT: law_cfg.VMEMBER = VVALUE; NO_VARIANT: as stored).
+ * (VARIANT: law_cfg.VMEMBER = VVALUE; FROM_FIELD: law_cfg.VMEMBER = the
+ * field cfgs->VVALUE of another law's row, laws.def; NO_VARIANT: as stored).
  */
 #define LAW_SET_NO_VARIANT(MEMBER, VALUE)
 #define LAW_SET_VARIANT(MEMBER, VALUE) law_cfg.MEMBER = (VALUE);
+#define LAW_SET_FROM_FIELD(MEMBER, PATH) law_cfg.MEMBER = cfgs->PATH;
 #define LAW_INIT_CASE(ID, NAME, INPUT, TITLE, STATE, STATE_T, CFG, CFG_T, CFG_USE, INIT, STEP, VARIANT, VMEMBER, VVALUE, \
                       ...)                                                                                      \
     case AOCS_LAW_##ID: {                                                                               \

@@ -19,7 +19,7 @@ from aocs_core import paths, registry
 
 #: the wire values (docs/wire-contract.md "Law ids"): never change
 WIRE_LAWS = ("none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf",
-             "mrp_sat", "mrp_sat_tanh", "orbit_lqr")
+             "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid", "lqr_quat_i")
 
 
 @pytest.fixture(scope="module")
@@ -45,10 +45,14 @@ def test_laws_are_the_rows_of_laws_def(reg):
         assert law.variant == (row["vvalue"] if row["variant"] == "VARIANT" else None)
         assert law.budget_ns == row["budget_ns"] > 0
         assert law.budget_instructions == {"cortex-m4f": row["instr_m4f"], "cortex-m7": row["instr_m7"]}
-        # a law takes the fields of its config that are for every variant or for its own
+        # a law takes the fields of its config that are for every variant or for its own, and the
+        # field of another law that its FROM_FIELD column copies in (quat_pid: the inertia)
         owners = {r["id"]: r["config"] for r in rows}
+        from_field = row["vvalue"] if row["variant"] == "FROM_FIELD" else None
+        assert law.from_field == from_field
         want = [f["key"] for f in registry_text.field_rows()
-                if owners[f["law"]] == law.config and f["for"] in ("ALL", row["vvalue"])]
+                if (owners[f["law"]] == law.config and f["for"] in ("ALL", row["vvalue"]))
+                or f["member"] == from_field]
         assert list(law.field_keys) == want
     assert reg.none.id == 0 and reg.none.budget_ns > 0
 

@@ -65,13 +65,20 @@ def test_irassi_data():
         assert np.diag(sc.attitude.inertia).tolist() == [2059.5, 5954.2, 5974.3]
         assert sc.duration_s == 500.0
         laws = sc.control.laws
-        assert set(laws) == {"quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat"}
+        assert set(laws) == {"quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "quat_pid",
+                             "lqr_quat_i"}
         for name in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
             assert dict(laws[name].params) == {"kp": 4000.0, "kd": 8000.0}
         assert dict(laws["smc"].params) == {"lambda": (1.0,) * 3, "g": (0.05,) * 3, "eps": (0.02,) * 3}
         tabs = laws["lqr_quat"].tables
         assert tabs["lqr_quat_ref"]["q"] == (200.0,) * 6 and tabs["lqr_quat_ref"]["r"] == (0.001,) * 3
         assert tabs["lqr_quat_strong"]["q"] == (2000.0,) * 6 and tabs["lqr_quat_strong"]["r"] == (1e-5,) * 3
+        # SPEC 5.2 (the product's own laws, beyond the report): the reference gains of tools/gains.toml
+        assert dict(laws["quat_pid"].params) == {"kp": 400.0, "kd": 2000.0, "ki": 12.0, "z_max": 0.01}
+        assert laws["lqr_quat_i"].table == "lqr_quat_i_ref" and dict(laws["lqr_quat_i"].params) == {"z_max": 0.01}
+        tabs = laws["lqr_quat_i"].tables
+        assert tabs["lqr_quat_i_ref"]["q"] == (144.0,) * 3 + (1e5,) * 3 + (1e6,) * 3
+        assert tabs["lqr_quat_i_ref"]["r"] == (1.0,) * 3
         assert sc.disturbances.constant_torque.torque_nm == (1.18e-3,) * 3
         assert sc.disturbances.gravity_gradient_l2.enabled
         assert sc.actuator.axis_limit is None and 0.2 <= sc.actuator.realistic_axis_limit <= 1.0
@@ -117,9 +124,10 @@ def test_gao_and_geo_data():
 def test_law_names_are_the_spec_list():
     """The scenario's laws are the flight software's registry rows, in wire-id order."""
     assert law_names() == ("none", "crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc",
-                           "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr")[1:]
+                           "lqr_quat", "hinf", "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid",
+                           "lqr_quat_i")[1:]
     assert law_names("orbit") == ("orbit_lqr",)
-    assert "orbit_lqr" not in law_names("attitude") and len(law_names("attitude")) == 9
+    assert "orbit_lqr" not in law_names("attitude") and len(law_names("attitude")) == 11
 
 
 def test_a_table_must_be_a_compiled_one(tmp_path):
@@ -246,7 +254,7 @@ def test_valid_minimal_files_load(tmp_path):
     ("t_att", "[0.0, 0.0, 4.0]]", "[0.0, 0.0, 40.0]]", "plant.inertia", "J1 \\+ J2 >= J3"),
     ("t_att", "[0.0, 0.0, 4.0]]", "[0.0, 0.0]]", r"plant.inertia\[2\]", "expected 3 numbers"),
     # laws
-    ("t_att", "[laws.quat_pd]", "[laws.quat_pid]", "laws.quat_pid", "unknown law 'quat_pid'"),
+    ("t_att", "[laws.quat_pd]", "[laws.quat_pdi]", "laws.quat_pdi", "unknown law 'quat_pdi'"),
     ("t_att", 'law = "quat_pd"', 'law = "pid"', "control.law", "unknown law 'pid'"),
     ("t_att", 'law = "quat_pd"', 'law = "smc"', "control.law", r"no gains under \[laws.smc\]"),
     ("t_orb", "[laws.orbit_lqr]\n", "[laws.quat_pd]\nkp = 1.0\nkd = 1.0\n[laws.orbit_lqr]\n",

@@ -100,7 +100,7 @@ typedef enum {
  * Two lists, one enum: the executive's own fields below (ids 1 .. 14), and
  * every law field of aocs/laws.def (AOCS_LAW_FIELD_ROWS: id = PIL_ID column,
  * name AOCS_PIL_CFG_<NAME>, shape from the TYPE column: REAL 1, VEC3 3,
- * MAT3 9 row-major, GAIN 18 row-major 3x6, TABLE a name). The ids are wire
+ * MAT3 9 row-major, GAIN 18 or 27 row-major 3x6 or 3x9, TABLE a name). The ids are wire
  * values: never renumber (tests/unit/test_registry.c pins them).
  *
  * AOCS_PIL_EXEC_FIELD_ROWS(X): X(NAME, ID, KIND, COUNT, KEY)
@@ -267,7 +267,7 @@ aocs_pil_err_t aocs_pil_error_decode(const uint8_t *p, uint32_t len, aocs_pil_er
 
 /*
  * CONFIG field list writers (host side and tests): each appends one entry
- * at *pos of out (cap bytes). put_reals: count binary64 values (1..18);
+ * at *pos of out (cap bytes). put_reals: count binary64 values (1..27);
  * put_u64: one integer; put_name: a gain-table design name
  * (1..AOCS_PIL_TABLE_NAME_MAX characters, NUL-terminated in name).
  * AOCS_PIL_ERR_BUFFER when it does not fit (out unchanged past *pos),
