@@ -284,7 +284,11 @@ def test_stalled_qemu_times_out():
 SWEEP = [("rtc_ex1a", "crp_linear", 3.0), ("irassi_small", "quat_pd", 30.0), ("irassi_small", "quat_nlpd_neg", 30.0),
          ("irassi_small", "quat_nlpd_pos", 30.0), ("irassi_small", "smc", 30.0), ("irassi_small", "lqr_quat", 30.0),
          ("geo_hinf", "hinf", 30.0), ("gao_mrp", "mrp_sat", 30.0), ("gao_mrp", "mrp_sat_tanh", 30.0),
-         ("landsat8_q1", "orbit_lqr", 30.0)]
+         ("landsat8_q1", "orbit_lqr", 30.0), ("irassi_small", "quat_pid", 30.0), ("irassi_small", "lqr_quat_i", 30.0)]
+
+
+def test_the_budget_sweep_covers_every_law_of_the_registry():
+    assert {law for _, law, _ in SWEEP} == {law.name for law in registry.load().laws}
 
 
 @pytest.mark.parametrize("target", TARGETS)
