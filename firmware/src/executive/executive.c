@@ -118,6 +118,9 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
         st = AOCS_ERR_NULL_ARG;
     } else {
         st = config_check(cfg, &period_ns);
+        if (st == AOCS_OK) {
+            st = aocs_exec_wheels_init(exec, cfg);
+        }
         if ((st == AOCS_OK) && (cfg->law != AOCS_LAW_NONE)) {
             st = aocs_exec_law_init(&exec->states, &cfg->laws, cfg->law);
         }
@@ -462,6 +465,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             out->u_unsat = aocs_vec3_zero();
         }
         out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        aocs_exec_wheels_apply(exec, in->wheel_speed_radps, in->w_BN_B, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
@@ -503,6 +507,7 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
             out->u_unsat = aocs_vec3_zero(); /* no fresh rate to damp */
         }
         out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        aocs_exec_wheels_apply(exec, exec->wheel_speed_last, exec->w_last_B, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
         out->saturated = sat;
