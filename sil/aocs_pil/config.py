@@ -63,7 +63,13 @@ _GENERAL = (
     ("run_timeout_s", "double", 1, NONNEG, "s, 0 = none"),
     ("status_period_s", "double", 1, POS, "s"),
     ("lcm_url", "string", 1, ANY, "LCM provider URL"),
-)
+    ("wheels.count", "u32", 1, POS, "reaction wheels, 3 to 6 (absent: none)"),
+    ("wheels.failed_mask", "u32", 1, NONNEG, "bit i set: wheel i declared failed"),
+) + tuple(row for i in range(6) for row in (
+    (f"wheel{i}.axis", "real", 3, ANY, "unit spin axis g in B, 3 numbers"),
+    (f"wheel{i}.js", "real", 1, POS, "spin inertia Js, kg m^2"),
+    (f"wheel{i}.u_max", "real", 1, POS, "motor torque limit, N m"),
+    (f"wheel{i}.omega_max", "real", 1, POS, "speed limit, rad/s")))
 
 #: how node_config.c's LAW_KEY_ROW reads a field of each registry type: (kind, count or None = the field's)
 _LAW_KEY_KIND = {"real": ("real", None), "vec3": ("real", None), "gain": ("real", None),
@@ -133,6 +139,9 @@ class NodeConfig:
         by_name = key_by_name()
         for name, value in self.values:
             key = by_name[name]
+            if key.pil is None and name.startswith("wheel"):
+                raise ConfigError(f"key '{name}': the PIL frames do not carry the reaction wheel array yet "
+                                  "(docs/wire-contract.md); fly a [wheels] scenario on the host flight computer")
             if name == "budget_ns":
                 if value > 0:
                     # a ns budget at the target's nominal clock, one instruction per cycle
@@ -380,4 +389,7 @@ def status_hint(status_name: str, law: str) -> str:
         "AOCS_ERR_INERTIA_SINGULAR": "inertia",
         "AOCS_ERR_GAIN_TABLE_INVALID": gain,
         "AOCS_ERR_PARAM_NOT_FINITE": "u_max_*, k_safe or a gain of the selected law",
+        **{f"AOCS_ERR_{w}": "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max"
+           for w in ("WHEEL_COUNT", "WHEEL_FAILED_MASK", "WHEEL_AXIS_NOT_UNIT", "WHEEL_INERTIA_NOT_POSITIVE",
+                     "WHEEL_LIMIT_NOT_POSITIVE", "WHEELS_NOT_SPANNING")},
     }.get(status_name, "the keys of the selected law")

@@ -153,6 +153,11 @@ class Plant:
             c = _add(c, e.value())
         return c
 
+    @property
+    def wheel_array(self):
+        """The actuator that takes wheel torque commands (the [wheels] array), or None."""
+        return self._wheeled[0] if self._wheeled else None
+
     # ------------------------------------------------------------------ time
     @property
     def t(self) -> float:

@@ -87,6 +87,55 @@ static const key_def_t KEYS[] = {
     {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none", AOCS_LAW_NONE},
     {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
     {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL", AOCS_LAW_NONE},
+    {"wheels.count", KIND_U32, OFF(exec.wheels.n), 1u, RULE_POS, "reaction wheels, 3 to 6 (absent: none)",
+     AOCS_LAW_NONE},
+    {"wheels.failed_mask", KIND_U32, OFF(exec.wheels.failed_mask), 1u, RULE_NONNEG,
+     "bit i set: wheel i declared failed", AOCS_LAW_NONE},
+    /* the reaction wheel array (docs/wire-contract.md "Reaction wheels"; wheel_array.h): wheels.count = 0 or
+     * absent is none; the executive validates the rest (unit axes, a spanning array). The spacecraft inertia
+     * for the momentum is the `inertia` key (one source), copied after the file is read. */
+    {"wheel0.axis", KIND_REAL, OFF(exec.wheels.axis_B[0]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel0.js", KIND_REAL, OFF(exec.wheels.js_kgm2[0]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel0.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[0]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel0.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[0]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel1.axis", KIND_REAL, OFF(exec.wheels.axis_B[1]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel1.js", KIND_REAL, OFF(exec.wheels.js_kgm2[1]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel1.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[1]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel1.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[1]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel2.axis", KIND_REAL, OFF(exec.wheels.axis_B[2]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel2.js", KIND_REAL, OFF(exec.wheels.js_kgm2[2]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel2.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[2]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel2.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[2]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel3.axis", KIND_REAL, OFF(exec.wheels.axis_B[3]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel3.js", KIND_REAL, OFF(exec.wheels.js_kgm2[3]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel3.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[3]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel3.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[3]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel4.axis", KIND_REAL, OFF(exec.wheels.axis_B[4]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel4.js", KIND_REAL, OFF(exec.wheels.js_kgm2[4]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel4.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[4]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel4.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[4]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel5.axis", KIND_REAL, OFF(exec.wheels.axis_B[5]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel5.js", KIND_REAL, OFF(exec.wheels.js_kgm2[5]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel5.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[5]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel5.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[5]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
     AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)
 };
 
@@ -460,6 +509,14 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
                         line_k);
                 rc = 1;
             }
+        }
+    }
+    if (rc == 0) {
+        /* the wheel array's momentum uses the spacecraft inertia of the `inertia` key (one source) */
+        const key_def_t *ki = find_key("inertia");
+        if (ki != NULL) {
+            memcpy(&cfg->exec.wheels.inertia_B_kgm2, (const unsigned char *)cfg + ki->offset,
+                   sizeof(cfg->exec.wheels.inertia_B_kgm2));
         }
     }
     if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {

@@ -76,7 +76,7 @@ def pyramid_axes(n: int, axis: int, cant_deg: float, azimuth0_deg: float = 0.0) 
         g[axis] = math.cos(beta)
         g[b_ax] = math.sin(beta) * math.cos(az)
         g[c_ax] = math.sin(beta) * math.sin(az)
-        out.append(tuple(g))
+        out.append(tuple(0.0 if abs(x) < 1e-15 else x for x in g))   # exact zeros, not cos(90 deg) = 6e-17
     return tuple(out)
 
 
