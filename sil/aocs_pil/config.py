@@ -63,6 +63,11 @@ _GENERAL = (
     ("run_timeout_s", "double", 1, NONNEG, "s, 0 = none"),
     ("status_period_s", "double", 1, POS, "s"),
     ("lcm_url", "string", 1, ANY, "LCM provider URL"),
+    ("guidance.mode", "guidance_mode", 1, ANY, "step | slew"),
+    ("guidance.profile", "slew_profile", 1, ANY, "bang_coast_bang | jerk_limited"),
+    ("guidance.margin", "real", 1, POS, "fraction of the torque envelope the slew reference may use, in (0, 1]"),
+    ("guidance.rate_limit", "real", 1, NONNEG, "rad/s, 0 = none"),
+    ("guidance.jerk_time", "real", 1, NONNEG, "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang"),
     ("wheels.count", "u32", 1, POS, "reaction wheels, 3 to 6 (absent: none)"),
     ("wheels.failed_mask", "u32", 1, NONNEG, "bit i set: wheel i declared failed"),
 ) + tuple(row for i in range(6) for row in (
@@ -70,6 +75,11 @@ _GENERAL = (
     (f"wheel{i}.js", "real", 1, POS, "spin inertia Js, kg m^2"),
     (f"wheel{i}.u_max", "real", 1, POS, "motor torque limit, N m"),
     (f"wheel{i}.omega_max", "real", 1, POS, "speed limit, rad/s")))
+
+#: the enumerated guidance keys: value -> the firmware's enum value (aocs_guidance_mode_t,
+#: aocs_slew_profile_t, executive.h and guidance/slew.h order), and the words of fsw_node's message
+_ENUMS = {"guidance_mode": ({"step": 0, "slew": 1}, "is neither step nor slew"),
+          "slew_profile": ({"bang_coast_bang": 0, "jerk_limited": 1}, "is neither bang_coast_bang nor jerk_limited")}
 
 #: how node_config.c's LAW_KEY_ROW reads a field of each registry type: (kind, count or None = the field's)
 _LAW_KEY_KIND = {"real": ("real", None), "vec3": ("real", None), "gain": ("real", None),
@@ -151,6 +161,8 @@ class NodeConfig:
                 continue
             if name == "law":
                 out.add(key.pil, registry.law_ids()[value])
+            elif key.kind in _ENUMS:
+                out.add(key.pil, _ENUMS[key.kind][0][value])
             elif key.kind == "inertia":
                 if len(value) == 3:
                     value = [value[0], 0.0, 0.0, 0.0, value[1], 0.0, 0.0, 0.0, value[2]]
@@ -232,6 +244,12 @@ def _set(cfg: NodeConfig, key: Key, value: str) -> None:
         if value not in registry.law_ids():
             raise ConfigError(f"key 'law': unknown law '{value}'")
         cfg.law = value
+        cfg.values.append((key.name, value))
+        return
+    if key.kind in _ENUMS:
+        names, words = _ENUMS[key.kind]
+        if value not in names:
+            raise ConfigError(f"key '{key.name}': '{value}' {words}")
         cfg.values.append((key.name, value))
         return
     if key.kind == "run_mode":
@@ -389,6 +407,15 @@ def status_hint(status_name: str, law: str) -> str:
         "AOCS_ERR_INERTIA_SINGULAR": "inertia",
         "AOCS_ERR_GAIN_TABLE_INVALID": gain,
         "AOCS_ERR_PARAM_NOT_FINITE": "u_max_*, k_safe or a gain of the selected law",
+        "AOCS_ERR_GUIDANCE_MODE_INVALID": "guidance.mode",
+        "AOCS_ERR_GUIDANCE_PROFILE_INVALID": "guidance.profile",
+        "AOCS_ERR_GUIDANCE_MARGIN_INVALID": "guidance.margin (in (0, 1])",
+        "AOCS_ERR_GUIDANCE_RATE_LIMIT_INVALID": "guidance.rate_limit",
+        "AOCS_ERR_GUIDANCE_JERK_TIME_INVALID": "guidance.jerk_time (> 0 and <= 1000 s with jerk_limited, 0 with "
+                                               "bang_coast_bang)",
+        "AOCS_ERR_GUIDANCE_TARGET_MOVING": "guidance.mode = slew needs target_w = target_w_dot = "
+                                           "target_rotation_rate = 0",
+        "AOCS_ERR_GUIDANCE_ENVELOPE_INVALID": "u_max_axis / u_max_norm",
         **{f"AOCS_ERR_{w}": "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max"
            for w in ("WHEEL_COUNT", "WHEEL_FAILED_MASK", "WHEEL_AXIS_NOT_UNIT", "WHEEL_INERTIA_NOT_POSITIVE",
                      "WHEEL_LIMIT_NOT_POSITIVE", "WHEELS_NOT_SPANNING")},

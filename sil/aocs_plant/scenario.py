@@ -22,7 +22,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aocs_core import limits, registry
+from aocs_core import limits, paths, registry
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
 from . import effectors
@@ -178,6 +178,22 @@ class MetricsConfig:
     goal_arcsec: float | None = None
 
 
+GUIDANCE_MODES = ("step", "slew")
+GUIDANCE_PROFILES = ("bang_coast_bang", "jerk_limited")
+
+
+@dataclass(frozen=True)
+class GuidanceConfig:
+    """[guidance]: the flight software's slew guidance (docs/spec.md "Slew guidance", fsw_node keys
+    guidance.*). mode "step" (default) is the reference papers' behaviour: the law sees the final target
+    at once. "slew": a rest-to-rest eigenaxis slew from the attitude at the command."""
+    mode: str = "step"
+    profile: str = "bang_coast_bang"
+    margin: float = 0.8
+    rate_limit_radps: float = 0.0
+    jerk_time_s: float = 0.0
+
+
 @dataclass(frozen=True)
 class Scenario:
     id: str
@@ -202,6 +218,7 @@ class Scenario:
     effectors: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
     # integration error above which a run warns: arcsec (attitude) or m (orbit); aocs_plant.integration_error
     integrator_tolerance: float | None = None
+    guidance: GuidanceConfig = GuidanceConfig()
 
     @property
     def dt(self) -> float:
@@ -581,6 +598,45 @@ def _read_target(root: _Section, kind: str):
     return TargetConfig(qd, wd, src)
 
 
+# the firmware's bound on the jerk ramp (aocs/guidance/slew.h), read from the header: one source
+def _jerk_time_max_s() -> float:
+    return paths.header_number("firmware/include/aocs/guidance/slew.h", "AOCS_SLEW_JERK_TIME_MAX_S")
+
+
+# a rate limit above this is no limit a spacecraft flies (rad/s; 10 rad/s ~ 570 deg/s): a unit mistake
+GUIDANCE_RATE_LIMIT_MAX_RADPS = 10.0
+
+
+def _read_guidance(root: _Section, kind: str, target) -> GuidanceConfig:
+    """[guidance], bounded as fsw_node and the executive bound it (aocs_exec_init, slew.h)."""
+    sec = root.table("guidance", required=False)
+    if sec is None:
+        return GuidanceConfig()
+    if kind != "attitude":
+        sec.fail(sec.path, "slew guidance applies to attitude scenarios only")
+    mode = sec.string("mode", required=False, default="step", choices=GUIDANCE_MODES)
+    profile = sec.string("profile", required=False, default="bang_coast_bang", choices=GUIDANCE_PROFILES)
+    margin = sec.number("margin", required=False, default=0.8, positive=True)
+    if margin > 1.0:
+        sec.fail(sec.key("margin"), f"{margin:g} is above 1 (the fraction of the torque envelope, in (0, 1])")
+    rate = sec.number("rate_limit_radps", required=False, default=0.0, nonneg=True)
+    if rate > GUIDANCE_RATE_LIMIT_MAX_RADPS:
+        sec.fail(sec.key("rate_limit_radps"), f"{rate:g} rad/s is above {GUIDANCE_RATE_LIMIT_MAX_RADPS:g} rad/s "
+                                              "(0 = no limit)")
+    jerk = sec.number("jerk_time_s", required=False, default=0.0, nonneg=True)
+    jmax = _jerk_time_max_s()
+    if jerk > jmax:
+        sec.fail(sec.key("jerk_time_s"), f"{jerk:g} s is above {jmax:g} s")
+    if profile == "jerk_limited" and not jerk > 0.0:
+        sec.fail(sec.key("jerk_time_s"), "profile jerk_limited needs a ramp time > 0 s")
+    if profile == "bang_coast_bang" and jerk > 0.0:
+        sec.fail(sec.key("jerk_time_s"), "must be 0 with profile bang_coast_bang (or set profile = \"jerk_limited\")")
+    sec.done()
+    if mode == "slew" and target is not None and any(x != 0.0 for x in target.wd):
+        root.fail("guidance.mode", "a slew needs a fixed target: [target] wd must be 0")
+    return GuidanceConfig(mode, profile, margin, rate, jerk)
+
+
 def _read_effectors(root: _Section, kind: str, duration: float, rate: float, substeps: int, plant) -> dict:
     """[disturbances.<kind>] and [actuator]: each effector module reads its own section."""
     ctx = effectors.ReadContext(root.file, kind, duration, 1.0 / rate, substeps, plant)
@@ -706,6 +762,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)
     target = _read_target(root, kind)
+    guidance = _read_guidance(root, kind, target)
     configs = _read_effectors(root, kind, duration, rate, substeps, att if kind == "attitude" else orb)
     disturbances = Disturbances({k: c for k, c in configs.items()
                                  if effectors.REGISTRY[k].group == "disturbances"})
@@ -716,7 +773,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensors, settle, metrics, file,
-                    effectors=MappingProxyType(configs), integrator_tolerance=tolerance)
+                    effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

@@ -51,6 +51,7 @@ class RunOptions:
     limit: float | None = None
     target: str = "host"
     seed: int | None = None
+    guidance: str | None = None     # step | slew: guidance.mode override (aocs run --guidance)
     sets: list = field(default_factory=list)
     events: list = field(default_factory=list)
     reply_timeout: float | None = None
@@ -159,7 +160,7 @@ def check_options(opts: RunOptions) -> None:
 def prepare(opts: RunOptions):
     """Scenario (with overrides), law and the run folder; raises on bad input."""
     check_options(opts)
-    ov = scenario_opts.overrides(opts.sets, opts.duration, opts.seed, opts.limit)
+    ov = scenario_opts.overrides(opts.sets, opts.duration, opts.seed, opts.limit, opts.guidance)
     if opts.duration is not None and "metrics.window_s" not in ov:
         # a shortened run keeps the scenario's metric window where it fits, else the whole run
         base = load(opts.scenario, {k: v for k, v in ov.items() if k != "duration_s"})

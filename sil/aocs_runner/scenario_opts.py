@@ -4,8 +4,8 @@
 (`control.enabled=false`, `actuator.axis_limit=0.5`,
 `sensors.faults=[{channel="attitude", kind="nan", start_s=10.0, end_s=11.0}]`);
 a value that is not valid TOML is taken as a string (`plant.model=nonlinear`).
-`--duration`, `--seed` and `--limit` are shorthands for `duration_s`, `seed`
-and `actuator.axis_limit`. Everything goes through aocs_plant.scenario.load,
+`--duration`, `--seed`, `--limit` and `--guidance` are shorthands for
+`duration_s`, `seed`, `actuator.axis_limit` and `guidance.mode`. Everything goes through aocs_plant.scenario.load,
 so an override is validated exactly like the file.
 """
 from __future__ import annotations
@@ -35,7 +35,7 @@ def parse_sets(items: Iterable[str] | None) -> dict[str, Any]:
 
 
 def overrides(sets: Iterable[str] | None = None, duration: float | None = None, seed: int | None = None,
-              limit: float | None = None) -> dict[str, Any]:
+              limit: float | None = None, guidance: str | None = None) -> dict[str, Any]:
     out = parse_sets(sets)
     if duration is not None:
         out["duration_s"] = float(duration)
@@ -43,6 +43,8 @@ def overrides(sets: Iterable[str] | None = None, duration: float | None = None, 
         out["seed"] = int(seed)
     if limit is not None:
         out["actuator.axis_limit"] = float(limit)
+    if guidance is not None:
+        out["guidance.mode"] = str(guidance)  # validated by the scenario loader ([guidance] mode)
     return out
 
 

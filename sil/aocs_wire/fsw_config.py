@@ -17,6 +17,8 @@ What comes from where (docs/sil.md):
 - limits: the scenario's `actuator.axis_limit` / `norm_limit`, or the
   runner's `--limit`; a scenario without a limit (the reference runs) gets
   UNLIMITED per axis, because the executive requires one limit;
+- guidance: the scenario's [guidance] as the guidance.* keys, only in
+  slew mode (step mode, the default, writes none);
 - the reaction wheel array, when the scenario has a [wheels] section: the
   same description that builds the plant's wheels (aocs_plant.effectors.
   reaction_wheels) gives `wheels.count`, `wheels.failed_mask` and per wheel
@@ -123,6 +125,15 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
         cfg["u_max_norm"] = _num(a.norm_limit)
     if axis is None and a.norm_limit is None:
         cfg["u_max_axis"] = _vec((UNLIMITED,) * 3)
+    g = getattr(sc, "guidance", None)
+    if sc.kind == "attitude" and g is not None and g.mode != "step":
+        # [guidance] (docs/wire-contract.md guidance.*); the inertia is the plant's `inertia` key above.
+        # Step mode writes nothing: the reference runs' configuration stays as it was
+        cfg["guidance.mode"] = g.mode
+        cfg["guidance.profile"] = g.profile
+        cfg["guidance.margin"] = _num(g.margin)
+        cfg["guidance.rate_limit"] = _num(g.rate_limit_radps)
+        cfg["guidance.jerk_time"] = _num(g.jerk_time_s)
     cfg.update(wheel_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)

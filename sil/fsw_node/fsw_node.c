@@ -290,6 +290,20 @@ static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
         return aocs_node_config_gain_keys(law, gain_keys, sizeof(gain_keys));
     case AOCS_ERR_PARAM_NOT_FINITE:
         return "u_max_*, k_safe or a gain of the selected law";
+    case AOCS_ERR_GUIDANCE_MODE_INVALID:
+        return "guidance.mode";
+    case AOCS_ERR_GUIDANCE_PROFILE_INVALID:
+        return "guidance.profile";
+    case AOCS_ERR_GUIDANCE_MARGIN_INVALID:
+        return "guidance.margin (in (0, 1])";
+    case AOCS_ERR_GUIDANCE_RATE_LIMIT_INVALID:
+        return "guidance.rate_limit";
+    case AOCS_ERR_GUIDANCE_JERK_TIME_INVALID:
+        return "guidance.jerk_time (> 0 and <= 1000 s with jerk_limited, 0 with bang_coast_bang)";
+    case AOCS_ERR_GUIDANCE_TARGET_MOVING:
+        return "guidance.mode = slew needs target_w = target_w_dot = target_rotation_rate = 0";
+    case AOCS_ERR_GUIDANCE_ENVELOPE_INVALID:
+        return "u_max_axis / u_max_norm";
     case AOCS_ERR_WHEEL_COUNT:
     case AOCS_ERR_WHEEL_FAILED_MASK:
     case AOCS_ERR_WHEEL_AXIS_NOT_UNIT:
@@ -447,12 +461,36 @@ static const char *run_realtime(node_t *n, int *failed)
 }
 
 /* ---- final report ------------------------------------------------------- */
+/*
+ * The guidance part of the exit summary: mode, and in slew mode the last slew's start and profile end
+ * (sensor time, s; lockstep: sim time) as the firmware planned them, so the tools report the
+ * flight software's own profile (null before any slew started).
+ */
+static void guidance_summary(const node_t *n, char *buf, size_t size)
+{
+    const aocs_exec_t *e = &n->exec;
+    if (e->cfg.guidance.mode != AOCS_GUIDANCE_MODE_SLEW) {
+        (void)snprintf(buf, size, "{\"mode\": \"step\"}");
+    } else if (e->slew_pending != 0) {
+        (void)snprintf(buf, size, "{\"mode\": \"slew\", \"slew_start_s\": null, \"profile_end_s\": null}");
+    } else {
+        const double t0 = (double)e->slew_t0_ns * 1e-9;
+        (void)snprintf(buf, size,
+                       "{\"mode\": \"slew\", \"slew_start_s\": %.9g, \"profile_end_s\": %.9g, "
+                       "\"angle_rad\": %.9g, \"peak_rate_radps\": %.9g, \"peak_accel_radps2\": %.9g}",
+                       t0, t0 + (double)e->slew.t_end_s, (double)e->slew.theta_f_rad, (double)e->slew.rate_radps,
+                       (double)e->slew.accel_radps2);
+    }
+}
+
 static void report(node_t *n, const char *reason)
 {
     aocs_node_stats_summary_t s = aocs_node_stats_summary(&g_stats, g_scratch);
     aocs_exec_counters_t c = aocs_exec_counters(&n->exec);
     double jitter_rms = (double)aocs_exec_timer_jitter_rms_ns(&n->timer);
     const char *run = (n->cfg.run_mode == AOCS_NODE_RUN_REALTIME) ? "realtime" : "lockstep";
+    char guidance[320];
+    guidance_summary(n, guidance, sizeof(guidance));
     (void)fprintf(stderr,
                   "fsw_node: %s end (%s): steps=%llu overruns=%llu step_ns median=%llu p99=%llu max=%llu "
                   "jitter_ns max=%llu rms=%.0f lost=%llu dup=%llu jump=%llu seq_resync=%llu exec_resync=%lu "
@@ -470,7 +508,7 @@ static void report(node_t *n, const char *reason)
                  "\"sensor_frames\": %llu, \"lost\": %llu, \"duplicate\": %llu, \"foreign\": %llu, \"malformed\": %llu, "
                  "\"invalid\": %lu, \"stale\": %lu, \"missing\": %lu, \"law_error\": %lu, "
                  "\"mode_transitions\": %lu, \"saturated\": %lu, "
-                 "\"cmd_accepted\": %llu, \"cmd_rejected\": %llu}}\n",
+                 "\"cmd_accepted\": %llu, \"cmd_rejected\": %llu, \"guidance\": %s}}\n",
                  reason, run, aocs_law_name(n->exec.law), aocs_exec_mode_name(n->exec.mode),
                  (unsigned long long)g_stats.count, (unsigned long long)overruns(n),
                  (unsigned long long)n->timer.slips, (unsigned long long)s.n, (unsigned long long)s.median,
@@ -481,7 +519,7 @@ static void report(node_t *n, const char *reason)
                  (unsigned long long)n->n_malformed, (unsigned long)c.invalid, (unsigned long)c.stale,
                  (unsigned long)c.missing, (unsigned long)c.law_error, (unsigned long)c.mode_transitions,
                  (unsigned long)c.saturated, (unsigned long long)n->n_cmd_accepted,
-                 (unsigned long long)n->n_cmd_rejected);
+                 (unsigned long long)n->n_cmd_rejected, guidance);
     (void)fflush(stdout);
 }
 

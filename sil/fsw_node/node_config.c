@@ -27,7 +27,9 @@ typedef enum {
     KIND_RUN_MODE, /* lockstep | realtime */
     KIND_STRING,   /* char[AOCS_NODE_URL_MAX] */
     KIND_INERTIA,  /* 3 (diagonal) or 9 (row-major) values */
-    KIND_GAIN_TABLE /* design name of a compiled gain table (TABLE_KEYS) */
+    KIND_GAIN_TABLE, /* design name of a compiled gain table (TABLE_KEYS) */
+    KIND_GUIDANCE_MODE, /* step | slew */
+    KIND_SLEW_PROFILE   /* bang_coast_bang | jerk_limited */
 } key_kind_t;
 
 typedef enum {
@@ -87,6 +89,15 @@ static const key_def_t KEYS[] = {
     {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none", AOCS_LAW_NONE},
     {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
     {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL", AOCS_LAW_NONE},
+    {"guidance.mode", KIND_GUIDANCE_MODE, OFF(exec.guidance.mode), 1u, RULE_ANY, "step | slew", AOCS_LAW_NONE},
+    {"guidance.profile", KIND_SLEW_PROFILE, OFF(exec.guidance.slew.profile), 1u, RULE_ANY,
+     "bang_coast_bang | jerk_limited", AOCS_LAW_NONE},
+    {"guidance.margin", KIND_REAL, OFF(exec.guidance.slew.margin), 1u, RULE_POS,
+     "fraction of the torque envelope the slew reference may use, in (0, 1]", AOCS_LAW_NONE},
+    {"guidance.rate_limit", KIND_REAL, OFF(exec.guidance.slew.rate_limit_radps), 1u, RULE_NONNEG,
+     "rad/s, 0 = none", AOCS_LAW_NONE},
+    {"guidance.jerk_time", KIND_REAL, OFF(exec.guidance.slew.jerk_time_s), 1u, RULE_NONNEG,
+     "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang", AOCS_LAW_NONE},
     {"wheels.count", KIND_U32, OFF(exec.wheels.n), 1u, RULE_POS, "reaction wheels, 3 to 6 (absent: none)",
      AOCS_LAW_NONE},
     {"wheels.failed_mask", KIND_U32, OFF(exec.wheels.failed_mask), 1u, RULE_NONNEG,
@@ -399,6 +410,26 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
         return 0;
     case KIND_GAIN_TABLE:
         return set_gain_table(cfg, k, value, err, err_size);
+    case KIND_GUIDANCE_MODE:
+        if (strcmp(value, "step") == 0) {
+            cfg->exec.guidance.mode = AOCS_GUIDANCE_MODE_STEP;
+        } else if (strcmp(value, "slew") == 0) {
+            cfg->exec.guidance.mode = AOCS_GUIDANCE_MODE_SLEW;
+        } else {
+            set_err(err, err_size, "key '%s': '%s' is neither step nor slew", key, value);
+            return 1;
+        }
+        return 0;
+    case KIND_SLEW_PROFILE:
+        if (strcmp(value, "bang_coast_bang") == 0) {
+            cfg->exec.guidance.slew.profile = AOCS_SLEW_PROFILE_BANG_COAST_BANG;
+        } else if (strcmp(value, "jerk_limited") == 0) {
+            cfg->exec.guidance.slew.profile = AOCS_SLEW_PROFILE_JERK_LIMITED;
+        } else {
+            set_err(err, err_size, "key '%s': '%s' is neither bang_coast_bang nor jerk_limited", key, value);
+            return 1;
+        }
+        return 0;
     default:
         return set_numeric(cfg, k, value, err, err_size);
     }
@@ -512,12 +543,10 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         }
     }
     if (rc == 0) {
-        /* the wheel array's momentum uses the spacecraft inertia of the `inertia` key (one source) */
-        const key_def_t *ki = find_key("inertia");
-        if (ki != NULL) {
-            memcpy(&cfg->exec.wheels.inertia_B_kgm2, (const unsigned char *)cfg + ki->offset,
-                   sizeof(cfg->exec.wheels.inertia_B_kgm2));
-        }
+        /* one inertia (the plant's, key 'inertia'): the slew guidance sizes its profile and feedforward with it */
+        cfg->exec.guidance.slew.inertia_kgm2 = cfg->exec.laws.smc.inertia;
+        /* the same inertia gives the wheel array's total momentum H = J w + sum Js g Omega */
+        cfg->exec.wheels.inertia_B_kgm2 = cfg->exec.laws.smc.inertia;
     }
     if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {
         /* default: a sample older than two control periods is stale */

@@ -50,6 +50,9 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     {"TARGET_W_DOT", 5u}, {"TARGET_ROTATION_RATE", 6u}, {"TARGET_T0_NS", 7u}, {"U_MAX_AXIS", 8u},
     {"U_MAX_NORM", 9u},  {"K_SAFE", 10u},    {"RECOVER_GOOD_SAMPLES", 11u}, {"MISSING_MAX_PERIODS", 12u},
     {"STALE_TIMEOUT_NS", 13u}, {"BUDGET_INSTR", 14u},
+    /* the slew guidance (executive.h), ids from 60 */
+    {"GUIDANCE_MODE", 60u}, {"GUIDANCE_PROFILE", 61u}, {"GUIDANCE_MARGIN", 62u}, {"GUIDANCE_RATE_LIMIT", 63u},
+    {"GUIDANCE_JERK_TIME", 64u},
 };
 #define N_WIRE_EXEC_FIELDS ((int)(sizeof(WIRE_EXEC_FIELDS) / sizeof(WIRE_EXEC_FIELDS[0])))
 

@@ -23,6 +23,9 @@ def add_arguments(p) -> None:
                    "law:table selects one gain table, e.g. lqr_quat:lqr_quat_strong")
     p.add_argument("--limit", type=float, metavar="NM", help="per-axis actuator limit for every run (N m, or N)")
     p.add_argument("--duration", type=float, help="run length, s")
+    p.add_argument("--guidance", choices=("step", "slew"),
+                   help="flight software guidance for every run (sets guidance.mode); slew also prints the "
+                        "eigenaxis bang-bang bound and settle / bound per law")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="scenario override for every run (repeatable)")
     p.add_argument("--json", help="also write the list of metrics here")
@@ -75,6 +78,7 @@ def run(args) -> int:
         return run_sweep(args, out)
     try:
         sc, rows, plots = compare(args.scenario, out, laws=args.laws, limit=args.limit, duration=args.duration,
+                                  guidance=args.guidance,
                                   sets=args.set, run_plots=args.run_plots, quiet=args.quiet)
     except (ScenarioError, ValueError, fsw_config.ConfigError, paths.SetupError, netns.NetnsError) as exc:
         print(f"aocs compare: error: {exc}", file=sys.stderr)
@@ -85,8 +89,14 @@ def run(args) -> int:
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text((out / "compare.json").read_text())
-    head, body = table_rows(rows, sc.kind)
-    print(f"{sc.id}: {len(rows)} laws" + ("" if args.limit is None else f", limit {args.limit:g} per axis"))
+    slew = args.guidance == "slew"
+    head, body = table_rows(rows, sc.kind, bound=slew)
+    print(f"{sc.id}: {len(rows)} laws" + ("" if args.limit is None else f", limit {args.limit:g} per axis")
+          + (", guidance slew" if slew else ""))
+    bounds = {r.metrics.get("slew_bound_s") for r in rows if r.metrics}
+    if slew and bounds - {None}:
+        print(f"eigenaxis bang-bang bound (SPEC 5.1, margin 1, no rate limit): "
+              f"{', '.join(f'{b:.1f} s' for b in sorted(bounds - {None}))}")
     print(text_table(head, body))
     print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}")
     return EXIT_FAILED if any(r.error for r in rows) else EXIT_OK

@@ -33,6 +33,9 @@ def add_arguments(p) -> None:
     p.add_argument("--target", choices=TARGETS, default="host",
                    help="flight computer: host fsw_node, or processor in the loop (QEMU)")
     p.add_argument("--seed", type=int, help="seed of the plant's random streams")
+    p.add_argument("--guidance", choices=("step", "slew"),
+                   help="flight software guidance: step (the target at once) or slew (rest-to-rest eigenaxis "
+                        "slew, the scenario's [guidance] settings); sets guidance.mode")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="scenario override, e.g. control.enabled=false (repeatable)")
     p.add_argument("--event", action="append", default=[], metavar="T:WHAT",
@@ -56,6 +59,7 @@ def add_arguments(p) -> None:
 def options_from_args(args) -> RunOptions:
     return RunOptions(scenario=args.scenario, law=args.law, duration=args.duration, realtime=args.realtime,
                       out=args.out, json_path=args.json, limit=args.limit, target=args.target, seed=args.seed,
+                      guidance=args.guidance,
                       sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
                       plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow))

@@ -21,6 +21,7 @@ from aocs_core.paths import MODE_NOMINAL, MODE_SAFE
 from . import metrics as M
 from . import wheels
 from .gain_tables import designed_gamma
+from .slew_bound import scenario_slew_bound_s
 
 RAD2AS = M.ARCSEC_PER_RAD
 
@@ -123,6 +124,11 @@ def _f(x):
     return x if math.isfinite(x) else None
 
 
+def _fo(x):
+    """_f, with None kept (a value that may be absent)."""
+    return None if x is None else _f(x)
+
+
 def _fl(a):
     return [_f(x) for x in np.asarray(a, float).ravel()]
 
@@ -160,6 +166,7 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
                  "duration_s": _f(t[-1] - t[0]), "control_rate_hz": _f(sc.control_rate_hz)}
     series: dict = {"t": t, "kind": sc.kind}
     _accuracy(out, series, log, sc)
+    _guidance(out, sc, fsw)
     u = _commands(out, series, log, sc)
     cfg = meta.get("fsw_config", {})
     _limits(out, series, u, cfg, sc)
@@ -169,6 +176,24 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     return out, series
+
+
+def _guidance(out: dict, sc, fsw: dict | None) -> None:
+    """slew_bound_s: the eigenaxis bang-bang bound of this slew and envelope (slew_bound.py, SPEC 5.1),
+    computed here from the scenario; guidance: the mode, and in slew mode the profile and its end time
+    as the flight software planned it (fsw_node's exit summary; None where the flight computer does not
+    report it, e.g. PIL). The settle time and the pointing error stay measured against the final target."""
+    out["slew_bound_s"] = _fo(scenario_slew_bound_s(sc))
+    g = getattr(sc, "guidance", None)
+    if sc.kind != "attitude" or g is None:
+        out["guidance"] = None
+        return
+    rep = ((fsw or {}).get("guidance") or {})
+    out["guidance"] = {"mode": g.mode, "profile": g.profile if g.mode == "slew" else None,
+                       "margin": g.margin if g.mode == "slew" else None,
+                       "rate_limit_radps": g.rate_limit_radps if g.mode == "slew" else None,
+                       "jerk_time_s": g.jerk_time_s if g.mode == "slew" else None,
+                       "slew_start_s": _fo(rep.get("slew_start_s")), "profile_end_s": _fo(rep.get("profile_end_s"))}
 
 
 def _accuracy(out: dict, series: dict, log, sc) -> None:
@@ -444,6 +469,15 @@ def table(m: dict) -> str:
             ("settle time", "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f} s")]
     crit = ", ".join(f"{k} < {v:g}" for k, v in m["settle_criterion"]["criteria"].items())
     rows.append(("settle criterion", crit))
+    if m.get("slew_bound_s") is not None:
+        b = m["slew_bound_s"]
+        ratio = "" if m["settle_time_s"] is None or b <= 0.0 else f" (settle / bound {m['settle_time_s'] / b:.3f})"
+        rows.append(("slew bound (eigenaxis bang-bang)", f"{b:.1f} s{ratio}"))
+    g = m.get("guidance")
+    if g is not None:
+        rows.append(("guidance", g["mode"] if g["mode"] != "slew" else
+                     f"slew, {g['profile']}, margin {g['margin']:g}, profile end "
+                     + ("unknown" if g["profile_end_s"] is None else f"{g['profile_end_s']:.1f} s")))
     if m["pointing_error_arcsec"]:
         pe = m["pointing_error_arcsec"]
         verdict = []

@@ -96,7 +96,7 @@ def curves_from_log(log_path: Path, kind: str, dt: float) -> dict:
 
 
 def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, limit=None, duration=None,
-             sets=(), run_plots=False, quiet=False, tag="") -> list[Row]:
+             sets=(), run_plots=False, quiet=False, tag="", guidance=None) -> list[Row]:
     """One SIL run per row (must be called inside the private network namespace)."""
     sc = load(scenario)
     result = []
@@ -110,11 +110,12 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
             s.append("control.enabled=false")
         if not quiet:
             lim = "no limit" if limit is None else f"{limit:g} per axis"
-            print(f"compare: {sc.id} {name} ({lim}{tag})", file=sys.stderr, flush=True)
+            gd = "" if guidance is None else f", guidance {guidance}"
+            print(f"compare: {sc.id} {name} ({lim}{gd}{tag})", file=sys.stderr, flush=True)
         try:
             res = execute(RunOptions(scenario=scenario, law=None if law == "none" else law, limit=limit,
                                      duration=duration, sets=s, out=str(row.out_dir), label=table,
-                                     plots=run_plots, quiet=True))
+                                     plots=run_plots, quiet=True, guidance=guidance))
             row.metrics = res.metrics
             row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
             if not res.metrics["verdict"]["passed"]:  # the run ended, but did not do what was asked
@@ -140,10 +141,20 @@ def _yes(b):
     return "-" if b is None else ("yes" if b else "NO")
 
 
-def table_rows(rows: list[Row], kind: str) -> tuple[list[str], list[list[str]]]:
+def settle_over_bound(m: dict) -> float | None:
+    """settle time / eigenaxis bang-bang bound (slew_bound_s, SPEC 5.1); None when either is missing."""
+    b = m.get("slew_bound_s")
+    if m.get("settle_time_s") is None or b is None or not b > 0.0:
+        return None
+    return m["settle_time_s"] / b
+
+
+def table_rows(rows: list[Row], kind: str, bound: bool = False) -> tuple[list[str], list[list[str]]]:
+    """The comparison table; bound: add the slew bound and settle / bound columns (--guidance slew)."""
     if kind == "attitude":
         head = ["law", "limit N m", "final max as", "per axis as", "qe_arcsec max", "0.3 as", "0.05 as",
-                "settle s", "max abs u_i N m", "max norm u N m", "effort N m s", "sat s",
+                "settle s"] + (["bound s", "settle/bound", "profile end s"] if bound else []) + [
+                "max abs u_i N m", "max norm u N m", "effort N m s", "sat s",
                 "step ns med/p99/budget", "overruns"]
     else:
         head = ["law", "limit N", "pos err max m", "per axis m", "vel err max m/s", "settle s",
@@ -166,7 +177,9 @@ def table_rows(rows: list[Row], kind: str) -> tuple[list[str], list[list[str]]]:
             body.append([r.name, limit, _g(req, ".4g"), _vec(pe.get("per_axis_final_max")),
                          _vec(pe.get("qe_arcsec_final_max")),
                          _yes(None if req is None else req <= 0.3), _yes(None if req is None else req <= 0.05),
-                         settle, _vec(m["max_abs_torque_nm"]), _g(m["max_torque_norm_nm"], ".4g"),
+                         settle] + ([_g(m.get("slew_bound_s"), ".1f"), _g(settle_over_bound(m), ".3f"),
+                                     _g((m.get("guidance") or {}).get("profile_end_s"), ".1f")] if bound else []) + [
+                         _vec(m["max_abs_torque_nm"]), _g(m["max_torque_norm_nm"], ".4g"),
                          _g(m["effort"], ".4g"), sat, timing, str(tm["overruns"])])
         else:
             pe = m["position_error_m"] or {}
@@ -254,8 +267,8 @@ def settle_line(sc) -> tuple[float, str] | None:
 
 
 # --------------------------------------------------------------------------- report
-def report_md(sc, rows: list[Row], plots: list[Path], limit=None, duration=None) -> str:
-    head, body = table_rows(rows, sc.kind)
+def report_md(sc, rows: list[Row], plots: list[Path], limit=None, duration=None, bound=False) -> str:
+    head, body = table_rows(rows, sc.kind, bound=bound)
     lim = "reference actuator (no limit)" if limit is None else f"actuator limit {limit:g} per axis"
     dur = f"{duration:g} s" if duration else f"{sc.duration_s:g} s"
     parts = [f"# aocs compare: {sc.id}", "",
@@ -287,11 +300,11 @@ def report_md(sc, rows: list[Row], plots: list[Path], limit=None, duration=None)
 
 
 def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, sets=(), run_plots=False,
-            quiet=False) -> tuple[object, list[Row], list[Path]]:
-    ov = scenario_opts.overrides(sets, None, None, limit)  # duration: per run (cmd_run adapts the window)
+            quiet=False, guidance=None) -> tuple[object, list[Row], list[Path]]:
+    ov = scenario_opts.overrides(sets, None, None, limit, guidance)  # duration: per run (cmd_run adapts the window)
     sc = load(scenario, ov)
     rows = run_rows(scenario, variants(sc, laws), out, limit=limit, duration=duration, sets=sets,
-                    run_plots=run_plots, quiet=quiet)
+                    run_plots=run_plots, quiet=quiet, guidance=guidance)
     plots = overlay_plots(rows, out, sc.id + ("" if limit is None else f", limit {limit:g}"), sc.kind,
                           norm_bounds=known_norm_bounds(sc, rows), settle=settle_line(sc),
                           requirement=sc.metrics.requirement_arcsec if sc.kind == "attitude" else None,
@@ -299,7 +312,7 @@ def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, 
     ms = [dict(r.metrics, row=r.name, table=r.table) if r.metrics else {"row": r.name, "error": r.error}
           for r in rows]
     (out / "compare.json").write_text(json.dumps(ms, indent=1) + "\n")
-    (out / "report.md").write_text(report_md(sc, rows, plots, limit, duration))
+    (out / "report.md").write_text(report_md(sc, rows, plots, limit, duration, bound=guidance == "slew"))
     return sc, rows, plots
 
 

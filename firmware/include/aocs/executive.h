@@ -64,6 +64,7 @@
 #include "aocs/attitude.h"
 #include "aocs/actuation/wheel_array.h"
 #include "aocs/laws.def"
+#include "aocs/guidance/slew.h"
 #include "gains/gain_tables.def"
 
 /*
@@ -87,6 +88,10 @@ const char *aocs_law_name(aocs_law_id_t law);
  * string, AOCS_ERR_NULL_ARG for NULL pointers.
  */
 aocs_status_t aocs_law_from_name(const char *name, aocs_law_id_t *law);
+
+/* 1 for a law whose formula includes the slew feedforward (AOCS_LAW_FEEDFORWARD_IN_FORMULA of laws.def:
+ * the executive adds none to it), 0 otherwise. Total. */
+int aocs_law_has_feedforward(aocs_law_id_t law);
 
 /* 1 for an ORBIT law of laws.def (input pos/vel, output force), 0 otherwise. Total. */
 int aocs_law_is_orbit(aocs_law_id_t law);
@@ -172,6 +177,31 @@ typedef struct {
 aocs_status_t aocs_gain_table_apply(aocs_gain_table_id_t table, aocs_law_id_t law,
                                     aocs_exec_law_configs_t *cfgs);
 
+/*
+ * ---- Slew guidance (aocs/guidance/slew.h, docs/spec.md "Slew guidance") ----
+ * STEP: the law sees the commanded target at once (the reference papers' runs,
+ * bit for bit). SLEW: a commanded target (the init target, or a new one from
+ * aocs_exec_select) starts a rest-to-rest eigenaxis slew from the attitude of
+ * the next good sample; the attitude laws track qd(t), wd_B(t), wd_dot_B(t)
+ * (the profile's D-frame rates rotated into B by A(qe), wd_dot_B the
+ * derivative of those B components, as for the rotating target), and the
+ * executive adds u_ff = J wd_dot_B + wd_B x (J wd_B + h_wheels) (h_wheels = 0:
+ * no wheel array yet) to the output of every law not listed in
+ * AOCS_LAW_FEEDFORWARD_IN_FORMULA (laws.def), then saturates. The envelope
+ * is the executive's limits (u_max_axis, u_max_norm). A slew needs a fixed
+ * target (no target_rotation_rate, zero wd/wd_dot). Orbit laws ignore it.
+ */
+typedef enum {
+    AOCS_GUIDANCE_MODE_STEP = 0,
+    AOCS_GUIDANCE_MODE_SLEW,
+    AOCS_GUIDANCE_MODE_COUNT
+} aocs_guidance_mode_t;
+
+typedef struct {
+    aocs_guidance_mode_t mode;    /* default STEP */
+    aocs_slew_config_t slew;      /* checked in SLEW mode only; inertia = the plant's (fsw_node: key inertia) */
+} aocs_exec_guidance_config_t;
+
 typedef struct {
     real_t period_s;              /* control period, s; rounded to whole us (>= 1 us, <= 1000 s) */
     aocs_law_id_t law;            /* initial law; AOCS_LAW_NONE starts in STANDBY */
@@ -188,6 +218,7 @@ typedef struct {
     uint64_t stale_timeout_ns;    /* real-time mode: max age (HAL now - sensor time), > 0 there */
     uint64_t budget_ns;           /* step budget override; 0 = the law's BUDGET_NS (laws.def) */
     aocs_exec_clock_t clock;
+    aocs_exec_guidance_config_t guidance; /* default: STEP mode */
     aocs_wheels_config_t wheels;  /* reaction wheel array; wheels.n = 0: none. Its period_s is set from
                                    * period_s at init (one source) */
 } aocs_exec_config_t;
@@ -229,9 +260,10 @@ typedef struct {
     aocs_status_t input_status;   /* AOCS_OK or why the sample was rejected (INPUT_*, QUAT_NOT_UNIT) */
     int saturated;                /* 1 when u_cmd != u_unsat */
     int overrun;                  /* 1 when step_time_ns > budget_ns */
-    aocs_exec_target_t target;    /* target given to the law this step (rotating: qd(t), wd_B, wd_dot_B;
-                                   * wd_B and wd_dot_B only on a usable sample, else 0);
+    aocs_exec_target_t target;    /* target given to the law this step (rotating or slew: qd(t), wd_B,
+                                   * wd_dot_B; wd_B and wd_dot_B only on a usable sample, else 0);
                                    * all zero from step_no_input (no law runs) */
+    aocs_vec3_t u_ff;             /* slew feedforward added to the law's output this step (else 0), N m */
     uint64_t step_time_ns;        /* HAL time around guidance + law + saturation */
     uint32_t step_cycles;         /* aocs_hal_cycles() difference (0 where the platform has none) */
     uint64_t budget_ns;
@@ -273,6 +305,9 @@ typedef struct {
     aocs_exec_target_t target;    /* fixed target, or qd0 of a rotating one */
     uint64_t target_t0_ns;        /* sensor time of qd0 (rotating target) */
     int target_rotating;          /* target_rotation_rate_D is non-zero */
+    int slew_pending;             /* SLEW mode: a target was commanded, the slew starts at the next good sample */
+    aocs_slew_t slew;             /* SLEW mode: the slew being flown (zero length before the first) */
+    uint64_t slew_t0_ns;          /* sensor time of the slew's start */
     aocs_exec_mode_t mode;        /* actual mode */
     aocs_exec_mode_t requested;   /* STANDBY or NOMINAL, what SAFE returns to */
     uint32_t good_run;            /* consecutive good samples while in SAFE */
@@ -311,8 +346,14 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg);
  * k_safe); AOCS_ERR_SAT_LIMIT_NOT_POSITIVE (negative limit, mixed zero and
  * non-zero per-axis limits, or no limit set); AOCS_ERR_GAIN_NOT_POSITIVE
  * (k_safe <= 0, M or N == 0, real-time stale timeout == 0);
- * AOCS_ERR_MODE_INVALID (clock out of range); the wheel array's own status
- * (aocs_wheels_init) when cfg.wheels.n != 0; else the law init's own status.
+ * AOCS_ERR_MODE_INVALID (clock out of range); AOCS_ERR_GUIDANCE_MODE_INVALID
+ * (guidance.mode out of range); in SLEW mode AOCS_ERR_GUIDANCE_TARGET_MOVING
+ * (rotating target or non-zero wd/wd_dot) and the slew config's codes
+ * (aocs_slew_config_check: profile, margin, rate limit, jerk time, inertia);
+ * the wheel array's own status (aocs_wheels_init) when cfg.wheels.n != 0;
+ * else the law init's own status. The selected law's state is reset (its init
+ * re-run from the cached config) on every target change (select with a
+ * target) and on every change into NOMINAL, so integral states start at zero.
  * On any error exec is left not initialised (step returns
  * AOCS_ERR_NOT_INITIALISED with a zero command).
  */

@@ -907,6 +907,15 @@ static void cfg_apply_reals(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t f
     case (uint32_t)AOCS_PIL_CFG_K_SAFE:
         cfg->k_safe = r_real(r);
         break;
+    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_MARGIN:
+        cfg->guidance.slew.margin = r_real(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_RATE_LIMIT:
+        cfg->guidance.slew.rate_limit_radps = r_real(r);
+        break;
+    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_JERK_TIME:
+        cfg->guidance.slew.jerk_time_s = r_real(r);
+        break;
     AOCS_LAW_FIELD_ROWS(PIL_READ_CASE)
     default:
         /* cfg_field_shape admits no other real-valued field */
@@ -926,6 +935,18 @@ static int cfg_apply_u64(aocs_exec_config_t *cfg, uint64_t *budget_instr, uint32
         }
     } else if (field == (uint32_t)AOCS_PIL_CFG_TARGET_T0_NS) {
         cfg->target_t0_ns = value;
+    } else if (field == (uint32_t)AOCS_PIL_CFG_GUIDANCE_MODE) {
+        if (value >= (uint64_t)AOCS_GUIDANCE_MODE_COUNT) {
+            bad = 1;
+        } else {
+            cfg->guidance.mode = (aocs_guidance_mode_t)(int32_t)value;
+        }
+    } else if (field == (uint32_t)AOCS_PIL_CFG_GUIDANCE_PROFILE) {
+        if (value >= (uint64_t)AOCS_SLEW_PROFILE_COUNT) {
+            bad = 1;
+        } else {
+            cfg->guidance.slew.profile = (aocs_slew_profile_t)(int32_t)value;
+        }
     } else if (field == (uint32_t)AOCS_PIL_CFG_STALE_TIMEOUT_NS) {
         cfg->stale_timeout_ns = value;
     } else if (field == (uint32_t)AOCS_PIL_CFG_BUDGET_INSTR) {
@@ -1026,6 +1047,8 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
                 }
             }
         }
+        /* one inertia, as in fsw_node: the plant's (the inertia field) also sizes the slew guidance */
+        cfg->guidance.slew.inertia_kgm2 = cfg->laws.smc.inertia;
     }
     return err;
 }

@@ -40,6 +40,17 @@ aocs_quat_t aocs_exec_guidance_attitude(aocs_quat_t qd0_DN, aocs_vec3_t w_DN_D, 
 void aocs_exec_guidance_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w_DN_D, aocs_vec3_t w_BN_B,
                               aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B);
 
+/*
+ * Slew reference rates in B (guidance mode SLEW): with qe = q (x) qd^-1
+ * normalised and A = A(qe) = A_BD,
+ *     wd_B = A wd_D,  wd_dot_B = A wd_dot_D + wd_B x w_BN_B
+ * (d/dt of the B components: dA/dt = -[(w - wd_B) x] A, as in guidance.c
+ * for the rotating target, plus the profile's own acceleration). Zero when
+ * qe cannot be normalised. NULL outputs are skipped. Total.
+ */
+void aocs_exec_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D, aocs_vec3_t wd_dot_D,
+                          aocs_vec3_t w_BN_B, aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B);
+
 /* t - t0 in seconds, negative when t < t0, without forming a huge real ns count. Total. */
 real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns);
 

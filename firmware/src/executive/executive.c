@@ -41,6 +41,12 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg)
         cfg->stale_timeout_ns = 200000000u; /* 2 periods of 0.1 s */
         cfg->budget_ns = 0u;
         cfg->clock = AOCS_EXEC_CLOCK_LOCKSTEP;
+        cfg->guidance.mode = AOCS_GUIDANCE_MODE_STEP;
+        cfg->guidance.slew.profile = AOCS_SLEW_PROFILE_BANG_COAST_BANG;
+        cfg->guidance.slew.margin = AOCS_R(0.8);
+        cfg->guidance.slew.rate_limit_radps = AOCS_R(0.0);
+        cfg->guidance.slew.jerk_time_s = AOCS_R(0.0);
+        cfg->guidance.slew.inertia_kgm2 = aocs_mat3_zero();
     }
 }
 
@@ -69,6 +75,29 @@ static aocs_status_t rotating_target_check(const aocs_exec_target_t *target, int
     return st;
 }
 
+/* 1 in guidance mode SLEW (a commanded target starts a slew) */
+static int slew_mode(const aocs_exec_config_t *cfg)
+{
+    return ((cfg->guidance.mode == AOCS_GUIDANCE_MODE_SLEW) ? 1 : 0);
+}
+
+/* Guidance config (aocs_exec_init): the mode, and in SLEW mode a fixed target and a valid slew config. */
+static aocs_status_t guidance_config_check(const aocs_exec_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    if (((int)cfg->guidance.mode < 0) || (cfg->guidance.mode >= AOCS_GUIDANCE_MODE_COUNT)) {
+        st = AOCS_ERR_GUIDANCE_MODE_INVALID;
+    } else if (slew_mode(cfg) == 0) {
+        st = AOCS_OK; /* STEP: the slew fields are not used */
+    } else if ((rate_is_nonzero(cfg->target_rotation_rate_D) != 0) ||
+               (rotating_target_check(&cfg->target, 1) != AOCS_OK)) {
+        st = AOCS_ERR_GUIDANCE_TARGET_MOVING;
+    } else {
+        st = aocs_slew_config_check(&cfg->guidance.slew);
+    }
+    return st;
+}
+
 static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *period_ns)
 {
     aocs_status_t st = aocs_exec_period_to_ns(cfg->period_s, period_ns);
@@ -93,7 +122,19 @@ static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *perio
     } else {
         st = aocs_exec_limits_check(cfg);
     }
+    if (st == AOCS_OK) {
+        st = guidance_config_check(cfg);
+    }
     return st;
+}
+
+/* Re-runs the selected law's init from the cached config (the reset of a stateful law); no-op for NONE. */
+static void law_reset(aocs_exec_t *exec)
+{
+    if (exec->law != AOCS_LAW_NONE) {
+        /* the same config passed this init before: it cannot fail now */
+        (void)aocs_exec_law_init(&exec->states, &exec->cfg.laws, exec->law);
+    }
 }
 
 static void set_mode(aocs_exec_t *exec, aocs_exec_mode_t mode)
@@ -131,6 +172,7 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
             exec->target = cfg->target;
             exec->target_t0_ns = cfg->target_t0_ns;
             exec->target_rotating = rate_is_nonzero(cfg->target_rotation_rate_D);
+            exec->slew_pending = slew_mode(cfg);
             exec->requested = (cfg->law == AOCS_LAW_NONE) ? AOCS_EXEC_MODE_STANDBY : AOCS_EXEC_MODE_NOMINAL;
             exec->mode = exec->requested;
             exec->last_u_cmd = aocs_vec3_zero();
@@ -158,10 +200,16 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
 {
     aocs_status_t st = exec_ready(exec);
     if (st == AOCS_OK) {
+        /* a rotating target or a slew brings its own wd / wd_dot: a fixed one given too is ambiguous */
+        int moving_forbidden = 0;
+        if ((exec->target_rotating != 0) || (slew_mode(&exec->cfg) != 0)) {
+            moving_forbidden = 1;
+        }
         if (((int)law < 0) || (law >= AOCS_LAW_COUNT)) {
             st = AOCS_ERR_UNKNOWN_LAW;
-        } else if ((target != NULL) && ((aocs_exec_target_check(target) != AOCS_OK) ||
-                                        (rotating_target_check(target, exec->target_rotating) != AOCS_OK))) {
+        } else if ((target != NULL) &&
+                   ((aocs_exec_target_check(target) != AOCS_OK) ||
+                    (rotating_target_check(target, moving_forbidden) != AOCS_OK))) {
             st = AOCS_ERR_TARGET_INVALID;
         } else if ((law != AOCS_LAW_NONE) && (law != exec->law)) {
             /* one state per law: a failing init leaves the active law untouched */
@@ -170,8 +218,13 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
             st = AOCS_OK;
         }
         if (st == AOCS_OK) {
+            int from_standby = 0;
+            if (exec->mode == AOCS_EXEC_MODE_STANDBY) {
+                from_standby = 1;
+            }
             if (target != NULL) {
                 exec->target = *target;
+                exec->slew_pending = slew_mode(&exec->cfg); /* SLEW: flown from the next good sample */
                 if (exec->have_sample != 0) {
                     /* the commanded attitude is the target now: the time of the last sample */
                     exec->target_t0_ns = exec->last_t_sensor_ns;
@@ -191,6 +244,9 @@ aocs_status_t aocs_exec_select(aocs_exec_t *exec, aocs_law_id_t law, const aocs_
                     set_mode(exec, AOCS_EXEC_MODE_NOMINAL);
                 }
                 /* from SAFE: only the recovery rule returns to NOMINAL */
+            }
+            if ((target != NULL) || ((from_standby != 0) && (exec->mode == AOCS_EXEC_MODE_NOMINAL))) {
+                law_reset(exec); /* target change or entry into NOMINAL: the law's state starts afresh */
             }
             aocs_exec_count(&exec->counters.select_accepted, 1u);
         } else {
@@ -365,10 +421,38 @@ static uint64_t step_budget(const aocs_exec_t *exec)
  * target qd(t) from the sensor time and, on a usable sample, wd_B and
  * wd_dot_B from the measured attitude and rate (guidance.c).
  */
-static aocs_exec_target_t guidance_target(const aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st)
+static aocs_exec_target_t slew_target(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st)
 {
     aocs_exec_target_t target = exec->target;
-    if ((exec->target_rotating != 0) && (aocs_law_is_orbit(exec->law) == 0)) {
+    if ((exec->slew_pending != 0) && (in_st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
+        aocs_slew_envelope_t env;
+        env.u_max_axis_Nm = exec->cfg.u_max_axis;
+        env.u_max_norm_Nm = exec->cfg.u_max_norm;
+        /* config, limits and target were validated: a failure leaves a zero-length slew at the target */
+        (void)aocs_slew_plan(&exec->slew, &exec->cfg.guidance.slew, &env, in->q_BN, exec->target.qd_DN);
+        exec->slew_t0_ns = in->t_sensor_ns;
+        exec->slew_pending = 0;
+    }
+    if (exec->slew_pending == 0) {
+        aocs_slew_ref_t ref;
+        aocs_slew_eval(&exec->slew, aocs_exec_elapsed_s(in->t_sensor_ns, exec->slew_t0_ns), &ref);
+        target.qd_DN = ref.qd_DN;
+        target.wd_B = aocs_vec3_zero();
+        target.wd_dot_B = aocs_vec3_zero();
+        if (in_st == AOCS_OK) {
+            aocs_exec_slew_rates(in->q_BN, ref.qd_DN, ref.wd_D, ref.wd_dot_D, in->w_BN_B, &target.wd_B,
+                                 &target.wd_dot_B);
+        }
+    }
+    return target;
+}
+
+static aocs_exec_target_t guidance_target(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st)
+{
+    aocs_exec_target_t target = exec->target;
+    if ((slew_mode(&exec->cfg) != 0) && (aocs_law_is_orbit(exec->law) == 0)) {
+        target = slew_target(exec, in, in_st);
+    } else if ((exec->target_rotating != 0) && (aocs_law_is_orbit(exec->law) == 0)) {
         const aocs_vec3_t w_D = exec->cfg.target_rotation_rate_D;
         target.qd_DN = aocs_exec_guidance_attitude(exec->target.qd_DN, w_D,
                                                    aocs_exec_elapsed_s(in->t_sensor_ns, exec->target_t0_ns));
@@ -377,6 +461,8 @@ static aocs_exec_target_t guidance_target(const aocs_exec_t *exec, const aocs_ex
         if (in_st == AOCS_OK) {
             aocs_exec_guidance_rates(in->q_BN, target.qd_DN, w_D, in->w_BN_B, &target.wd_B, &target.wd_dot_B);
         }
+    } else {
+        /* fixed target, step mode: the commanded target as it is */
     }
     return target;
 }
@@ -432,6 +518,12 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         orbit.vel_mps = in->vel_mps;
         orbit.dt_s = exec->cfg.period_s;
 
+        /* a good sample now completes the recovery (if the law works): enter NOMINAL with a fresh law state */
+        if ((in_st == AOCS_OK) && (exec->mode == AOCS_EXEC_MODE_SAFE) &&
+            (exec->requested == AOCS_EXEC_MODE_NOMINAL) &&
+            (exec->good_run >= (exec->cfg.recover_good_samples - 1u))) {
+            law_reset(exec);
+        }
         /* the law also runs in SAFE (output unused) so recovery needs a law that works */
         if ((in_st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
             law_st = aocs_exec_law_step(&exec->states, exec->law, &att, &orbit, &u_law);
@@ -459,6 +551,13 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
 
         if (exec->mode == AOCS_EXEC_MODE_NOMINAL) {
             out->u_unsat = u_law;
+            if ((slew_mode(&exec->cfg) != 0) && (aocs_law_is_orbit(exec->law) == 0) &&
+                (aocs_law_has_feedforward(exec->law) == 0)) {
+                /* SPEC 5.1: u_ff = J wd_dot + wd x (J wd + h_wheels), no wheel array yet (h_wheels = 0) */
+                out->u_ff = aocs_slew_feedforward(exec->cfg.guidance.slew.inertia_kgm2, target.wd_B,
+                                                  target.wd_dot_B, aocs_vec3_zero());
+                out->u_unsat = aocs_vec3_add(u_law, out->u_ff);
+            }
         } else if (exec->mode == AOCS_EXEC_MODE_SAFE) {
             out->u_unsat = aocs_exec_safe_command(&exec->cfg, exec->law, in);
         } else {

@@ -69,6 +69,25 @@ void aocs_exec_guidance_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w
     }
 }
 
+void aocs_exec_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D, aocs_vec3_t wd_dot_D,
+                          aocs_vec3_t w_BN_B, aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B)
+{
+    aocs_quat_t qe;
+    aocs_vec3_t wd = aocs_vec3_zero();
+    aocs_vec3_t wd_dot = aocs_vec3_zero();
+    if (aocs_quat_normalize(aocs_quat_error(q_BN, qd_DN), &qe) == AOCS_OK) {
+        const aocs_mat3_t a = aocs_quat_to_dcm(qe);
+        wd = aocs_mat3_mul_vec(a, wd_D);
+        wd_dot = aocs_vec3_add(aocs_mat3_mul_vec(a, wd_dot_D), aocs_vec3_cross(wd, w_BN_B));
+    }
+    if (wd_B != NULL) {
+        *wd_B = wd;
+    }
+    if (wd_dot_B != NULL) {
+        *wd_dot_B = wd_dot;
+    }
+}
+
 real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns)
 {
     uint64_t d;

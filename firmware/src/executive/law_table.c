@@ -65,6 +65,21 @@ int aocs_exec_law_is_valid(aocs_law_id_t law)
     return (((int)law > (int)AOCS_LAW_NONE) && (law < AOCS_LAW_COUNT)) ? 1 : 0;
 }
 
+/* The laws whose formula includes the slew feedforward (AOCS_LAW_FEEDFORWARD_IN_FORMULA, laws.def). */
+#define AOCS_LAW_FF_ROW(ID) AOCS_LAW_##ID,
+
+int aocs_law_has_feedforward(aocs_law_id_t law)
+{
+    static const aocs_law_id_t LAW_FEEDFORWARD_IN_FORMULA[] = {AOCS_LAW_FEEDFORWARD_IN_FORMULA(AOCS_LAW_FF_ROW)};
+    int has = 0;
+    for (size_t i = 0u; i < (sizeof(LAW_FEEDFORWARD_IN_FORMULA) / sizeof(LAW_FEEDFORWARD_IN_FORMULA[0])); ++i) {
+        if (LAW_FEEDFORWARD_IN_FORMULA[i] == law) {
+            has = 1;
+        }
+    }
+    return has;
+}
+
 int aocs_law_is_orbit(aocs_law_id_t law)
 {
     int orbit = 0;

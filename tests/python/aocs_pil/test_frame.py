@@ -136,7 +136,7 @@ def test_config_field_list_encoding():
 NODE_CONFIG_C = (REPO / "sil/fsw_node/node_config.c").read_text()
 KIND_MAP = {"REAL": "real", "DOUBLE": "double", "U32": "u32", "U64": "u64", "SECONDS_NS": "seconds_ns",
             "LAW": "law", "RUN_MODE": "run_mode", "STRING": "string", "INERTIA": "inertia",
-            "GAIN_TABLE": "gain_table"}
+            "GAIN_TABLE": "gain_table", "GUIDANCE_MODE": "guidance_mode", "SLEW_PROFILE": "slew_profile"}
 
 
 def c_keys():

@@ -124,7 +124,12 @@ typedef enum {
     X(RECOVER_GOOD_SAMPLES, 11u, U64, 1u, "recover_good_samples") /* <= UINT32_MAX */      \
     X(MISSING_MAX_PERIODS, 12u, U64, 1u, "missing_max_periods")   /* <= UINT32_MAX */      \
     X(STALE_TIMEOUT_NS, 13u, U64, 1u, "stale_timeout_s")                                   \
-    X(BUDGET_INSTR, 14u, U64, 1u, "budget_ns") /* instruction budget override, 0 = the table */
+    X(BUDGET_INSTR, 14u, U64, 1u, "budget_ns") /* instruction budget override, 0 = the table */ \
+    X(GUIDANCE_MODE, 60u, U64, 1u, "guidance.mode")           /* aocs_guidance_mode_t */   \
+    X(GUIDANCE_PROFILE, 61u, U64, 1u, "guidance.profile")     /* aocs_slew_profile_t */    \
+    X(GUIDANCE_MARGIN, 62u, REAL, 1u, "guidance.margin")                                   \
+    X(GUIDANCE_RATE_LIMIT, 63u, REAL, 1u, "guidance.rate_limit")                           \
+    X(GUIDANCE_JERK_TIME, 64u, REAL, 1u, "guidance.jerk_time")
 /* clang-format on */
 
 #define AOCS_PIL_CFG_EXEC_ENUM(NAME, ID, ...) AOCS_PIL_CFG_##NAME = (ID),
