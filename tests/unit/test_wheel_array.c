@@ -268,6 +268,49 @@ static void test_the_envelope_of_the_reference_pyramid(void **state)
     assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(NAN, 0, 0)), 0.0, 0.0);
 }
 
+static void test_the_guidance_envelope_with_the_gyroscopic_allowance(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    cfg.failed_mask = 1u << 2;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    aocs_vec3_t a = aocs_vec3_make(AOCS_R(-600.0), AOCS_R(-4700.0), AOCS_R(3100.0));
+    aocs_vec3_t b = aocs_vec3_make(AOCS_R(30.0), AOCS_R(-5.0), AOCS_R(12.0));
+    /* independent: min_i umax / (|(P a)_i| + |(P b)_i|) with P from the elimination in double (unit columns) */
+    double best = 1e300;
+    for (int i = 0; i < 4; ++i) {
+        if (i == 2) {
+            continue;
+        }
+        double pa[AOCS_WHEELS_MAX];
+        double pb[AOCS_WHEELS_MAX];
+        double ad[3] = {(double)a.v[0], (double)a.v[1], (double)a.v[2]};
+        double bd[3] = {(double)b.v[0], (double)b.v[1], (double)b.v[2]};
+        min_norm_d(&cfg, ad, pa); /* -P a */
+        min_norm_d(&cfg, bd, pb);
+        best = fmin(best, UMAX / (fabs(pa[i]) + fabs(pb[i])));
+    }
+    assert_close(aocs_wheels_alpha_envelope(&wa, a, b), best, TOL_TIGHT);
+    /* b = 0 is aocs_wheels_alpha_max */
+    aocs_mat3_t eye = aocs_mat3_identity();
+    assert_close(aocs_wheels_alpha_envelope(&wa, a, aocs_vec3_zero()), aocs_wheels_alpha_max(&wa, eye, a), TOL_TIGHT);
+    /* the wheels' momentum for the feedforward */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(-20.0), AOCS_R(30.0), AOCS_R(-40.0), 0, 0};
+    aocs_vec3_t h = aocs_wheels_h_B(&wa, om);
+    for (int r = 0; r < 3; ++r) {
+        double x = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            x += JS * (double)om[i] * (double)cfg.axis_B[i].v[r];
+        }
+        assert_close(h.v[r], x, TOL_TIGHT);
+    }
+    om[0] = NAN;
+    assert_vec3_close(aocs_wheels_h_B(&wa, om), aocs_vec3_zero(), 0.0);
+    assert_vec3_close(aocs_wheels_h_B(NULL, om), aocs_vec3_zero(), 0.0);
+}
+
 static void expect_init(aocs_wheels_config_t *cfg, aocs_status_t st)
 {
     aocs_wheels_t wa;
@@ -365,6 +408,7 @@ int main(void)
         cmocka_unit_test(test_no_torque_drives_a_wheel_beyond_its_speed_limit),
         cmocka_unit_test(test_total_momentum_and_margin),
         cmocka_unit_test(test_the_envelope_of_the_reference_pyramid),
+        cmocka_unit_test(test_the_guidance_envelope_with_the_gyroscopic_allowance),
         cmocka_unit_test(test_every_configuration_error_has_its_code),
         cmocka_unit_test(test_bad_inputs_give_a_zero_command),
     };

@@ -10,10 +10,9 @@ truth_t h_total: peak and final |H|), the wheels' own share |sum Js g Omega| (wh
 the flight software's smallest speed margin (actuator_cmd_t wheel_speed_margin), and which wheels
 the scenario declared failed (removed from the allocation).
 
-The eigenaxis bound (docs/spec.md 5.1) for the wheel envelope: the rest-to-rest rotation from q0 to
-qd by theta_f about e (body axis at q0), alpha = min_i u_s,max,i / |(Gs^+ J e)_i| over the healthy
-wheels (the flight software's aocs_wheels_alpha_max, computed here independently with numpy), and
-the bang-bang time 2 sqrt(theta_f / alpha).
+The eigenaxis bound (docs/spec.md 5.1) for the wheel envelope alone: slew_bound.py's eigenaxis and
+alpha_max with the wheels (min_i u_s,max,i / |(Gs^+ J e)_i| over the healthy wheels, the flight
+software's aocs_wheels_alpha_max computed independently with numpy), 2 sqrt(theta_f / alpha).
 """
 from __future__ import annotations
 
@@ -22,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aocs_core.conventions import quat_conj, quat_mul
+from .slew_bound import alpha_max, eigenaxis
 
 
 def _f(x):
@@ -30,28 +29,17 @@ def _f(x):
 
 
 def envelope(scenario) -> dict | None:
-    """alpha_max along the slew's eigenaxis for the healthy wheels and the eigenaxis bound, or None."""
+    """alpha_max of the wheels alone along the slew's eigenaxis and the eigenaxis bound (slew_bound.py), or None."""
     w = scenario.effectors.get("wheels")
     if w is None or scenario.kind != "attitude":
         return None
-    q0, qd = scenario.attitude.q0, scenario.target.qd0
-    dq = quat_mul(qd, quat_conj(q0))                        # qd (x) q0^-1, SPEC 5.1
-    s = 1.0 if dq[3] >= 0.0 else -1.0                        # the short way
-    v = np.array(dq[:3]) * s
-    theta = 2.0 * math.atan2(float(np.linalg.norm(v)), s * dq[3])
+    theta, e = eigenaxis(scenario.attitude.q0, scenario.target.qd0)
     if not theta > 0.0:
         return {"theta_f_deg": 0.0, "alpha_max_radps2": None, "eigenaxis_bound_s": 0.0}
-    # A(qd) = A(dq) A(q0): dq rotates B at q0 onto D, so its axis has the same components in both (SPEC 5.1)
-    e = v / np.linalg.norm(v)
-    healthy = [i for i in range(w.n) if i not in w.failed]
-    G = np.array([w.axes[i] for i in healthy]).T
-    P = np.linalg.pinv(G)
-    J = np.asarray(scenario.attitude.inertia, float)
-    d = np.abs(P @ (J @ e))
-    umax = np.array([w.torque_limit_nm[i] for i in healthy])
-    alpha = float(np.min(umax / d))
+    alpha = alpha_max(scenario.attitude.inertia, e, None, None, w)
     return {"theta_f_deg": math.degrees(theta), "axis_B": [float(x) for x in e], "alpha_max_radps2": alpha,
-            "eigenaxis_bound_s": 2.0 * math.sqrt(theta / alpha), "healthy_wheels": healthy}
+            "eigenaxis_bound_s": 2.0 * math.sqrt(theta / alpha),
+            "healthy_wheels": [i for i in range(w.n) if i not in w.failed]}
 
 
 def metrics(log, scenario) -> tuple[dict | None, dict]:

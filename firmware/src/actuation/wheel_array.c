@@ -265,27 +265,48 @@ aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, 
     return st;
 }
 
-real_t aocs_wheels_alpha_max(const aocs_wheels_t *wa, aocs_mat3_t j_B_kgm2, aocs_vec3_t e_B)
+real_t aocs_wheels_alpha_envelope(const aocs_wheels_t *wa, aocs_vec3_t a, aocs_vec3_t b)
 {
     real_t alpha = AOCS_R(0.0);
-    if ((wa != NULL) && (wa->initialised != 0) && (aocs_mat3_is_finite(j_B_kgm2) != 0) &&
-        (aocs_vec3_is_finite(e_B) != 0)) {
-        /* the torque per unit acceleration is J e; its wheel torques are -Gs^+ J e; the first wheel to
-         * reach its limit bounds a (the uniform scale of the allocation at s = 1) */
-        aocs_vec3_t je = aocs_mat3_mul_vec(j_B_kgm2, e_B);
+    if ((wa != NULL) && (wa->initialised != 0) && (aocs_vec3_is_finite(a) != 0) && (aocs_vec3_is_finite(b) != 0)) {
+        /* the torque per unit acceleration is a (+ b); its wheel torques are -Gs^+ (a + b); the first wheel to
+         * reach its limit bounds alpha (the uniform scale of the allocation at s = 1) */
         real_t best = AOCS_REAL_MAX;
-        int any = 0;
         for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
-            real_t d = AOCS_FABS((wa->pinv[i][0] * je.v[0]) + (wa->pinv[i][1] * je.v[1]) + (wa->pinv[i][2] * je.v[2]));
+            const real_t pa = (wa->pinv[i][0] * a.v[0]) + (wa->pinv[i][1] * a.v[1]) + (wa->pinv[i][2] * a.v[2]);
+            const real_t pb = (wa->pinv[i][0] * b.v[0]) + (wa->pinv[i][1] * b.v[1]) + (wa->pinv[i][2] * b.v[2]);
+            const real_t d = AOCS_FABS(pa) + AOCS_FABS(pb);
             if ((wheel_healthy(&wa->cfg, i) != 0) && (d > AOCS_R(0.0))) {
                 /* u_max / d < best, without dividing by a tiny d */
                 if (wa->cfg.u_max_nm[i] < (best * d)) {
                     best = wa->cfg.u_max_nm[i] / d;
                 }
-                any = 1;
             }
         }
-        alpha = (any != 0) ? best : AOCS_R(0.0);
+        alpha = best;
     }
     return alpha;
+}
+
+real_t aocs_wheels_alpha_max(const aocs_wheels_t *wa, aocs_mat3_t j_B_kgm2, aocs_vec3_t e_B)
+{
+    real_t alpha = AOCS_R(0.0);
+    if ((aocs_mat3_is_finite(j_B_kgm2) != 0) && (aocs_vec3_is_finite(e_B) != 0)) {
+        alpha = aocs_wheels_alpha_envelope(wa, aocs_mat3_mul_vec(j_B_kgm2, e_B), aocs_vec3_zero());
+        if (!(alpha < AOCS_REAL_MAX)) {
+            alpha = AOCS_R(0.0); /* J e = 0: nothing to accelerate */
+        }
+    }
+    return alpha;
+}
+
+aocs_vec3_t aocs_wheels_h_B(const aocs_wheels_t *wa, const real_t *omega_radps)
+{
+    aocs_vec3_t h = aocs_vec3_zero();
+    if ((wa != NULL) && (omega_radps != NULL) && (wa->initialised != 0) && (wheels_speeds_finite(wa, omega_radps) != 0)) {
+        for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
+            h = aocs_vec3_add(h, aocs_vec3_scale(wa->cfg.axis_B[i], wa->cfg.js_kgm2[i] * omega_radps[i]));
+        }
+    }
+    return h;
 }

@@ -105,4 +105,19 @@ aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, 
  */
 real_t aocs_wheels_alpha_max(const aocs_wheels_t *wa, aocs_mat3_t j_B_kgm2, aocs_vec3_t e_B);
 
+/*
+ * The wheel kind of the slew guidance's envelope functions (guidance/slew.h):
+ * the largest alpha such that the allocation of every torque of
+ * alpha * conv{+-a, +-a + b} stays within the wheels' torque limits without
+ * scaling: min_i u_s,max,i / (|(Gs^+ a)_i| + |(Gs^+ b)_i|) over the healthy
+ * wheels (|.| of a linear map is convex: the maximum is at a vertex).
+ * aocs_wheels_alpha_max is this with a = J e, b = 0. AOCS_REAL_MAX when no
+ * wheel is loaded; 0 when wa is NULL or not initialised or on NaN. Total.
+ */
+real_t aocs_wheels_alpha_envelope(const aocs_wheels_t *wa, aocs_vec3_t a, aocs_vec3_t b);
+
+/* sum Js_i g_i Omega_i (B, N m s): the wheels' momentum relative to the body, for the feedforward
+ * (docs/spec.md 5.1); zero when wa is NULL or not initialised or a speed is not finite. Total. */
+aocs_vec3_t aocs_wheels_h_B(const aocs_wheels_t *wa, const real_t *omega_radps);
+
 #endif /* AOCS_WHEEL_ARRAY_H */
