@@ -431,6 +431,9 @@ class Bridge:
             "invalid": c["invalid"], "stale": c["stale"], "missing": c["missing"], "law_error": c["law_error"],
             "mode_transitions": c["mode_transitions"], "saturated": c["saturated"],
             "cmd_accepted": self.n_cmd_accepted, "cmd_rejected": self.n_cmd_rejected,
+            # fsw_node's key; the image does not report its slew plan, so its times are unknown here
+            "guidance": ({"mode": "slew", "slew_start_s": None, "profile_end_s": None}
+                         if dict(self.cfg.values).get("guidance.mode") == "slew" else {"mode": "step"}),
             "target": self.target.name,
             "clock_hz": self.target.clock_hz,
             "instructions": dict(ins, budget=budget, overruns=self.pil_overruns, inexact=self.inexact,

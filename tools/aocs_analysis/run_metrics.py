@@ -301,13 +301,23 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
     """Step times against the budget of each step's law and mode (and PIL instruction counts)."""
     law_nominal = meta["law"]
     override = int(float(cfg.get("budget_ns", "0")))
+    # guidance mode slew: the executive adds its slew allowance to an attitude law's NOMINAL budget
+    # (executive.h AOCS_EXEC_SLEW_BUDGET_NS; the orbit law takes no guidance)
+    slew_ns = (int(paths.header_number("firmware/include/aocs/executive.h", "AOCS_EXEC_SLEW_BUDGET_NS"))
+               if cfg.get("guidance.mode") == "slew" else 0)
+
+    def nominal(law: str) -> int:
+        b = registry.law_budget_ns(law)
+        attitude = law in registry.load().laws_of_input("attitude")
+        return b + slew_ns if attitude else b
+
     if cmd["tick"].size:
-        budgets = np.array([override or (registry.law_budget_ns(_law_or_none(int(lid)))
+        budgets = np.array([override or (nominal(_law_or_none(int(lid)))
                                          if int(m) == MODE_NOMINAL else registry.law_budget_ns("none"))
                             for lid, m in zip(cmd["law_id"], cmd["mode"])], dtype=float)
     else:
         budgets = np.zeros(0)
-    budget_nominal = override or registry.law_budget_ns(law_nominal if law_nominal in registry.law_ids() else "none")
+    budget_nominal = override or nominal(law_nominal if law_nominal in registry.law_ids() else "none")
     ts = M.timing_summary(cmd["step_ns"], budget_nominal, cmd["overrun"].astype(bool))
     out["timing"] = ts.as_dict()
     out["timing"]["steps"] = int(cmd["tick"].size)

@@ -156,6 +156,10 @@ static void pil_send_error(aocs_pil_err_t err, uint32_t type, uint32_t seq, uint
 static uint32_t pil_budget(aocs_law_id_t law)
 {
     uint32_t budget = aocs_budget_instructions(law, PIL_BUDGET_TARGET);
+    if ((pil_exec.cfg.guidance.mode == AOCS_GUIDANCE_MODE_SLEW) && (law != AOCS_LAW_NONE) &&
+        (aocs_law_is_orbit(law) == 0)) {
+        budget += aocs_budget_slew_instructions(PIL_BUDGET_TARGET); /* the slew reference (aocs/budget.h) */
+    }
     if (pil.budget_override > 0U) {
         budget = (uint32_t)pil.budget_override;
     }

@@ -412,6 +412,10 @@ static uint64_t step_budget(const aocs_exec_t *exec)
     if (budget == 0u) {
         budget = (exec->mode == AOCS_EXEC_MODE_NOMINAL) ? aocs_law_budget_ns(exec->law)
                                                         : (uint64_t)AOCS_EXEC_SAFE_BUDGET_NS;
+        if ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (slew_mode(&exec->cfg) != 0) &&
+            (aocs_law_is_orbit(exec->law) == 0)) {
+            budget += (uint64_t)AOCS_EXEC_SLEW_BUDGET_NS; /* the slew reference and feedforward */
+        }
     }
     return budget;
 }

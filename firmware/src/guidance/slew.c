@@ -71,7 +71,11 @@ real_t aocs_slew_alpha_norm(real_t u_max_norm_Nm, aocs_vec3_t a, aocs_vec3_t b)
     const real_t need = max_r(aocs_vec3_norm(aocs_vec3_add(a, b)), aocs_vec3_norm(aocs_vec3_sub(a, b)));
     real_t alpha = AOCS_R(0.0);
     if ((AOCS_IS_FINITE(need)) && (AOCS_IS_FINITE(u_max_norm_Nm))) {
-        alpha = ((need > AOCS_R(0.0)) ? (u_max_norm_Nm / need) : AOCS_REAL_MAX);
+        if (need > AOCS_R(0.0)) {
+            alpha = u_max_norm_Nm / need;
+        } else {
+            alpha = AOCS_REAL_MAX; /* no reference torque: the ball does not bound alpha */
+        }
     }
     return alpha;
 }

@@ -42,6 +42,21 @@ typedef enum {
 #define AOCS_BUDGET_STANDBY_INSTR_M7 1900u  /* measured worst 1330 */
 
 /*
+ * Added to an attitude law's budget in guidance mode SLEW (executive.h): the
+ * slew reference (profile, qd(t), rates into B) and the feedforward, and
+ * once per target the planning. Measured (irassi_large, quat_pd, 1 N m per
+ * axis, 200 s, `aocs run ... --target pil-m4f / pil-m7`, with and without
+ * --guidance slew): worst step 5440 against 1783 (M4F), 7322 against 2037
+ * (M7), the worst being the planning step (the other steps add a median
+ * 1768 / 2930). The allowance is 1.4 x the worst difference, rounded up to 100.
+ */
+#define AOCS_BUDGET_SLEW_INSTR_M4F 5200u /* 1.4 x 3657 */
+#define AOCS_BUDGET_SLEW_INSTR_M7 7400u  /* 1.4 x 5285 */
+
+/* The SLEW allowance of `target` (above); 0 for an out-of-range target. Total. */
+uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target);
+
+/*
  * Instructions of one aocs_exec_step with `law` selected on `target`
  * (AOCS_LAW_NONE: a STANDBY step). 0 for an out-of-range law or target
  * (no budget known: every step would count as an overrun). Total.
