@@ -68,7 +68,13 @@ _GENERAL = (
     ("guidance.margin", "real", 1, POS, "fraction of the torque envelope the slew reference may use, in (0, 1]"),
     ("guidance.rate_limit", "real", 1, NONNEG, "rad/s, 0 = none"),
     ("guidance.jerk_time", "real", 1, NONNEG, "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang"),
-)
+    ("wheels.count", "u32", 1, POS, "reaction wheels, 3 to 6 (absent: none)"),
+    ("wheels.failed_mask", "u32", 1, NONNEG, "bit i set: wheel i declared failed"),
+) + tuple(row for i in range(6) for row in (
+    (f"wheel{i}.axis", "real", 3, ANY, "unit spin axis g in B, 3 numbers"),
+    (f"wheel{i}.js", "real", 1, POS, "spin inertia Js, kg m^2"),
+    (f"wheel{i}.u_max", "real", 1, POS, "motor torque limit, N m"),
+    (f"wheel{i}.omega_max", "real", 1, POS, "speed limit, rad/s")))
 
 #: the enumerated guidance keys: value -> the firmware's enum value (aocs_guidance_mode_t,
 #: aocs_slew_profile_t, executive.h and guidance/slew.h order), and the words of fsw_node's message
@@ -143,6 +149,9 @@ class NodeConfig:
         by_name = key_by_name()
         for name, value in self.values:
             key = by_name[name]
+            if key.pil is None and name.startswith("wheel"):
+                raise ConfigError(f"key '{name}': the PIL frames do not carry the reaction wheel array yet "
+                                  "(docs/wire-contract.md); fly a [wheels] scenario on the host flight computer")
             if name == "budget_ns":
                 if value > 0:
                     # a ns budget at the target's nominal clock, one instruction per cycle
@@ -407,4 +416,7 @@ def status_hint(status_name: str, law: str) -> str:
         "AOCS_ERR_GUIDANCE_TARGET_MOVING": "guidance.mode = slew needs target_w = target_w_dot = "
                                            "target_rotation_rate = 0",
         "AOCS_ERR_GUIDANCE_ENVELOPE_INVALID": "u_max_axis / u_max_norm",
+        **{f"AOCS_ERR_{w}": "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max"
+           for w in ("WHEEL_COUNT", "WHEEL_FAILED_MASK", "WHEEL_AXIS_NOT_UNIT", "WHEEL_INERTIA_NOT_POSITIVE",
+                     "WHEEL_LIMIT_NOT_POSITIVE", "WHEELS_NOT_SPANNING")},
     }.get(status_name, "the keys of the selected law")

@@ -59,12 +59,14 @@ class Plant:
         attitude = self.kind == "attitude"
         if attitude:
             J = _mat9(sc.attitude.inertia)
-            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, inertia=J)
+            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, inertia=J, w0=tuple(sc.attitude.w0))
         else:
             ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, mass_kg=sc.orbit.mass_kg)
         self.effectors = effs = effectors.build(sc.effectors, ctx)
         self.actuators = [e for e in effs if e.role == "actuator"]
         self.actuator = self.actuators[0] if self.actuators else None
+        self._sampled = [e for e in effs if type(e).sample is not Effector.sample]
+        self._wheeled = [e for e in self.actuators if hasattr(e, "command_wheels")]
         self._compose(effs)
         if attitude:
             p = sc.attitude
@@ -151,6 +153,11 @@ class Plant:
             c = _add(c, e.value())
         return c
 
+    @property
+    def wheel_array(self):
+        """The actuator that takes wheel torque commands (the [wheels] array), or None."""
+        return self._wheeled[0] if self._wheeled else None
+
     # ------------------------------------------------------------------ time
     @property
     def t(self) -> float:
@@ -207,6 +214,8 @@ class Plant:
         else:
             (s["pos"], s["pos_valid"]), (s["vel"], s["vel_valid"]) = m["position"], m["velocity"]
             ok = s["pos_valid"] and s["vel_valid"]
+        for e in self._sampled:
+            s.update(e.sample(self.t, self.body_state(), self.effector_state(e)))
         self.counters["samples"] += 1
         if not ok:
             self.counters["invalid_samples"] += 1
@@ -214,8 +223,11 @@ class Plant:
         return s
 
     # ------------------------------------------------------------------ actuation
-    def apply(self, command) -> bool:
-        """Take the command for the current period; False (and ignored) if not finite."""
+    def apply(self, command, wheel_torques=None) -> bool:
+        """Take the command for the current period; False (and ignored) if not finite.
+
+        wheel_torques: the flight software's motor torque commands (N m, one per wheel) when the
+        plant has a wheel array; the body-torque command is then only recorded as "commanded"."""
         c = tuple(map(float, command))
         if len(c) != 3:
             raise ValueError("command must have 3 components")
@@ -224,6 +236,15 @@ class Plant:
         if not (isfinite(c[0]) and isfinite(c[1]) and isfinite(c[2])):
             self.counters["bad_commands"] += 1
             return False
+        if wheel_torques is not None:
+            u = tuple(map(float, wheel_torques))
+            if not self._wheeled:
+                raise ValueError("wheel torques given but the plant has no wheel array")
+            if not all(isfinite(v) for v in u):
+                self.counters["bad_commands"] += 1
+                return False
+            for a in self._wheeled:
+                a.command_wheels(u)
         for a in self.actuators:
             a.command(c)
         return True

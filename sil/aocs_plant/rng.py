@@ -16,6 +16,8 @@ CHANNELS = {
     "rate": 1,
     "position": 2,
     "velocity": 3,
+    "wheel_torque": 4,
+    "tachometer": 5,
 }
 
 
@@ -26,19 +28,20 @@ def generator(seed: int, channel: str) -> np.random.Generator:
 
 
 class NormalStream:
-    """Zero-mean white Gaussian 3-vectors with per-axis standard deviation std."""
+    """Zero-mean white Gaussian vectors (width components, 3 by default) with standard deviation std."""
 
-    def __init__(self, seed: int, channel: str, std: float, block: int = 4096):
+    def __init__(self, seed: int, channel: str, std: float, block: int = 4096, width: int = 3):
         self._gen = generator(seed, channel)
         self._std = float(std)
         self._block = int(block)
         self._buf: list[list[float]] = []
         self._i = 0
+        self._width = int(width)
 
-    def next(self) -> tuple[float, float, float]:
+    def next(self) -> tuple:
         if self._i >= len(self._buf):
-            self._buf = (self._gen.standard_normal((self._block, 3)) * self._std).tolist()
+            self._buf = (self._gen.standard_normal((self._block, self._width)) * self._std).tolist()
             self._i = 0
         v = self._buf[self._i]
         self._i += 1
-        return (v[0], v[1], v[2])
+        return tuple(v)

@@ -93,3 +93,24 @@ class Sensors:
                 self.last[ch] = value
             out[ch] = (value, valid)
         return out
+
+
+class Tachometer:
+    """Wheel speed readings (SPEC 5.3 "wheel speeds from tachometers"): the true speed relative to the
+    body at the sample time (no latency), plus white noise (std noise_rad_s, seeded channel
+    "tachometer", one draw per wheel and period), then rounded to a multiple of quantum_rad_s (0 = none)."""
+
+    def __init__(self, seed: int, n: int, noise_rad_s: float, quantum_rad_s: float):
+        self.n = int(n)
+        self.stream = NormalStream(seed, "tachometer", noise_rad_s, width=self.n) if noise_rad_s > 0.0 else None
+        self.quantum = float(quantum_rad_s)
+
+    def read(self, speeds) -> tuple:
+        v = tuple(float(s) for s in speeds)
+        if self.stream is not None:
+            e = self.stream.next()
+            v = tuple(a + b for a, b in zip(v, e))
+        q = self.quantum
+        if q > 0.0:
+            v = tuple(q * round(a / q) for a in v)
+        return v

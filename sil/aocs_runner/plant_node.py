@@ -49,7 +49,7 @@ import signal  # noqa: E402
 import sys  # noqa: E402
 from array import array  # noqa: E402
 
-from aocs_core.conventions import ARCSEC_PER_RAD, quat_mul  # noqa: E402
+from aocs_core.conventions import ARCSEC_PER_RAD, quat_mul, quat_to_dcm  # noqa: E402
 
 EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
 
@@ -205,10 +205,19 @@ class _Loop:
         self.unpack_a = act.unpack
         self.i_tick = act.index("tick")
         self.i_u = act.index("u_sat")
+        self.i_uw = act.index("u_wheels")
+        self.i_nw = act.index("n_wheels")
         self.attitude = sc.kind == "attitude"
+        # the wheel array (SPEC 5.3), when the scenario has one: tachometers in sensors_t, its state in
+        # truth_t, the flight computer's wheel torques (actuator_cmd_t.u_wheels) applied to it
+        self.wheels = plant.wheel_array
+        self.nw = self.wheels.n if self.wheels is not None else 0
+        self.wmax = link.t.sensors_t.MAX_WHEELS
+        self.valid_wheels = link.t.sensors_t.VALID_WHEELS
         s = link.t.sensors_t
         self.bits = (s.VALID_ATTITUDE, s.VALID_RATE) if self.attitude else (s.VALID_POSITION, s.VALID_VELOCITY)
         self.progress_every = max(1, sc.n_steps // 10)
+        self._zero_wheel_truth = (0,) + (0.0,) * (3 * self.wmax) + (0,) + (0.0,) * 6
         if self.attitude:
             self.qd0 = sc.target.qd0
             self.fixed_target = not any(sc.target.wd)
@@ -230,14 +239,36 @@ class _Loop:
             ang = 2.0 * math.asin(min(1.0, math.sqrt(e1 * e1 + e2 * e2 + e3 * e3))) * ARCSEC_PER_RAD
             data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                *q, *w, *z3, *z3, *applied, *z3, *dist, *z3,
-                               ang, abs(e1) * ARCSEC_PER_RAD, abs(e2) * ARCSEC_PER_RAD, abs(e3) * ARCSEC_PER_RAD)
+                               ang, abs(e1) * ARCSEC_PER_RAD, abs(e2) * ARCSEC_PER_RAD, abs(e3) * ARCSEC_PER_RAD,
+                               *self.truth_wheels())
         else:
             x = plant.orbit.x
             data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                0.0, 0.0, 0.0, 1.0, *z3, x[3], x[4], x[5], x[0], x[1], x[2],
-                               *z3, *applied, *z3, *dist, 0.0, *z3)
+                               *z3, *applied, *z3, *dist, 0.0, *z3, *self.truth_wheels())
         self.frame_truth += 1
         self.link.lc.publish("AOCS_TRUTH", data)
+
+    def _pad(self, v):
+        v = tuple(v)
+        return v + (0.0,) * (self.wmax - len(v))
+
+    def truth_wheels(self):
+        """truth_t's wheel fields (SPEC 5.3): n_wheels, speeds, momenta, motor torques, limit bits,
+        total momentum in B and in N (zeros without a wheel array)."""
+        e = self.wheels
+        if e is None:
+            return self._zero_wheel_truth
+        plant = self.plant
+        tr = e.truth(plant.t, plant.body_state(), plant.effector_state(e))
+        bits = 0
+        for i, (a, b) in enumerate(zip(tr["at_torque_limit"], tr["at_speed_limit"])):
+            bits |= (1 << i if a else 0) | (1 << (8 + i) if b else 0)
+        H = tr["momentum_total_nms"]
+        A = quat_to_dcm(plant.body.q)
+        HN = tuple(A[0][r] * H[0] + A[1][r] * H[1] + A[2][r] * H[2] for r in range(3))
+        return (self.nw, *self._pad(tr["speed_rad_s"]), *self._pad(tr["momentum_nms"]),
+                *self._pad(tr["motor_torque_nm"]), bits, *H, *HN)
 
     def sensors(self, tick, stale=False):
         s = self.plant.sense()
@@ -245,11 +276,16 @@ class _Loop:
         b1, b2 = self.bits
         if self.attitude:
             valid = (b1 if s["q_valid"] else 0) | (b2 if s["w_valid"] else 0)
+            if self.nw:
+                valid |= self.valid_wheels
+                tach = self._pad(s["wheel_speed"])
+            else:
+                tach = (0.0,) * self.wmax
             return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
-                               *s["q"], *s["w"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                               *s["q"], *s["w"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.nw, *tach)
         valid = (b1 if s["pos_valid"] else 0) | (b2 if s["vel_valid"] else 0)
         return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
-                           0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, *s["pos"], *s["vel"])
+                           0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, *s["pos"], *s["vel"], 0, *(0.0,) * self.wmax)
 
     def fire(self, tick, evs):
         """Events before this tick's sensors; returns (drop, duplicate, stale)."""
@@ -264,7 +300,7 @@ class _Loop:
             elif e.kind == "foreign":
                 t_s = tick * self.sc.dt
                 lc.publish("AOCS_SENSORS", self.pack_s(99, tick, utime, tick, t_s, 0, 0.0, 0.0, 0.0, 1.0,
-                                                       *(0.0,) * 9))
+                                                       *(0.0,) * 9, 0, *(0.0,) * self.wmax))
             elif e.kind == "drop":
                 drop = True
             elif e.kind == "duplicate":
@@ -272,6 +308,13 @@ class _Loop:
             elif e.kind == "stale":
                 stale = True
         return drop, dup, stale
+
+    def wheels_disagree(self, n_fsw):
+        """The flight computer allocates to another number of wheels than the plant has: no command
+        of it can be applied (the scenario's [wheels] builds both, so this is a setup error)."""
+        print(f"plant_node: the flight computer commands {n_fsw} wheel(s), the plant has {self.nw} "
+              "(its configuration was not written from this scenario's [wheels])", file=sys.stderr, flush=True)
+        return "wheels_mismatch", EXIT_NO_REPLY
 
     def progress(self, k):
         if not self.args.quiet and (k + 1) % self.progress_every == 0:
@@ -287,6 +330,7 @@ class _Loop:
         k0 = self.args.start_tick
         timeout = self.args.reply_timeout
         unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
+        i_uw, nw = self.i_uw, self.nw
         box = [None]
         want = [k0]
         rt = self.rt_ns
@@ -341,8 +385,11 @@ class _Loop:
                     return "no_reply", EXIT_NO_REPLY
                 rt.append(perf() - t0)
                 self.last_answered = tick
-                plant.apply(v[i_u:i_u + 3])
-                check.apply(v[i_u:i_u + 3])
+                if v[self.i_nw] != nw:
+                    return self.wheels_disagree(v[self.i_nw])
+                uw = v[i_uw:i_uw + nw] if nw else None
+                plant.apply(v[i_u:i_u + 3], uw)
+                check.apply(v[i_u:i_u + 3], uw)
                 if dup:
                     publish("AOCS_SENSORS", data)
             check.begin(plant)
@@ -362,6 +409,7 @@ class _Loop:
         k0 = self.args.start_tick
         dt = self.sc.dt
         unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
+        i_uw, nw = self.i_uw, self.nw
         latest = [None]
 
         def on_cmd(ch, data):  # noqa: ARG001
@@ -389,8 +437,11 @@ class _Loop:
             if k > 0:
                 v = latest[0]
                 if v is not None:
-                    plant.apply(v[i_u:i_u + 3])
-                    check.apply(v[i_u:i_u + 3])
+                    if v[self.i_nw] != nw:
+                        return self.wheels_disagree(v[self.i_nw])
+                    uw = v[i_uw:i_uw + nw] if nw else None
+                    plant.apply(v[i_u:i_u + 3], uw)
+                    check.apply(v[i_u:i_u + 3], uw)
                     self.last_answered = v[i_tick]
                 check.begin(plant)
                 plant.advance()

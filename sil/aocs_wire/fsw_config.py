@@ -19,6 +19,11 @@ What comes from where (docs/sil.md):
   UNLIMITED per axis, because the executive requires one limit;
 - guidance: the scenario's [guidance] as the guidance.* keys, only in
   slew mode (step mode, the default, writes none);
+- the reaction wheel array, when the scenario has a [wheels] section: the
+  same description that builds the plant's wheels (aocs_plant.effectors.
+  reaction_wheels) gives `wheels.count`, `wheels.failed_mask` and per wheel
+  `wheel<i>.axis / js / u_max / omega_max`, so the two cannot disagree; the
+  spacecraft inertia for the momentum is the `inertia` key;
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
 """
@@ -68,6 +73,22 @@ def _law_keys(law_cfg) -> dict[str, str]:
     return out
 
 
+def wheel_keys(scenario) -> dict[str, str]:
+    """fsw_node's wheel array keys from the scenario's [wheels] section (empty without one)."""
+    w = scenario.effectors.get("wheels")
+    if w is None:
+        return {}
+    out = {"wheels.count": str(w.n)}
+    if w.failed:
+        out["wheels.failed_mask"] = str(sum(1 << i for i in w.failed))
+    for i in range(w.n):
+        out[f"wheel{i}.axis"] = _vec(w.axes[i])
+        out[f"wheel{i}.js"] = _num(w.spin_inertia_kg_m2[i])
+        out[f"wheel{i}.u_max"] = _num(w.torque_limit_nm[i])
+        out[f"wheel{i}.omega_max"] = _num(w.speed_limit_rad_s[i])
+    return out
+
+
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
                 idle_timeout_s: float = 5.0, run_timeout_s: float = 0.0,
                 status_period_s: float | None = None, lcm_url: str | None = None) -> dict[str, str]:
@@ -113,6 +134,7 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
         cfg["guidance.margin"] = _num(g.margin)
         cfg["guidance.rate_limit"] = _num(g.rate_limit_radps)
         cfg["guidance.jerk_time"] = _num(g.jerk_time_s)
+    cfg.update(wheel_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])

@@ -145,6 +145,18 @@ static void publish_actuator(node_t *n, aocs_status_t step_rc, int64_t tick, int
     m.n_malformed = to_i64(n->n_malformed);
     m.n_cmd_accepted = to_i64(n->n_cmd_accepted);
     m.n_cmd_rejected = to_i64(n->n_cmd_rejected);
+    /* the wheel array's allocation of this step (all zero without one) */
+    m.n_wheels = (int8_t)n->cfg.exec.wheels.n;
+    for (i = 0; i < (int)AOCS_WHEELS_MAX; ++i) {
+        m.u_wheels[i] = (double)o->wheels.u_s_nm[i];
+    }
+    m.wheel_scale = (double)o->wheels.scale;
+    m.wheel_limited = (int32_t)(o->wheels.torque_limited_mask | (o->wheels.speed_limited_mask << 8));
+    m.wheel_status = (int32_t)o->wheels_status;
+    for (i = 0; i < 3; ++i) {
+        m.h_total[i] = (double)o->momentum.h_total_B_Nms.v[i];
+    }
+    m.wheel_speed_margin = (double)o->momentum.speed_margin;
     if (aocs_lcm_actuator_cmd_t_publish(n->lcm, CH_ACTUATOR, &m) != 0) {
         (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_ACTUATOR);
     }
@@ -292,6 +304,13 @@ static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
         return "guidance.mode = slew needs target_w = target_w_dot = target_rotation_rate = 0";
     case AOCS_ERR_GUIDANCE_ENVELOPE_INVALID:
         return "u_max_axis / u_max_norm";
+    case AOCS_ERR_WHEEL_COUNT:
+    case AOCS_ERR_WHEEL_FAILED_MASK:
+    case AOCS_ERR_WHEEL_AXIS_NOT_UNIT:
+    case AOCS_ERR_WHEEL_INERTIA_NOT_POSITIVE:
+    case AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE:
+    case AOCS_ERR_WHEELS_NOT_SPANNING:
+        return "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max";
     default:
         return "the keys of the selected law";
     }

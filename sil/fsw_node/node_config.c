@@ -98,6 +98,55 @@ static const key_def_t KEYS[] = {
      "rad/s, 0 = none", AOCS_LAW_NONE},
     {"guidance.jerk_time", KIND_REAL, OFF(exec.guidance.slew.jerk_time_s), 1u, RULE_NONNEG,
      "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang", AOCS_LAW_NONE},
+    {"wheels.count", KIND_U32, OFF(exec.wheels.n), 1u, RULE_POS, "reaction wheels, 3 to 6 (absent: none)",
+     AOCS_LAW_NONE},
+    {"wheels.failed_mask", KIND_U32, OFF(exec.wheels.failed_mask), 1u, RULE_NONNEG,
+     "bit i set: wheel i declared failed", AOCS_LAW_NONE},
+    /* the reaction wheel array (docs/wire-contract.md "Reaction wheels"; wheel_array.h): wheels.count = 0 or
+     * absent is none; the executive validates the rest (unit axes, a spanning array). The spacecraft inertia
+     * for the momentum is the `inertia` key (one source), copied after the file is read. */
+    {"wheel0.axis", KIND_REAL, OFF(exec.wheels.axis_B[0]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel0.js", KIND_REAL, OFF(exec.wheels.js_kgm2[0]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel0.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[0]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel0.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[0]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel1.axis", KIND_REAL, OFF(exec.wheels.axis_B[1]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel1.js", KIND_REAL, OFF(exec.wheels.js_kgm2[1]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel1.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[1]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel1.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[1]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel2.axis", KIND_REAL, OFF(exec.wheels.axis_B[2]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel2.js", KIND_REAL, OFF(exec.wheels.js_kgm2[2]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel2.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[2]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel2.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[2]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel3.axis", KIND_REAL, OFF(exec.wheels.axis_B[3]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel3.js", KIND_REAL, OFF(exec.wheels.js_kgm2[3]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel3.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[3]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel3.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[3]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel4.axis", KIND_REAL, OFF(exec.wheels.axis_B[4]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel4.js", KIND_REAL, OFF(exec.wheels.js_kgm2[4]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel4.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[4]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel4.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[4]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
+    {"wheel5.axis", KIND_REAL, OFF(exec.wheels.axis_B[5]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
+     AOCS_LAW_NONE},
+    {"wheel5.js", KIND_REAL, OFF(exec.wheels.js_kgm2[5]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
+    {"wheel5.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[5]), 1u, RULE_POS, "motor torque limit, N m",
+     AOCS_LAW_NONE},
+    {"wheel5.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[5]), 1u, RULE_POS, "speed limit, rad/s",
+     AOCS_LAW_NONE},
     AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)
 };
 
@@ -496,6 +545,8 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     if (rc == 0) {
         /* one inertia (the plant's, key 'inertia'): the slew guidance sizes its profile and feedforward with it */
         cfg->exec.guidance.slew.inertia_kgm2 = cfg->exec.laws.smc.inertia;
+        /* the same inertia gives the wheel array's total momentum H = J w + sum Js g Omega */
+        cfg->exec.wheels.inertia_B_kgm2 = cfg->exec.laws.smc.inertia;
     }
     if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {
         /* default: a sample older than two control periods is stale */

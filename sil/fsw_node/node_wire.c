@@ -158,6 +158,13 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
         in->pos_m.v[i] = (real_t)msg->pos[i];
         in->vel_mps.v[i] = (real_t)msg->vel[i];
     }
+    /* tachometers: a wheel the message does not measure (flag off, beyond n_wheels) reads NaN, so an
+     * executive with a wheel array gives a zero wheel command rather than act on a made-up speed */
+    for (i = 0; i < (int)AOCS_WHEELS_MAX; ++i) {
+        int usable = ((msg->valid & AOCS_LCM_SENSORS_T_VALID_WHEELS) != 0) && (i < (int)msg->n_wheels) &&
+                     (i < AOCS_LCM_SENSORS_T_MAX_WHEELS);
+        in->wheel_speed_radps[i] = usable ? (real_t)msg->wheel_speed[i] : (real_t)NAN;
+    }
 }
 
 /* ---- commands -------------------------------------------------------------------- */

@@ -134,7 +134,7 @@ def test_lockstep_replies_field_by_field(fsw_node, lcm_link, aocs_lcm, tol):
     assert len(replies) == len(sent)
     c = aocs_lcm.actuator_cmd_t
     for k, (m, r) in enumerate(zip(sent, replies)):
-        assert r.protocol_version == c.PROTOCOL_VERSION == 1
+        assert r.protocol_version == c.PROTOCOL_VERSION == 2
         assert r.frame == k
         assert r.tick == m.tick
         assert r.utime == m.utime
@@ -186,7 +186,7 @@ def test_duplicate_lost_and_foreign_frames(fsw_node, lcm_link, aocs_lcm):
     lcm_link.wait_for("AOCS_ACTUATOR_CMD", 2)
     lcm_link.send_sensors(1, q, w, frame=11)              # duplicate: dropped, no reply
     lcm_link.send_sensors(2, q, w, frame=9)               # older: duplicate too
-    lcm_link.send_sensors(2, q, w, frame=12, version=2)   # foreign protocol: dropped
+    lcm_link.send_sensors(2, q, w, frame=12, version=99)  # foreign protocol: dropped
     lcm_link.send_sensors(2, q, w, frame=12)
     r = lcm_link.wait_for("AOCS_ACTUATOR_CMD", 3)[-1]
     assert r.tick == 2
@@ -519,7 +519,7 @@ def test_wire_contract_header_fields(aocs_lcm):
     assert {"sensors_t", "actuator_cmd_t", "truth_t", "command_t", "status_t"} <= set(names)
     for name in names:
         t = getattr(aocs_lcm, name)
-        assert t.PROTOCOL_VERSION == 1, name
+        assert t.PROTOCOL_VERSION == 2, name
         assert list(t.__slots__[:3]) == ["protocol_version", "frame", "utime"], name
         # round trip through the wire format keeps every field
         m = t()

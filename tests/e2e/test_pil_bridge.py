@@ -175,7 +175,7 @@ def _script(link, aocs_lcm, collect):
         sent += 1
         collect(sent)
     sample(3, frame=3)                                   # duplicate
-    sample(4, frame=4, version=2)                        # foreign
+    sample(4, frame=4, version=99)                       # foreign
     raw = link.sensors(4, q0, [0, 0, 0], frame=4).encode()
     link.frame = 4
     for bad in (b"", b"\x01\x02", raw[:-8], raw + b"\x00"):

@@ -55,6 +55,18 @@ def sensors_seeds(t) -> None:
         return m.encode()
 
     good = [msg(k, k, 0.1 * k) for k in range(8)]
+
+    def wheels(frame_no, tick, n=4, speeds=(100.0, -250.0, 599.0, 0.5)):
+        m = s()
+        m.protocol_version = s.PROTOCOL_VERSION
+        m.frame, m.utime, m.tick, m.t_s = frame_no, tick * 100000, tick, 0.1 * tick
+        m.valid = s.VALID_ATTITUDE | s.VALID_RATE | s.VALID_WHEELS
+        m.q, m.w, m.n_wheels = list(Q), list(W), n
+        m.wheel_speed = list(speeds) + [0.0] * (6 - len(speeds))
+        return m.encode()
+
+    _write("fuzz_sensors", "wheels", bytes([4]) + _chunks([wheels(k, k) for k in range(6)] + [wheels(6, 6, n=9),
+                                                           wheels(7, 7, speeds=(float("nan"), 0.0, 0.0, 0.0))]))
     _write("fuzz_sensors", "lockstep_good", bytes([4]) + _chunks(good))
     _write("fuzz_sensors", "realtime_good", bytes([5]) + _chunks(good))
     _write("fuzz_sensors", "future_time", bytes([4]) + _chunks(good[:4] + [msg(4, 4, 1e9)] + good[5:]))
@@ -106,6 +118,12 @@ CONFIGS = {
                       "u_max_norm = 1e150\n",
     "issue11_timeouts": "law = none\nu_max_norm = 1\nidle_timeout_s = 2e10\nstatus_period_s = 1e-10\n",
     "errors": "law = quat_pd\nbogus = 1\n",
+    # the SPEC 5.3 pyramid about x, wheel 0 failed (docs/wire-contract.md "Reaction wheels")
+    "wheels": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 1 1 1\ninertia = 2059.5 5954.2 5974.3\n"
+              "wheels.count = 4\nwheels.failed_mask = 1\n" + "".join(
+                  f"wheel{i}.axis = {a}\nwheel{i}.js = 0.08\nwheel{i}.u_max = 0.25\nwheel{i}.omega_max = 600\n"
+                  for i, a in enumerate(("0.57735 0.81650 0", "0.57735 0 0.81650", "0.57735 -0.81650 0",
+                                         "0.57735 0 -0.81650"))),
 }
 
 

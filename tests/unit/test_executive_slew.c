@@ -139,6 +139,7 @@ static void check_tracking(aocs_law_id_t law, int ff_expected)
     test_rng_t r = {0x4242ULL};
     env.u_max_axis_Nm = cfg.u_max_axis;
     env.u_max_norm_Nm = AOCS_R(0.0);
+    env.wheels = NULL;
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     assert_int_equal(aocs_slew_plan(&s, &cfg.guidance.slew, &env, q0, cfg.target.qd_DN), AOCS_OK);
     /* first sample (t = 0.1 s) at q0: the slew starts there */

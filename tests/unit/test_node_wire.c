@@ -214,7 +214,7 @@ static void test_decode(void **state)
     assert_int_equal(aocs_node_decode_sensors(buf, 0u, &d), AOCS_NODE_DECODE_MALFORMED);
     assert_int_equal(aocs_node_decode_sensors(NULL, 10u, &d), AOCS_NODE_DECODE_MALFORMED);
     assert_int_equal(aocs_node_decode_sensors(buf, 0x80000000u, &d), AOCS_NODE_DECODE_MALFORMED);
-    m.protocol_version = 2;
+    m.protocol_version = 99;
     n = aocs_lcm_sensors_t_encode(buf, 0, (int)sizeof(buf), &m);
     assert_int_equal(aocs_node_decode_sensors(buf, (uint32_t)n, &d), AOCS_NODE_DECODE_FOREIGN);
     /* a command payload on the sensors decoder: fingerprint mismatch */

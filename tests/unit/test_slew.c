@@ -86,6 +86,7 @@ static slew_case_t random_case(test_rng_t *r, aocs_slew_profile_t profile, int r
     c.cfg.inertia_kgm2 = random_inertia(r);
     c.env.u_max_axis_Nm = aocs_vec3_zero();
     c.env.u_max_norm_Nm = AOCS_R(0.0);
+    c.env.wheels = NULL;
     if ((env_kind & 1) != 0) {
         c.env.u_max_axis_Nm = aocs_vec3_make((real_t)test_rng_uniform(r, 0.2, 1.0), (real_t)test_rng_uniform(r, 0.2, 1.0),
                                              (real_t)test_rng_uniform(r, 0.2, 1.0));
@@ -314,6 +315,7 @@ static void irassi_bound(void **state)
     c.q0 = dq_to_real(dq_euler321_deg(14.0, 14.0, 14.0));
     c.qf = dq_to_real(dq_euler321_deg(30.0, -20.0, 1.0));
     c.env.u_max_norm_Nm = AOCS_R(0.0);
+    c.env.wheels = NULL;
     for (int i = 0; i < 3; ++i) {
         c.env.u_max_axis_Nm = aocs_vec3_make((real_t)lim[i], (real_t)lim[i], (real_t)lim[i]);
         assert_int_equal(aocs_slew_plan(&s, &c.cfg, &c.env, c.q0, c.qf), AOCS_OK);

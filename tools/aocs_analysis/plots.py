@@ -9,7 +9,9 @@ by aocs_analysis.run_metrics.compute and writes:
   with the saturation limits), step_time.png (executive step time against
   the step's budget);
 - orbit: position_error.png, velocity_error.png (with the settle
-  thresholds), force.png, step_time.png.
+  thresholds), force.png, step_time.png;
+- with a reaction wheel array: wheel_speeds.png (with the speed limits) and
+  momentum.png (aocs_analysis.wheels).
 
 Every figure: FIG_WIDTH_IN x DPI = 1280 px wide, legends of LEGEND_PT, units
 on every axis, and where a log scale clips small values the clip is stated.
@@ -20,6 +22,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+
+from . import wheels
 
 AXES = ("x", "y", "z")
 COLORS = ("tab:blue", "tab:orange", "tab:green")
@@ -171,4 +175,5 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, se
         files.append(_command_plot(series, out / "force.png", f"{title}: commanded force (after saturation)",
                                    "force (N)", "F"))
     files.append(_step_time(series, out / "step_time.png", title))
+    files += wheels.plots(series.get("wheels") or {}, out, title)
     return files

@@ -19,6 +19,7 @@ from aocs_core.limits import UNLIMITED
 from aocs_core.paths import MODE_NOMINAL, MODE_SAFE
 
 from . import metrics as M
+from . import wheels
 from .gain_tables import designed_gamma
 from .slew_bound import scenario_slew_bound_s
 
@@ -172,6 +173,7 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     _timing(out, series, log.cmd, meta, cfg, fsw)
     _counters(out, log, sc.dt)
     _hinf(out, log, sc, cfg)
+    out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     return out, series
 
@@ -511,6 +513,8 @@ def table(m: dict) -> str:
     lim = m["limits"]
     rows.append(("limit", "unlimited" if lim["unlimited"] else
                  f"axis {_fmt(lim['axis'])} norm {_fmt(lim['norm'])}, over limit: {lim['commands_over_limit']}"))
+    if m.get("wheels"):
+        rows += wheels.table_rows(m["wheels"])
     tm = m["timing"]
     rows.append(("step time", f"median {tm['step_ns_median']:.0f} ns, p99 {tm['step_ns_p99']:.0f}, "
                  f"max {tm['step_ns_max']:.0f}, budget {tm['budget_ns']:.0f}, overruns {tm['overruns']}"))

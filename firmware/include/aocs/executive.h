@@ -37,6 +37,15 @@
  * a new target from aocs_exec_select becomes qd0 at the time of the last
  * sample. A zero rate leaves the target exactly as given (bit for bit).
  *
+ * Reaction wheels (wheels.c, wheel_array.h): with cfg.wheels.n != 0 the
+ * saturated body torque is allocated to the wheels every step (minimum norm,
+ * one uniform scale, speed protection from the tachometer speeds of the
+ * sample); u_cmd is then the body torque the wheels deliver (the same
+ * direction) and out.wheels holds the wheel torque commands, out.momentum the
+ * total momentum and the speed margin. Non-finite tachometer speeds give a
+ * zero wheel command (wheels_status says why). Without an array nothing
+ * changes.
+ *
  * Gain tables (gain_tables.c): the designs compiled into gains/aocs_gains.h
  * by name or id, so a config can say "<design name>" instead of 18 numbers;
  * `aocs gains` registers them in gains/gain_tables.def.
@@ -53,6 +62,7 @@
 #include "aocs/types.h"
 #include "aocs/math3.h"
 #include "aocs/attitude.h"
+#include "aocs/actuation/wheel_array.h"
 #include "aocs/laws.def"
 #include "aocs/guidance/slew.h"
 #include "gains/gain_tables.def"
@@ -209,6 +219,8 @@ typedef struct {
     uint64_t budget_ns;           /* step budget override; 0 = the law's BUDGET_NS (laws.def) */
     aocs_exec_clock_t clock;
     aocs_exec_guidance_config_t guidance; /* default: STEP mode */
+    aocs_wheels_config_t wheels;  /* reaction wheel array; wheels.n = 0: none. Its period_s is set from
+                                   * period_s at init (one source) */
 } aocs_exec_config_t;
 
 /* One sensor sample (lockstep: one per control period). */
@@ -220,6 +232,8 @@ typedef struct {
     aocs_vec3_t w_BN_B;           /* estimated body rate, rad/s */
     aocs_vec3_t pos_m;            /* orbit: position error [dx dy dz], m (SPEC 2.8) */
     aocs_vec3_t vel_mps;          /* orbit: velocity [du dv dw], m/s (SPEC 2.8) */
+    real_t wheel_speed_radps[AOCS_WHEELS_MAX]; /* tachometers: wheel speeds relative to the body, rad/s
+                                   * (read when a wheel array is configured) */
 } aocs_exec_input_t;
 
 /* Event counters (saturate at UINT32_MAX, never wrap). */
@@ -255,6 +269,9 @@ typedef struct {
     uint64_t budget_ns;
     uint32_t tick;                /* tick of the sample (last tick for step_no_input) */
     aocs_exec_counters_t counters;
+    aocs_wheels_alloc_t wheels;   /* wheel torque commands (all zero without an array) */
+    aocs_wheels_momentum_t momentum; /* total momentum and speed margin (zero without an array) */
+    aocs_status_t wheels_status;  /* AOCS_OK, or why the allocation gave a zero command */
 } aocs_exec_output_t;
 
 /* Law states (member STATE of every laws.def row), one of each so a rejected select leaves the active one untouched. */
@@ -306,6 +323,10 @@ typedef struct {
     uint32_t resync_tick;         /* tick and sensor time of the last of them */
     uint64_t resync_t_ns;
     uint32_t resyncs;             /* resynchronisations so far (saturates at UINT32_MAX) */
+    /* reaction wheel array (wheels.c) */
+    aocs_wheels_t wheels;         /* initialised only when cfg.wheels.n != 0 */
+    real_t wheel_speed_last[AOCS_WHEELS_MAX]; /* tachometer speeds of the last sample (step_no_input) */
+    aocs_vec3_t w_last_B;         /* body rate of the last sample (momentum in step_no_input) */
 } aocs_exec_t;
 
 /*
@@ -329,6 +350,7 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg);
  * (guidance.mode out of range); in SLEW mode AOCS_ERR_GUIDANCE_TARGET_MOVING
  * (rotating target or non-zero wd/wd_dot) and the slew config's codes
  * (aocs_slew_config_check: profile, margin, rate limit, jerk time, inertia);
+ * the wheel array's own status (aocs_wheels_init) when cfg.wheels.n != 0;
  * else the law init's own status. The selected law's state is reset (its init
  * re-run from the cached config) on every target change (select with a
  * target) and on every change into NOMINAL, so integral states start at zero.

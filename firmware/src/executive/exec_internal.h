@@ -54,6 +54,17 @@ void aocs_exec_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D,
 /* t - t0 in seconds, negative when t < t0, without forming a huge real ns count. Total. */
 real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns);
 
+/*
+ * Wheel array (wheels.c): aocs_exec_wheels_init validates and initialises it
+ * when cfg.wheels.n != 0 (AOCS_OK without an array); aocs_exec_wheels_apply
+ * allocates out->u_cmd to the wheels (omega: tachometer speeds, w: body rate
+ * for the momentum), replaces u_cmd by what they deliver and sets *saturated
+ * when the allocation scaled it. Without an array it does nothing. Total.
+ */
+aocs_status_t aocs_exec_wheels_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg);
+void aocs_exec_wheels_apply(aocs_exec_t *exec, const real_t *omega_radps, aocs_vec3_t w_BN_B,
+                            aocs_exec_output_t *out, int *saturated);
+
 /* Counter increment that sticks at the maximum instead of wrapping. */
 void aocs_exec_count(uint32_t *counter, uint32_t n);
 

@@ -159,6 +159,9 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
         st = AOCS_ERR_NULL_ARG;
     } else {
         st = config_check(cfg, &period_ns);
+        if (st == AOCS_OK) {
+            st = aocs_exec_wheels_init(exec, cfg);
+        }
         if ((st == AOCS_OK) && (cfg->law != AOCS_LAW_NONE)) {
             st = aocs_exec_law_init(&exec->states, &cfg->laws, cfg->law);
         }
@@ -429,6 +432,7 @@ static aocs_exec_target_t slew_target(aocs_exec_t *exec, const aocs_exec_input_t
         aocs_slew_envelope_t env;
         env.u_max_axis_Nm = exec->cfg.u_max_axis;
         env.u_max_norm_Nm = exec->cfg.u_max_norm;
+        env.wheels = (exec->wheels.initialised != 0) ? &exec->wheels : NULL;
         /* config, limits and target were validated: a failure leaves a zero-length slew at the target */
         (void)aocs_slew_plan(&exec->slew, &exec->cfg.guidance.slew, &env, in->q_BN, exec->target.qd_DN);
         exec->slew_t0_ns = in->t_sensor_ns;
@@ -554,9 +558,11 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             out->u_unsat = u_law;
             if ((slew_mode(&exec->cfg) != 0) && (aocs_law_is_orbit(exec->law) == 0) &&
                 (aocs_law_has_feedforward(exec->law) == 0)) {
-                /* SPEC 5.1: u_ff = J wd_dot + wd x (J wd + h_wheels), no wheel array yet (h_wheels = 0) */
+                /* SPEC 5.1: u_ff = J wd_dot + wd x (J wd + h_wheels), h_wheels = sum Js g Omega from the
+                 * tachometers (zero without a wheel array) */
                 out->u_ff = aocs_slew_feedforward(exec->cfg.guidance.slew.inertia_kgm2, target.wd_B,
-                                                  target.wd_dot_B, aocs_vec3_zero());
+                                                  target.wd_dot_B,
+                                                  aocs_wheels_h_B(&exec->wheels, in->wheel_speed_radps));
                 out->u_unsat = aocs_vec3_add(u_law, out->u_ff);
             }
         } else if (exec->mode == AOCS_EXEC_MODE_SAFE) {
@@ -565,6 +571,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             out->u_unsat = aocs_vec3_zero();
         }
         out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        aocs_exec_wheels_apply(exec, in->wheel_speed_radps, in->w_BN_B, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
@@ -606,6 +613,7 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
             out->u_unsat = aocs_vec3_zero(); /* no fresh rate to damp */
         }
         out->u_cmd = aocs_exec_saturate(&exec->cfg, out->u_unsat, &sat);
+        aocs_exec_wheels_apply(exec, exec->wheel_speed_last, exec->w_last_B, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
         out->saturated = sat;

@@ -96,6 +96,11 @@ real_t aocs_slew_alpha_max(const aocs_slew_envelope_t *env, aocs_mat3_t inertia_
             alpha = min_r(alpha, aocs_slew_alpha_norm(env->u_max_norm_Nm, a, b));
             any = 1;
         }
+        if ((env->wheels != NULL) && (env->wheels->initialised != 0)) {
+            /* the wheel kind (docs/spec.md 5.3.1): the allocation must deliver the reference unscaled */
+            alpha = min_r(alpha, aocs_wheels_alpha_envelope(env->wheels, a, b));
+            any = 1;
+        }
     }
     if ((any == 0) || !AOCS_IS_FINITE(alpha)) {
         alpha = AOCS_R(0.0);

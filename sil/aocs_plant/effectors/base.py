@@ -63,6 +63,7 @@ class BodyContext:
     seed: int
     inertia: tuple | None = None  # row-major 9-tuple of the scenario's (total) inertia, kg m^2 (attitude)
     mass_kg: float | None = None  # orbit
+    w0: tuple | None = None       # initial body rate w_BN_B, rad/s (attitude: effector states relative to it)
 
 
 class Effector:
@@ -149,6 +150,11 @@ class Effector:
     def jump(self, t: float, body: tuple) -> tuple:
         """The body state just after the event at t."""
         return body
+
+    def sample(self, t: float, body: tuple, x: tuple) -> dict:
+        """Measurements of the effector's own state, merged into Plant.sense() (wheel tachometers);
+        called once per period when the class overrides it."""
+        return {}
 
     # ---------------------------------------------------------------- truth
     def contribution(self, t: float, body: tuple, x: tuple) -> tuple:

@@ -52,3 +52,24 @@ def test_bound_by_integration_and_sign_invariance():
         # the norm ball binds |J e| instead
         assert sb.slew_bound_s(j, q0, qf, None, u) == pytest.approx(
             2.0 * math.sqrt(theta * np.linalg.norm(je) / u), rel=1e-12)
+
+
+def test_the_wheel_envelope_is_the_spec_5_3_pyramid():
+    """SPEC 5.3: about 0.58 N m on the pyramid axis (4 * 0.25 / sqrt 3), 0.41 N m transverse
+    (2 * 0.25 sqrt(2/3)); the scenario's bound uses the healthy wheels only."""
+    import math
+
+    import numpy as np
+
+    from aocs_analysis import slew_bound
+    from aocs_plant import load
+
+    w = load("irassi_rw").effectors["wheels"]          # pyramid about body x
+    eye = np.eye(3)
+    assert slew_bound.alpha_max(eye, [1.0, 0.0, 0.0], None, None, w) == pytest.approx(1.0 / math.sqrt(3), rel=1e-12)
+    assert slew_bound.alpha_max(eye, [0.0, 1.0, 0.0], None, None, w) == pytest.approx(0.5 * math.sqrt(2 / 3), rel=1e-12)
+    # a limit tighter than the wheels wins
+    assert slew_bound.alpha_max(eye, [0.0, 1.0, 0.0], 0.1, None, w) == pytest.approx(0.1)
+    full = slew_bound.scenario_slew_bound_s(load("irassi_rw"))
+    reduced = slew_bound.scenario_slew_bound_s(load("irassi_rw_failed"))
+    assert full == pytest.approx(186.84, abs=0.01) and reduced == pytest.approx(252.98, abs=0.01)

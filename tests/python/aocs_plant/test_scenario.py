@@ -13,10 +13,26 @@ from aocs_plant import ScenarioError, law_names, list_scenarios, load
 SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b",
             "landsat8_q1", "landsat8_q01", "landsat8_q10", "landsat8_srp", "landsat8_debris",
             "irassi_large", "irassi_small", "geo_hinf", "gao_mrp"]
+# SPEC 5: beyond the references (5.3: the IRASSI slew on the reference wheel array, and one wheel failed)
+SPEC5_IDS = ["irassi_rw", "irassi_rw_failed"]
 
 
 def test_every_spec_scenario_has_a_file_and_nothing_else():
-    assert sorted(list_scenarios()) == sorted(SPEC_IDS)
+    assert sorted(list_scenarios()) == sorted(SPEC_IDS + SPEC5_IDS)
+
+
+@pytest.mark.parametrize("sid,failed", [("irassi_rw", ()), ("irassi_rw_failed", (0,))])
+def test_the_wheel_scenarios_fly_the_spec_5_3_reference_array(sid, failed):
+    sc = load(sid)
+    w = sc.effectors["wheels"]
+    assert w.n == 4 and w.failed == failed and sc.duration_s == 1000.0
+    assert w.spin_inertia_kg_m2 == (0.08,) * 4 and w.torque_limit_nm == (0.25,) * 4
+    assert w.speed_limit_rad_s == (600.0,) * 4 and w.coulomb_nm > 0.0 and w.viscous_nms > 0.0
+    G = np.array(w.axes)
+    np.testing.assert_allclose(np.degrees(np.arccos(G[:, 0])), 54.7356, atol=1e-4)   # from body x
+    # the rest of the problem is irassi_large's
+    ref = load("irassi_large")
+    assert sc.attitude == ref.attitude and sc.target == ref.target and sc.control == ref.control
 
 
 @pytest.mark.parametrize("sid", SPEC_IDS)

@@ -24,8 +24,11 @@ def test_recorder_writes_a_standard_lcm_log_without_dropping(private_netns, aocs
     lc = lcm.LCM(__import__("aocs_wire.netns", fromlist=["LCM_URL"]).LCM_URL)
     codecs = wire.Codecs(aocs_lcm)
     sent = []
+    # every field after the header (tick, t_s): 0.5 for doubles, 0 for integers
+    tail = [v for (_, n), typ in list(zip(codecs.truth.fields, aocs_lcm.truth_t.__typenames__))[5:]
+            for v in [0.5 if typ == "double" else 0] * (1 if n is None else n)]
     for k in range(1000):       # a burst far above LCM's default 30-message queue
-        data = codecs.truth.pack(1, k, k, k, 0.1 * k, *([0.5] * 29))
+        data = codecs.truth.pack(1, k, k, k, 0.1 * k, *tail)
         lc.publish(wire.TRUTH, data)
         sent.append(data)
         if k % 500 == 0:

@@ -36,6 +36,7 @@
 #define AOCS_GUIDANCE_SLEW_H
 
 #include "aocs/attitude.h"
+#include "aocs/actuation/wheel_array.h"
 #include "aocs/math3.h"
 #include "aocs/types.h"
 
@@ -60,6 +61,7 @@ typedef struct {
 typedef struct {
     aocs_vec3_t u_max_axis_Nm; /* per-axis box; all 0 = unused */
     real_t u_max_norm_Nm;      /* |u|_2 ball; 0 = unused */
+    const aocs_wheels_t *wheels; /* reaction wheel array (aocs_wheels_alpha_envelope); NULL = none */
 } aocs_slew_envelope_t;
 
 /* A planned slew (aocs_slew_plan). */

@@ -1,0 +1,123 @@
+/*
+ * Reaction wheel array: configuration, minimum-norm torque allocation with a
+ * uniform scale, speed-limit protection, total momentum and the guidance's
+ * acceleration envelope (docs/spec.md 5.3; Schaub & Junkins ch. 4; Wie ch. 7).
+ *
+ *   aocs_wheels_init(&wa, &cfg);               validates, computes Gs^+ once
+ *   aocs_wheels_allocate(&wa, u_c_B, omega, &alloc);   every control step
+ *   aocs_wheels_momentum(&wa, w_BN_B, omega, &mom);    H and the margins
+ *   aocs_wheels_alpha_max(&wa, J, e);          guidance envelope along e
+ *
+ * Fixed size (AOCS_WHEELS_MAX wheels), no dynamic memory. The spin axes g_i
+ * are the columns of Gs (3 x N) in B. The motors' reaction on the body is
+ * -Gs u_s, so the body torque u_c is delivered by u_s = -Gs^+ u_c with
+ * Gs^+ = Gs^T (Gs Gs^T)^-1 over the healthy wheels (a failed wheel's row is
+ * zero: it is removed from the allocation).
+ */
+#ifndef AOCS_WHEEL_ARRAY_H
+#define AOCS_WHEEL_ARRAY_H
+
+#include <stdint.h>
+
+#include "aocs/types.h"
+#include "aocs/math3.h"
+
+#define AOCS_WHEELS_MAX 6u   /* largest array (a 6-wheel skew configuration) */
+#define AOCS_WHEELS_MIN 3u   /* three wheels at least to control three axes */
+
+typedef struct {
+    uint32_t n;                                /* wheels configured, AOCS_WHEELS_MIN .. AOCS_WHEELS_MAX */
+    aocs_vec3_t axis_B[AOCS_WHEELS_MAX];       /* unit spin axis g_i in B */
+    real_t js_kgm2[AOCS_WHEELS_MAX];           /* spin inertia Js_i, kg m^2, > 0 */
+    real_t u_max_nm[AOCS_WHEELS_MAX];          /* motor torque limit u_s,max,i, N m, > 0 */
+    real_t omega_max_radps[AOCS_WHEELS_MAX];   /* speed limit Omega_max,i, rad/s, > 0 */
+    uint32_t failed_mask;                      /* bit i set: wheel i declared failed (removed) */
+    real_t period_s;                           /* control period, s (> 0): horizon of the speed protection */
+    aocs_mat3_t inertia_B_kgm2;                /* J of the spacecraft with its wheels (for H), valid inertia */
+} aocs_wheels_config_t;
+
+typedef struct {
+    aocs_wheels_config_t cfg;
+    real_t pinv[AOCS_WHEELS_MAX][3];           /* Gs^+ over the healthy wheels; zero rows for failed ones */
+    uint32_t n_healthy;
+    int initialised;
+} aocs_wheels_t;
+
+typedef struct {
+    real_t u_s_nm[AOCS_WHEELS_MAX];            /* wheel motor torque commands, N m (0 for failed / unused) */
+    aocs_vec3_t u_body_B_nm;                   /* body torque they deliver, -Gs u_s = scale * u_c */
+    real_t scale;                              /* uniform scale applied, in [0, 1] (1: none) */
+    uint32_t torque_limited_mask;              /* bit i: wheel i's torque limit set the scale */
+    uint32_t speed_limited_mask;               /* bit i: wheel i's speed headroom set the scale */
+} aocs_wheels_alloc_t;
+
+typedef struct {
+    aocs_vec3_t h_total_B_Nms;                 /* H = J w + sum Js_i g_i Omega_i, B */
+    real_t h_wheels_norm_Nms;                  /* |sum Js_i g_i Omega_i| */
+    real_t speed_margin;                       /* min over healthy wheels of 1 - |Omega_i| / Omega_max,i */
+    uint32_t worst_wheel;                      /* the wheel with that smallest margin */
+} aocs_wheels_momentum_t;
+
+/* Defaults: zero wheels (invalid until filled), period 0.1 s, identity inertia. Total (no-op on NULL). */
+void aocs_wheels_config_default(aocs_wheels_config_t *cfg);
+
+/*
+ * Validates cfg and computes Gs^+ over the healthy wheels. Status, the first
+ * failed check in this order: AOCS_ERR_NULL_ARG; AOCS_ERR_WHEEL_COUNT (n out
+ * of [3, 6]); AOCS_ERR_WHEEL_FAILED_MASK (a failed bit at or beyond n);
+ * AOCS_ERR_WHEEL_AXIS_NOT_UNIT (axis not finite or | |g| - 1 | > 1e-4);
+ * AOCS_ERR_WHEEL_INERTIA_NOT_POSITIVE (Js not finite or <= 0);
+ * AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE (u_s,max or Omega_max not finite or <= 0);
+ * AOCS_ERR_DT_INVALID (period); the inertia's own check
+ * (aocs_mat3_check_inertia); AOCS_ERR_WHEELS_NOT_SPANNING (fewer than 3
+ * healthy wheels, or det(Gs Gs^T) < 1e-6 for unit axes: the healthy wheels do
+ * not span the three body axes). On error wa is left not initialised.
+ */
+aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cfg);
+
+/*
+ * u_s = -Gs^+ u_c (minimum norm), then one uniform scale s = min(1, min_i
+ * L_i / |u_s,i|) so the delivered body torque keeps its direction, with L_i
+ * the wheel's usable torque this step: u_s,max,i, and when the torque would
+ * speed the wheel up, also its headroom Js_i (Omega_max,i - |Omega_i|) / T
+ * (>= 0): no command drives a wheel beyond Omega_max within the period T.
+ * omega_radps: tachometer speeds relative to the body (n entries).
+ * AOCS_ERR_NULL_ARG; AOCS_ERR_NOT_INITIALISED; AOCS_ERR_INPUT_NOT_FINITE (u_c
+ * or a speed not finite). On any error *out is a zero command, scale 0.
+ */
+aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, const real_t *omega_radps,
+                                   aocs_wheels_alloc_t *out);
+
+/*
+ * Total momentum and the margins to the speed limits (healthy wheels).
+ * AOCS_ERR_NULL_ARG; AOCS_ERR_NOT_INITIALISED; AOCS_ERR_INPUT_NOT_FINITE
+ * (*out zeroed on error).
+ */
+aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, const real_t *omega_radps,
+                                   aocs_wheels_momentum_t *out);
+
+/*
+ * Guidance envelope of the wheel kind (docs/spec.md 5.1, 5.3): the largest
+ * acceleration a along the unit axis e for which the body torque J a e is
+ * delivered without scaling, a = min_i u_s,max,i / |(Gs^+ J e)_i| over the
+ * healthy wheels. 0 when wa is NULL or not initialised, or any input not
+ * finite, or J e = 0. Total.
+ */
+real_t aocs_wheels_alpha_max(const aocs_wheels_t *wa, aocs_mat3_t j_B_kgm2, aocs_vec3_t e_B);
+
+/*
+ * The wheel kind of the slew guidance's envelope functions (guidance/slew.h):
+ * the largest alpha such that the allocation of every torque of
+ * alpha * conv{+-a, +-a + b} stays within the wheels' torque limits without
+ * scaling: min_i u_s,max,i / (|(Gs^+ a)_i| + |(Gs^+ b)_i|) over the healthy
+ * wheels (|.| of a linear map is convex: the maximum is at a vertex).
+ * aocs_wheels_alpha_max is this with a = J e, b = 0. AOCS_REAL_MAX when no
+ * wheel is loaded; 0 when wa is NULL or not initialised or on NaN. Total.
+ */
+real_t aocs_wheels_alpha_envelope(const aocs_wheels_t *wa, aocs_vec3_t a, aocs_vec3_t b);
+
+/* sum Js_i g_i Omega_i (B, N m s): the wheels' momentum relative to the body, for the feedforward
+ * (docs/spec.md 5.1); zero when wa is NULL or not initialised or a speed is not finite. Total. */
+aocs_vec3_t aocs_wheels_h_B(const aocs_wheels_t *wa, const real_t *omega_radps);
+
+#endif /* AOCS_WHEEL_ARRAY_H */

@@ -1,0 +1,312 @@
+/*
+ * Reaction wheel array (wheel_array.h; docs/spec.md 5.3). Gs^+ is computed
+ * once at init; every step is a 6 x 3 product, one scale and a few compares.
+ */
+#include <stddef.h>
+
+#include "aocs/actuation/wheel_array.h"
+
+/* | |g| - 1 | above this is not a unit axis (the scenario loader writes axes unit to 1e-9) */
+#define WHEEL_AXIS_UNIT_TOL AOCS_R(1.0e-4)
+/* det(Gs Gs^T) of unit axes below this: the healthy axes are (nearly) coplanar. For three orthogonal
+ * axes det = 1, for the SPEC 5.3 pyramid 16/27 (four) and about 0.15 (three); 1e-6 means a pseudo-inverse
+ * gain above ~1e3 per N m, which no real array has. */
+#define WHEEL_SPAN_DET_MIN AOCS_R(1.0e-6)
+
+static uint32_t wheel_bit(uint32_t i)
+{
+    return (uint32_t)1u << i;
+}
+
+static int wheel_healthy(const aocs_wheels_config_t *cfg, uint32_t i)
+{
+    return ((cfg->failed_mask & wheel_bit(i)) == 0u) ? 1 : 0;
+}
+
+void aocs_wheels_config_default(aocs_wheels_config_t *cfg)
+{
+    if (cfg != NULL) {
+        cfg->n = 0u;
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            cfg->axis_B[i] = aocs_vec3_zero();
+            cfg->js_kgm2[i] = AOCS_R(0.0);
+            cfg->u_max_nm[i] = AOCS_R(0.0);
+            cfg->omega_max_radps[i] = AOCS_R(0.0);
+        }
+        cfg->failed_mask = 0u;
+        cfg->period_s = AOCS_R(0.1);
+        cfg->inertia_B_kgm2 = aocs_mat3_identity();
+    }
+}
+
+static aocs_status_t wheels_check_wheel(const aocs_wheels_config_t *cfg, uint32_t i)
+{
+    aocs_status_t st = AOCS_OK;
+    aocs_vec3_t g = cfg->axis_B[i];
+    if ((aocs_vec3_is_finite(g) == 0) || (AOCS_FABS(aocs_vec3_norm(g) - AOCS_R(1.0)) > WHEEL_AXIS_UNIT_TOL)) {
+        st = AOCS_ERR_WHEEL_AXIS_NOT_UNIT;
+    } else if (!(AOCS_IS_FINITE(cfg->js_kgm2[i]) && (cfg->js_kgm2[i] > AOCS_R(0.0)))) {
+        st = AOCS_ERR_WHEEL_INERTIA_NOT_POSITIVE;
+    } else if (!(AOCS_IS_FINITE(cfg->u_max_nm[i]) && (cfg->u_max_nm[i] > AOCS_R(0.0)) &&
+                 AOCS_IS_FINITE(cfg->omega_max_radps[i]) && (cfg->omega_max_radps[i] > AOCS_R(0.0)))) {
+        st = AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
+static aocs_status_t wheels_check(const aocs_wheels_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((cfg->n < AOCS_WHEELS_MIN) || (cfg->n > AOCS_WHEELS_MAX)) {
+        st = AOCS_ERR_WHEEL_COUNT;
+    } else if ((cfg->failed_mask >> cfg->n) != 0u) {
+        st = AOCS_ERR_WHEEL_FAILED_MASK;
+    } else {
+        for (uint32_t i = 0u; (i < cfg->n) && (st == AOCS_OK); ++i) {
+            st = wheels_check_wheel(cfg, i);
+        }
+    }
+    if (st == AOCS_OK) {
+        if (!(AOCS_IS_FINITE(cfg->period_s) && (cfg->period_s > AOCS_R(0.0)))) {
+            st = AOCS_ERR_DT_INVALID;
+        } else {
+            st = aocs_mat3_check_inertia(cfg->inertia_B_kgm2);
+        }
+    }
+    return st;
+}
+
+aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((wa == NULL) || (cfg == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else {
+        wa->initialised = 0;
+        st = wheels_check(cfg);
+    }
+    if (st == AOCS_OK) {
+        /* M = Gs Gs^T = sum over the healthy wheels of g g^T (docs/spec.md 5.3) */
+        aocs_mat3_t m = aocs_mat3_zero();
+        aocs_mat3_t m_inv = aocs_mat3_identity();
+        uint32_t healthy = 0u;
+        for (uint32_t i = 0u; i < cfg->n; ++i) {
+            if (wheel_healthy(cfg, i) != 0) {
+                m = aocs_mat3_add(m, aocs_mat3_outer(cfg->axis_B[i], cfg->axis_B[i]));
+                ++healthy;
+            }
+        }
+        if ((healthy < AOCS_WHEELS_MIN) || (aocs_mat3_det(m) < WHEEL_SPAN_DET_MIN)) {
+            st = AOCS_ERR_WHEELS_NOT_SPANNING;
+        } else if (aocs_mat3_inverse(m, &m_inv) != AOCS_OK) {
+            st = AOCS_ERR_WHEELS_NOT_SPANNING;
+        } else {
+            wa->cfg = *cfg;
+            wa->n_healthy = healthy;
+            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+                /* row i of Gs^+ = g_i^T M^-1 (M symmetric), zero for a failed or absent wheel */
+                aocs_vec3_t row = aocs_vec3_zero();
+                if ((i < cfg->n) && (wheel_healthy(cfg, i) != 0)) {
+                    row = aocs_mat3_tmul_vec(m_inv, cfg->axis_B[i]);
+                }
+                for (uint32_t k = 0u; k < 3u; ++k) {
+                    wa->pinv[i][k] = row.v[k];
+                }
+            }
+            wa->initialised = 1;
+        }
+    }
+    return st;
+}
+
+static void wheels_zero_alloc(aocs_wheels_alloc_t *out)
+{
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        out->u_s_nm[i] = AOCS_R(0.0);
+    }
+    out->u_body_B_nm = aocs_vec3_zero();
+    out->scale = AOCS_R(0.0);
+    out->torque_limited_mask = 0u;
+    out->speed_limited_mask = 0u;
+}
+
+static int wheels_speeds_finite(const aocs_wheels_t *wa, const real_t *omega_radps)
+{
+    int ok = 1;
+    for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
+        if (!AOCS_IS_FINITE(omega_radps[i])) {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+/* The wheel torque u may use this step: u_s,max, and if u speeds the wheel up, also the speed headroom
+ * Js (Omega_max - |Omega|) / T (clamped at 0). *by_speed = 1 when the headroom is the smaller. */
+static real_t wheels_usable(const aocs_wheels_config_t *cfg, uint32_t i, real_t u, real_t omega, int *by_speed)
+{
+    real_t lim = cfg->u_max_nm[i];
+    *by_speed = 0;
+    /* the motor torque adds to the wheel's axial momentum: it speeds the wheel up when u Omega > 0,
+     * and from rest (Omega = 0) in either direction */
+    if ((u * omega) >= AOCS_R(0.0)) {
+        real_t head = cfg->js_kgm2[i] * (cfg->omega_max_radps[i] - AOCS_FABS(omega)) / cfg->period_s;
+        if (head < AOCS_R(0.0)) {
+            head = AOCS_R(0.0);
+        }
+        if (head < lim) {
+            lim = head;
+            *by_speed = 1;
+        }
+    }
+    return lim;
+}
+
+aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, const real_t *omega_radps,
+                                   aocs_wheels_alloc_t *out)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((wa == NULL) || (omega_radps == NULL) || (out == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (wa->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if ((aocs_vec3_is_finite(u_c_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
+        st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else {
+        st = AOCS_OK;
+    }
+    if (out != NULL) {
+        wheels_zero_alloc(out);
+    }
+    if (st == AOCS_OK) {
+        const aocs_wheels_config_t *cfg = &wa->cfg;
+        real_t u[AOCS_WHEELS_MAX];
+        real_t s = AOCS_R(1.0);
+        uint32_t limiter = AOCS_WHEELS_MAX;
+        int limiter_by_speed = 0;
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            /* u_s = -Gs^+ u_c: the motors' reaction -Gs u_s on the body is then Gs Gs^+ u_c = u_c */
+            u[i] = -((wa->pinv[i][0] * u_c_B.v[0]) + (wa->pinv[i][1] * u_c_B.v[1]) + (wa->pinv[i][2] * u_c_B.v[2]));
+        }
+        for (uint32_t i = 0u; i < cfg->n; ++i) {
+            int by_speed = 0;
+            real_t a = AOCS_FABS(u[i]);
+            real_t lim = wheels_usable(cfg, i, u[i], omega_radps[i], &by_speed);
+            /* a > lim / s, written without a division by a possibly zero a */
+            if ((a * s) > lim) {
+                s = lim / a;
+                limiter = i;
+                limiter_by_speed = by_speed;
+            }
+        }
+        /* one scale for every wheel: the delivered torque keeps u_c's direction (docs/spec.md 5.3) */
+        aocs_vec3_t body = aocs_vec3_zero();
+        for (uint32_t i = 0u; i < cfg->n; ++i) {
+            out->u_s_nm[i] = s * u[i];
+            body = aocs_vec3_sub(body, aocs_vec3_scale(cfg->axis_B[i], out->u_s_nm[i]));
+        }
+        out->u_body_B_nm = body;
+        out->scale = s;
+        if (limiter < AOCS_WHEELS_MAX) {
+            if (limiter_by_speed != 0) {
+                out->speed_limited_mask = wheel_bit(limiter);
+            } else {
+                out->torque_limited_mask = wheel_bit(limiter);
+            }
+        }
+    }
+    return st;
+}
+
+aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, const real_t *omega_radps,
+                                   aocs_wheels_momentum_t *out)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((wa == NULL) || (omega_radps == NULL) || (out == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (wa->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if ((aocs_vec3_is_finite(w_BN_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
+        st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else {
+        st = AOCS_OK;
+    }
+    if (out != NULL) {
+        out->h_total_B_Nms = aocs_vec3_zero();
+        out->h_wheels_norm_Nms = AOCS_R(0.0);
+        out->speed_margin = AOCS_R(0.0);
+        out->worst_wheel = 0u;
+    }
+    if (st == AOCS_OK) {
+        const aocs_wheels_config_t *cfg = &wa->cfg;
+        /* H = J w + sum Js_i g_i Omega_i = J_b w + Gs h (docs/spec.md 5.3) */
+        aocs_vec3_t hw = aocs_vec3_zero();
+        real_t margin = AOCS_R(1.0);
+        uint32_t worst = 0u;
+        int first = 1;
+        for (uint32_t i = 0u; i < cfg->n; ++i) {
+            hw = aocs_vec3_add(hw, aocs_vec3_scale(cfg->axis_B[i], cfg->js_kgm2[i] * omega_radps[i]));
+            if (wheel_healthy(cfg, i) != 0) {
+                real_t m = AOCS_R(1.0) - (AOCS_FABS(omega_radps[i]) / cfg->omega_max_radps[i]);
+                if ((first != 0) || (m < margin)) {
+                    margin = m;
+                    worst = i;
+                    first = 0;
+                }
+            }
+        }
+        out->h_total_B_Nms = aocs_vec3_add(aocs_mat3_mul_vec(cfg->inertia_B_kgm2, w_BN_B), hw);
+        out->h_wheels_norm_Nms = aocs_vec3_norm(hw);
+        out->speed_margin = margin;
+        out->worst_wheel = worst;
+    }
+    return st;
+}
+
+real_t aocs_wheels_alpha_envelope(const aocs_wheels_t *wa, aocs_vec3_t a, aocs_vec3_t b)
+{
+    real_t alpha = AOCS_R(0.0);
+    if ((wa != NULL) && (wa->initialised != 0) && (aocs_vec3_is_finite(a) != 0) && (aocs_vec3_is_finite(b) != 0)) {
+        /* the torque per unit acceleration is a (+ b); its wheel torques are -Gs^+ (a + b); the first wheel to
+         * reach its limit bounds alpha (the uniform scale of the allocation at s = 1) */
+        real_t best = AOCS_REAL_MAX;
+        for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
+            const real_t pa = (wa->pinv[i][0] * a.v[0]) + (wa->pinv[i][1] * a.v[1]) + (wa->pinv[i][2] * a.v[2]);
+            const real_t pb = (wa->pinv[i][0] * b.v[0]) + (wa->pinv[i][1] * b.v[1]) + (wa->pinv[i][2] * b.v[2]);
+            const real_t d = AOCS_FABS(pa) + AOCS_FABS(pb);
+            if ((wheel_healthy(&wa->cfg, i) != 0) && (d > AOCS_R(0.0))) {
+                /* u_max / d < best, without dividing by a tiny d */
+                if (wa->cfg.u_max_nm[i] < (best * d)) {
+                    best = wa->cfg.u_max_nm[i] / d;
+                }
+            }
+        }
+        alpha = best;
+    }
+    return alpha;
+}
+
+real_t aocs_wheels_alpha_max(const aocs_wheels_t *wa, aocs_mat3_t j_B_kgm2, aocs_vec3_t e_B)
+{
+    real_t alpha = AOCS_R(0.0);
+    if ((aocs_mat3_is_finite(j_B_kgm2) != 0) && (aocs_vec3_is_finite(e_B) != 0)) {
+        alpha = aocs_wheels_alpha_envelope(wa, aocs_mat3_mul_vec(j_B_kgm2, e_B), aocs_vec3_zero());
+        if (!(alpha < AOCS_REAL_MAX)) {
+            alpha = AOCS_R(0.0); /* J e = 0: nothing to accelerate */
+        }
+    }
+    return alpha;
+}
+
+aocs_vec3_t aocs_wheels_h_B(const aocs_wheels_t *wa, const real_t *omega_radps)
+{
+    aocs_vec3_t h = aocs_vec3_zero();
+    if ((wa != NULL) && (omega_radps != NULL) && (wa->initialised != 0) && (wheels_speeds_finite(wa, omega_radps) != 0)) {
+        for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
+            h = aocs_vec3_add(h, aocs_vec3_scale(wa->cfg.axis_B[i], wa->cfg.js_kgm2[i] * omega_radps[i]));
+        }
+    }
+    return h;
+}

@@ -1,0 +1,303 @@
+"""Reaction wheel array (SPEC 5.3; docs/spec.md 5.3): `[wheels]`, N wheels exchanging momentum with the body.
+
+State: the wheels' axial momenta h_i = Js_i (g_i . w + Omega_i) (N m s), integrated by the same RK4
+as the body (a GENERAL effector). With J the scenario's inertia (it includes the wheels) the body
+equation uses J_b = J - sum Js_i g_i g_i^T (inertia_offset), and this effector adds
+
+    -w x (Gs h) - Gs tau        to the body torque,     hdot_i = tau_i = u_i - f_i(Omega_i)
+
+so that J_b wdot = -w x (J_b w + Gs h) - Gs tau + L (Schaub & Junkins, ch. 4, reaction wheels;
+docs/spec.md 5.3). The total momentum H = J_b w + Gs h = J w + sum Js_i g_i Omega_i changes only by
+the external torque L: friction and the motors are internal.
+
+Motor torque u_i, held over the control period (zero-order hold) from the flight software's wheel
+torque command: clipped to |u_i| <= torque_limit_nm, plus an optional white torque noise (one draw
+per wheel and period, seeded channel "wheel_torque"); a failed wheel's motor gives no torque (the
+wheel coasts down under friction). Speed limit: at every RK4 stage a motor torque that would drive
+|Omega_i| beyond speed_limit_rad_s (|Omega_i| >= limit and u_i Omega_i > 0) is cut to zero.
+Friction, smooth through zero speed (the sign of the Coulomb term replaced by tanh with width
+coulomb_width_rad_s, SPEC 5.3 "smooth near 0"):
+
+    f_i(Omega) = b Omega + c tanh(Omega / Omega_eps)
+
+The array is either a pyramid (spin axes cant_deg from one body axis, equally spaced around it,
+the first at azimuth 0 from the next body axis in cyclic order) or explicit unit axes. The same
+description gives the flight software's wheel configuration (aocs_wire.fsw_config), so the two
+cannot disagree; geometry() is that one derivation.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..rng import NormalStream
+from ..sensors import Tachometer
+from .base import ATTITUDE, ZERO3, Effector, Form, register
+
+MAX_WHEELS = 6                        # the flight software's fixed array size (wheel_array.h)
+PYRAMID_CANT_DEG = math.degrees(math.acos(1.0 / math.sqrt(3.0)))   # 54.7356 deg (SPEC 5.3)
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True)
+class WheelsConfig:
+    axes: tuple                   # N unit spin axes g_i in B (rows)
+    spin_inertia_kg_m2: tuple     # Js_i
+    torque_limit_nm: tuple        # u_s,max per wheel
+    speed_limit_rad_s: tuple      # Omega_max per wheel
+    viscous_nms: float            # b, N m s (per rad/s)
+    coulomb_nm: float             # c, N m
+    coulomb_width_rad_s: float    # Omega_eps of the tanh
+    torque_noise_nm: float        # std of the motor torque noise per period (0 = none)
+    speed0_rad_s: tuple           # initial Omega_i relative to the body
+    failed: tuple                 # indices (0-based) of the wheels declared failed at t = 0
+    tach_noise_rad_s: float       # tachometer white noise std (0 = none)
+    tach_quantum_rad_s: float     # tachometer quantisation step (0 = none)
+    array: str = "explicit"       # "pyramid" | "explicit" (how the axes were given)
+
+    @property
+    def n(self) -> int:
+        return len(self.axes)
+
+    def momentum_capacity_nms(self) -> tuple:
+        """Js_i Omega_max,i: the most momentum each wheel holds (N m s)."""
+        return tuple(j * w for j, w in zip(self.spin_inertia_kg_m2, self.speed_limit_rad_s))
+
+
+def pyramid_axes(n: int, axis: int, cant_deg: float, azimuth0_deg: float = 0.0) -> tuple:
+    """n spin axes cant_deg from body axis `axis`, 360/n deg apart around it (SPEC 5.3 reference array):
+    g_i = cos(beta) a + sin(beta) (cos(az_i) b + sin(az_i) c), (a, b, c) cyclic body axes."""
+    b_ax, c_ax = (axis + 1) % 3, (axis + 2) % 3
+    beta = math.radians(cant_deg)
+    out = []
+    for i in range(n):
+        az = math.radians(azimuth0_deg + 360.0 * i / n)
+        g = [0.0, 0.0, 0.0]
+        g[axis] = math.cos(beta)
+        g[b_ax] = math.sin(beta) * math.cos(az)
+        g[c_ax] = math.sin(beta) * math.sin(az)
+        out.append(tuple(0.0 if abs(x) < 1e-15 else x for x in g))   # exact zeros, not cos(90 deg) = 6e-17
+    return tuple(out)
+
+
+def _per_wheel(sec, k, n, positive=True, required=True, default=None):
+    v = sec.scalar_or_vector(k, n=n, required=required, default=default, positive=positive)
+    return None if v is None else tuple(v)
+
+
+def _rank3(axes) -> bool:
+    """The axes span 3 dimensions: det(Gs Gs^T) well away from 0 (relative to its scale)."""
+    m = [[sum(g[i] * g[j] for g in axes) for j in range(3)] for i in range(3)]
+    det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+           + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+    return det > 1e-9 * (len(axes) / 3.0) ** 3
+
+
+@register
+class ReactionWheels(Effector):
+    kind = "wheels"
+    group = None                      # a top-level section [wheels]
+    applies_to = (ATTITUDE,)
+    role = "actuator"
+    replaces = ("actuator",)          # the array stands in for the plain body-torque actuator
+    form = Form.GENERAL
+    period_hooks = True
+
+    @classmethod
+    def read(cls, sec, ctx) -> WheelsConfig:
+        sec.only(("array", "count", "pyramid_axis", "cant_deg", "azimuth0_deg", "axes", "spin_inertia_kg_m2",
+                  "torque_limit_nm", "speed_limit_rad_s", "viscous_nms", "coulomb_nm", "coulomb_width_rad_s",
+                  "torque_noise_nm", "speed0_rad_s", "failed", "tach_noise_rad_s", "tach_quantum_rad_s"))
+        array = sec.string("array", choices=("pyramid", "explicit"))
+        if array == "pyramid":
+            for k in ("axes",):
+                if sec.has(k):
+                    sec.fail(sec.key(k), 'only with array = "explicit"')
+            n = sec.integer("count", required=False, default=4, minimum=3)
+            if n > MAX_WHEELS:
+                sec.fail(sec.key("count"), f"{n} wheels: the flight software holds at most {MAX_WHEELS}")
+            ax = sec.string("pyramid_axis", required=False, default="z", choices=tuple(_AXES))
+            cant = sec.number("cant_deg", required=False, default=PYRAMID_CANT_DEG, positive=True)
+            if not cant < 90.0:
+                sec.fail(sec.key("cant_deg"), f"must be < 90 deg (a pyramid), got {cant}")
+            az0 = sec.number("azimuth0_deg", required=False, default=0.0)
+            axes = pyramid_axes(n, _AXES[ax], cant, az0)
+        else:
+            for k in ("count", "pyramid_axis", "cant_deg", "azimuth0_deg"):
+                if sec.has(k):
+                    sec.fail(sec.key(k), 'only with array = "pyramid"')
+            raw, _ = sec._pop("axes", True, None)
+            if not isinstance(raw, list) or not 3 <= len(raw) <= MAX_WHEELS:
+                sec.fail(sec.key("axes"), f"expected 3 to {MAX_WHEELS} spin axes (arrays of 3 numbers)")
+            axes = tuple(sec._check_vector(f"{sec.key('axes')}[{i}]", g, 3) for i, g in enumerate(raw))
+            for i, g in enumerate(axes):
+                nrm = math.sqrt(sum(x * x for x in g))
+                if abs(nrm - 1.0) > 1e-9:
+                    sec.fail(f"{sec.key('axes')}[{i}]", f"must be a unit vector (norm {nrm!r})")
+            n = len(axes)
+        if not _rank3(axes):
+            sec.fail(sec.key("axes" if array == "explicit" else "array"),
+                     "the spin axes do not span the three body axes")
+        js = _per_wheel(sec, "spin_inertia_kg_m2", n)
+        umax = _per_wheel(sec, "torque_limit_nm", n)
+        wmax = _per_wheel(sec, "speed_limit_rad_s", n)
+        b = sec.number("viscous_nms", required=False, default=0.0, nonneg=True)
+        c = sec.number("coulomb_nm", required=False, default=0.0, nonneg=True)
+        eps = sec.number("coulomb_width_rad_s", required=False, default=0.1, positive=True)
+        noise = sec.number("torque_noise_nm", required=False, default=0.0, nonneg=True)
+        s0 = sec.scalar_or_vector("speed0_rad_s", n=n, required=False, default=(0.0,) * n)
+        for i, (s, m) in enumerate(zip(s0, wmax)):
+            if abs(s) > m:
+                sec.fail(sec.key("speed0_rad_s"), f"wheel {i}: |{s}| rad/s is beyond its speed limit {m}")
+        raw, present = sec._pop("failed", False, [])
+        if not isinstance(raw, list) or any(isinstance(i, bool) or not isinstance(i, int) for i in raw):
+            sec.fail(sec.key("failed"), "expected an array of wheel indices (integers, 0-based)")
+        failed = tuple(sorted(set(raw)))
+        for i in failed:
+            if not 0 <= i < n:
+                sec.fail(sec.key("failed"), f"wheel {i} does not exist (wheels 0 to {n - 1})")
+        healthy = [g for i, g in enumerate(axes) if i not in failed]
+        if len(healthy) < 3 or not _rank3(healthy):
+            sec.fail(sec.key("failed"), "the healthy wheels left do not span the three body axes")
+        tn = sec.number("tach_noise_rad_s", required=False, default=0.0, nonneg=True)
+        tq = sec.number("tach_quantum_rad_s", required=False, default=0.0, nonneg=True)
+        return WheelsConfig(axes, js, umax, wmax, b, c, eps, noise, tuple(s0), failed, tn, tq, array)
+
+    def __init__(self, config: WheelsConfig, body):
+        super().__init__(config, body)
+        self.n = n = config.n
+        self.state_size = n
+        self.g = config.axes
+        self.js = config.spin_inertia_kg_m2
+        self.umax = config.torque_limit_nm
+        self.wmax = config.speed_limit_rad_s
+        self.b, self.c, self.eps = config.viscous_nms, config.coulomb_nm, config.coulomb_width_rad_s
+        self.failed = frozenset(config.failed)
+        g = self.g
+        self.inertia_offset = tuple(sum(self.js[k] * g[k][i] * g[k][j] for k in range(n))
+                                    for i in range(3) for j in range(3))
+        self.J = tuple(float(v) for v in body.inertia)   # total inertia (with the wheels), row-major
+        self.dt = float(body.dt)
+        self.w0 = tuple(body.w0) if body.w0 is not None else ZERO3
+        self.noise = NormalStream(body.seed, "wheel_torque", config.torque_noise_nm, width=n) \
+            if config.torque_noise_nm > 0.0 else None
+        self.c_body = ZERO3              # the body torque the flight software commanded (truth)
+        self.u_cmd = (0.0,) * n          # wheel torque command of the period, N m
+        self.u = (0.0,) * n              # motor torque held over the period (after limit, noise, failure)
+        self.at_torque_limit = (False,) * n
+        self.at_speed_limit = [False] * n   # set when a stage of the last period cut the motor
+        self._h0 = (0.0,) * n
+        self._applied = ZERO3
+        self.tachometer = Tachometer(body.seed, n, config.tach_noise_rad_s, config.tach_quantum_rad_s)
+
+    def initial_state(self) -> tuple:
+        """h_i = Js_i (g_i . w0 + Omega_i(0)): the wheel speeds are given relative to the body."""
+        w = self.w0
+        return tuple(self.js[i] * (self.g[i][0] * w[0] + self.g[i][1] * w[1] + self.g[i][2] * w[2]
+                                   + self.config.speed0_rad_s[i]) for i in range(self.n))
+
+    # ---------------------------------------------------------------- command (zero-order hold)
+    def command(self, c) -> None:
+        self.c_body = (float(c[0]), float(c[1]), float(c[2]))
+
+    def command_wheels(self, u_s) -> None:
+        """The flight software's wheel torque commands (N m, one per wheel) for this period."""
+        u_s = tuple(float(v) for v in u_s)
+        if len(u_s) != self.n:
+            raise ValueError(f"{len(u_s)} wheel torques for {self.n} wheels")
+        self.u_cmd = u_s
+        at, out = [], []
+        nz = self.noise.next() if self.noise is not None else None
+        for i, v in enumerate(u_s):
+            m = self.umax[i]
+            lim = min(m, max(-m, v))
+            at.append(abs(v) >= m)
+            if nz is not None:
+                lim += nz[i]
+            out.append(0.0 if i in self.failed else lim)
+        self.u = tuple(out)
+        self.at_torque_limit = tuple(at)
+
+    # ---------------------------------------------------------------- dynamics
+    def speeds(self, body, h) -> tuple:
+        """Omega_i = h_i / Js_i - g_i . w (rad/s, relative to the body)."""
+        w1, w2, w3 = body[4], body[5], body[6]
+        g, js = self.g, self.js
+        return tuple(h[i] / js[i] - (g[i][0] * w1 + g[i][1] * w2 + g[i][2] * w3) for i in range(self.n))
+
+    def axial_torques(self, om) -> tuple:
+        """tau_i = u_i - f_i(Omega_i), the motor cut when it would drive |Omega_i| beyond the limit."""
+        tanh = math.tanh
+        b, c, eps = self.b, self.c, self.eps
+        out = []
+        for i in range(self.n):
+            u = self.u[i]
+            o = om[i]
+            if u * o > 0.0 and abs(o) >= self.wmax[i]:
+                u = 0.0
+                self.at_speed_limit[i] = True
+            out.append(u - (b * o + c * tanh(o / eps)))
+        return tuple(out)
+
+    def derivative(self, t, body, x):
+        g = self.g
+        tau = self.axial_torques(self.speeds(body, x))
+        w1, w2, w3 = body[4], body[5], body[6]
+        hx = hy = hz = 0.0
+        gx = gy = gz = 0.0
+        for i in range(self.n):
+            gi = g[i]
+            hx += gi[0] * x[i]
+            hy += gi[1] * x[i]
+            hz += gi[2] * x[i]
+            gx += gi[0] * tau[i]
+            gy += gi[1] * tau[i]
+            gz += gi[2] * tau[i]
+        return (-(w2 * hz - w3 * hy) - gx, -(w3 * hx - w1 * hz) - gy, -(w1 * hy - w2 * hx) - gz), tau
+
+    def begin_period(self, t, x) -> None:
+        self._h0 = x
+        self.at_speed_limit = [False] * self.n
+
+    def end_period(self, t, x) -> None:
+        """The mean axial torque over the period is exactly (h(t+dt) - h(t)) / dt (RK4 sums its stages
+        linearly); its reaction -Gs tau_mean is what the wheels applied to the body."""
+        g, dt, h0 = self.g, self.dt, self._h0
+        ax = ay = az = 0.0
+        for i in range(self.n):
+            m = (x[i] - h0[i]) / dt
+            ax -= g[i][0] * m
+            ay -= g[i][1] * m
+            az -= g[i][2] * m
+        self._applied = (ax, ay, az)
+
+    def sample(self, t, body, x) -> dict:
+        """Measurements of this effector's state for the sensor message: the tachometer readings."""
+        return {"wheel_speed": self.tachometer.read(self.speeds(body, x))}
+
+    # ---------------------------------------------------------------- truth
+    def total_momentum(self, body, x) -> tuple:
+        """H = J w + sum Js_i g_i Omega_i = J_b w + Gs h, B components (N m s)."""
+        J = self.J
+        w1, w2, w3 = body[4], body[5], body[6]
+        om = self.speeds(body, x)
+        H = [J[0] * w1 + J[1] * w2 + J[2] * w3, J[3] * w1 + J[4] * w2 + J[5] * w3,
+             J[6] * w1 + J[7] * w2 + J[8] * w3]
+        for i in range(self.n):
+            for k in range(3):
+                H[k] += self.js[i] * self.g[i][k] * om[i]
+        return tuple(H)
+
+    @property
+    def commanded(self) -> tuple:
+        return self.c_body
+
+    @property
+    def applied(self) -> tuple:
+        return self._applied
+
+    def truth(self, t, body, x) -> dict:
+        return {"speed_rad_s": self.speeds(body, x), "momentum_nms": tuple(x),
+                "motor_torque_nm": self.u, "torque_cmd_nm": self.u_cmd,
+                "at_torque_limit": self.at_torque_limit, "at_speed_limit": tuple(self.at_speed_limit),
+                "momentum_total_nms": self.total_momentum(body, x)}

@@ -1,0 +1,416 @@
+/*
+ * Reaction wheel array (wheel_array.h, docs/spec.md 5.3) against computations
+ * written out here in double: the minimum-norm allocation by solving
+ * (Gs Gs^T) x = u_c with Gaussian elimination (u_s = -Gs^T x), the uniform
+ * scale, failed wheels, speed protection, the momentum, the SPEC 5.3 body
+ * envelope of the reference pyramid and every configuration status code.
+ */
+#include "test_support.h"
+
+#include "aocs/actuation/wheel_array.h"
+
+#define PI_D 3.14159265358979323846
+#define JS 0.08
+#define UMAX 0.25
+#define WMAX 600.0
+
+/* the SPEC 5.3 reference pyramid about z: cant acos(1/sqrt 3), azimuths 0, 90, 180, 270 deg from x */
+static void pyramid(aocs_wheels_config_t *cfg)
+{
+    double beta = acos(1.0 / sqrt(3.0));
+    aocs_wheels_config_default(cfg);
+    cfg->n = 4u;
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        double az = 0.5 * PI_D * (double)i;
+        cfg->axis_B[i] = aocs_vec3_make((real_t)(sin(beta) * cos(az)), (real_t)(sin(beta) * sin(az)),
+                                        (real_t)cos(beta));
+        cfg->js_kgm2[i] = AOCS_R(JS);
+        cfg->u_max_nm[i] = AOCS_R(UMAX);
+        cfg->omega_max_radps[i] = AOCS_R(WMAX);
+    }
+    cfg->period_s = AOCS_R(0.1);
+    cfg->inertia_B_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
+}
+
+/* independent minimum-norm solution in double: u_s = -Gs^T (Gs Gs^T)^-1 u_c over the healthy wheels */
+static void min_norm_d(const aocs_wheels_config_t *cfg, const double uc[3], double us[AOCS_WHEELS_MAX])
+{
+    double a[3][4];
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            a[r][c] = 0.0;
+            for (uint32_t i = 0u; i < cfg->n; ++i) {
+                if ((cfg->failed_mask & (1u << i)) == 0u) {
+                    a[r][c] += (double)cfg->axis_B[i].v[r] * (double)cfg->axis_B[i].v[c];
+                }
+            }
+        }
+        a[r][3] = uc[r];
+    }
+    for (int p = 0; p < 3; ++p) { /* elimination with partial pivoting */
+        int best = p;
+        for (int r = p + 1; r < 3; ++r) {
+            if (fabs(a[r][p]) > fabs(a[best][p])) {
+                best = r;
+            }
+        }
+        for (int c = 0; c < 4; ++c) {
+            double t = a[p][c];
+            a[p][c] = a[best][c];
+            a[best][c] = t;
+        }
+        for (int r = 0; r < 3; ++r) {
+            if (r != p) {
+                double f = a[r][p] / a[p][p];
+                for (int c = 0; c < 4; ++c) {
+                    a[r][c] -= f * a[p][c];
+                }
+            }
+        }
+    }
+    double x[3] = {a[0][3] / a[0][0], a[1][3] / a[1][1], a[2][3] / a[2][2]};
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        us[i] = 0.0;
+        if ((i < cfg->n) && ((cfg->failed_mask & (1u << i)) == 0u)) {
+            us[i] = -((double)cfg->axis_B[i].v[0] * x[0] + (double)cfg->axis_B[i].v[1] * x[1] +
+                      (double)cfg->axis_B[i].v[2] * x[2]);
+        }
+    }
+}
+
+static double rnd(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return ((double)(*s >> 8) / 16777216.0) * 2.0 - 1.0;
+}
+
+static const real_t ZERO_SPEEDS[AOCS_WHEELS_MAX] = {0};
+
+static void check_allocation(uint32_t failed_mask)
+{
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    cfg.failed_mask = failed_mask;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    uint32_t seed = 12345u + failed_mask;
+    for (int k = 0; k < 200; ++k) {
+        /* small commands: no scaling */
+        double uc[3] = {0.05 * rnd(&seed), 0.05 * rnd(&seed), 0.05 * rnd(&seed)};
+        double us[AOCS_WHEELS_MAX];
+        aocs_wheels_alloc_t al;
+        min_norm_d(&cfg, uc, us);
+        assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make((real_t)uc[0], (real_t)uc[1], (real_t)uc[2]),
+                                              ZERO_SPEEDS, &al), AOCS_OK);
+        assert_close(al.scale, 1.0, 0.0);
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            assert_close(al.u_s_nm[i], us[i], TOL_TIGHT);
+        }
+        /* the motors' reaction -Gs u_s is the command */
+        for (int r = 0; r < 3; ++r) {
+            assert_close(al.u_body_B_nm.v[r], uc[r], TOL_TIGHT);
+        }
+        if (failed_mask == 0u) {
+            /* minimum norm: orthogonal to the pyramid's null space [1 -1 1 -1] */
+            assert_close(us[0] - us[1] + us[2] - us[3], 0.0, 1e-15);
+            assert_close(al.u_s_nm[0] - al.u_s_nm[1] + al.u_s_nm[2] - al.u_s_nm[3], 0.0, TOL_TIGHT);
+        }
+    }
+}
+
+static void test_minimum_norm_allocation_of_the_pyramid(void **state)
+{
+    (void)state;
+    check_allocation(0u);
+}
+
+static void test_a_failed_wheel_is_removed_and_three_still_control_every_axis(void **state)
+{
+    (void)state;
+    for (uint32_t f = 0u; f < 4u; ++f) {
+        check_allocation(1u << f);
+    }
+}
+
+static void test_the_uniform_scale_keeps_the_direction(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    uint32_t seed = 99u;
+    for (int k = 0; k < 200; ++k) {
+        double uc[3] = {3.0 * rnd(&seed), 3.0 * rnd(&seed), 3.0 * rnd(&seed)};
+        double us[AOCS_WHEELS_MAX];
+        min_norm_d(&cfg, uc, us);
+        double amax = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            amax = fmax(amax, fabs(us[i]));
+        }
+        double s = amax > UMAX ? UMAX / amax : 1.0;
+        assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make((real_t)uc[0], (real_t)uc[1], (real_t)uc[2]),
+                                              ZERO_SPEEDS, &al), AOCS_OK);
+        assert_close(al.scale, s, TOL_TIGHT);
+        double got_max = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            assert_close(al.u_s_nm[i], s * us[i], TOL_TIGHT);
+            got_max = fmax(got_max, fabs((double)al.u_s_nm[i]));
+        }
+        assert_true(got_max <= UMAX * (1.0 + 4.0 * (double)AOCS_REAL_EPS));
+        for (int r = 0; r < 3; ++r) {
+            assert_close(al.u_body_B_nm.v[r], s * uc[r], TOL_TIGHT);
+        }
+        if (s < 1.0) {
+            assert_true(al.torque_limited_mask != 0u && al.speed_limited_mask == 0u);
+        }
+    }
+}
+
+static void test_no_torque_drives_a_wheel_beyond_its_speed_limit(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    /* a body torque along -g0 asks wheel 0 to speed up in +: u_s = -Gs^+ u_c */
+    aocs_vec3_t uc = aocs_vec3_scale(cfg.axis_B[0], AOCS_R(-0.2));
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(599.9), 0, 0, 0, 0, 0};
+    double us[AOCS_WHEELS_MAX];
+    double ucd[3] = {(double)uc.v[0], (double)uc.v[1], (double)uc.v[2]};
+    min_norm_d(&cfg, ucd, us);
+    assert_true(us[0] > 0.1); /* 0.15 N m: more than the headroom below, within u_s,max */
+    /* headroom Js (600 - 599.9) / 0.1 = 0.08 N m */
+    double head = JS * (WMAX - (double)om[0]) / 0.1;
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.u_s_nm[0], head, TOL_LOOSE);
+    assert_close(al.scale, head / us[0], TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+    /* Omega + u T / Js stays within the limit */
+    assert_true((double)om[0] + (double)al.u_s_nm[0] * 0.1 / JS <= WMAX * (1.0 + 1e-6));
+    /* at the limit: nothing more in that direction ... */
+    om[0] = AOCS_R(WMAX);
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.scale, 0.0, 0.0);
+    /* ... braking is always allowed */
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_neg(uc), om, &al), AOCS_OK);
+    assert_close(al.scale, 1.0, 0.0);
+    assert_true(al.u_s_nm[0] < AOCS_R(0.0));
+}
+
+static void test_total_momentum_and_margin(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_momentum_t m;
+    pyramid(&cfg);
+    cfg.failed_mask = 1u << 2;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(100.0), AOCS_R(-450.0), AOCS_R(590.0), AOCS_R(20.0), 0, 0};
+    aocs_vec3_t w = aocs_vec3_make(AOCS_R(1e-3), AOCS_R(-2e-3), AOCS_R(5e-4));
+    assert_int_equal(aocs_wheels_momentum(&wa, w, om, &m), AOCS_OK);
+    double jd[3] = {2059.5, 5954.2, 5974.3};
+    double hw[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 4; ++i) {
+        for (int r = 0; r < 3; ++r) {
+            hw[r] += JS * (double)om[i] * (double)cfg.axis_B[i].v[r];
+        }
+    }
+    for (int r = 0; r < 3; ++r) {
+        assert_close(m.h_total_B_Nms.v[r], jd[r] * (double)w.v[r] + hw[r], TOL_TIGHT);
+    }
+    assert_close(m.h_wheels_norm_Nms, sqrt(hw[0] * hw[0] + hw[1] * hw[1] + hw[2] * hw[2]), TOL_TIGHT);
+    /* the failed wheel 2 (590 rad/s) is not counted: the worst healthy one is wheel 1 at 450 */
+    assert_close(m.speed_margin, 1.0 - 450.0 / 600.0, TOL_TIGHT);
+    assert_int_equal(m.worst_wheel, 1u);
+}
+
+static void test_the_envelope_of_the_reference_pyramid(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    aocs_mat3_t eye = aocs_mat3_identity();
+    /* SPEC 5.3: 2 * 0.25 sqrt(2/3) = 0.408 N m transverse, 4 * 0.25 / sqrt 3 = 0.577 N m on the pyramid axis */
+    assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(1, 0, 0)), 2.0 * UMAX * sqrt(2.0 / 3.0), TOL_TIGHT);
+    assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(0, 1, 0)), 2.0 * UMAX * sqrt(2.0 / 3.0), TOL_TIGHT);
+    assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(0, 0, 1)), 4.0 * UMAX / sqrt(3.0), TOL_TIGHT);
+    /* with the IRASSI inertia along the large slew's axis: J a e allocated at a = alpha_max has
+     * scale 1 and one wheel exactly at its limit; a little more is scaled */
+    aocs_vec3_t e = aocs_vec3_make(AOCS_R(-0.297), AOCS_R(-0.799), AOCS_R(0.522));
+    e = aocs_vec3_scale(e, AOCS_R(1.0) / aocs_vec3_norm(e));
+    real_t a = aocs_wheels_alpha_max(&wa, cfg.inertia_B_kgm2, e);
+    assert_true(a > AOCS_R(0.0));
+    aocs_wheels_alloc_t al;
+    aocs_vec3_t u = aocs_mat3_mul_vec(cfg.inertia_B_kgm2, aocs_vec3_scale(e, a));
+    assert_int_equal(aocs_wheels_allocate(&wa, u, ZERO_SPEEDS, &al), AOCS_OK);
+    assert_close(al.scale, 1.0, TOL_TIGHT);
+    double amax = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        amax = fmax(amax, fabs((double)al.u_s_nm[i]));
+    }
+    assert_close(amax, UMAX, TOL_TIGHT);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_scale(u, AOCS_R(1.01)), ZERO_SPEEDS, &al), AOCS_OK);
+    assert_true(al.scale < AOCS_R(0.995));
+    /* a failed wheel shrinks the envelope */
+    cfg.failed_mask = 1u;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_true(aocs_wheels_alpha_max(&wa, cfg.inertia_B_kgm2, e) < a);
+    /* total: bad inputs give 0 */
+    assert_close(aocs_wheels_alpha_max(NULL, eye, e), 0.0, 0.0);
+    assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(0, 0, 0)), 0.0, 0.0);
+    assert_close(aocs_wheels_alpha_max(&wa, eye, aocs_vec3_make(NAN, 0, 0)), 0.0, 0.0);
+}
+
+static void test_the_guidance_envelope_with_the_gyroscopic_allowance(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    cfg.failed_mask = 1u << 2;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    aocs_vec3_t a = aocs_vec3_make(AOCS_R(-600.0), AOCS_R(-4700.0), AOCS_R(3100.0));
+    aocs_vec3_t b = aocs_vec3_make(AOCS_R(30.0), AOCS_R(-5.0), AOCS_R(12.0));
+    /* independent: min_i umax / (|(P a)_i| + |(P b)_i|) with P from the elimination in double (unit columns) */
+    double best = 1e300;
+    for (int i = 0; i < 4; ++i) {
+        if (i == 2) {
+            continue;
+        }
+        double pa[AOCS_WHEELS_MAX];
+        double pb[AOCS_WHEELS_MAX];
+        double ad[3] = {(double)a.v[0], (double)a.v[1], (double)a.v[2]};
+        double bd[3] = {(double)b.v[0], (double)b.v[1], (double)b.v[2]};
+        min_norm_d(&cfg, ad, pa); /* -P a */
+        min_norm_d(&cfg, bd, pb);
+        best = fmin(best, UMAX / (fabs(pa[i]) + fabs(pb[i])));
+    }
+    assert_close(aocs_wheels_alpha_envelope(&wa, a, b), best, TOL_TIGHT);
+    /* b = 0 is aocs_wheels_alpha_max */
+    aocs_mat3_t eye = aocs_mat3_identity();
+    assert_close(aocs_wheels_alpha_envelope(&wa, a, aocs_vec3_zero()), aocs_wheels_alpha_max(&wa, eye, a), TOL_TIGHT);
+    /* the wheels' momentum for the feedforward */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(-20.0), AOCS_R(30.0), AOCS_R(-40.0), 0, 0};
+    aocs_vec3_t h = aocs_wheels_h_B(&wa, om);
+    for (int r = 0; r < 3; ++r) {
+        double x = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            x += JS * (double)om[i] * (double)cfg.axis_B[i].v[r];
+        }
+        assert_close(h.v[r], x, TOL_TIGHT);
+    }
+    om[0] = NAN;
+    assert_vec3_close(aocs_wheels_h_B(&wa, om), aocs_vec3_zero(), 0.0);
+    assert_vec3_close(aocs_wheels_h_B(NULL, om), aocs_vec3_zero(), 0.0);
+}
+
+static void expect_init(aocs_wheels_config_t *cfg, aocs_status_t st)
+{
+    aocs_wheels_t wa;
+    wa.initialised = 1;
+    assert_int_equal(aocs_wheels_init(&wa, cfg), st);
+    assert_int_equal(wa.initialised, 0);
+    aocs_wheels_alloc_t al;
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(1, 0, 0), ZERO_SPEEDS, &al), AOCS_ERR_NOT_INITIALISED);
+    assert_close(al.scale, 0.0, 0.0);
+}
+
+static void test_every_configuration_error_has_its_code(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(NULL, &cfg), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_wheels_init(&wa, NULL), AOCS_ERR_NULL_ARG);
+    cfg.n = 2u;
+    expect_init(&cfg, AOCS_ERR_WHEEL_COUNT);
+    cfg.n = 7u;
+    expect_init(&cfg, AOCS_ERR_WHEEL_COUNT);
+    pyramid(&cfg);
+    cfg.failed_mask = 1u << 4;
+    expect_init(&cfg, AOCS_ERR_WHEEL_FAILED_MASK);
+    pyramid(&cfg);
+    cfg.axis_B[1] = aocs_vec3_make(AOCS_R(1.1), 0, 0);
+    expect_init(&cfg, AOCS_ERR_WHEEL_AXIS_NOT_UNIT);
+    cfg.axis_B[1] = aocs_vec3_make(NAN, 0, 0);
+    expect_init(&cfg, AOCS_ERR_WHEEL_AXIS_NOT_UNIT);
+    pyramid(&cfg);
+    cfg.js_kgm2[3] = AOCS_R(0.0);
+    expect_init(&cfg, AOCS_ERR_WHEEL_INERTIA_NOT_POSITIVE);
+    pyramid(&cfg);
+    cfg.u_max_nm[0] = AOCS_R(-0.25);
+    expect_init(&cfg, AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE);
+    pyramid(&cfg);
+    cfg.omega_max_radps[2] = INFINITY;
+    expect_init(&cfg, AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE);
+    pyramid(&cfg);
+    cfg.period_s = AOCS_R(0.0);
+    expect_init(&cfg, AOCS_ERR_DT_INVALID);
+    pyramid(&cfg);
+    cfg.inertia_B_kgm2.m[0][1] = AOCS_R(5.0);
+    expect_init(&cfg, AOCS_ERR_INERTIA_NOT_SYMMETRIC);
+    /* two failed wheels of four: the two left do not span */
+    pyramid(&cfg);
+    cfg.failed_mask = 0x5u;
+    expect_init(&cfg, AOCS_ERR_WHEELS_NOT_SPANNING);
+    /* three coplanar axes */
+    pyramid(&cfg);
+    cfg.n = 3u;
+    cfg.axis_B[0] = aocs_vec3_make(1, 0, 0);
+    cfg.axis_B[1] = aocs_vec3_make(0, 1, 0);
+    cfg.axis_B[2] = aocs_vec3_make(AOCS_R(0.6), AOCS_R(0.8), 0);
+    expect_init(&cfg, AOCS_ERR_WHEELS_NOT_SPANNING);
+}
+
+static void test_bad_inputs_give_a_zero_command(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    aocs_wheels_momentum_t m;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    real_t om[AOCS_WHEELS_MAX] = {0, NAN, 0, 0, 0, 0};
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(AOCS_R(0.1), 0, 0), om, &al), AOCS_ERR_INPUT_NOT_FINITE);
+    for (int i = 0; i < 6; ++i) {
+        assert_close(al.u_s_nm[i], 0.0, 0.0);
+    }
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(INFINITY, 0, 0), ZERO_SPEEDS, &al),
+                     AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(0, 0, 0), NULL, &al), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(0, 0, 0), ZERO_SPEEDS, NULL), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_wheels_momentum(&wa, aocs_vec3_make(0, 0, 0), om, &m), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_close(m.h_wheels_norm_Nms, 0.0, 0.0);
+    assert_int_equal(aocs_wheels_momentum(NULL, aocs_vec3_make(0, 0, 0), om, &m), AOCS_ERR_NULL_ARG);
+    /* a huge but finite command is scaled, never beyond the limit */
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(AOCS_R(1e30), AOCS_R(-1e30), AOCS_R(1e29)),
+                                          ZERO_SPEEDS, &al), AOCS_OK);
+    for (int i = 0; i < 4; ++i) {
+        assert_true(AOCS_FABS(al.u_s_nm[i]) <= AOCS_R(UMAX) * (AOCS_R(1.0) + AOCS_R(4.0) * AOCS_REAL_EPS));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_minimum_norm_allocation_of_the_pyramid),
+        cmocka_unit_test(test_a_failed_wheel_is_removed_and_three_still_control_every_axis),
+        cmocka_unit_test(test_the_uniform_scale_keeps_the_direction),
+        cmocka_unit_test(test_no_torque_drives_a_wheel_beyond_its_speed_limit),
+        cmocka_unit_test(test_total_momentum_and_margin),
+        cmocka_unit_test(test_the_envelope_of_the_reference_pyramid),
+        cmocka_unit_test(test_the_guidance_envelope_with_the_gyroscopic_allowance),
+        cmocka_unit_test(test_every_configuration_error_has_its_code),
+        cmocka_unit_test(test_bad_inputs_give_a_zero_command),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
