@@ -480,7 +480,7 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
                 t.fail(t.path, f"{tname!r} is not a compiled gain table of {name} "
                                f"(firmware/gains, `aocs gains`: {', '.join(compiled)})")
             if name == "hinf":
-                entry = {"variant": t.string("variant", choices=("min", "regional"))}
+                entry = {"variant": t.string("variant", choices=("min", "regional", "bounded"))}
             else:
                 entry = {"q": t.scalar_or_vector("q", n=6, positive=True),
                          "r": t.scalar_or_vector("r", n=3, positive=True)}

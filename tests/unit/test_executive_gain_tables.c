@@ -26,6 +26,7 @@ typedef struct {
 static const expected_table_t EXPECTED[] = {
     {"lqr_quat_ref", aocs_gains_lqr_quat_ref_K},   {"lqr_quat_strong", aocs_gains_lqr_quat_strong_K},
     {"hinf_min", aocs_gains_hinf_min_K},           {"hinf_regional", aocs_gains_hinf_regional_K},
+    {"hinf_bounded", aocs_gains_hinf_bounded_K},
     {"orbit_lqr_q1", aocs_gains_orbit_lqr_q1_K},   {"orbit_lqr_q01", aocs_gains_orbit_lqr_q01_K},
     {"orbit_lqr_q10", aocs_gains_orbit_lqr_q10_K},
 };

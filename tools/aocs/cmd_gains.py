@@ -72,13 +72,18 @@ def design_all(cfg: dict) -> list:
             plant = models.hinf_model(ix, iy, iz, p["w0"], p["z_scale"])
             alpha = d.get("alpha")
             alpha_sel = d.get("alpha_sel", alpha)
+            bounded = d.get("bounded", False)
+            if not isinstance(bounded, bool):
+                raise GainsConfigError(f"designs.{name}.bounded: must be true or false, not {bounded!r}")
             inputs = {"law": "SPEC 2.6 hinf, u = +K x, x = [phi theta psi phidot thetadot psidot]",
                       "kind": kind, "I": f"({ix:g}, {iy:g}, {iz:g}) kg m^2", "w0": f"{p['w0']:g} rad/s",
                       "z": f"{p['z_scale']:g} M q'', D1 = D2 = {p['z_scale']:g} I3",
                       "pole region": "none (plain SPEC LMI)" if alpha is None else f"Re < -{alpha:g} 1/s"}
+            if bounded:
+                inputs["lower bound"] = "-I < LMI (SI units), steps 1 and 2"
             out.append(lmi_hinf.design(name, plant, alpha=alpha, alpha_sel=alpha_sel,
                                        delta=cfg["hinf"]["delta"], k_rtol=cfg["hinf"]["k_rtol"],
-                                       inputs=inputs))
+                                       inputs=inputs, bounded=bounded))
         else:
             raise DesignError(f"{name}: unknown design kind '{kind}'")
     return out
@@ -109,6 +114,8 @@ def generate(config: Path) -> tuple[list, dict[str, str]]:
     if key not in _CACHE:
         try:
             designs = design_all(cfg)
+        except GainsConfigError as exc:
+            raise GainsConfigError(f"{config}: {exc}") from None
         except KeyError as exc:
             raise GainsConfigError(f"{config}: missing key {exc.args[0]!r} (tools/gains.toml shows every key)") from None
         except (TypeError, ValueError, AttributeError) as exc:
@@ -130,8 +137,11 @@ def summary(designs) -> dict:
             e["are_residual"] = d.residual_abs
             e["are_residual_rel"] = d.residual_rel
         else:
-            e.update({"gamma": d.gamma, "gamma_star": d.gamma_star, "hinf_norm_check": d.hinf_norm,
-                      "lmi_max_eig": d.lmi_max_eig, "k_rel_diff_clarabel_scs": d.k_rel_diff})
+            # gamma: the LMI's gamma of the chosen K; gamma_star: the minimum of this design's own
+            # LMI (step 1); gamma_min: the minimum of the plain SPEC 2.6 LMI
+            e.update({"gamma": d.gamma, "gamma_star": d.gamma_star, "gamma_min": d.gamma_min,
+                      "form": d.form, "hinf_norm_check": d.hinf_norm, "lmi_max_eig": d.lmi_max_eig,
+                      "lmi_min_eig": d.lmi_min_eig, "k_rel_diff_clarabel_scs": d.k_rel_diff})
         out[d.name] = e
     return out
 
