@@ -482,8 +482,13 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
             if name == "hinf":
                 entry = {"variant": t.string("variant", choices=("min", "regional", "bounded"))}
             else:
-                entry = {"q": t.scalar_or_vector("q", n=6, positive=True),
-                         "r": t.scalar_or_vector("r", n=3, positive=True)}
+                # design weights (Q, R diagonals): with them the runner designs K for this scenario's
+                # plant (the compiled table when plant and weights are its design's); without them
+                # the compiled table flies as it is (aocs_runner.scenario_gains)
+                if t.has("q") != t.has("r"):
+                    t.fail(t.key("r" if t.has("q") else "q"), "missing: give both design weights q and r, or neither")
+                entry = ({"q": t.scalar_or_vector("q", n=6, positive=True),
+                          "r": t.scalar_or_vector("r", n=3, positive=True)} if t.has("q") else {})
             t.done()
             tables[tname] = MappingProxyType(entry)
         tsec.done()

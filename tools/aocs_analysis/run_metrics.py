@@ -442,6 +442,8 @@ def table(m: dict) -> str:
             ("settle time", "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f} s")]
     crit = ", ".join(f"{k} < {v:g}" for k, v in m["settle_criterion"]["criteria"].items())
     rows.append(("settle criterion", crit))
+    if m.get("gain"):
+        rows.append(("gain", m["gain"]["summary"]))
     if m["pointing_error_arcsec"]:
         pe = m["pointing_error_arcsec"]
         verdict = []

@@ -7,9 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 
 
-def lqr_quat_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
-    """SPEC 2.5: x = [qe_vec; we], A = [[0, 0.5 I], [0, 0]], B = [[0], [J^-1]]."""
-    j = np.diag(np.asarray(inertia_diag, dtype=float))
+def lqr_quat_model(inertia) -> tuple[np.ndarray, np.ndarray]:
+    """SPEC 2.5: x = [qe_vec; we], A = [[0, 0.5 I], [0, 0]], B = [[0], [J^-1]].
+    inertia: the diagonal (3 numbers) or the full 3x3 J, kg m^2."""
+    j = np.asarray(inertia, dtype=float)
+    j = np.diag(j) if j.ndim == 1 else j.reshape(3, 3)
     a = np.zeros((6, 6))
     a[0:3, 3:6] = 0.5 * np.eye(3)
     b = np.zeros((6, 3))
