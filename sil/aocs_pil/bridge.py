@@ -432,6 +432,7 @@ class Bridge:
             "mode_transitions": c["mode_transitions"], "saturated": c["saturated"],
             "cmd_accepted": self.n_cmd_accepted, "cmd_rejected": self.n_cmd_rejected,
             "target": self.target.name,
+            "precision": "float" if self.target.real_bytes == 4 else "double",
             "clock_hz": self.target.clock_hz,
             "instructions": dict(ins, budget=budget, overruns=self.pil_overruns, inexact=self.inexact,
                                  unit="instructions per aocs_exec_step (whole step, exact under QEMU -icount)"),

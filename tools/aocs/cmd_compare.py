@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from aocs_compare import sweep as sweep_mod
-from aocs_compare.compare import compare, table_rows, text_table
+from aocs_compare.compare import compare, table_rows_for, text_table
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import orchestrate
@@ -85,7 +85,7 @@ def run(args) -> int:
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text((out / "compare.json").read_text())
-    head, body = table_rows(rows, sc.kind)
+    head, body = table_rows_for(sc, rows)
     print(f"{sc.id}: {len(rows)} laws" + ("" if args.limit is None else f", limit {args.limit:g} per axis"))
     print(text_table(head, body))
     print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}")
