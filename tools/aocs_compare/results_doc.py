@@ -128,7 +128,8 @@ class Results:
         res = C.run_rows(scenario, rows, self.runs / f"{scenario}-{tag}", limit=limit, duration=duration,
                          sets=sets, quiet=True, tag=f", {tag}",
                          progress=lambda name: self.progress.start(
-                             f"{sc.id} {name}, {tag}" + ("" if limit is None else f", {limit:g} per axis"), steps))
+                             f"{sc.id} {name}" + (f", limit {limit:g} per axis" if limit is not None
+                                                  else "" if tag == "ref" else f", {tag}"), steps))
         for r in res:
             if prefix:
                 r.name = f"{sc.id} {r.name}"
