@@ -133,7 +133,7 @@ class Wire:
         while (left := end - time.monotonic()) > 0:
             self.lc.handle_timeout(max(1, int(left * 1000)))
 
-    def wait_ready(self, fc: FlightComputer, timeout: float = 20.0) -> None:
+    def wait_ready(self, fc: FlightComputer, timeout: float = 60.0) -> None:
         end = time.monotonic() + timeout
         while not any(not s.exiting for s in self.status):
             if fc.proc.poll() is not None:
@@ -385,8 +385,8 @@ class Progress:
         self.log(f"pil-report: {self.phase} {self.done}/{self.total}: {text}; {_clock(el)} elapsed, ETA {eta}")
 
 
-def equivalence_rows(specs=None, duration_s=None, log=print) -> list[dict]:
-    rows = []
+def equivalence_rows(specs=None, duration_s=None, log=print, into=None) -> list[dict]:
+    rows = [] if into is None else into
     specs = equivalence_specs() if specs is None else specs
     prog = Progress("equivalence", len(specs), log)
     for sid, law, ov in specs:
@@ -420,8 +420,8 @@ def equivalence_rows(specs=None, duration_s=None, log=print) -> list[dict]:
     return rows
 
 
-def sweep_rows(specs=None, duration_s=None, log=print) -> list[dict]:
-    rows = []
+def sweep_rows(specs=None, duration_s=None, log=print, into=None) -> list[dict]:
+    rows = [] if into is None else into
     specs = sweep_specs() if specs is None else specs
     prog = Progress("instruction counts", 2 * len(specs), log)
     for sid, law in specs:
@@ -486,12 +486,21 @@ def _main(argv=None) -> int:
     args = ap.parse_args(argv)
     netns.reexec_in_netns([sys.executable, "-m", "aocs_pil.harness", *sys.argv[1:]])
 
+    eq: list[dict] = []
+    sw: list[dict] = []
+
+    def save():
+        if args.json:   # after every row: a run that fails late keeps the rows measured before it
+            Path(args.json).write_text(json.dumps({"equivalence": eq, "sweep": sw}, indent=1))
+
     def log(line):
         print(line, file=sys.stderr, flush=True)
-    eq = [] if args.skip_equivalence else equivalence_rows(duration_s=args.duration, log=log)
-    sw = [] if args.skip_sweep else sweep_rows(duration_s=args.duration, log=log)
-    if args.json:
-        Path(args.json).write_text(json.dumps({"equivalence": eq, "sweep": sw}, indent=1))
+        save()
+    if not args.skip_equivalence:
+        eq = equivalence_rows(duration_s=args.duration, log=log, into=eq)
+    if not args.skip_sweep:
+        sw = sweep_rows(duration_s=args.duration, log=log, into=sw)
+    save()
     print(markdown(eq, sw))
     return 0
 

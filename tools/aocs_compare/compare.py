@@ -96,9 +96,11 @@ def curves_from_log(log_path: Path, kind: str, dt: float) -> dict:
 
 
 def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, limit=None, duration=None,
-             sets=(), run_plots=False, quiet=False, tag="", progress=None) -> list[Row]:
+             sets=(), run_plots=False, quiet=False, tag="", progress=None, reuse=False) -> list[Row]:
     """One SIL run per row (must be called inside the private network namespace).
-    progress: called with the row name before each run (instead of the 'compare:' line)."""
+    progress: called with the row name before each run (instead of the 'compare:' line).
+    reuse: a row whose folder already holds a passed run of the same configuration (run.json's
+    overrides and fsw_node configuration equal to this row's) is read back instead of run again."""
     sc = load(scenario)
     result = []
     for law, table in rows:
@@ -109,6 +111,13 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
             s.append(f'laws.{law}.table="{table}"')
         if law == "none":
             s.append("control.enabled=false")
+        if reuse and _reusable(row.out_dir, scenario, law, limit, duration, s):
+            row.metrics = json.loads((row.out_dir / "metrics.json").read_text())
+            row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
+            result.append(row)
+            if progress is not None:
+                progress(name + " (reused)")
+            continue
         if progress is not None:
             progress(name)
         elif not quiet:
@@ -128,6 +137,18 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
             print(f"compare: {name}: FAILED: {exc}", file=sys.stderr)
         result.append(row)
     return result
+
+
+def _reusable(out_dir: Path, scenario, law, limit, duration, sets) -> bool:
+    """A finished, passed run in out_dir with the overrides this row would give (aocs results --reuse)."""
+    try:
+        meta = json.loads((out_dir / "run.json").read_text())
+        m = json.loads((out_dir / "metrics.json").read_text())
+    except (OSError, ValueError):
+        return False
+    ov = scenario_opts.overrides(sets, duration, None, limit)
+    return (m.get("verdict", {}).get("passed") is True and meta.get("overrides") == ov
+            and meta.get("law") == ("none" if law == "none" else law) and (out_dir / "run.lcmlog").is_file())
 
 
 # --------------------------------------------------------------------------- table

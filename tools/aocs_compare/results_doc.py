@@ -111,7 +111,8 @@ def plan_steps(quick: bool) -> int:
 
 
 class Results:
-    def __init__(self, out: Path, runs: Path, quiet: bool, progress: Progress | None = None):
+    def __init__(self, out: Path, runs: Path, quiet: bool, progress: Progress | None = None, reuse=False):
+        self.reuse = reuse
         self.docs = out
         self.fig = out / "results"
         self.runs = runs
@@ -126,7 +127,7 @@ class Results:
         rows = rows if rows is not None else C.variants(sc, "all")
         steps = _steps(sc, duration)
         res = C.run_rows(scenario, rows, self.runs / f"{scenario}-{tag}", limit=limit, duration=duration,
-                         sets=sets, quiet=True, tag=f", {tag}",
+                         sets=sets, quiet=True, tag=f", {tag}", reuse=self.reuse,
                          progress=lambda name: self.progress.start(
                              f"{sc.id} {name}" + (f", limit {limit:g} per axis" if limit is not None
                                                   else "" if tag == "ref" else f", {tag}"), steps))
@@ -158,8 +159,8 @@ class Results:
         return files
 
 
-def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
-    R = Results(out, runs, quiet, Progress(plan_steps(quick), quiet))
+def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) -> tuple[str, int]:
+    R = Results(out, runs, quiet, Progress(plan_steps(quick), quiet), reuse=reuse)
     md = R.md
     lim_dur = 500.0 if quick else LIMIT_DURATION_S
     md += ["# Results: every reference scenario, every law, the same plant", "",
