@@ -435,6 +435,7 @@ class Bridge:
             "guidance": ({"mode": "slew", "slew_start_s": None, "profile_end_s": None}
                          if dict(self.cfg.values).get("guidance.mode") == "slew" else {"mode": "step"}),
             "target": self.target.name,
+            "precision": "float" if self.target.real_bytes == 4 else "double",
             "clock_hz": self.target.clock_hz,
             "instructions": dict(ins, budget=budget, overruns=self.pil_overruns, inexact=self.inexact,
                                  unit="instructions per aocs_exec_step (whole step, exact under QEMU -icount)"),

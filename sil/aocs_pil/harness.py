@@ -133,7 +133,7 @@ class Wire:
         while (left := end - time.monotonic()) > 0:
             self.lc.handle_timeout(max(1, int(left * 1000)))
 
-    def wait_ready(self, fc: FlightComputer, timeout: float = 20.0) -> None:
+    def wait_ready(self, fc: FlightComputer, timeout: float = 60.0) -> None:
         end = time.monotonic() + timeout
         while not any(not s.exiting for s in self.status):
             if fc.proc.poll() is not None:
@@ -368,9 +368,28 @@ def _label(sid, law, ov):
     return f"{sid} {law}" + (f" ({extra})" if extra else "")
 
 
-def equivalence_rows(specs=None, duration_s=None, log=print) -> list[dict]:
-    rows = []
+def _clock(s: float) -> str:
+    s = max(0, int(round(s)))
+    return f"{s // 60}:{s % 60:02d}"
+
+
+class Progress:
+    """A readable progress line per item with an ETA (the mean time per item so far)."""
+
+    def __init__(self, phase: str, total: int, log):
+        self.phase, self.total, self.log, self.t0, self.done = phase, max(total, 1), log, time.monotonic(), 0
+
+    def step(self, text: str) -> None:
+        self.done += 1
+        el = time.monotonic() - self.t0
+        eta = _clock(el / self.done * (self.total - self.done))
+        self.log(f"pil-report: {self.phase} {self.done}/{self.total}: {text}; {_clock(el)} elapsed, ETA {eta}")
+
+
+def equivalence_rows(specs=None, duration_s=None, log=print, into=None) -> list[dict]:
+    rows = [] if into is None else into
     specs = equivalence_specs() if specs is None else specs
+    prog = Progress("equivalence", len(specs), log)
     for sid, law, ov in specs:
         runs = {t: run(sid, law, t, overrides=ov, duration_s=duration_s) for t in ("host", "pil-m7", "pil-m4f")}
         replay = run(sid, law, "pil-m4f", overrides=ov, duration_s=duration_s, sensors=runs["host"].sensors)
@@ -395,13 +414,17 @@ def equivalence_rows(specs=None, duration_s=None, log=print) -> list[dict]:
         c["u_max"] = max(abs(x) for u in runs["host"].u_sat for x in u)
         row["host_vs_pil-m4f_same_samples"] = c
         rows.append(row)
-        log(json.dumps(row))
+        m7, m4 = row["host_vs_pil-m7"], row["host_vs_pil-m4f_same_samples"]
+        prog.step(f"{_label(sid, law, ov)}, {row['steps']} steps: M7 identical to the host on "
+                  f"{m7['identical_steps']}/{m7['steps']} steps, M4F (same samples) within "
+                  f"{m4['u_sat_abs_max_diff']:.3g} of the host command")
     return rows
 
 
-def sweep_rows(specs=None, duration_s=None, log=print) -> list[dict]:
-    rows = []
+def sweep_rows(specs=None, duration_s=None, log=print, into=None) -> list[dict]:
+    rows = [] if into is None else into
     specs = sweep_specs() if specs is None else specs
+    prog = Progress("instruction counts", 2 * len(specs), log)
     for sid, law in specs:
         for t in ("pil-m4f", "pil-m7"):
             r = run_direct(sid, law, t, duration_s=duration_s)
@@ -412,7 +435,8 @@ def sweep_rows(specs=None, duration_s=None, log=print) -> list[dict]:
                    "budget": r.replies[-1].budget, "overruns": r.replies[-1].pil_overruns,
                    "inexact": sum(1 for x in r.replies if not x.exact), "stack_bytes": r.bye.stack_bytes}
             rows.append(row)
-            log(json.dumps(row))
+            prog.step(f"{sid} {law} on {t}: median {row['median']:.0f} instructions, worst {row['max']}, "
+                      f"budget {row['budget']}, {row['overruns']} overruns")
     return rows
 
 
@@ -463,12 +487,21 @@ def _main(argv=None) -> int:
     args = ap.parse_args(argv)
     netns.reexec_in_netns([sys.executable, "-m", "aocs_pil.harness", *sys.argv[1:]])
 
+    eq: list[dict] = []
+    sw: list[dict] = []
+
+    def save():
+        if args.json:   # after every row: a run that fails late keeps the rows measured before it
+            Path(args.json).write_text(json.dumps({"equivalence": eq, "sweep": sw}, indent=1))
+
     def log(line):
         print(line, file=sys.stderr, flush=True)
-    eq = [] if args.skip_equivalence else equivalence_rows(duration_s=args.duration, log=log)
-    sw = [] if args.skip_sweep else sweep_rows(duration_s=args.duration, log=log)
-    if args.json:
-        Path(args.json).write_text(json.dumps({"equivalence": eq, "sweep": sw}, indent=1))
+        save()
+    if not args.skip_equivalence:
+        eq = equivalence_rows(duration_s=args.duration, log=log, into=eq)
+    if not args.skip_sweep:
+        sw = sweep_rows(duration_s=args.duration, log=log, into=sw)
+    save()
     print(markdown(eq, sw))
     return 0
 

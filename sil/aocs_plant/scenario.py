@@ -497,13 +497,17 @@ def _read_law(sec: _Section, name: str, kind: str) -> LawConfig:
                 t.fail(t.path, f"{tname!r} is not a compiled gain table of {name} "
                                f"(firmware/gains, `aocs gains`: {', '.join(compiled)})")
             if name == "hinf":
-                entry = {"variant": t.string("variant", choices=("min", "regional"))}
+                entry = {"variant": t.string("variant", choices=("min", "regional", "bounded"))}
             else:
-                # the design weights: Q on the law's state (the columns of its gain: 6, or 9 for
-                # lqr_quat_i), R on the torque / force
+                # design weights (Q, R diagonals): Q on the law's state (the columns of its gain: 6, or 9
+                # for lqr_quat_i), R on the torque / force. With them the runner designs K for this
+                # scenario's plant (the compiled table when plant and weights are its design's); without
+                # them the compiled table flies as it is (aocs_runner.scenario_gains)
+                if t.has("q") != t.has("r"):
+                    t.fail(t.key("r" if t.has("q") else "q"), "missing: give both design weights q and r, or neither")
                 n_state = reg.gain_field_of(tfield).count // 3
-                entry = {"q": t.scalar_or_vector("q", n=n_state, positive=True),
-                         "r": t.scalar_or_vector("r", n=3, positive=True)}
+                entry = ({"q": t.scalar_or_vector("q", n=n_state, positive=True),
+                          "r": t.scalar_or_vector("r", n=3, positive=True)} if t.has("q") else {})
             t.done()
             tables[tname] = MappingProxyType(entry)
         tsec.done()

@@ -28,7 +28,7 @@ from aocs_wire import fsw_config, lcmlog, netns
 from aocs_wire.recorder import Recorder
 
 from . import events as evmod
-from . import orchestrate, scenario_opts
+from . import orchestrate, scenario_gains, scenario_opts
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
@@ -195,8 +195,14 @@ def execute(opts: RunOptions) -> RunResult:
     out.mkdir(parents=True, exist_ok=True)
     mode = "realtime" if opts.realtime else "lockstep"
     reply_timeout = opts.reply_timeout or (2.0 if opts.target == "host" else 10.0)
+    # the gain each table law flies: its compiled table, or K designed for this scenario (item 6)
+    gains = scenario_gains.resolve(sc)
+    for choice in gains.values():
+        for w in choice.warnings:
+            print(f"aocs run: warning: {w}", file=sys.stderr, flush=True)
     cfg = fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
-                                 run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0)
+                                 run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0,
+                                 gains={n: c.k for n, c in gains.items() if c.k is not None})
     cfg_path = fsw_config.write(out / "fsw_node.cfg", cfg, header=f"scenario {sc.id}, law {law}, {mode}")
     fc_cmd = fc_command(opts.target, cfg_path)
     pil_root = pil_build_root(opts.target) if opts.target in PIL_PRESETS else None
@@ -204,6 +210,7 @@ def execute(opts: RunOptions) -> RunResult:
     meta = {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": ov, "law": law,
             "mode": mode, "recorder": opts.recorder, "plant_lcm_lib": opts.plant_lcm_lib, "target": opts.target, "events": list(opts.events), "label": opts.label,
             "fsw_config": cfg, "fsw_config_file": cfg_path.name, "fc_command": fc_cmd,
+            "gains": {n: c.to_json() for n, c in gains.items()},
             "pil_image": str(pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if pil_root else None,
             "log": log_path.name,
             "n_steps": sc.n_steps, "dt": sc.dt, "created": time.strftime("%Y-%m-%dT%H:%M:%S")}
@@ -292,6 +299,8 @@ def execute(opts: RunOptions) -> RunResult:
     metrics, series = results.compute(log, sc, meta, wall_s=wall, plant=plant_sum, fsw=fsw_sum)
     if opts.label:
         metrics["label"] = opts.label
+    if law in gains:
+        metrics["gain"] = gains[law].to_json()
     dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps)
     try:
         lcmlog.scan(log_path)

@@ -13,7 +13,8 @@ What comes from where (docs/sil.md):
   during the run): the keys are the law's field rows in the firmware's law
   registry (aocs_core.registry), valued from the scenario's parameters of the
   same names; design-based laws by table name (`<law>.table`): the compiled
-  firmware tables fly;
+  firmware tables fly, or by value (`<law>.k`) a gain the runner designed for
+  the scenario at run start (aocs_runner.scenario_gains);
 - limits: the scenario's `actuator.axis_limit` / `norm_limit`, or the
   runner's `--limit`; a scenario without a limit (the reference runs) gets
   UNLIMITED per axis, because the executive requires one limit;
@@ -53,16 +54,25 @@ def _vec(v) -> str:
     return " ".join(_num(x) for x in v)
 
 
-def _law_keys(law_cfg) -> dict[str, str]:
+def _law_keys(law_cfg, gain=None) -> dict[str, str]:
     """The keys of one law: every field its registry row takes (aocs_core.registry), valued from the
     scenario's parameter of the same name (a scalar fills every component of a vector field); a
-    table-based law's gain by table name, so the compiled firmware table flies. The inertia field
-    (mat3) is the plant's, written by node_config() for every attitude law."""
+    table-based law's gain by table name, so the compiled firmware table flies, or, when `gain`
+    (3x6) is given (designed for the scenario at run start, aocs_runner.scenario_gains), by value
+    in the gain field the table field fills (`<law>.k`, row-major). The inertia field (mat3) is the
+    plant's, written by node_config() for every attitude law."""
     reg = registry.load()
     out: dict[str, str] = {}
     for f in reg.fields_of(law_cfg.name):
         if f.type == "table":
-            out[f.key] = law_cfg.table
+            if gain is None:
+                out[f.key] = law_cfg.table
+            else:
+                k = np.asarray(gain, dtype=float)
+                gf = reg.gain_field_of(f)
+                if k.size != gf.count:
+                    raise ConfigError(f"{gf.key}: {k.size} gain entries, the flight software takes {gf.count}")
+                out[gf.key] = _vec(k.ravel())
         elif f.type in ("real", "vec3"):
             v = law_cfg.params[f.param]
             if f.type == "real":
@@ -91,11 +101,13 @@ def wheel_keys(scenario) -> dict[str, str]:
 
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
                 idle_timeout_s: float = 5.0, run_timeout_s: float = 0.0,
-                status_period_s: float | None = None, lcm_url: str | None = None) -> dict[str, str]:
+                status_period_s: float | None = None, lcm_url: str | None = None,
+                gains: dict | None = None) -> dict[str, str]:
     """key -> value text of the fsw_node configuration for one run.
 
     law: a law of the scenario, or "none" (control disabled: STANDBY, zero command).
     limit: per-axis actuator limit override (N m or N), as `aocs run --limit`.
+    gains: law -> explicit 3x6 gain flown instead of the law's compiled table (None: the tables).
     """
     sc = scenario
     if mode not in ("lockstep", "realtime"):
@@ -139,7 +151,7 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])
     for name in order:
-        cfg.update(_law_keys(sc.control.laws[name]))
+        cfg.update(_law_keys(sc.control.laws[name], (gains or {}).get(name)))
     cfg["idle_timeout_s"] = _num(idle_timeout_s)
     cfg["run_timeout_s"] = _num(run_timeout_s)
     if status_period_s is None:

@@ -122,3 +122,31 @@ def test_a_scenario_file_anywhere_runs_by_its_path(private_netns, capsys, tmp_pa
     assert cli.main(["run", str(path), "--duration", "5", "-q", "--no-plots", "--out", str(tmp_path / "o2")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(path) in err and "kq" in err, err
+
+
+def test_a_set_design_weight_flies_a_k_designed_for_it(private_netns, capsys, tmp_path):
+    """Issue 10 item 6 through the command line: --set on an LQR weight designs K at run start, the
+    flight software flies it (the node config carries lqr_quat.k, the commands change); the
+    scenario's own weights fly the compiled table by name."""
+    runs = {}
+    for name, sets in (("ref", []), ("q2000", ["--set", "laws.lqr_quat.tables.lqr_quat_ref.q=2000"])):
+        rc = cli.main(["run", "irassi_small", "--law", "lqr_quat", "--duration", "20", "-q", "--no-plots",
+                       "--out", str(tmp_path / name), "--json", str(tmp_path / f"{name}.json"), *sets])
+        assert rc == 0, capsys.readouterr().err
+        runs[name] = (json.loads((tmp_path / f"{name}.json").read_text()),
+                      json.loads((tmp_path / name / "run.json").read_text())["fsw_config"],
+                      lcmlog.read(tmp_path / name / "run.lcmlog"))
+    text = capsys.readouterr().out
+    (m_ref, cfg_ref, log_ref), (m_new, cfg_new, log_new) = runs["ref"], runs["q2000"]
+    assert m_ref["gain"]["source"] == "compiled" and cfg_ref["lqr_quat.table"] == "lqr_quat_ref"
+    assert "lqr_quat.k" not in cfg_ref
+    assert m_new["gain"]["source"] == "designed" and "lqr_quat.table" not in cfg_new
+    k = [float(x) for x in cfg_new["lqr_quat.k"].split()]
+    assert k[0] == pytest.approx((2000 / 0.001) ** 0.5, rel=1e-12)     # sqrt(Q / R), SPEC 2.5
+    assert "K designed at run start" in text and "Q = 2000 I6" in text
+    # the first command is -K x of the same first sample: larger by the gain
+    u_ref, u_new = log_ref.cmd["u_sat"][0], log_new.cmd["u_sat"][0]
+    assert abs(u_new[0]) > 1.5 * abs(u_ref[0])
+    # and the result: at 20 s the stiffer loop is nearer the target
+    e_ref, e_new = log_ref.truth["pointing_err_arcsec"][-1], log_new.truth["pointing_err_arcsec"][-1]
+    assert e_new < 0.8 * e_ref, (e_new, e_ref)

@@ -46,6 +46,7 @@ static const named_table_t all_tables[] = {
     {"orbit_lqr_q10", aocs_gains_orbit_lqr_q10_K},
     {"hinf_min", aocs_gains_hinf_min_K},
     {"hinf_regional", aocs_gains_hinf_regional_K},
+    {"hinf_bounded", aocs_gains_hinf_bounded_K},
 };
 
 /* law output against sign * K x: assert_gain_product (law_test_support.h), absolute floor 1e-300 */
@@ -265,6 +266,7 @@ static void test_hinf_laws(void **state)
     (void)state;
     check_hinf(aocs_gains_hinf_min_K);
     check_hinf(aocs_gains_hinf_regional_K);
+    check_hinf(aocs_gains_hinf_bounded_K);
 }
 
 int main(void)

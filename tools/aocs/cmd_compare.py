@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from aocs_compare import sweep as sweep_mod
-from aocs_compare.compare import compare, table_rows, text_table
+from aocs_compare.compare import compare, table_rows_for, text_table
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import orchestrate
@@ -90,7 +90,7 @@ def run(args) -> int:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text((out / "compare.json").read_text())
     slew = args.guidance == "slew"
-    head, body = table_rows(rows, sc.kind, bound=slew)
+    head, body = table_rows_for(sc, rows, bound=slew)
     print(f"{sc.id}: {len(rows)} laws" + ("" if args.limit is None else f", limit {args.limit:g} per axis")
           + (", guidance slew" if slew else ""))
     bounds = {r.metrics.get("slew_bound_s") for r in rows if r.metrics}

@@ -14,9 +14,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
-from aocs_design import lmi_hinf, models, report, riccati, tables
+from aocs_design import designs, models, report, tables
 from aocs_design.checks import DesignError
 
 REPO = Path(__file__).resolve().parents[2]
@@ -50,46 +48,8 @@ def load_config(path: Path) -> dict:
 def design_all(cfg: dict) -> list:
     """Every design of the config, in file order; raises DesignError on any failed check."""
     plants = cfg["plants"]
-    out = []
-    for name, d in cfg["designs"].items():
-        kind = d["kind"]
-        p = plants[d["plant"]]
-        if kind == "lqr_quat":
-            a, b = models.lqr_quat_model(p["inertia_diag"])
-            inputs = {"law": "SPEC 2.5 lqr_quat, u = -K [sign(qe4) qe_vec; we]", "kind": kind,
-                      "J": f"diag({', '.join(f'{v:g}' for v in p['inertia_diag'])}) kg m^2",
-                      "Q": f"{d['q']:g} I6", "R": f"{d['r']:g} I3"}
-            out.append(riccati.lqr(name, kind, a, b, d["q"] * np.eye(6), d["r"] * np.eye(3), inputs))
-        elif kind == "lqr_quat_i":
-            a, b = models.lqr_quat_i_model(p["inertia_diag"])
-            qd = np.asarray(d["q"], float) * np.ones(9)     # a scalar (times I9) or the 9 diagonal weights
-            inputs = {"law": "SPEC 5.2 lqr_quat_i, u = -K [z; sign(qe4) qe_vec; we], z' = sign(qe4) qe_vec",
-                      "kind": kind,
-                      "J": f"diag({', '.join(f'{v:g}' for v in p['inertia_diag'])}) kg m^2",
-                      "Q": f"diag({', '.join(f'{v:g}' for v in qd)})", "R": f"{d['r']:g} I3"}
-            out.append(riccati.lqr(name, kind, a, b, np.diag(qd), d["r"] * np.eye(3), inputs))
-        elif kind == "orbit_lqr":
-            a, b = models.orbit_model(p["mass"], p["radius"], p["mu"])
-            n = models.mean_motion(p["mu"], p["radius"])
-            inputs = {"law": "SPEC 2.8 orbit_lqr, F = -K x, x = [du dv dw dx dy dz]", "kind": kind,
-                      "m": f"{p['mass']:g} kg", "R": f"{p['radius']:g} m", "mu": f"{p['mu']:.10g} m^3/s^2",
-                      "n": f"{n:.12e} rad/s", "Q": f"{d['q']:g} I6", "R_weight": f"{d['r']:g} I3"}
-            out.append(riccati.lqr(name, kind, a, b, d["q"] * np.eye(6), d["r"] * np.eye(3), inputs))
-        elif kind == "hinf":
-            ix, iy, iz = p["inertia_diag"]
-            plant = models.hinf_model(ix, iy, iz, p["w0"], p["z_scale"])
-            alpha = d.get("alpha")
-            alpha_sel = d.get("alpha_sel", alpha)
-            inputs = {"law": "SPEC 2.6 hinf, u = +K x, x = [phi theta psi phidot thetadot psidot]",
-                      "kind": kind, "I": f"({ix:g}, {iy:g}, {iz:g}) kg m^2", "w0": f"{p['w0']:g} rad/s",
-                      "z": f"{p['z_scale']:g} M q'', D1 = D2 = {p['z_scale']:g} I3",
-                      "pole region": "none (plain SPEC LMI)" if alpha is None else f"Re < -{alpha:g} 1/s"}
-            out.append(lmi_hinf.design(name, plant, alpha=alpha, alpha_sel=alpha_sel,
-                                       delta=cfg["hinf"]["delta"], k_rtol=cfg["hinf"]["k_rtol"],
-                                       inputs=inputs))
-        else:
-            raise DesignError(f"{name}: unknown design kind '{kind}'")
-    return out
+    return [designs.design_one(name, d, plants[d["plant"]], cfg.get("hinf", {}))
+            for name, d in cfg["designs"].items()]
 
 
 def defines(cfg: dict) -> list[tuple[str, float, str]]:
@@ -117,6 +77,8 @@ def generate(config: Path) -> tuple[list, dict[str, str]]:
     if key not in _CACHE:
         try:
             designs = design_all(cfg)
+        except GainsConfigError as exc:
+            raise GainsConfigError(f"{config}: {exc}") from None
         except KeyError as exc:
             raise GainsConfigError(f"{config}: missing key {exc.args[0]!r} (tools/gains.toml shows every key)") from None
         except (TypeError, ValueError, AttributeError) as exc:
@@ -138,8 +100,11 @@ def summary(designs) -> dict:
             e["are_residual"] = d.residual_abs
             e["are_residual_rel"] = d.residual_rel
         else:
-            e.update({"gamma": d.gamma, "gamma_star": d.gamma_star, "hinf_norm_check": d.hinf_norm,
-                      "lmi_max_eig": d.lmi_max_eig, "k_rel_diff_clarabel_scs": d.k_rel_diff})
+            # gamma: the LMI's gamma of the chosen K; gamma_star: the minimum of this design's own
+            # LMI (step 1); gamma_min: the minimum of the plain SPEC 2.6 LMI
+            e.update({"gamma": d.gamma, "gamma_star": d.gamma_star, "gamma_min": d.gamma_min,
+                      "form": d.form, "hinf_norm_check": d.hinf_norm, "lmi_max_eig": d.lmi_max_eig,
+                      "lmi_min_eig": d.lmi_min_eig, "k_rel_diff_clarabel_scs": d.k_rel_diff})
         out[d.name] = e
     return out
 

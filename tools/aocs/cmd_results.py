@@ -17,6 +17,9 @@ def add_arguments(p) -> None:
     p.add_argument("--runs", default="out/results", help="where the runs' logs go (default out/results)")
     p.add_argument("--quick", action="store_true",
                    help=f"limited IRASSI runs of 500 s instead of {LIMIT_DURATION_S:g} s")
+    p.add_argument("--reuse", action="store_true",
+                   help="read back the runs already in --runs that passed with the same configuration "
+                        "(to finish an interrupted regeneration) instead of running them again")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
 
@@ -24,7 +27,7 @@ def run(args) -> int:
     netns.reexec_in_netns(paths.self_argv())
     out = Path(args.out)
     try:
-        text, failed = build(out, Path(args.runs), args.quick, args.quiet)
+        text, failed = build(out, Path(args.runs), args.quick, args.quiet, reuse=args.reuse)
     except orchestrate.RunAborted as exc:
         print(f"aocs results: aborted: {exc}", file=sys.stderr)
         return 1

@@ -231,6 +231,7 @@ def _accuracy(out: dict, series: dict, log, sc) -> None:
         out["settle_time_s"] = M.settle_time(t, inside)
         out["pointing_error_arcsec"] = None
         out["position_error_m"] = {
+            "initial": _f(np.max(np.abs(s["pos"][0]))),
             "final_max": _f(np.max(np.abs(s["pos"][wmask]))),
             "per_axis_final_max": _fl(np.max(np.abs(s["pos"][wmask]), axis=0)),
             "velocity_final_max_m_s": _f(np.max(np.abs(s["vel"][wmask]))),
@@ -286,6 +287,7 @@ def _limits(out: dict, series: dict, u: np.ndarray, cfg: dict, sc) -> None:
     nonfinite = int(np.count_nonzero(~np.all(np.isfinite(u), axis=1))) if u.shape[0] else 0
     out["limits"] = {"axis": None if unlimited else axis_lim, "norm": norm_lim, "unlimited": unlimited,
                      "plant_axis": sc.actuator.axis_limit, "plant_norm": sc.actuator.norm_limit,
+                     "plant_rate_limit": sc.actuator.rate_limit, "plant_lag_tau_s": sc.actuator.lag_tau_s,
                      "commands_over_limit": viol, "commands_not_finite": nonfinite}
     series["axis_limit"] = None if unlimited else axis_lim
     series["norm_limit"] = norm_lim
@@ -441,6 +443,7 @@ def pil_timing(timing: dict, series: dict, cmd, target: str, fsw: dict | None) -
     flagged = int(np.count_nonzero(cmd["overrun"])) if cmd["tick"].size else 0
     budget = ins.get("budget")
     timing["target"] = target
+    timing["precision"] = (fsw or {}).get("precision")
     timing["clock_hz"] = _f(clock) if clock is not None else None
     timing["budget_ns"] = _f(budget * 1e9 / clock) if (budget and clock) else timing["budget_ns"]
     timing["overruns"] = flagged
@@ -472,9 +475,64 @@ def _fmt(x, spec=".3g"):
     return format(x, spec)
 
 
+def _run_text(m: dict) -> str:
+    """'lockstep on host', or for a PIL target its precision and clock:
+    'lockstep on pil-m4f (float, Cortex-M4F image under QEMU, instructions at 168 MHz)'."""
+    tm = m.get("timing") or {}
+    target = m["target"]
+    if str(target).startswith("pil-"):
+        bits = [b for b in (tm.get("precision"), "image under QEMU",
+                            f"step time from instructions at {tm['clock_hz'] / 1e6:g} MHz" if tm.get("clock_hz") else None)
+                if b]
+        return f"{m['run_mode']} on {target} ({', '.join(bits)})"
+    return f"{m['run_mode']} on {target} (double)"
+
+
+def limit_text(m: dict) -> str:
+    """The actuator limits in words: what the flight software saturates to, what the plant's actuator
+    adds (rate limit, lag), and how many commands went beyond the limit."""
+    lim = m["limits"]
+    unit = "N m" if m.get("kind", "attitude") == "attitude" else "N"
+    if lim["unlimited"] and lim.get("norm") is None:
+        text = "none: the reference actuator (no saturation)"
+    else:
+        parts = []
+        if lim["axis"] is not None:
+            parts.append(f"|u_i| <= {lim['axis']:g} {unit} per axis")
+        if lim.get("norm") is not None:
+            parts.append(f"|u| <= {lim['norm']:g} {unit}")
+        n = lim["commands_over_limit"]
+        text = " and ".join(parts) + (f"; {n} command{'s' if n != 1 else ''} beyond it" if n
+                                      else "; no command beyond it")
+    extra = []
+    if lim.get("plant_rate_limit") is not None:
+        extra.append(f"rate limit {lim['plant_rate_limit']:g} {unit}/s")
+    if lim.get("plant_lag_tau_s") is not None:
+        extra.append(f"first-order lag {lim['plant_lag_tau_s']:g} s")
+    if extra:
+        text += "; the plant's actuator adds a " + " and a ".join(extra)
+    return text
+
+
+def divergence(m: dict) -> str | None:
+    """A run whose error ends above where it started and never settled is named as diverging."""
+    if m.get("settle_time_s") is not None:
+        return None
+    pe = m.get("pointing_error_arcsec")
+    if pe:
+        start, end, unit = pe.get("initial"), pe.get("final_max"), "arcsec"
+    else:
+        po = m.get("position_error_m") or {}
+        start, end, unit = po.get("initial"), po.get("final_max"), "m"
+    if start is None or end is None or not end > start:
+        return None
+    return (f"the error grew from {start:.4g} {unit} at the start to {end:.4g} {unit} at the end and never "
+            "settled: the loop diverges")
+
+
 def table(m: dict) -> str:
     """The metrics table printed after a run."""
-    rows = [("scenario", m["scenario"]), ("law", m["law"]), ("run", f"{m['run_mode']} on {m['target']}"),
+    rows = [("scenario", m["scenario"]), ("law", m["law"]), ("run", _run_text(m)),
             ("duration", f"{m['duration_s']:g} s at {m['control_rate_hz']:g} Hz"),
             ("settle time", "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f} s")]
     crit = ", ".join(f"{k} < {v:g}" for k, v in m["settle_criterion"]["criteria"].items())
@@ -488,6 +546,8 @@ def table(m: dict) -> str:
         rows.append(("guidance", g["mode"] if g["mode"] != "slew" else
                      f"slew, {g['profile']}, margin {g['margin']:g}, profile end "
                      + ("unknown" if g["profile_end_s"] is None else f"{g['profile_end_s']:.1f} s")))
+    if m.get("gain"):
+        rows.append(("gain", m["gain"]["summary"]))
     if m["pointing_error_arcsec"]:
         pe = m["pointing_error_arcsec"]
         verdict = []
@@ -510,11 +570,12 @@ def table(m: dict) -> str:
                  ("velocity error, same window", f"max {_fmt(pe['velocity_final_max_m_s'], '.4g')} m/s"),
                  ("max |force| per axis", _fmt(m["max_abs_force_n"], ".4g") + " N"),
                  ("effort (int |F|_1 dt)", _fmt(m["effort"], ".4g") + " N s")]
-    lim = m["limits"]
-    rows.append(("limit", "unlimited" if lim["unlimited"] else
-                 f"axis {_fmt(lim['axis'])} norm {_fmt(lim['norm'])}, over limit: {lim['commands_over_limit']}"))
+    rows.append(("limit", limit_text(m)))
     if m.get("wheels"):
         rows += wheels.table_rows(m["wheels"])
+    dv = divergence(m)
+    if dv:
+        rows.append(("DIVERGING", dv))
     tm = m["timing"]
     rows.append(("step time", f"median {tm['step_ns_median']:.0f} ns, p99 {tm['step_ns_p99']:.0f}, "
                  f"max {tm['step_ns_max']:.0f}, budget {tm['budget_ns']:.0f}, overruns {tm['overruns']}"))

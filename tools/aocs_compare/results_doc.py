@@ -11,6 +11,7 @@ discussion. Run logs go to --runs (default out/results), never into docs.
 from __future__ import annotations
 
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -22,12 +23,14 @@ from aocs_plant.scenario import load
 from aocs_wire import lcmlog
 
 from . import compare as C
+from . import sweep as S
 from .compare import IRASSI_DIST_NM, designed_gamma, gain_matrix, steady_error_arcsec
 
 RTC = ("rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b")
 LANDSAT_Q = ("landsat8_q10", "landsat8_q1", "landsat8_q01")
 LANDSAT_DIST = ("landsat8_srp", "landsat8_debris")
-LIMITS = (1.0, 0.2)
+#: per-axis limits of the realistic-wheel runs, N m (0.5: the README's `aocs run irassi_large --limit 0.5`)
+LIMITS = (1.0, 0.5, 0.2)
 LIMIT_DURATION_S = 3000.0
 #: geo_hinf with zero initial attitude and rate errors about LVLH: only the disturbance drives z
 HINF_ZERO_IC = ("plant.euler321_deg=[0.0, 0.0, 0.0]", "plant.w0=[0.0, -7.292115e-05, 0.0]")
@@ -66,12 +69,55 @@ def _rel(p: Path, base: Path) -> str:
     return str(p.relative_to(base))
 
 
+def _clock(s: float) -> str:
+    s = max(0, int(round(s)))
+    return f"{s // 60}:{s % 60:02d}" if s < 3600 else f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
+class Progress:
+    """One readable line per run with the simulated time done and an ETA (make results).
+    The ETA scales the wall time so far by the simulated steps still to run (the plan)."""
+
+    def __init__(self, total_steps: int, quiet: bool):
+        self.total, self.done, self.quiet, self.t0, self.n = max(total_steps, 1), 0, quiet, time.monotonic(), 0
+
+    def start(self, what: str, steps: int) -> None:
+        self.n += 1
+        if not self.quiet:
+            el = time.monotonic() - self.t0
+            eta = "estimating" if self.done == 0 else _clock(el / self.done * (self.total - self.done))
+            print(f"results: run {self.n}: {what} ({steps} steps); {100 * self.done / self.total:.0f} % of the "
+                  f"simulation done, {_clock(el)} elapsed, ETA {eta}", file=sys.stderr, flush=True)
+        self.done += steps
+
+
+def _steps(sc, duration=None) -> int:
+    return int(round((duration or sc.duration_s) / sc.dt))
+
+
+def plan_steps(quick: bool) -> int:
+    """Simulated steps of every run build() makes, for the ETA (the same scenarios and durations)."""
+    lim_dur = 500.0 if quick else LIMIT_DURATION_S
+    n = 0
+    for sid in ("irassi_small", "irassi_large", *RTC, *LANDSAT_Q, "geo_hinf", "gao_mrp"):
+        sc = load(sid)
+        n += len(C.variants(sc, "all")) * _steps(sc)
+    n += len(C.variants(load("geo_hinf"), "all")) * _steps(load("geo_hinf"))      # zero initial errors
+    n += len(LIMITS) * len(C.variants(load("irassi_large"), "all")) * _steps(load("irassi_large"), lim_dur)
+    n += sum(2 * _steps(load(sid)) for sid in LANDSAT_DIST)
+    g = load("geo_hinf")
+    n += sum(_steps(g, S.sweep_duration(g, S.slowest_pole(g), w)) for w in S.FREQUENCIES)
+    return n
+
+
 class Results:
-    def __init__(self, out: Path, runs: Path, quiet: bool):
+    def __init__(self, out: Path, runs: Path, quiet: bool, progress: Progress | None = None, reuse=False):
+        self.reuse = reuse
         self.docs = out
         self.fig = out / "results"
         self.runs = runs
         self.quiet = quiet
+        self.progress = progress or Progress(1, True)
         self.md: list[str] = []
         self.failed = 0
         self.fig.mkdir(parents=True, exist_ok=True)
@@ -79,16 +125,25 @@ class Results:
     def rows(self, scenario, rows=None, *, limit=None, duration=None, sets=(), prefix=True, tag="ref"):
         sc = load(scenario)
         rows = rows if rows is not None else C.variants(sc, "all")
+        steps = _steps(sc, duration)
         res = C.run_rows(scenario, rows, self.runs / f"{scenario}-{tag}", limit=limit, duration=duration,
-                         sets=sets, quiet=self.quiet, tag=f", {tag}")
+                         sets=sets, quiet=True, tag=f", {tag}", reuse=self.reuse,
+                         progress=lambda name: self.progress.start(
+                             f"{sc.id} {name}" + (f", limit {limit:g} per axis" if limit is not None
+                                                  else "" if tag == "ref" else f", {tag}"), steps))
         for r in res:
             if prefix:
                 r.name = f"{sc.id} {r.name}"
             self.failed += bool(r.error)
         return sc, res
 
-    def table(self, rows, kind):
-        head, body = C.table_rows(rows, kind)
+    def table(self, rows, kind, sc=None):
+        """sc: the scenario whose requirement and goal columns (IRASSI) the table shows; no host timing
+        columns (they change at every run, so regenerating the page would churn)."""
+        if sc is not None:
+            head, body = C.table_rows_for(sc, rows, timing=False)
+        else:
+            head, body = C.table_rows(rows, kind, timing=False)
         self.md += [C.md_table(head, body), ""]
 
     def plots(self, rows, kind, title, prefix, *, torque=True, requirement=None, goal=None, limit=None, sc=None):
@@ -104,9 +159,8 @@ class Results:
         return files
 
 
-def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
-    R = Results(out, runs, quiet)
-    t0 = time.monotonic()
+def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) -> tuple[str, int]:
+    R = Results(out, runs, quiet, Progress(plan_steps(quick), quiet), reuse=reuse)
     md = R.md
     lim_dur = 500.0 if quick else LIMIT_DURATION_S
     md += ["# Results: every reference scenario, every law, the same plant", "",
@@ -119,10 +173,10 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
            "Columns: final max = max true pointing angle 2 asin|qe_vec| over the scenario's metric window "
            "(IRASSI: last 100 s); per axis = max |2 qe_i|; qe_arcsec = max |qe_i| (the IRASSI report's figure, "
            "half the per-axis angle; never mixed up with the true angle); 0.3 as / 0.05 as = requirement / goal "
-           "met by the true angle; settle s = SPEC 4 criterion entered for good; max abs u_i / max norm u = "
-           "saturated command; effort = integral of |u|_1; sat s = time saturated; step time of the executive "
-           "(ns, host, noisy shared machine) against the law's declared budget; overruns = steps flagged over "
-           "budget (host timing noise, not a control result).", ""]
+           "met by the true angle (IRASSI tables only); settle s = SPEC 4 criterion entered for good; max abs u_i / "
+           "max norm u = saturated command; effort = integral of |u|_1; sat s = time saturated. Host step times "
+           "are not in this page (they change from run to run on a shared machine): docs/benchmarks.md has "
+           "the law timings, docs/pil.md the instruction counts on the targets.", ""]
 
     # ---- IRASSI reference
     irassi = {}
@@ -130,7 +184,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
         sc, rows = R.rows(sid, prefix=False)
         irassi[sid] = (sc, rows)
         md += [f"## {sid}: reference gains, reference actuator (no limit)", "", sc.description, ""]
-        R.table(rows, "attitude")
+        R.table(rows, "attitude", sc)
         R.plots(rows, "attitude", f"{sid}, no limit", f"{sid}_", requirement=0.3, goal=0.05, sc=sc)
 
     # ---- IRASSI realistic limits
@@ -142,7 +196,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
                f"Same gains, actuator and flight-software saturation at {lim:g} N m per axis; the run is "
                f"extended from 500 s to {lim_dur:g} s to show how long each law needs. Final max is over the "
                "last 100 s.", ""]
-        R.table(rows, "attitude")
+        R.table(rows, "attitude", sc)
         extra = ["| law | time to stay within 0.3 as (s) | time to stay within 0.05 as (s) | "
                  "max error after first entering 10 as (as) | rebound factor max err(t) / min err(s<=t) |",
                  "|---|---|---|---|---|"]
@@ -186,7 +240,7 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
     # ---- geo_hinf
     sc_g, g_rows = R.rows("geo_hinf", prefix=False)
     md += ["## geo_hinf: H-infinity state feedback (Duan and Yu)", "", sc_g.description, ""]
-    R.table(g_rows, "attitude")
+    R.table(g_rows, "attitude", sc_g)
     R.plots(g_rows, "attitude", "geo_hinf", "geo_hinf_", torque=False)
     _, g0_rows = R.rows("geo_hinf", sets=HINF_ZERO_IC, prefix=False, tag="zero_ic")
     md += ["Measured disturbance-to-output gain: the same scenario started exactly on the LVLH frame "
@@ -208,19 +262,70 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool) -> tuple[str, int]:
         md.append(f"| {r.table} | {g:.6g} | {mg['gain']:.4g} | {mg['z_l2']:.4g} | {mg['d_l2']:.4g} | "
                   f"{mg['z_peak']:.3g} | {'yes' if mg['gain'] < g else 'NO'} |")
     md += [""]
+    sweep_pts, sweep_sum = S.sweep(runs / "geo_hinf-sweep", progress=R.progress.start, quiet=quiet)
+    R.failed += sweep_sum["failed"]
+    md += sweep_section(sweep_pts, sweep_sum, R)
 
     # ---- gao_mrp
     sc_m, m_rows = R.rows("gao_mrp", prefix=False)
     md += ["## gao_mrp: saturated MRP regulator (Gao, Lu, Wang), uM = 0.05 N m", "", sc_m.description, ""]
-    R.table(m_rows, "attitude")
+    R.table(m_rows, "attitude", sc_m)
     R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_", sc=sc_m)
 
     # ---- discussion
     md += discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows)
-    md += [f"Generated in {time.monotonic() - t0:.0f} s wall time"
-           f"{' (--quick)' if quick else ''}; run logs in the `--runs` folder (default `out/results`, "
-           "not committed); regenerate with `make results`.", ""]
+    md += [f"Run logs in the `--runs` folder (default `out/results`, not committed){' (--quick)' if quick else ''}; "
+           "regenerate with `make results`.", ""]
     return "\n".join(md), R.failed
+
+
+def sweep_section(points, summary, R) -> list[str]:
+    """The geo_hinf frequency sweep (aocs_compare.sweep, `aocs compare geo_hinf --sweep`): table and plot."""
+    md = ["### Disturbance-to-output gain across frequency (the sweep)", "",
+          f"`aocs compare geo_hinf --sweep`: one SIL run per frequency, started on the LVLH target, with only a "
+          f"sinusoidal disturbance torque of {summary['amplitude_nm']:g} N m along e = "
+          f"[{' '.join(f'{x:.4g}' for x in summary['direction'])}] (the constant torque off, the gravity "
+          "gradient on); after 5 time constants of the slowest pole the steady amplitude of z = 1e-3 M q'' is "
+          "fitted over whole cycles. Measured |z| / |d| against the design's |Gzd(jw) e| and "
+          f"sigma_max(Gzd(jw)) for {summary['table']}, and gamma of K.", "",
+          "| w (rad/s) | measured | design abs(Gzd e) | sigma_max | measured / design |", "|---|---|---|---|---|"]
+    for p in points:
+        if p.measured is None:
+            md.append(f"| {p.w_rad_s:g} | FAILED: {p.error} | {p.design:.4g} | {p.sigma_max:.4g} | - |")
+        else:
+            md.append(f"| {p.w_rad_s:g} | {p.measured:.4g} | {p.design:.4g} | {p.sigma_max:.4g} | "
+                      f"{p.measured / p.design:.3f} |")
+    md += ["", f"Within a factor 2 of the design at every frequency: {'yes' if summary['within_factor_2'] else 'NO'}; "
+           f"never above gamma = {summary['gamma']:.6g}: {'yes' if summary['below_gamma'] else 'NO'}.", ""]
+    if any(p.measured is not None for p in points):
+        f = S.plot(points, summary, R.fig / "geo_hinf_sweep.png")
+        md += [f"![geo_hinf sweep]({_rel(f, R.docs)})", ""]
+    return md
+
+
+def half_newton_metre(rows, lim_dur) -> list[str]:
+    """The 0.5 N m case (the README's `aocs run irassi_large --law smc --limit 0.5`), from its runs."""
+    md = ["### irassi_large at 0.5 N m per axis", "",
+          "0.5 N m is the wheel limit of the README's example (`aocs run irassi_large --law smc --limit 0.5`) "
+          "and lies between the two other cases. The slew of irassi_large needs several hundred seconds at "
+          "that torque, so the reference run of 500 s is too short. Over "
+          f"{lim_dur:g} s:", ""]
+    for r in rows:
+        if not r.curves:
+            md.append(f"- {r.name}: FAILED ({r.error})")
+            continue
+        t, e = r.curves["t"], r.curves["err"]
+        t03 = first_time_below_for_good(t, e, 0.3)
+        settle = r.metrics["settle_time_s"]
+        fin = r.metrics["pointing_error_arcsec"]["final_max"]
+        md.append(f"- {r.name}: " + ("never settles (10 arcsec)" if settle is None else f"settles at {settle:.0f} s")
+                  + f", final max {fin:.4g} arcsec, "
+                  + ("never within 0.3 arcsec" if t03 is None else f"within 0.3 arcsec from {t03:.0f} s")
+                  + f", saturated {r.metrics['counters']['time_in_saturation_s']:g} s, rebound factor "
+                  f"{rebound_factor(e):.3g}.")
+    md += ["", "Once a law has settled, its final error is the unlimited case's (d / kp, see above). The limit "
+           "changes how long the slew takes and whether the law overshoots, not where it comes to rest.", ""]
+    return md
 
 
 def _final(rows, name):
@@ -287,11 +392,14 @@ def discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows) -> list[str]:
            "target exceeds the wheel torque and the attitude runs through the target. The steady-state "
            "error after settling is unchanged (it only depends on kp and d, see above), but the time to "
            "reach it grows with the limit: the table above gives, per law, when it enters 0.3 and 0.05 arcsec for good (never = not within the run).", ""]
+    if 0.5 in limited:
+        md += half_newton_metre(limited[0.5][1], lim_dur)
     if hinf:
         md += ["### H-infinity (geo_hinf)", "",
-               "Both tables reach the design's gamma* ~ 1.0e-3 = |D2| (with D2 != 0 no K does better), so the "
-               "figure the reference minimises is the same for both; they differ in the poles (hinf_min: "
-               "slowest pole -0.01 1/s, hinf_regional: -0.05 1/s) and therefore in settle time. The measured "
+               "The three tables (docs/gains/report.md) reach the design's gamma* ~ 1.0e-3 = |D2| (with D2 != 0 "
+               "no K does better), so the figure the reference minimises is the same for all; they differ in "
+               "the poles (hinf_min and hinf_bounded: slowest pole -0.01 1/s, hinf_regional: -0.05 1/s) and "
+               "therefore in settle time, and hinf_bounded (the LMI bounded below by -I) in the size of K. The measured "
                "gain for a constant disturbance is far below gamma because a constant d is rejected at steady "
                "state (z -> 0); gamma bounds the worst-case input, which is at the frequency where the "
                "feedthrough D2 dominates.", ""]

@@ -83,20 +83,33 @@ def measured_gain(log, sc, w: float, amplitude: float, t_from: float) -> float:
     return float(math.sqrt(np.sum(coef[0] ** 2 + coef[1] ** 2))) / amplitude
 
 
+def slowest_pole(sc, table: str | None = None) -> float:
+    """|Re| of the slowest closed-loop pole of the design model with the table's K, 1/s."""
+    resp = design_response(sc, table or sc.control.laws["hinf"].table)
+    return float(-max(np.linalg.eigvals(resp[0]).real))
+
+
+def sweep_duration(sc, slowest: float, w: float) -> float:
+    """Simulated time of the run at w: 5 time constants of the slowest pole, then the measured cycles."""
+    period = 2.0 * math.pi / w
+    return sc.dt * math.ceil((5.0 / slowest + (CYCLES_MEASURED + 0.5) * period) / sc.dt)
+
+
 def sweep(out: Path, *, scenario: str = "geo_hinf", table: str | None = None, freqs=FREQUENCIES,
-          amplitude: float = AMPLITUDE_NM, direction=DIRECTION, quiet: bool = False) -> tuple[list[SweepPoint], dict]:
-    """One SIL run per frequency (inside the private network namespace); returns the points and a summary."""
+          amplitude: float = AMPLITUDE_NM, direction=DIRECTION, quiet: bool = False,
+          progress=None) -> tuple[list[SweepPoint], dict]:
+    """One SIL run per frequency (inside the private network namespace); returns the points and a summary.
+    progress: called with (label, steps) before each run instead of the 'sweep:' line."""
     sc = load(scenario)
     table = table or sc.control.laws["hinf"].table
     resp = design_response(sc, table)
-    slowest = -max(np.linalg.eigvals(resp[0]).real)
+    slowest = slowest_pole(sc, table)
     settle = 5.0 / slowest
     e = np.asarray(direction, float)
     e = e / np.linalg.norm(e)
     points = []
     for k, w in enumerate(freqs):
-        period = 2.0 * math.pi / w
-        duration = sc.dt * math.ceil((settle + (CYCLES_MEASURED + 0.5) * period) / sc.dt)
+        duration = sweep_duration(sc, slowest, w)
         amp = [float(amplitude * abs(x)) for x in e]
         phase = [0.0 if x >= 0 else math.pi for x in e]
         sets = [*ZERO_IC, "disturbances.constant_torque.enabled=false",
@@ -105,7 +118,9 @@ def sweep(out: Path, *, scenario: str = "geo_hinf", table: str | None = None, fr
                 f"disturbances.sinusoidal_torque.phase_rad={phase}", f'laws.hinf.table="{table}"']
         g = gzd(resp, w)
         pt = SweepPoint(w, None, float(np.linalg.norm(g @ e)), float(np.linalg.svd(g, compute_uv=False)[0]), duration)
-        if not quiet:
+        if progress is not None:
+            progress(f"{scenario} sweep {k + 1}/{len(freqs)}, w = {w:g} rad/s", int(round(duration / sc.dt)))
+        elif not quiet:
             print(f"sweep: {k + 1}/{len(freqs)} w = {w:g} rad/s, {duration:g} s of simulation", flush=True)
         run_dir = out / f"w{w:g}"
         try:

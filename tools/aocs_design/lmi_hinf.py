@@ -10,6 +10,10 @@ Selection rule (the minimum gamma is reached by many K, SPEC 2.6):
    trace(K X K^T) = min trace(Z) with [[Z, W], [W^T, X]] >= 0.
    Without a decay floor that minimum is not attained (the effort goes to zero
    as poles approach the imaginary axis), so every design states alpha_sel.
+   The bounded form (Duan and Yu's second form, -I < [...] < 0) adds, in
+   steps 1 and 2, the lower bound: the bounded-real LMI matrix in SI units
+   must exceed -I. That bounds X and A X + B1 W, hence the gain: the plain
+   minimum-effort solution has LMI eigenvalues near -9 and is excluded.
 3. K = W X^-1; entries below K_ZERO_RTOL * max|K| are set to 0 (solver noise
    in structurally zero couplings) and K is rounded to K_SIG_DIGITS
    significant digits, so solver noise below that cannot change the table.
@@ -66,6 +70,9 @@ class HinfResult:
     decay_max_eig: float
     poles: np.ndarray
     alpha: float | None           # pole-region decay rate used in step 1 (None: plain SPEC LMI)
+    bounded: bool                 # the LMI is also bounded below by -I (SI units), steps 1 and 2
+    gamma_min: float              # minimum gamma of the plain SPEC LMI (no region, no bound), Clarabel
+    lmi_min_eig: float            # min eigenvalue of the assembled LMI at the emitted K (bounded: > -1)
     alpha_sel: float
     delta: float
     k_rel_diff: float             # ||K_clarabel - K_scs||_F / ||K_clarabel||_F
@@ -77,6 +84,13 @@ class HinfResult:
     @property
     def slowest_pole_re(self) -> float:
         return float(np.max(self.poles.real))
+
+    @property
+    def form(self) -> str:
+        """Which LMI step 1 minimised: "plain" (SPEC 2.6), "decay_rate" (+ pole region), "bounded" (-I < . < 0)."""
+        if self.bounded:
+            return "bounded"
+        return "plain" if self.alpha is None else "decay_rate"
 
 
 def closed_loop(plant: HinfPlant, k: np.ndarray):
@@ -110,7 +124,7 @@ def _scaled(plant: HinfPlant, angle_scale: float):
             "c1": plant.c1 @ t, "d1": plant.d1 * SIGMA, "d2": plant.d2 * SIGMA, "t": t}
 
 
-def _problem(s, gamma, alpha, min_effort: bool):
+def _problem(s, gamma, alpha, min_effort: bool, bounded: bool = False):
     import cvxpy as cp  # deferred: ~1 s to import, only the H-infinity designs need it
 
     n, m = s["b1"].shape
@@ -125,6 +139,11 @@ def _problem(s, gamma, alpha, min_effort: bool):
                    [cxdw, s["d2"], -g * np.eye(nz)]])
     size = n + nd + nz
     cons = [0.5 * (lmi + lmi.T) << -LMI_MARGIN * np.eye(size), x >> LMI_MARGIN * np.eye(n)]
+    if bounded:
+        # M_s = SIGMA P M_si P^T with P = diag(T^-1, I, I) (the scaling of _scaled), so
+        # M_si > -I  <=>  M_s + SIGMA P P^T > 0
+        pdiag = np.concatenate([np.diag(np.linalg.inv(s["t"])) ** 2, np.ones(nd + nz)])
+        cons.append(0.5 * (lmi + lmi.T) + SIGMA * np.diag(pdiag) >> LMI_MARGIN * np.eye(size))
     if alpha is not None:
         dec = axbw + axbw.T + 2.0 * alpha * x
         cons.append(0.5 * (dec + dec.T) << -LMI_MARGIN * np.eye(n))
@@ -159,19 +178,19 @@ def _solve(name, prob, solver):
 
 
 def min_gamma(name: str, plant: HinfPlant, alpha: float | None, angle_scale: float,
-              solver: str = "CLARABEL") -> float:
-    """Step 1: minimum gamma (SI units) of the bounded-real LMI (+ decay rate)."""
+              solver: str = "CLARABEL", bounded: bool = False) -> float:
+    """Step 1: minimum gamma (SI units) of the bounded-real LMI (+ decay rate, + lower bound -I)."""
     s = _scaled(plant, angle_scale)
-    prob, _, _, g = _problem(s, None, None if alpha is None else alpha, False)
+    prob, _, _, g = _problem(s, None, None if alpha is None else alpha, False, bounded)
     _solve(name, prob, solver)
     return float(g.value) / SIGMA
 
 
 def min_effort_gain(name: str, plant: HinfPlant, gamma: float, alpha_sel: float,
-                    solver: str = "CLARABEL"):
+                    solver: str = "CLARABEL", bounded: bool = False):
     """Step 2 at a fixed gamma (SI units): returns K (+K x), X, W in SI units and the status."""
     s = _scaled(plant, alpha_sel)
-    prob, x, w, _ = _problem(s, gamma * SIGMA, alpha_sel, True)
+    prob, x, w, _ = _problem(s, gamma * SIGMA, alpha_sel, True, bounded)
     status = _solve(name, prob, solver)
     xs, ws, t = np.asarray(x.value), np.asarray(w.value), s["t"]
     k = SIGMA * ws @ np.linalg.inv(xs) @ np.linalg.inv(t)
@@ -190,7 +209,7 @@ def round_sig(k: np.ndarray, digits: int = K_SIG_DIGITS, zero_rtol: float = K_ZE
 
 
 def design(name: str, plant: HinfPlant, *, alpha: float | None, alpha_sel: float, delta: float,
-           k_rtol: float, inputs: dict | None = None) -> HinfResult:
+           k_rtol: float, inputs: dict | None = None, bounded: bool = False) -> HinfResult:
     import clarabel  # deferred: solver versions for the provenance, with cvxpy
     import cvxpy as cp  # deferred: ~1 s to import, only the H-infinity designs need it
     import scs  # deferred: as clarabel
@@ -200,13 +219,15 @@ def design(name: str, plant: HinfPlant, *, alpha: float | None, alpha_sel: float
         raise DesignError(f"{name}: pole-region alpha {alpha} must equal the selection alpha_sel {alpha_sel}")
     # step 1 without a pole region is the plain SPEC LMI: left unscaled in the angles
     scale1 = alpha_sel if alpha is not None else 1.0
-    gstar = min_gamma(name, plant, alpha, scale1, "CLARABEL")
-    gstar_scs = min_gamma(name, plant, alpha, scale1, "SCS")
+    gstar = min_gamma(name, plant, alpha, scale1, "CLARABEL", bounded)
+    gstar_scs = min_gamma(name, plant, alpha, scale1, "SCS", bounded)
     if abs(gstar_scs - gstar) > 1e-4 * gstar:
         raise SolverDisagreementError(f"{name}: minimum gamma differs: Clarabel {gstar:.9g}, SCS {gstar_scs:.9g}")
+    plain = alpha is None and not bounded
+    gmin = gstar if plain else min_gamma(name, plant, None, 1.0, "CLARABEL")
     gfix = (1.0 + delta) * gstar
-    k_raw, x, w, status = min_effort_gain(name, plant, gfix, alpha_sel, "CLARABEL")
-    k_scs, _, _, _ = min_effort_gain(name, plant, gfix, alpha_sel, "SCS")
+    k_raw, x, w, status = min_effort_gain(name, plant, gfix, alpha_sel, "CLARABEL", bounded)
+    k_scs, _, _, _ = min_effort_gain(name, plant, gfix, alpha_sel, "SCS", bounded)
     rel = float(np.linalg.norm(k_raw - k_scs) / np.linalg.norm(k_raw))
     if not rel <= k_rtol:
         raise SolverDisagreementError(
@@ -215,11 +236,15 @@ def design(name: str, plant: HinfPlant, *, alpha: float | None, alpha_sel: float
     k = round_sig(k_raw)
     # every check on the emitted (rounded) K, with X from the solver and W = K X
     w_emit = k @ x
-    lmi_eig = float(np.max(np.linalg.eigvalsh(assemble_lmi(plant, x, w_emit, gfix))))
+    lmi_eigs = np.linalg.eigvalsh(assemble_lmi(plant, x, w_emit, gfix))
+    lmi_eig, lmi_min = float(np.max(lmi_eigs)), float(np.min(lmi_eigs))
     dec_eig = float(np.max(np.linalg.eigvalsh(assemble_decay(plant, x, w_emit, alpha_sel))))
     if not (lmi_eig < 0.0 and dec_eig < 0.0 and np.min(np.linalg.eigvalsh(x)) > 0.0):
         raise DesignError(f"{name}: LMI not satisfied at the emitted K (max eig {lmi_eig:.3e}, "
                           f"decay {dec_eig:.3e}); no table written")
+    if bounded and not lmi_min > -1.0:
+        raise DesignError(f"{name}: LMI not bounded below by -I at the emitted K (min eig {lmi_min:.6g}); "
+                          "no table written")
     a_cl, b_cl, c_cl, d_cl = closed_loop(plant, k)
     poles = np.linalg.eigvals(a_cl)
     require_stable(name, poles)
@@ -234,7 +259,8 @@ def design(name: str, plant: HinfPlant, *, alpha: float | None, alpha_sel: float
         name=name, plant=plant, k=k, k_raw=k_raw, k_scs=k_scs, x=x, w=w_emit, gamma_star=gstar,
         gamma_star_scs=gstar_scs, gamma=gfix, hinf_norm=norm, hinf_sweep=hn["sweep"] / SIGMA,
         hinf_peak_rad_s=hn["peak_rad_s"], lmi_max_eig=lmi_eig, decay_max_eig=dec_eig, poles=poles,
-        alpha=alpha, alpha_sel=alpha_sel, delta=delta, k_rel_diff=rel, k_rtol=k_rtol,
+        alpha=alpha, bounded=bounded, gamma_min=gmin, lmi_min_eig=lmi_min, alpha_sel=alpha_sel,
+        delta=delta, k_rel_diff=rel, k_rtol=k_rtol,
         solver=(f"cvxpy {cp.__version__} + Clarabel {clarabel.__version__} "
                 f"(cross-check SCS {scs.__version__})"),
         status=status, inputs=dict(inputs or {}))

@@ -7,9 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 
 
-def lqr_quat_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
-    """SPEC 2.5: x = [qe_vec; we], A = [[0, 0.5 I], [0, 0]], B = [[0], [J^-1]]."""
-    j = np.diag(np.asarray(inertia_diag, dtype=float))
+def lqr_quat_model(inertia) -> tuple[np.ndarray, np.ndarray]:
+    """SPEC 2.5: x = [qe_vec; we], A = [[0, 0.5 I], [0, 0]], B = [[0], [J^-1]].
+    inertia: the diagonal (3 numbers) or the full 3x3 J, kg m^2."""
+    j = np.asarray(inertia, dtype=float)
+    j = np.diag(j) if j.ndim == 1 else j.reshape(3, 3)
     a = np.zeros((6, 6))
     a[0:3, 3:6] = 0.5 * np.eye(3)
     b = np.zeros((6, 3))
@@ -17,11 +19,11 @@ def lqr_quat_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
     return a, b
 
 
-def lqr_quat_i_model(inertia_diag) -> tuple[np.ndarray, np.ndarray]:
+def lqr_quat_i_model(inertia) -> tuple[np.ndarray, np.ndarray]:
     """SPEC 5.2: x = [z; qe_vec; we], z' = qe_vec, qe_vec' = 0.5 we, J we' = u:
     A = [[0, I, 0], [0, 0, 0.5 I], [0, 0, 0]], B = [[0], [0], [J^-1]] (the SPEC 2.5 model
-    with the integral of the attitude error in front)."""
-    a6, b6 = lqr_quat_model(inertia_diag)
+    with the integral of the attitude error in front). inertia: as lqr_quat_model."""
+    a6, b6 = lqr_quat_model(inertia)
     a = np.zeros((9, 9))
     a[0:3, 3:6] = np.eye(3)
     a[3:9, 3:9] = a6

@@ -24,7 +24,8 @@ def write_plots(designs, out: Path) -> list[str]:
     files = []
     families = [("lqr_quat", "lqr_quat (SPEC 2.5)"), ("orbit_lqr", "orbit_lqr (SPEC 2.8)"),
                 ("hinf", "hinf (SPEC 2.6)"), ("lqr_quat_i", "lqr_quat_i (SPEC 5.2)")]
-    fig, axes = plt.subplots(1, 4, figsize=(13, 3.2), dpi=80)
+    # house style (tools/aocs_analysis/plots.py): >= 150 dpi, >= 1200 px wide, legends >= 8 pt
+    fig, axes = plt.subplots(1, 4, figsize=(14, 4.0), dpi=150)
     for ax, (kind, title) in zip(axes, families):
         for d in designs:
             if d.inputs["kind"] == kind:
@@ -33,14 +34,14 @@ def write_plots(designs, out: Path) -> list[str]:
         ax.set_title(title)
         ax.set_xlabel("Re (1/s)")
         ax.set_ylabel("Im (rad/s)")
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=8)
         ax.grid(True, lw=0.3)
     fig.tight_layout()
     fig.savefig(out / "poles.png", metadata={"Software": None})
     plt.close(fig)
     files.append("poles.png")
 
-    fig, ax = plt.subplots(figsize=(6, 3.2), dpi=80)
+    fig, ax = plt.subplots(figsize=(9, 4.5), dpi=150)
     ws = np.logspace(-5, 2, 400)
     for d in designs:
         if d.inputs["kind"] != "hinf":
@@ -53,7 +54,7 @@ def write_plots(designs, out: Path) -> list[str]:
     ax.set_ylabel("singular value d -> z")
     ax.set_title("H-infinity closed loop d -> z (dotted: LMI gamma)")
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "hinf_sv.png", metadata={"Software": None})
     plt.close(fig)
@@ -74,10 +75,29 @@ def markdown(designs) -> str:
             chk = f"gamma {d.gamma:.6e}, H-inf norm {d.hinf_norm:.6e}"
         lines.append(f"| `{d.name}` | {d.inputs['law']} | {chk} | {d.slowest_pole_re:.4e} | "
                      f"{min(p['zeta'] for p in st):.3f} | {max(p['tau'] for p in st):.4g} |")
+    hinf = [d for d in designs if not hasattr(d, "residual_rel")]
+    lines += ["", "## H-infinity designs side by side", "",
+              "| | " + " | ".join(f"`{d.name}`" for d in hinf) + " |",
+              "|---|" + "---|" * len(hinf)]
+    rows = [("form", lambda d: d.form),
+            ("step-1 LMI", lambda d: ("SPEC 2.6 + Re < -%g 1/s" % d.alpha if d.form == "decay_rate"
+                                      else "-I < SPEC 2.6 < 0" if d.form == "bounded" else "SPEC 2.6")),
+            ("gamma_min (plain LMI)", lambda d: f"{d.gamma_min:.9e}"),
+            ("gamma* (own LMI)", lambda d: f"{d.gamma_star:.9e}"),
+            ("gamma (chosen K)", lambda d: f"{d.gamma:.9e}"),
+            ("closed-loop H-inf norm", lambda d: f"{d.hinf_norm:.9e}"),
+            ("alpha_sel (1/s)", lambda d: f"{d.alpha_sel:g}"),
+            ("slowest pole Re (1/s)", lambda d: f"{d.slowest_pole_re:.4e}"),
+            ("LMI eigenvalues at K", lambda d: f"[{d.lmi_min_eig:.3g}, {d.lmi_max_eig:.3g}]"),
+            ("max abs K (N m/rad, N m s/rad)", lambda d: f"{float(np.max(np.abs(d.k))):.4g}"),
+            ("Clarabel vs SCS dK", lambda d: f"{d.k_rel_diff:.1e}")]
+    for label, fn in rows:
+        lines.append(f"| {label} | " + " | ".join(fn(d) for d in hinf) + " |")
     lines += ["", "## H-infinity selection rule", "",
               "The minimum gamma of SPEC 2.6 is reached by many K. The tool picks one:",
               "(1) gamma* = min gamma of the bounded-real LMI (with the decay-rate LMI",
-              "`(AX + B1 W) + (..)^T + 2 alpha X < 0` for the regional design);",
+              "`(AX + B1 W) + (..)^T + 2 alpha X < 0` for the regional design, and with",
+              "the lower bound `-I < [...]` in SI units, steps 1 and 2, for the bounded one);",
               "(2) at gamma = (1 + delta) gamma*, with every pole left of -alpha_sel, the",
               "minimum-control-effort solution min trace(K X K^T); (3) K rounded to 9",
               "significant digits. Clarabel is the primary solver, SCS the cross-check.", ""]
@@ -88,7 +108,8 @@ def markdown(designs) -> str:
                   f"- gamma* = {d.gamma_star:.9e} (Clarabel), {d.gamma_star_scs:.9e} (SCS)",
                   f"- gamma (LMI, emitted K) = {d.gamma:.9e}; delta = {d.delta:g}; "
                   f"alpha_sel = {d.alpha_sel:g} 1/s; pole region: "
-                  + ("none (plain SPEC LMI)" if d.alpha is None else f"Re < -{d.alpha:g}"),
+                  + ("none (plain SPEC LMI)" if d.alpha is None else f"Re < -{d.alpha:g}")
+                  + ("; LMI bounded below by -I" if d.bounded else ""),
                   f"- independent closed-loop H-inf norm: {d.hinf_norm:.9e} (Hamiltonian bisection), "
                   f"sweep peak {d.hinf_sweep:.9e} at {d.hinf_peak_rad_s:.4g} rad/s",
                   f"- LMI max eigenvalue at the emitted K: {d.lmi_max_eig:.3e}",

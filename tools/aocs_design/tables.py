@@ -52,11 +52,14 @@ def provenance(d) -> list[str]:
         lines.append("K = R^-1 B^T S, full double precision")
     else:
         lines.append(f"solver status: {d.status}; rule: gamma_fix = (1 + {d.delta:g}) gamma*, "
-                     f"decay rate {d.alpha_sel:g} 1/s, min trace(K X K^T)")
+                     f"decay rate {d.alpha_sel:g} 1/s, min trace(K X K^T)"
+                     + (", -I < LMI" if d.bounded else ""))
         lines.append(f"gamma* = {d.gamma_star:.9e} (SCS {d.gamma_star_scs:.9e}), "
                      f"gamma = {d.gamma:.9e}")
         lines.append(f"independent closed-loop H-inf norm (Hamiltonian bisection) = {d.hinf_norm:.9e}")
         lines.append(f"LMI max eigenvalue at emitted K = {d.lmi_max_eig:.3e} (< 0)")
+        if d.bounded:
+            lines.append(f"LMI min eigenvalue at emitted K = {d.lmi_min_eig:.6e} (> -1)")
         lines.append(f"Clarabel vs SCS: ||dK||_F / ||K||_F = {d.k_rel_diff:.1e} (tol {d.k_rtol:.0e})")
         lines.append("K rounded to 9 significant digits (|K_ij| < 1e-10 max|K| set to 0)")
     lines += _pole_lines(d.poles)

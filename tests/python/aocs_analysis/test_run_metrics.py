@@ -54,3 +54,44 @@ def test_settle_mask_uses_every_criterion():
     inside, used = results.settle_mask(sc, s)
     assert used == {"rho_norm_max": 1e-3, "w_norm_max_rad_s": 1e-3}
     assert inside.tolist() == [False, False, False, True, True, True]
+
+
+def _summary_metrics(**kw):
+    lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_rate_limit": None,
+           "plant_lag_tau_s": None}
+    lim.update(kw.pop("limits", {}))
+    m = {"scenario": "x", "law": "quat_pd", "kind": "attitude", "run_mode": "lockstep", "target": "host",
+         "settle_time_s": None, "limits": lim,
+         "pointing_error_arcsec": {"initial": 100.0, "final_max": 50.0},
+         "timing": {}}
+    m.update(kw)
+    return m
+
+
+def test_limit_line_reads_as_english():
+    assert results.limit_text(_summary_metrics()) == "none: the reference actuator (no saturation)"
+    m = _summary_metrics(limits={"axis": 0.5, "unlimited": False, "commands_over_limit": 0})
+    assert results.limit_text(m) == "|u_i| <= 0.5 N m per axis; no command beyond it"
+    m = _summary_metrics(limits={"axis": 0.5, "norm": 0.6, "unlimited": False, "commands_over_limit": 2,
+                                 "plant_rate_limit": 0.1, "plant_lag_tau_s": 0.4})
+    assert results.limit_text(m) == ("|u_i| <= 0.5 N m per axis and |u| <= 0.6 N m; 2 commands beyond it; the "
+                                     "plant's actuator adds a rate limit 0.1 N m/s and a first-order lag 0.4 s")
+    m = _summary_metrics(kind="orbit", limits={"axis": 2.0, "unlimited": False, "commands_over_limit": 1})
+    assert results.limit_text(m) == "|u_i| <= 2 N per axis; 1 command beyond it"
+
+
+def test_a_diverging_run_is_named_diverging():
+    assert results.divergence(_summary_metrics()) is None                       # error fell: not diverging
+    grew = _summary_metrics(pointing_error_arcsec={"initial": 100.0, "final_max": 5000.0})
+    assert "diverges" in results.divergence(grew) and "100 arcsec" in results.divergence(grew)
+    assert results.divergence(dict(grew, settle_time_s=12.0)) is None          # settled: not diverging
+    orbit = _summary_metrics(kind="orbit", pointing_error_arcsec=None,
+                             position_error_m={"initial": 10.0, "final_max": 1e4})
+    assert "1e+04 m" in results.divergence(orbit)
+
+
+def test_pil_target_precision_in_the_run_line():
+    m = _summary_metrics(target="pil-m4f", timing={"precision": "float", "clock_hz": 168e6})
+    assert results._run_text(m) == ("lockstep on pil-m4f (float, image under QEMU, step time from instructions "
+                                    "at 168 MHz)")
+    assert results._run_text(_summary_metrics()) == "lockstep on host (double)"

@@ -132,7 +132,7 @@ def test_gao_and_geo_data():
     assert sc.settle.sigma_norm_max == 1e-3
     sc = load("geo_hinf")
     assert np.diag(sc.attitude.inertia).tolist() == [1030.17, 3015.65, 3030.43]
-    assert sc.law.name == "hinf" and set(sc.law.tables) == {"hinf_min", "hinf_regional"}
+    assert sc.law.name == "hinf" and set(sc.law.tables) == {"hinf_min", "hinf_regional", "hinf_bounded"}
     assert sc.disturbances.gravity_gradient_earth.orbit_rate_rad_s == 7.292115e-5
     assert sc.settle.angle_abs_max_rad == 1e-3 and sc.settle.rate_abs_max_rad_s == 1e-5
 

@@ -1,0 +1,52 @@
+"""`aocs compare` text: IRASSI columns only on IRASSI scenarios, no host timing in docs/results.md,
+the no-integral-action explanation only for a run that has settled (issue 10 item 7). The rows are
+built from metrics dicts with the keys a run writes; the numbers are chosen here."""
+from __future__ import annotations
+
+import numpy as np
+
+from aocs_compare import compare as C
+from aocs_plant.scenario import load
+
+
+def _metrics(final, settle, k=None):
+    m = {"limits": {"unlimited": True, "axis": None}, "settle_time_s": settle,
+         "timing": {"step_ns_median": 800.0, "step_ns_p99": 1500.0, "budget_ns": 2000.0, "overruns": 3},
+         "counters": {"time_in_saturation_s": 0.0}, "max_abs_torque_nm": [1.0, 1.0, 1.0],
+         "max_torque_norm_nm": 1.7, "effort": 10.0,
+         "pointing_error_arcsec": {"final_max": final, "per_axis_final_max": [final] * 3,
+                                   "qe_arcsec_final_max": [final / 2] * 3}}
+    if k is not None:
+        m["gain"] = {"K": k.tolist(), "source": "designed"}
+    return m
+
+
+def test_irassi_columns_only_on_irassi_scenarios():
+    rows = [C.Row("quat_pd", "quat_pd", None, metrics=_metrics(0.21, 20.0))]
+    head, body = C.table_rows_for(load("irassi_small"), rows)
+    assert {"qe_arcsec max", "0.3 as", "0.05 as", "step ns med/p99/budget"} <= set(head)
+    assert body[0][head.index("0.3 as")] == "yes" and body[0][head.index("0.05 as")] == "NO"
+    head, _ = C.table_rows_for(load("geo_hinf"), [C.Row("hinf-x", "hinf", "hinf_min", metrics=_metrics(4.0, 90.0))])
+    assert not {"qe_arcsec max", "0.3 as", "0.05 as"} & set(head)
+    head, body = C.table_rows_for(load("irassi_small"), rows, timing=False)
+    assert "step ns med/p99/budget" not in head and "overruns" not in head and len(body[0]) == len(head)
+
+
+def test_no_integral_action_explained_only_for_a_settled_run():
+    sc = load("irassi_small")
+    k_ref = np.zeros((3, 6))
+    np.fill_diagonal(k_ref[:, :3], 447.2135954999579)
+    # settled and at d / kp: the explanation holds
+    settled = C.Row("lqr_quat-lqr_quat_ref", "lqr_quat", "lqr_quat_ref", metrics=_metrics(1.885, 38.8))
+    text = "\n".join(C.steady_state_section(sc, [settled]))
+    assert "misses 0.3 arcsec because it has no integral action" in text
+    # the same law still slewing (never settled): no steady state, no such explanation
+    slewing = C.Row("lqr_quat-lqr_quat_ref", "lqr_quat", "lqr_quat_ref", metrics=_metrics(900.0, None))
+    text = "\n".join(C.steady_state_section(sc, [slewing]))
+    assert "no integral action and its proportional gain" not in text
+    assert "not settled: the slew has not finished" in text
+    # a K designed for the scenario: its own kp (1414 = sqrt(2000 / 0.001)), not the table's
+    k = np.zeros((3, 6))
+    np.fill_diagonal(k[:, :3], 1414.2135623730951)
+    designed = C.Row("lqr_quat", "lqr_quat", None, metrics=_metrics(0.596, 22.8, k))
+    assert C.proportional_gain(sc, designed).tolist() == [1414.2135623730951] * 3
