@@ -34,7 +34,7 @@ from aocs_core import registry
 REPO = Path(__file__).resolve().parents[3]
 BUILD_HINT = "build it first: make build-host (cmake --preset host && cmake --build --preset host)"
 LAWS = ["crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf",
-        "mrp_sat", "mrp_sat_tanh", "orbit_lqr"]
+        "mrp_sat", "mrp_sat_tanh", "orbit_lqr", "quat_pid", "lqr_quat_i"]
 RING = 512
 #: tools/bench/bench_laws.py's EXEC_CLOCK_SLACK_INSTR, read from the driver (one source)
 EXEC_SLACK = int(re.search(r"^EXEC_CLOCK_SLACK_INSTR = (\d+)$", (REPO / "tools/bench/bench_laws.py").read_text(),
