@@ -11,7 +11,7 @@ by aocs_analysis.run_metrics.compute and writes:
 - orbit: position_error.png, velocity_error.png (with the settle
   thresholds), force.png, step_time.png;
 - with a reaction wheel array: wheel_speeds.png (with the speed limits) and
-  momentum.png (aocs_analysis.wheels).
+  momentum.png (wheel_plots; the figures in aocs_analysis.wheels).
 
 Every figure: FIG_WIDTH_IN x DPI = 1280 px wide, legends of LEGEND_PT, units
 on every axis, and where a log scale clips small values the clip is stated.
@@ -22,8 +22,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-
-from . import wheels
 
 AXES = ("x", "y", "z")
 COLORS = ("tab:blue", "tab:orange", "tab:green")
@@ -175,5 +173,28 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, se
         files.append(_command_plot(series, out / "force.png", f"{title}: commanded force (after saturation)",
                                    "force (N)", "F"))
     files.append(_step_time(series, out / "step_time.png", title))
-    files += wheels.plots(series.get("wheels") or {}, out, title)
+    files += wheel_plots(series.get("wheels") or {}, out, title)
+    return files
+
+
+def wheel_plots(series: dict, out_dir, title: str) -> list:
+    """wheel_speeds.png (per wheel, with the speed limits) and momentum.png (|H| and the wheels' share)."""
+    if not series:
+        return []
+    files = []
+    fig, ax = new_axes(f"{title}: wheel speeds (relative to the body)", "Omega (rad/s)")
+    colors = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:olive")
+    for i in range(series["n"]):
+        lab = f"wheel {i}" + (" (failed)" if i in series["failed"] else "")
+        ax.plot(series["t"], series["speed"][:, i], lw=1.0, color=colors[i], label=lab)
+    lim = max(series["speed_limit"])
+    ax.axhline(lim, color="red", ls="--", lw=1.0, label=f"speed limit +-{lim:g} rad/s")
+    ax.axhline(-lim, color="red", ls="--", lw=1.0)
+    legend(ax, ncol=2)
+    files.append(save(fig, Path(out_dir) / "wheel_speeds.png"))
+    fig, ax = new_axes(f"{title}: angular momentum", "momentum (N m s)")
+    ax.plot(series["t"], series["H_norm"], lw=1.0, color="tab:blue", label="|H| total, J w + sum Js g Omega")
+    ax.plot(series["t"], series["h_wheels_norm"], lw=1.0, color="tab:orange", label="|sum Js g Omega| (wheels)")
+    legend(ax)
+    files.append(save(fig, Path(out_dir) / "momentum.png"))
     return files

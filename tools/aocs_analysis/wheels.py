@@ -17,7 +17,6 @@ software's aocs_wheels_alpha_max computed independently with numpy), 2 sqrt(thet
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -116,27 +115,3 @@ def table_rows(m: dict) -> list[tuple[str, str]]:
                      f"{env['theta_f_deg']:.4g} deg eigenaxis: bang-bang bound {env['eigenaxis_bound_s']:.4g} s"))
     return rows
 
-
-def plots(series: dict, out_dir, title: str) -> list:
-    """wheel_speeds.png (per wheel, with the speed limits) and momentum.png (|H| and the wheels' share)."""
-    from . import plots as P  # deferred: matplotlib only when plots are drawn
-
-    if not series:
-        return []
-    files = []
-    fig, ax = P.new_axes(f"{title}: wheel speeds (relative to the body)", "Omega (rad/s)")
-    colors = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:olive")
-    for i in range(series["n"]):
-        lab = f"wheel {i}" + (" (failed)" if i in series["failed"] else "")
-        ax.plot(series["t"], series["speed"][:, i], lw=1.0, color=colors[i], label=lab)
-    lim = max(series["speed_limit"])
-    ax.axhline(lim, color="red", ls="--", lw=1.0, label=f"speed limit +-{lim:g} rad/s")
-    ax.axhline(-lim, color="red", ls="--", lw=1.0)
-    P.legend(ax, ncol=2)
-    files.append(P.save(fig, Path(out_dir) / "wheel_speeds.png"))
-    fig, ax = P.new_axes(f"{title}: angular momentum", "momentum (N m s)")
-    ax.plot(series["t"], series["H_norm"], lw=1.0, color="tab:blue", label="|H| total, J w + sum Js g Omega")
-    ax.plot(series["t"], series["h_wheels_norm"], lw=1.0, color="tab:orange", label="|sum Js g Omega| (wheels)")
-    P.legend(ax)
-    files.append(P.save(fig, Path(out_dir) / "momentum.png"))
-    return files
