@@ -2,10 +2,12 @@
 
     python -m aocs_runner.demo [--scenario irassi_large] [--out out/sil] [--no-realistic] [--no-plots]
 
-Each law runs twice through real processes (plant_node, fsw_node, the
+Each law runs three times through real processes (plant_node, fsw_node, the
 recorder) in lockstep: with the reference actuator (no limit, as the IRASSI
-report's runs) and with the scenario's realistic reaction-wheel limit
-(actuator.realistic_axis_limit, 0.5 N m per axis; SPEC 4). lqr_quat runs with
+report's runs), with the scenario's realistic reaction-wheel limit
+(actuator.realistic_axis_limit, 0.5 N m per axis; SPEC 4) commanded as a
+step, and with that limit flying the on-board slew guidance (SPEC 5.1,
+`--guidance slew`; the table adds the eigenaxis bound and settle / bound). lqr_quat runs with
 both compiled gain tables (lqr_quat_ref, lqr_quat_strong). Plots, logs and
 metrics.json of every run go to OUT/<law>[-<table>]-<ref|limit>/, the table
 to OUT/comparison.txt and stdout.
@@ -51,22 +53,23 @@ def main(argv=None) -> int:
     sc = load(args.scenario)
     root = Path(args.out)
     root.mkdir(parents=True, exist_ok=True)
-    variants = [("ref", None)]
+    variants = [("ref", None, None)]
     if not args.no_realistic and sc.actuator.realistic_axis_limit is not None:
-        variants.append((f"limit{sc.actuator.realistic_axis_limit:g}", sc.actuator.realistic_axis_limit))
+        lim = sc.actuator.realistic_axis_limit
+        variants += [(f"limit{lim:g}", lim, None), (f"limit{lim:g}-slew", lim, "slew")]
     tables = []
     failed = 0
-    for vname, limit in variants:
+    for vname, limit, guidance in variants:
         ms = []
         for law, table in runs_for(sc):
             name = f"{law}-{table}" if table else law
             sets = [f'laws.{law}.table="{table}"'] if table else []
             label = table
-            print(f"sil: {sc.id} {name} ({'no limit' if limit is None else f'{limit:g} N m per axis'})",
-                  file=sys.stderr, flush=True)
+            print(f"sil: {sc.id} {name} ({'no limit' if limit is None else f'{limit:g} N m per axis'}"
+                  f"{'' if guidance is None else ', slew guidance'})", file=sys.stderr, flush=True)
             try:
                 res = execute(RunOptions(scenario=args.scenario, law=law, limit=limit, sets=sets,
-                                         out=str(root / f"{name}-{vname}"), label=label,
+                                         guidance=guidance, out=str(root / f"{name}-{vname}"), label=label,
                                          plots=not args.no_plots, quiet=True))
             except RunFailed as exc:
                 print(f"sil: {name}: FAILED: {exc}", file=sys.stderr)
@@ -74,8 +77,10 @@ def main(argv=None) -> int:
                 continue
             ms.append(res.metrics)
         title = (f"{sc.id}: reference actuator (no limit)" if limit is None
-                 else f"{sc.id}: realistic reaction wheels, {limit:g} N m per axis")
-        tables.append(f"{title}\n{results.comparison_table(ms)}" if ms else f"{title}\n(no run completed)")
+                 else f"{sc.id}: realistic reaction wheels, {limit:g} N m per axis"
+                 + (", step command" if guidance is None else ", slew guidance (SPEC 5.1)"))
+        tables.append(f"{title}\n{results.comparison_table(ms, bound=guidance == 'slew')}" if ms
+                      else f"{title}\n(no run completed)")
         (root / f"metrics-{vname}.json").write_text(json.dumps(ms, indent=1) + "\n")
     req, goal = sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec
     note = (f"final max = max true pointing angle 2 asin|qe_vec| over the last {sc.metrics.window_s:g} s "

@@ -631,18 +631,22 @@ def table(m: dict) -> str:
     return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
 
 
-def comparison_table(ms: list[dict]) -> str:
-    """One line per run (for `make sil`)."""
-    head = ("law", "limit", "settle s", "final max as", "|qe_i| max as", "max |u| N m", "effort", "step ns p99",
-            "safe s")
+def comparison_table(ms: list[dict], bound: bool = False) -> str:
+    """One line per run (for `make sil`); bound: the slew bound (slew_bound_s, SPEC 5.1) and
+    settle / bound columns (guided runs)."""
+    head = ("law", "limit", "settle s") + (("bound s", "settle/bound") if bound else ()) + (
+            "final max as", "|qe_i| max as", "max |u| N m", "effort", "step ns p99", "safe s")
     lines = []
     for m in ms:
         pe = m.get("pointing_error_arcsec") or {}
         lim = m["limits"]
+        b = m.get("slew_bound_s")
+        ratio = None if (b is None or not b > 0.0 or m["settle_time_s"] is None) else m["settle_time_s"] / b
         lines.append((m["law"] + (f" ({m.get('label')})" if m.get("label") else ""),
                       "none" if lim["unlimited"] else f"{lim['axis']:g}",
-                      "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f}",
-                      _fmt(pe.get("final_max"), ".3g"),
+                      "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f}")
+                     + ((_fmt(b, ".1f"), _fmt(ratio, ".3f")) if bound else ())
+                     + (_fmt(pe.get("final_max"), ".3g"),
                       _fmt(max(pe.get("qe_arcsec_final_max") or [0.0]), ".3g"),
                       _fmt(m.get("max_torque_norm_nm"), ".3g"), _fmt(m["effort"], ".3g"),
                       f"{m['timing']['step_ns_p99']:.0f}", f"{m['counters']['time_in_safe_mode_s']:g}"))
