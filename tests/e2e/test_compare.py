@@ -64,8 +64,9 @@ def test_irassi_small_reference_gains_reach_0_3_arcsec_except_lqr_ref(irassi_sma
     ms, _, _ = irassi_small
     rows = by_row(ms)
     assert set(rows) == {"quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat-lqr_quat_ref",
-                         "lqr_quat-lqr_quat_strong"}
-    for name in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat-lqr_quat_strong"):
+                         "lqr_quat-lqr_quat_strong", "quat_pid", "lqr_quat_i-lqr_quat_i_ref"}
+    for name in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat-lqr_quat_strong", "quat_pid",
+                 "lqr_quat_i-lqr_quat_i_ref"):
         pe = rows[name]["pointing_error_arcsec"]
         assert pe["final_max"] <= 0.3, (name, pe)
         assert pe["meets_requirement"] is True
