@@ -20,6 +20,7 @@ import json
 import os
 import signal
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -120,8 +121,11 @@ class Processes:
         self._old = {}
 
     def __enter__(self):
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            self._old[sig] = signal.signal(sig, self._on_signal)
+        # signal handlers belong to the main thread; a run in a worker thread (aocs campaign) is
+        # stopped by its owner, and its children still end with it (PR_SET_PDEATHSIG)
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._on_signal)
         return self
 
     def _on_signal(self, signum, frame):  # noqa: ARG002

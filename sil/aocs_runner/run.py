@@ -68,6 +68,7 @@ class RunResult:
     out_dir: Path
     plots: list
     table: str
+    series: dict | None = None    # the metrics' time series (run_metrics.compute), for a campaign's overlay
 
 
 def _say(opts: RunOptions, msg: str) -> None:
@@ -316,7 +317,7 @@ def execute(opts: RunOptions) -> RunResult:
     (out / "metrics.json").write_text(text)
     if opts.json_path:
         Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
-    return RunResult(metrics, out, plots, results.table(metrics))
+    return RunResult(metrics, out, plots, results.table(metrics), series)
 
 
 def _last_ticks(log_path: Path):

@@ -106,15 +106,18 @@ def reexec_in_netns(argv: Sequence[str] | None = None) -> None:
     os.execvp(full[0], full)
 
 
-def enter_netns() -> str:
+def enter_netns(fresh: bool = False) -> str:
     """Move the calling process into a new private namespace and bring up lo.
 
-    Needs CAP_SYS_ADMIN (root). Call it from the main thread before any LCM
-    object exists; threads and processes created afterwards inherit the
-    namespace. Idempotent: returns at once when already inside one. Returns
-    the namespace id.
+    Needs CAP_SYS_ADMIN (root, or in a user namespace of its own). Call it from
+    the main thread before any LCM object exists; threads and processes
+    created afterwards inherit the namespace. Idempotent: returns at once when
+    already inside one, unless ``fresh``: then the calling thread moves into a
+    new one even so (a campaign worker, one namespace per run; the namespace
+    is per thread in Linux, so call it from the thread that starts the run).
+    Returns the namespace id.
     """
-    if in_netns():
+    if in_netns() and not fresh:
         return current_netns_id()
     _require_tools()
     before = current_netns_id()
