@@ -162,6 +162,13 @@ class Processes:
         self.procs.append(proc)
         return proc
 
+    def adopt(self, name: str, popen) -> Proc:
+        """A child started by other means (poll, wait(timeout), send_signal, kill, pid, returncode as
+        subprocess.Popen), watched and stopped like the others."""
+        proc = Proc(name, popen, [], None)
+        self.procs.append(proc)
+        return proc
+
     def stop_all(self, timeout: float = 5.0):
         for p in reversed(self.procs):
             p.stop(signal.SIGTERM, timeout)

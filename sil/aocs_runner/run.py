@@ -60,6 +60,9 @@ class RunOptions:
     recorder: str = "builtin"
     plant_lcm_lib: bool = False
     allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
+    # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
+    # Popen-like child (aocs campaign forks it from a worker that has the plant's modules imported)
+    plant_launcher: object = None
 
 
 @dataclass
@@ -238,8 +241,12 @@ def execute(opts: RunOptions) -> RunResult:
             # computer starts (so in real time no period of the node passes before the plant runs)
             ready = out / "plant_node.ready"
             ready.unlink(missing_ok=True)
-            plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
-                                stdout=out / "plant_node.stdout", stderr=None, env=env)
+            if opts.plant_launcher is None:
+                plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
+                                    stdout=out / "plant_node.stdout", stderr=None, env=env)
+            else:
+                plant = procs.adopt("plant_node", opts.plant_launcher(
+                    plant_cmd[3:] + ["--ready-file", str(ready)], out / "plant_node.stdout", env))
             end = time.monotonic() + 30.0
             while not ready.is_file():
                 if not plant.alive():
