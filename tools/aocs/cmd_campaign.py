@@ -48,6 +48,8 @@ def add_arguments(p) -> None:
                    "each wait of the run is bounded already)")
     p.add_argument("--keep-logs", action="store_true", help="keep every run's folder (log, config); by default "
                    "only the runs that did not pass keep theirs")
+    p.add_argument("--retry-errors", action="store_true", help="fly again the runs of OUT that did not complete "
+                   "(status error: crashed, timed out); the others are kept")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
@@ -130,7 +132,8 @@ def run(args) -> int:
         if "campaign" in sys.argv else None
     try:
         outcome = execute.run(c, disps, out, workers=args.workers, scheduler=args.scheduler,
-                              keep_logs=args.keep_logs, timeout_s=args.timeout, progress=not args.quiet)
+                              keep_logs=args.keep_logs, timeout_s=args.timeout, progress=not args.quiet,
+                              retry_errors=args.retry_errors)
     except (P.CampaignError, OSError) as exc:
         print(f"aocs campaign: error: {exc}", file=sys.stderr)
         return EXIT_USAGE

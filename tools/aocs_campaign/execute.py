@@ -106,13 +106,15 @@ def check_workers(client) -> list[str]:
 
 
 def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, scheduler: str | None = None,
-        keep_logs: bool = False, timeout_s: float | None = None, progress: bool = True,
+        keep_logs: bool = False, timeout_s: float | None = None, progress: bool = True, retry_errors: bool = False,
         say=lambda msg: print(msg, file=sys.stderr, flush=True)) -> Outcome:
     from dask import config as dask_config  # deferred: see _cluster
     from dask.distributed import as_completed  # deferred: see _cluster
 
     prepare_dir(c, out)
     done0 = finished_indices(out) & set(range(c.runs))
+    if retry_errors:   # runs that did not complete (crash, timeout, refused) are flown again
+        done0 = {i for i in done0 if json.loads(row_path(out, i).read_text()).get("status") != W.STATUS_ERROR}
     todo = [i for i in range(c.runs) if i not in done0]
     if not todo:
         say(f"aocs campaign: all {c.runs} runs already in {out}/ (nothing to run)")
@@ -165,7 +167,8 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
             if bar is not None:
                 bar.update(1)
                 if row["status"] != W.STATUS_PASSED:
-                    bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}")
+                    bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
+                              file=sys.stderr)
     except KeyboardInterrupt:
         interrupted = True
     finally:
