@@ -81,8 +81,11 @@ def _scatter(out, trows, col, label, v, inputs, sc, title) -> Path:
     ncol = min(3, n)
     nrow = int(math.ceil(n / ncol))
     fig, axes = plt.subplots(nrow, ncol, figsize=(house.FIG_WIDTH_IN, 2.6 * nrow + 0.6), squeeze=False)
-    fig.suptitle(f"{title}: {label} against each dispersed input", fontsize=house.TITLE_PT)
-    logy = _log_ok(v)
+    fig.suptitle(f"{title}: {label}\nagainst each dispersed input ({int(np.isfinite(v).sum())} runs)",
+                 fontsize=house.TITLE_PT)
+    f = v[np.isfinite(v)]
+    # the pointing error is positive and its requirement lines sit decades below a slew's error: log
+    logy = _log_ok(v) or (col.startswith("m.pointing_error_arcsec") and f.size > 0 and bool(np.all(f > 0)))
     for k, inp in enumerate(inputs):
         ax = axes[k // ncol][k % ncol]
         x = _values(trows, inp)
@@ -90,8 +93,11 @@ def _scatter(out, trows, col, label, v, inputs, sc, title) -> Path:
         ax.scatter(x[ok], v[ok], s=6, alpha=0.6, color="tab:blue", label="run")
         _lines(ax, col, sc, vertical=False)
         ax.set_xlabel(f"{inp[3:]} ({_unit(inp)})", fontsize=house.LABEL_PT - 1)
-        ax.set_ylabel(label, fontsize=house.LABEL_PT - 2)
+        if k % ncol == 0:   # the short name and its unit: "pointing error (arcsec)"
+            unit = label[label.rfind("("):] if "(" in label else ""
+            ax.set_ylabel(f"{label.split(',')[0].split(' (')[0]} {unit}", fontsize=house.LABEL_PT - 1)
         ax.tick_params(labelsize=house.LABEL_PT - 2)
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4), useOffset=False)
         ax.grid(True, alpha=0.3)
         if logy:
             ax.set_yscale("log")
@@ -99,7 +105,11 @@ def _scatter(out, trows, col, label, v, inputs, sc, title) -> Path:
             ax.legend(fontsize=house.LEGEND_PT - 1, loc="best", framealpha=0.85)
     for k in range(n, nrow * ncol):
         axes[k // ncol][k % ncol].set_visible(False)
-    return house.save(fig, out / f"scatter_{_slug(col)}.png")
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / (2.6 * nrow + 0.6)))   # room for the two-line title
+    path = out / f"scatter_{_slug(col)}.png"
+    fig.savefig(path, dpi=house.DPI)
+    plt.close(fig)
+    return path
 
 
 def _unit(inp: str) -> str:
