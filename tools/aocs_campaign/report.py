@@ -32,8 +32,8 @@ KEY_METRICS = (
     ("m.pointing_error_arcsec.final_max", "pointing error, max over the window (arcsec)"),
     ("m.pointing_error_arcsec.final_rms", "pointing error, RMS over the window (arcsec)"),
     ("m.settle_time_s", "settle time (s)"),
-    ("m.max_torque_norm_nm", "max |u| (N m)"),
-    ("m.effort", "effort, integral of |u|^2 dt (N^2 m^2 s)"),
+    ("m.max_torque_norm_nm", "max torque command norm (N m)"),
+    ("m.effort", "effort, integral of the squared command norm (N^2 m^2 s)"),
     ("m.timing.step_ns_p99", "executive step time p99 (ns)"),
 )
 #: metrics JSON sections that are no run figure (paths, lists of records, the run's plots)
