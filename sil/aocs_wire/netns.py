@@ -137,6 +137,23 @@ def enter_netns(fresh: bool = False) -> str:
     return after
 
 
+def join_netns(path: str) -> str:
+    """Move the calling thread into the namespace at path (/proc/PID/task/TID/ns/net of a thread that
+    entered one with enter_netns): setns(2), CAP_SYS_ADMIN in the namespace's user namespace. A campaign's
+    plant server forks the plant into the run's namespace this way. Returns the namespace id."""
+    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        if libc.setns(fd, _CLONE_NEWNET) != 0:
+            err = ctypes.get_errno()
+            raise NetnsError(f"setns({path}) failed: {os.strerror(err)}")
+    finally:
+        os.close(fd)
+    after = current_netns_id()
+    os.environ[ENV_VAR] = after
+    return after
+
+
 def require_netns() -> None:
     """Raise unless running inside a private namespace (guard before opening LCM)."""
     if not in_netns():

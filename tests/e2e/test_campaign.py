@@ -184,3 +184,49 @@ def test_bad_campaign_input_is_one_line_and_exit_2(argv, message):
     assert p.returncode == 2, p.stderr
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0] and lines[0].startswith("aocs campaign: error:"), p.stderr
+
+
+def test_the_plant_server_forks_each_run_s_plant_and_outlives_a_killed_one(private_netns, fsw_node_bin,
+                                                                           tmp_path):
+    """worker.run_task as a Dask worker thread calls it: the plant is forked by the worker's plant server
+    (a single-threaded process, not a fork of the threaded worker) into the run's namespace; a run killed
+    by its timeout takes its plant, not the server; a server that died is started again at the next run;
+    and a worker that flew runs has no descriptor or thread more than before (the recorder's handles)."""
+    import signal
+    import threading
+
+    from aocs_campaign import worker as W
+
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
+    rows = []
+
+    def fly(k, timeout_s=None, full=False):
+        s = dict(spec, overrides={} if full else spec["overrides"])
+        t = threading.Thread(target=lambda: rows.append(W.run_task(s, str(tmp_path / str(k)), keep_logs=True,
+                                                                   timeout_s=timeout_s)))
+        t.start()
+        t.join(300)
+        return rows[-1]
+
+    assert fly(0)["status"] == W.STATUS_PASSED
+    server = W.PLANT_SERVER.pid
+    fds, tasks = len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))
+    plant = json.loads((tmp_path / "0" / "plant_node.stdout").read_text().strip().splitlines()[-1])
+    assert plant["plant_node"]["reason"] == "done"
+    r = fly(1, timeout_s=0.5, full=True)               # 500 s of flight do not fit in 0.5 s
+    assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
+    assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
+    assert fly(2)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid == server
+    os.kill(server, signal.SIGKILL)
+    W.PLANT_SERVER._proc.wait(10)
+    assert fly(3)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid != server
+    os.kill(W.PLANT_SERVER.pid, signal.SIGKILL)        # leave no server behind this test
+    W.PLANT_SERVER._proc.wait(10)
+    assert fly(4)["status"] == W.STATUS_PASSED
+    end = time.monotonic() + 10.0     # a cancelled watchdog Timer's thread leaves on its own, soon after
+    while (len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))) != (fds, tasks) \
+            and time.monotonic() < end:
+        time.sleep(0.05)
+    assert (len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))) == (fds, tasks), \
+        threading.enumerate()

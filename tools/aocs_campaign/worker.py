@@ -4,7 +4,7 @@ fsw_node, the LCM recorder) in a private network namespace of its own.
 `run_task` is what the client submits. It runs in a worker thread: the
 thread moves into a fresh network namespace (aocs_wire.netns.enter_netns
 with fresh=True; Linux namespaces are per thread, and the run's children and
-recorder thread inherit it), then flies the run and returns one row: status,
+recorder thread inherit it; the plant is forked by the worker's plant server, plant_server.py, into it), then flies the run and returns one row: status,
 error text, the run's metrics JSON and its pointing error decimated for the
 campaign's overlay plot. It never raises for a run that went wrong: a crash,
 a refused value or a timeout is a row with status "error" and the text that
@@ -18,9 +18,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import signal
-import subprocess
-import sys
 import threading
 import time
 import traceback
@@ -34,6 +31,8 @@ from aocs_runner import events as evmod
 from aocs_runner import orchestrate, scenario_opts
 from aocs_runner.run import RunFailed, RunOptions, execute
 from aocs_wire import fsw_config, netns
+
+from .plant_server import PlantServer
 
 #: points per run kept of the pointing error history (overlay plot)
 SERIES_POINTS = 500
@@ -112,81 +111,9 @@ class _Watchdog:
         return False
 
 
-class ForkedChild:
-    """A child made with os.fork, with the part of subprocess.Popen that orchestrate.Proc uses."""
-
-    def __init__(self, pid: int):
-        self.pid = pid
-        self.returncode = None
-
-    def poll(self):
-        if self.returncode is None:
-            try:
-                pid, status = os.waitpid(self.pid, os.WNOHANG)
-            except ChildProcessError:   # reaped elsewhere: it is gone
-                self.returncode = -signal.SIGKILL
-                return self.returncode
-            if pid:
-                self.returncode = os.waitstatus_to_exitcode(status)
-        return self.returncode
-
-    def wait(self, timeout=None):
-        end = None if timeout is None else time.monotonic() + timeout
-        while self.poll() is None:
-            if end is not None and time.monotonic() > end:
-                raise subprocess.TimeoutExpired(f"pid {self.pid}", timeout)
-            time.sleep(0.001)
-        return self.returncode
-
-    def send_signal(self, sig):
-        if self.poll() is None:
-            os.kill(self.pid, sig)
-
-    def kill(self):
-        self.send_signal(signal.SIGKILL)
-
-
-def fork_plant(args: list, stdout_path, env: dict) -> ForkedChild:  # noqa: ARG001 - env: this process's
-    """plant_node.main(args) in a child forked from this worker, which has the plant's modules imported
-    already (a new interpreter costs ~0.5 s of imports per run). The child is a new process for every
-    run, so nothing of one run's plant survives into the next; it inherits the calling thread's network
-    namespace, gets fresh stdout/stderr objects (none of the parent's stream locks) and leaves with
-    os._exit (none of the parent's objects is finalised in it). plant_node's startup figures are measured
-    from the fork."""
-    from aocs_runner import plant_node  # deferred: the worker imports it once, at its first run
-
-    sys.stdout.flush()
-    sys.stderr.flush()
-    fd = os.open(str(stdout_path), os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-    pid = os.fork()
-    if pid == 0:  # the child: never returns
-        code = 1
-        try:
-            os.dup2(fd, 1)
-            os.close(fd)
-            null = os.open(os.devnull, os.O_RDONLY)
-            os.dup2(null, 0)
-            os.close(null)
-            orchestrate._pdeathsig()   # ends with the worker, as the runner's other children
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                signal.signal(sig, signal.SIG_DFL)   # plant_node sets its own
-            sys.stdout = open(1, "w", closefd=False)
-            sys.stderr = open(2, "w", closefd=False)
-            plant_node.T_PROCESS = time.perf_counter()
-            code = plant_node.main(args)
-        except SystemExit as exc:
-            code = exc.code if isinstance(exc.code, int) else 1
-        except BaseException:  # noqa: BLE001 - the child must end here, whatever happened
-            traceback.print_exc()
-            code = 1
-        finally:
-            try:
-                sys.stdout.flush()
-                sys.stderr.flush()
-            finally:
-                os._exit(code)
-    os.close(fd)
-    return ForkedChild(pid)
+#: this worker's plant server (plant_server.py): started at the first run, before the run's namespace and
+#: watchdog, so it is neither in a run's namespace nor one of the run's children the watchdog kills
+PLANT_SERVER = PlantServer()
 
 
 def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float | None = None,
@@ -197,13 +124,15 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
            "worker_pid": os.getpid(), "run_dir": run_dir}
     out = Path(run_dir)
     try:
+        if fork:
+            PLANT_SERVER.ensure_running()
         netns.enter_netns(fresh=True)
         # the same --set text as the repeat command (plan.repeat_command): the run reads its values back
         # from that text, as `aocs run` does, so the two are the same run bit for bit
         sets = [f"{k}={scenario_opts.toml_value(v)}" for k, v in spec["overrides"].items()]
         opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
                           quiet=True, reply_timeout=REPLY_TIMEOUT_S,
-                          plant_launcher=fork_plant if fork else None)
+                          plant_launcher=PLANT_SERVER.launch if fork else None)
         with _Watchdog(timeout_s) as wd:
             try:
                 res = execute(opts)
