@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report results demo clean build-host-sanitize build-fuzz fuzz fuzz-smoke
+        pil-test pil-report results demo clean bench-campaign build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -86,6 +86,11 @@ sil: build-host
 # lockstep real-time factor, LCM round trip, in-process plant cost
 bench: build-host
 	@scripts/bench-sil.sh
+
+# Monte Carlo campaign throughput: 40 dispersed irassi_large runs on Dask against sequential
+# `aocs run` processes, and one `aocs run` whole process (docs/campaigns.md)
+bench-campaign: build-host
+	@$(PY) -m aocs_campaign.bench --json build/host/bench_campaign.json
 
 # every reference scenario, every law: docs/results.md and docs/results/*.png (~10 min)
 results: build-host

@@ -22,7 +22,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import expm
 
 MU_EARTH = 3.986004418e14  # m^3/s^2
 
@@ -63,6 +62,8 @@ class LinearOrbit:
             m = np.zeros((9, 9))
             m[:6, :6] = self.A
             m[:6, 6:] = self.B
+            from scipy.linalg import expm  # deferred: scipy.linalg costs ~0.2 s of every plant start, orbit runs only
+
             e = expm(m * h)
             d = (tuple(tuple(r) for r in e[:6, :6].tolist()),
                  tuple(tuple(r) for r in e[:6, 6:].tolist()))

@@ -777,6 +777,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     sensors = _read_sensors(root, kind, duration)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
+    root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensors, settle, metrics, file,
@@ -818,6 +819,13 @@ def load(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> 
     realistic IRASSI runs or {"control.enabled": False} for open-loop runs.
     """
     p = resolve(path_or_id)
+    return validate(document(p, overrides), str(p), expected_id=p.stem)
+
+
+def document(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> dict:
+    """The parsed TOML document of a scenario with the overrides applied, not validated (the nominal
+    values that a Monte Carlo campaign disperses); ScenarioError when the file cannot be read."""
+    p = resolve(path_or_id)
     file = str(p)
     try:
         with open(p, "rb") as fh:
@@ -837,7 +845,7 @@ def load(path_or_id: str | Path, overrides: Mapping[str, Any] | None = None) -> 
         raise ScenarioError(f"{file}: <syntax>: not valid TOML: {exc}") from None
     if overrides:
         data = _apply_overrides(data, overrides, file)
-    return validate(data, file, expected_id=p.stem)
+    return data
 
 
 def list_scenarios(directory: str | Path | None = None) -> list[str]:

@@ -20,6 +20,7 @@ import json
 import os
 import signal
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -120,8 +121,11 @@ class Processes:
         self._old = {}
 
     def __enter__(self):
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            self._old[sig] = signal.signal(sig, self._on_signal)
+        # signal handlers belong to the main thread; a run in a worker thread (aocs campaign) is
+        # stopped by its owner, and its children still end with it (PR_SET_PDEATHSIG)
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._on_signal)
         return self
 
     def _on_signal(self, signum, frame):  # noqa: ARG002
@@ -155,6 +159,13 @@ class Processes:
                 f.close()
             raise RunAborted(f"cannot start {name} ({cmd[0]}): {exc}") from None
         proc = Proc(name, p, files, Path(stderr) if isinstance(stderr, (str, Path)) else None)
+        self.procs.append(proc)
+        return proc
+
+    def adopt(self, name: str, popen) -> Proc:
+        """A child started by other means (poll, wait(timeout), send_signal, kill, pid, returncode as
+        subprocess.Popen), watched and stopped like the others."""
+        proc = Proc(name, popen, [], None)
         self.procs.append(proc)
         return proc
 

@@ -61,6 +61,9 @@ class RunOptions:
     recorder: str = "builtin"
     plant_lcm_lib: bool = False
     allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
+    # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
+    # Popen-like child (aocs campaign forks it from a worker that has the plant's modules imported)
+    plant_launcher: object = None
 
 
 @dataclass
@@ -69,6 +72,7 @@ class RunResult:
     out_dir: Path
     plots: list
     table: str
+    series: dict | None = None    # the metrics' time series (run_metrics.compute), for a campaign's overlay
 
 
 def _say(opts: RunOptions, msg: str) -> None:
@@ -245,8 +249,12 @@ def execute(opts: RunOptions) -> RunResult:
             # computer starts (so in real time no period of the node passes before the plant runs)
             ready = out / "plant_node.ready"
             ready.unlink(missing_ok=True)
-            plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
-                                stdout=out / "plant_node.stdout", stderr=None, env=env)
+            if opts.plant_launcher is None:
+                plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
+                                    stdout=out / "plant_node.stdout", stderr=None, env=env)
+            else:
+                plant = procs.adopt("plant_node", opts.plant_launcher(
+                    plant_cmd[3:] + ["--ready-file", str(ready)], out / "plant_node.stdout", env))
             end = time.monotonic() + 30.0
             while not ready.is_file():
                 if not plant.alive():
@@ -326,7 +334,7 @@ def execute(opts: RunOptions) -> RunResult:
     (out / "metrics.json").write_text(text)
     if opts.json_path:
         Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
-    return RunResult(metrics, out, plots, results.table(metrics))
+    return RunResult(metrics, out, plots, results.table(metrics), series)
 
 
 def _last_ticks(log_path: Path):

@@ -106,15 +106,18 @@ def reexec_in_netns(argv: Sequence[str] | None = None) -> None:
     os.execvp(full[0], full)
 
 
-def enter_netns() -> str:
+def enter_netns(fresh: bool = False) -> str:
     """Move the calling process into a new private namespace and bring up lo.
 
-    Needs CAP_SYS_ADMIN (root). Call it from the main thread before any LCM
-    object exists; threads and processes created afterwards inherit the
-    namespace. Idempotent: returns at once when already inside one. Returns
-    the namespace id.
+    Needs CAP_SYS_ADMIN (root, or in a user namespace of its own). Call it from
+    the main thread before any LCM object exists; threads and processes
+    created afterwards inherit the namespace. Idempotent: returns at once when
+    already inside one, unless ``fresh``: then the calling thread moves into a
+    new one even so (a campaign worker, one namespace per run; the namespace
+    is per thread in Linux, so call it from the thread that starts the run).
+    Returns the namespace id.
     """
-    if in_netns():
+    if in_netns() and not fresh:
         return current_netns_id()
     _require_tools()
     before = current_netns_id()
@@ -130,6 +133,23 @@ def enter_netns() -> str:
         res = subprocess.run(list(c), capture_output=True, text=True)
         if res.returncode != 0:
             raise NetnsError(f"{' '.join(c)} failed: {res.stderr.strip()}")
+    os.environ[ENV_VAR] = after
+    return after
+
+
+def join_netns(path: str) -> str:
+    """Move the calling thread into the namespace at path (/proc/PID/task/TID/ns/net of a thread that
+    entered one with enter_netns): setns(2), CAP_SYS_ADMIN in the namespace's user namespace. A campaign's
+    plant server forks the plant into the run's namespace this way. Returns the namespace id."""
+    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        if libc.setns(fd, _CLONE_NEWNET) != 0:
+            err = ctypes.get_errno()
+            raise NetnsError(f"setns({path}) failed: {os.strerror(err)}")
+    finally:
+        os.close(fd)
+    after = current_netns_id()
     os.environ[ENV_VAR] = after
     return after
 

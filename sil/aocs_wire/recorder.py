@@ -57,8 +57,8 @@ class Recorder:
         self._seen_markers: set = set()
         self._cv = threading.Condition()
         self.error: BaseException | None = None
-        sub = self._lc.subscribe(".*", self._on_message)
-        sub.set_queue_capacity(0)  # unbounded: never drop
+        self._sub = self._lc.subscribe(".*", self._on_message)
+        self._sub.set_queue_capacity(0)  # unbounded: never drop
         self._thread = threading.Thread(target=self._run, name="aocs-recorder", daemon=True)
         self._markers = 0
 
@@ -99,6 +99,26 @@ class Recorder:
             self._write()
         except BaseException as exc:  # noqa: BLE001 - reported by stop()
             self.error = exc
+        finally:
+            self._release_reader()
+
+    def _release_reader(self):
+        """Destroy the receiving handle: called by the thread that reads it, once it has stopped reading
+        (or by stop() when that thread never started), so no handle is freed while a thread is inside it.
+        pylcm has no close(), and its objects are not tracked by Python's cycle collector: the
+        subscription's callback (a bound method of this recorder) makes a cycle that is never freed, and
+        with it the handle's sockets, pipe and receive thread. In a worker that flies hundreds of runs
+        the leaked descriptors pass FD_SETSIZE (1024) and LCM's select() then writes past its fd_set
+        on the stack (the segfaults in _lcm.so of docs/campaigns.md). Unsubscribing breaks the cycle;
+        dropping the last reference destroys the handle (lcm_destroy) here."""
+        lc, sub = self._lc, self._sub
+        self._lc = self._sub = None
+        if lc is not None and sub is not None:
+            try:
+                lc.unsubscribe(sub)
+            except Exception:  # noqa: BLE001 - the handle goes either way
+                pass
+        del lc, sub
 
     def marker(self, what: str, timeout: float = 5.0, **info) -> None:
         """Publish an AOCS_RUNNER marker and wait (bounded) until it is recorded."""
@@ -126,8 +146,13 @@ class Recorder:
                 self.marker("end", **info)
         finally:
             self._stop.set()
-            self._thread.join(timeout=10.0)
+            if self._thread.ident is None:   # never started: nothing reads the handle
+                self._release_reader()
+            else:
+                self._thread.join(timeout=10.0)
             if not self._thread.is_alive():
                 self._f.close()
+            # the publishing handle is used by this (the caller's) thread only, in marker()
+            self._pub = None
         if self.error is not None:
             raise RuntimeError(f"recorder failed: {self.error}")

@@ -184,3 +184,18 @@ def test_realtime_plant_killed_then_restarted(private_netns, fsw_node_bin, aocs_
     assert m["realtime"]["jitter_ns_max"] is not None and m["limits"]["commands_over_limit"] == 0
     assert fsw["steps"] > log.sensors["tick"].size              # it stepped without input too
     assert math.isfinite(fsw["jitter_ns"]["rms"])
+
+
+def test_the_bulk_log_decoder_equals_the_eventlog_decoder_on_a_real_log(fault_run):
+    """A real run's log, with its malformed and foreign-fingerprint payloads: lcmlog.read (bulk numpy
+    decode) gives what lcm.EventLog and the codec give, bit for bit."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python" / "aocs_wire"))
+    from test_lcmlog import assert_same_log
+
+    _, log = fault_run
+    assert lcmlog._read_fast(log.path, keep_raw=True) is not None
+    assert sum(c for k, c in log.counts.items() if k.endswith(".undecodable")) >= 1
+    assert_same_log(lcmlog.read(log.path, keep_raw=True), lcmlog._read_eventlog(log.path, keep_raw=True))

@@ -19,7 +19,22 @@ SUBCOMMANDS = {
     "gains": ("aocs.cmd_gains", "regenerate every gain design and the firmware tables"),
     "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
+    "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
 }
+
+#: sub-commands that run in a private network namespace (aocs_wire.netns): re-executed into it before
+#: their module is imported, so its imports (numpy, the plant) are paid once, not before and after
+NETNS_FIRST = ("run",)
+
+
+def _netns_first() -> None:
+    from aocs_core import paths  # deferred: only a sub-command of NETNS_FIRST needs it
+    from aocs_wire import netns  # deferred: see above
+
+    try:
+        netns.reexec_in_netns(paths.self_argv())
+    except netns.NetnsError:
+        pass  # the sub-command reports it in its own words
 
 
 def _load(name: str):
@@ -34,6 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     # only the chosen sub-command's module is imported (each costs numpy, scipy or matplotlib time);
     # without one (or with --help first) every sub-command is listed from its help text alone
     chosen = next((a for a in argv if not a.startswith("-")), None)
+    if chosen in NETNS_FIRST and not any(a in ("-h", "--help") for a in argv):
+        _netns_first()
     modules = {}
     for name, (module_name, help_text) in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=help_text)

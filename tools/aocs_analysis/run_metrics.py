@@ -314,9 +314,13 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
         return b + slew_ns if attitude else b
 
     if cmd["tick"].size:
-        budgets = np.array([override or (nominal(_law_or_none(int(lid)))
-                                         if int(m) == MODE_NOMINAL else registry.law_budget_ns("none"))
-                            for lid, m in zip(cmd["law_id"], cmd["mode"])], dtype=float)
+        # one registry look-up per distinct (law, mode) pair, not per step (it reads the build's registry)
+        pairs, inverse = np.unique(np.stack([cmd["law_id"], cmd["mode"]], axis=1).astype(np.int64), axis=0,
+                                   return_inverse=True)
+        per_pair = np.array([override or (nominal(_law_or_none(int(lid)))
+                                          if int(m) == MODE_NOMINAL else registry.law_budget_ns("none"))
+                             for lid, m in pairs], dtype=float)
+        budgets = per_pair[inverse.reshape(-1)]
     else:
         budgets = np.zeros(0)
     budget_nominal = override or nominal(law_nominal if law_nominal in registry.law_ids() else "none")

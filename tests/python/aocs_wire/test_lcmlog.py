@@ -49,3 +49,81 @@ def test_tick_gaps_are_described():
     assert lcmlog._tick_gap(np.arange(3), 0, 9) == "the last is 2, not 9"
     assert lcmlog._tick_gap(np.zeros(0, int), 0, None) == "none at all"
     assert lcmlog._tick_gap(np.array([0, 1, 1, 2, 0]), 0, 2) is None   # duplicated / replayed frames
+
+
+def assert_same_log(a, b):
+    """Two Log objects hold the same tables bit for bit (dtype, shape, bytes), markers, counts (and
+    their key order) and raw events."""
+    for name in ("truth", "cmd", "sensors", "status", "command"):
+        ta, tb = getattr(a, name), getattr(b, name)
+        assert list(ta) == list(tb), name
+        for k in ta:
+            assert (ta[k].dtype, ta[k].shape) == (tb[k].dtype, tb[k].shape), (name, k)
+            assert ta[k].tobytes() == tb[k].tobytes(), (name, k)
+    assert a.markers == b.markers
+    assert list(a.counts.items()) == list(b.counts.items())
+    assert a.events == b.events
+
+
+def _mixed_events(aocs_lcm):
+    """Every channel with values that stress the decoding (int64 beyond 2^53, negative ints, NaN, float32
+    values, booleans), payloads of the wrong length and of a foreign fingerprint, a foreign channel."""
+    import numpy as np
+
+    from aocs_wire import wire
+
+    codecs = wire.Codecs(aocs_lcm)
+    rng = np.random.default_rng(7)
+    ev = [_marker("start")]
+    for k in range(300):
+        for ch, codec in ((wire.SENSORS, codecs.sensors), (wire.TRUTH, codecs.truth),
+                          (wire.ACTUATOR, codecs.actuator), (wire.STATUS, codecs.status),
+                          (wire.COMMAND, codecs.command)):
+            vals = []
+            for (name, n), typ in zip(codec.fields, codec.cls.__typenames__):
+                for _ in range(1 if n is None else n):
+                    if typ == "int64_t":
+                        vals.append(int(rng.integers(-2**62, 2**62)) if k % 3 else 2**53 + 1 + k)
+                    elif typ in ("int32_t",):
+                        vals.append(int(rng.integers(-2**31, 2**31)))
+                    elif typ in ("int16_t",):
+                        vals.append(int(rng.integers(-2**15, 2**15)))
+                    elif typ in ("int8_t", "boolean"):
+                        vals.append(int(rng.integers(-128, 128)))
+                    elif typ == "byte":
+                        vals.append(int(rng.integers(0, 256)))
+                    else:
+                        vals.append(float("nan") if k == 5 else float(rng.normal(0, 1e3)))
+            data = codec.pack(*vals)
+            if k == 17:
+                data = data[:-1]                     # malformed: one byte short
+            if k == 23:
+                data = b"\x01" * 8 + data[8:]        # foreign fingerprint
+            ev.append((ch, data))
+        if k % 100 == 0:
+            ev.append(("OTHER_CH", bytes(rng.integers(0, 256, 37, dtype=np.uint8))))
+            ev.append(("AOCS_RUNNER", b"not json"))
+    ev.append(_marker("end"))
+    return ev
+
+
+def test_bulk_decoder_equals_the_eventlog_decoder(aocs_lcm, tmp_path):
+    path = _write(tmp_path / "mixed.lcmlog", _mixed_events(aocs_lcm))
+    fast = lcmlog._read_fast(path, keep_raw=True)
+    assert fast is not None                                  # a clean file: the bulk path decodes it
+    assert_same_log(fast, lcmlog._read_eventlog(path, keep_raw=True))
+    assert fast.counts["AOCS_SENSORS.undecodable"] == 2 and fast.sensors["tick"].size == 298
+    assert_same_log(lcmlog.read(path), lcmlog._read_eventlog(path))
+    empty = _write(tmp_path / "empty.lcmlog", [])
+    assert_same_log(lcmlog.read(empty), lcmlog._read_eventlog(empty))
+
+
+def test_a_damaged_log_is_read_by_the_eventlog_decoder(aocs_lcm, tmp_path):
+    good = _write(tmp_path / "g.lcmlog", _mixed_events(aocs_lcm)).read_bytes()
+    cases = {"truncated": good[:-5], "garbage_inside": good[:5000] + b"\x00" * 13 + good[5000:],
+             "garbage_first": b"xx" + good}
+    for name, blob in cases.items():
+        p = tmp_path / f"{name}.lcmlog"
+        p.write_bytes(blob)
+        assert lcmlog._read_fast(p, keep_raw=False) is None, name
+        assert_same_log(lcmlog.read(p, keep_raw=True), lcmlog._read_eventlog(p, keep_raw=True))

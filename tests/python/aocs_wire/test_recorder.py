@@ -48,3 +48,61 @@ def test_recorder_writes_a_standard_lcm_log_without_dropping(private_netns, aocs
     # event timestamps are receive times (us since the epoch), non-decreasing
     assert np.all(np.diff(parsed.truth["log_utime"]) >= 0)
     assert abs(parsed.truth["log_utime"][0] / 1e6 - time.time()) < 600
+
+
+def _fds_and_threads() -> tuple[int, int]:
+    import os
+
+    return len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))
+
+
+def test_recorder_frees_its_lcm_handles_after_its_thread_stops(private_netns, tmp_path):
+    """A campaign worker records hundreds of runs in one process: every recorder must give back its
+    sockets, pipes and LCM receive thread. Before the fix each start/stop leaked 9 descriptors and a
+    thread (pylcm objects are not freed by Python's cycle collector); past FD_SETSIZE (1024) LCM's
+    select() overran its fd_set and the worker segfaulted in _lcm.so."""
+    from aocs_wire.recorder import Recorder
+
+    Recorder(tmp_path / "warm.lcmlog").start().stop()   # one-time state (imports, glib) out of the count
+    before = _fds_and_threads()
+    for k in range(20):
+        Recorder(tmp_path / f"{k}.lcmlog").start().stop()
+    assert _fds_and_threads() == before
+    # never started: stop() itself frees the handle (no thread reads it)
+    Recorder(tmp_path / "idle.lcmlog").stop()
+    assert _fds_and_threads() == before
+
+
+def test_recorder_handle_is_freed_by_its_reader_thread_not_under_it(private_netns, tmp_path):
+    """The receiving handle is destroyed by the thread that reads it, after its last handle call: held in
+    its callback while stop() gives up waiting, the thread still has a live handle, and frees it itself
+    once it leaves."""
+    import threading
+
+    from aocs_wire.recorder import Recorder
+
+    Recorder(tmp_path / "warm.lcmlog").start().stop()
+    before = _fds_and_threads()
+    rec = Recorder(tmp_path / "held.lcmlog").start()
+    gate = threading.Event()
+    inner = rec._on_message
+
+    def held(channel, data):   # the reader thread blocks inside a handle_timeout call
+        inner(channel, data)
+        gate.wait(30)
+
+    rec._lc.unsubscribe(rec._sub)
+    rec._sub = rec._lc.subscribe(".*", held)
+    rec._pub.publish("PING", b"x")
+    time.sleep(0.2)
+    lc = rec._lc
+    rec._thread.join(0.0)
+    rec._stop.set()
+    rec._thread.join(0.2)
+    assert rec._thread.is_alive() and rec._lc is lc   # inside the handle: not freed under it
+    del lc
+    gate.set()
+    rec._thread.join(10)
+    assert not rec._thread.is_alive() and rec._lc is None
+    rec.stop()
+    assert _fds_and_threads() == before

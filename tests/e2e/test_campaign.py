@@ -1,0 +1,232 @@
+"""`aocs campaign` end to end: a real Dask scheduler and two real worker processes started here
+(`dask scheduler` / `dask worker` on loopback, inside this test's private network namespace), each
+run the real SIL path (plant_node, fsw_node, LCM) in a namespace of its own.
+
+Short runs (irassi_large cut to 20 s) keep it quick. Checked: every run recorded (Parquet, CSV, JSON,
+report), a run made to fail (its dispersed actuator limit is negative, which the loader refuses)
+recorded with its error while the others go on, a run made to time out, the repeat command of a run
+flying the same run bit for bit (same metrics JSON but for the machine's timing figures), a rerun
+into the same folder skipping every finished run, and bad input refused in one line.
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from aocs_campaign import dispersions as D
+from aocs_campaign import plan as P
+
+SHORT = ["--set", "duration_s=20.0", "--set", "metrics.window_s=10.0"]
+SEED = 5
+#: the actuator limit dispersed over [-0.2, 1]: the runs whose draw is negative are refused by the loader
+LIMIT = "actuator.axis_limit=uniform:-0.2:1.0"
+RUNS = 6
+
+
+def aocs(*args, timeout=600, check_rc=None):
+    p = subprocess.run([sys.executable, "-m", "aocs.cli", *args], capture_output=True, text=True, timeout=timeout)
+    if check_rc is not None:
+        assert p.returncode == check_rc, p.stdout + p.stderr
+    return p
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(private_netns, tmp_path_factory):
+    """`dask scheduler` and two `dask worker` processes (one thread each) on 127.0.0.1 in the private
+    network namespace of this test process (conftest private_netns)."""
+    d = tmp_path_factory.mktemp("dask")
+    sched_file = d / "scheduler.json"
+    bindir = Path(sys.executable).parent
+    procs = [subprocess.Popen([str(bindir / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                               "--no-dashboard", "--scheduler-file", str(sched_file)],
+                              stdout=open(d / "scheduler.log", "w"), stderr=subprocess.STDOUT)]
+    end = time.monotonic() + 60
+    while not sched_file.is_file():
+        assert time.monotonic() < end, (d / "scheduler.log").read_text()
+        assert procs[0].poll() is None, (d / "scheduler.log").read_text()
+        time.sleep(0.1)
+    address = json.loads(sched_file.read_text())["address"]
+    for i in range(2):
+        procs.append(subprocess.Popen([str(bindir / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1",
+                                       "--no-dashboard", "--name", f"w{i}"],
+                                      stdout=open(d / f"worker{i}.log", "w"), stderr=subprocess.STDOUT))
+    from dask.distributed import Client
+
+    with Client(address, timeout="30s") as c:
+        c.wait_for_workers(2, timeout=60)
+    yield address
+    for p in reversed(procs):
+        p.terminate()
+    for p in procs:
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            p.kill()
+
+
+def _failing_indices():
+    c = P.Campaign("irassi_large", "quat_pd", RUNS, SEED, SHORT[1::2], [LIMIT])
+    runs = P.plan(c, D.parse_all(c.disperse))
+    return {r.index for r in runs if r.overrides["actuator.axis_limit"] <= 0.0}
+
+
+@pytest.fixture(scope="module")
+def campaign_dir(dask_cluster, tmp_path_factory):
+    out = tmp_path_factory.mktemp("campaign") / "mc"
+    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", str(RUNS), "--seed", str(SEED), *SHORT,
+             "--disperse", LIMIT, "--disperse", "plant.w0=normal:0:1e-4", "--scheduler", dask_cluster,
+             "--out", str(out), "-q")
+    return out, p
+
+
+def test_campaign_on_a_real_scheduler_records_every_run_and_the_failed_one(campaign_dir):
+    import pyarrow.parquet as pq
+
+    out, p = campaign_dir
+    bad = _failing_indices()
+    assert bad and len(bad) < RUNS, "seed must give both kinds of run"
+    assert p.returncode == 1, p.stdout + p.stderr        # some run did not pass: not a success
+    assert f"{len(bad)} of {RUNS} runs did not pass" in p.stderr
+    rows = {r["index"]: r for r in (json.loads(f.read_text()) for f in (out / "runs").glob("*.json"))}
+    assert sorted(rows) == list(range(RUNS))
+    for i, r in rows.items():
+        if i in bad:
+            assert r["status"] == "error" and "actuator.axis_limit" in r["error"] and r["metrics"] is None
+            assert (out / "runs" / f"{i:06d}" / "error.txt").is_file()       # the failed run's folder is kept
+        else:
+            assert r["status"] == "passed", r["error"]
+            assert r["metrics"]["timing"]["steps"] == 200
+            assert not (out / "runs" / f"{i:06d}").exists()                   # no logs kept without --keep-logs
+    # every run on a worker of the cluster, in its own namespace: both workers took runs
+    assert len({r["worker_pid"] for r in rows.values()}) == 2
+    tab = pq.read_table(out / "results.parquet").to_pylist()
+    assert [t["index"] for t in tab] == list(range(RUNS))
+    good = [t for t in tab if t["index"] not in bad]
+    assert all(t["m.pointing_error_arcsec.final_max"] > 0 for t in good)
+    assert all(t["in.actuator.axis_limit"] == rows[t["index"]]["inputs"]["actuator.axis_limit"] for t in tab)
+    csv = (out / "results.csv").read_text().splitlines()
+    assert len(csv) == RUNS + 1 and "m.pointing_error_arcsec.final_max" in csv[0]
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["status"] == {"passed": RUNS - len(bad), "failed": 0, "error": len(bad)}
+    assert doc["requirements"]["limits"]["passed"] == RUNS - len(bad) and doc["requirements"]["limits"]["n"] == RUNS
+    s = doc["metrics"]["m.pointing_error_arcsec.final_max"]
+    vals = sorted(t["m.pointing_error_arcsec.final_max"] for t in good)
+    assert s["min"] == vals[0] and s["max"] == vals[-1] and s["n"] == len(good)
+    md = (out / "report.md").read_text()
+    assert "95 % Wilson" in md or "95 % interval" in md
+    for png in doc["plots"]:
+        assert (out / png).is_file()
+
+
+def test_repeat_command_flies_the_same_run_bit_for_bit(campaign_dir, tmp_path):
+    out, _ = campaign_dir
+    row = next(json.loads(f.read_text()) for f in sorted((out / "runs").glob("*.json"))
+               if json.loads(f.read_text())["status"] == "passed")
+    words = row["repeat_command"].split(" ")
+    assert words[:2] == ["aocs", "run"]
+    import shlex
+
+    args = shlex.split(row["repeat_command"])[2:]
+    j = args.index("--json")
+    args[j + 1] = str(tmp_path / "repeat.json")
+    aocs("run", *args, "--out", str(tmp_path / "repeat"), check_rc=0)
+    again = json.loads((tmp_path / "repeat.json").read_text())
+    assert P.flight_metrics(again) == P.flight_metrics(row["metrics"])
+    assert again["pointing_error_arcsec"]["final_max"] == row["metrics"]["pointing_error_arcsec"]["final_max"]
+
+
+def test_rerun_into_the_same_folder_skips_finished_runs(campaign_dir, dask_cluster):
+    out, _ = campaign_dir
+    before = {f.name: f.stat().st_mtime_ns for f in (out / "runs").glob("*.json")}
+    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", str(RUNS), "--seed", str(SEED), *SHORT,
+             "--disperse", LIMIT, "--disperse", "plant.w0=normal:0:1e-4", "--scheduler", dask_cluster,
+             "--out", str(out), "-q")
+    assert "nothing to run" in p.stderr
+    assert {f.name: f.stat().st_mtime_ns for f in (out / "runs").glob("*.json")} == before
+    # two more runs: only those two run
+    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", str(RUNS + 2), "--seed", str(SEED), *SHORT,
+             "--disperse", LIMIT, "--disperse", "plant.w0=normal:0:1e-4", "--scheduler", dask_cluster,
+             "--out", str(out), "-q")
+    assert f"2 runs of {RUNS + 2} ({RUNS} already done)" in p.stderr, p.stderr
+    assert {f.name: f.stat().st_mtime_ns for f in (out / "runs").glob("*.json") if f.name in before} == before
+    assert len(list((out / "runs").glob("*.json"))) == RUNS + 2
+    # another campaign is refused in that folder
+    p = aocs("campaign", "irassi_large", "--runs", "2", "--seed", "99", "--out", str(out), "-q")
+    assert p.returncode == 2 and "holds another campaign" in p.stderr and "Traceback" not in p.stderr
+
+
+def test_a_run_that_times_out_is_recorded_and_the_campaign_goes_on(dask_cluster, tmp_path):
+    out = tmp_path / "mc"
+    # the full 500 s run cannot finish in 0.2 s: each run is killed and recorded
+    p = aocs("campaign", "irassi_large", "--runs", "2", "--seed", "1", "--timeout", "0.2",
+             "--scheduler", dask_cluster, "--out", str(out), "-q")
+    assert p.returncode == 1, p.stderr
+    rows = [json.loads(f.read_text()) for f in sorted((out / "runs").glob("*.json"))]
+    assert len(rows) == 2 and all(r["status"] == "error" and "timed out after 0.2 s" in r["error"] for r in rows)
+    assert all((out / "runs" / f"{r['index']:06d}" / "run.lcmlog").is_file() for r in rows)   # logs kept
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--runs", "3", "--seed", "1", "--disperse", "plant.w9=normal:0:1"], "plant.w9"),
+    (["--runs", "3", "--seed", "1", "--disperse", "plant.w0=normal:0:-1"], "plant.w0=normal:0:-1: sigma"),
+    (["--runs", "0", "--seed", "1"], "--runs 0"),
+    (["--seed", "1"], "--runs: missing"),
+    (["--runs", "3", "--seed", "1", "--disperse", "plant.inertia[2][2]=normal:1e5:1"], "no physical inertia"),
+])
+def test_bad_campaign_input_is_one_line_and_exit_2(argv, message):
+    p = aocs("campaign", "irassi_large", *argv, "--out", os.devnull + "-never")
+    assert p.returncode == 2, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0] and lines[0].startswith("aocs campaign: error:"), p.stderr
+
+
+def test_the_plant_server_forks_each_run_s_plant_and_outlives_a_killed_one(private_netns, fsw_node_bin,
+                                                                           tmp_path):
+    """worker.run_task as a Dask worker thread calls it: the plant is forked by the worker's plant server
+    (a single-threaded process, not a fork of the threaded worker) into the run's namespace; a run killed
+    by its timeout takes its plant, not the server; a server that died is started again at the next run;
+    and a worker that flew runs has no descriptor or thread more than before (the recorder's handles)."""
+    import signal
+    import threading
+
+    from aocs_campaign import worker as W
+
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
+    rows = []
+
+    def fly(k, timeout_s=None, full=False):
+        s = dict(spec, overrides={} if full else spec["overrides"])
+        t = threading.Thread(target=lambda: rows.append(W.run_task(s, str(tmp_path / str(k)), keep_logs=True,
+                                                                   timeout_s=timeout_s)))
+        t.start()
+        t.join(300)
+        return rows[-1]
+
+    assert fly(0)["status"] == W.STATUS_PASSED
+    server = W.PLANT_SERVER.pid
+    fds, tasks = len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))
+    plant = json.loads((tmp_path / "0" / "plant_node.stdout").read_text().strip().splitlines()[-1])
+    assert plant["plant_node"]["reason"] == "done"
+    r = fly(1, timeout_s=0.5, full=True)               # 500 s of flight do not fit in 0.5 s
+    assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
+    assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
+    assert fly(2)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid == server
+    os.kill(server, signal.SIGKILL)
+    W.PLANT_SERVER._proc.wait(10)
+    assert fly(3)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid != server
+    os.kill(W.PLANT_SERVER.pid, signal.SIGKILL)        # leave no server behind this test
+    W.PLANT_SERVER._proc.wait(10)
+    assert fly(4)["status"] == W.STATUS_PASSED
+    end = time.monotonic() + 10.0     # a cancelled watchdog Timer's thread leaves on its own, soon after
+    while (len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))) != (fds, tasks) \
+            and time.monotonic() < end:
+        time.sleep(0.05)
+    assert (len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))) == (fds, tasks), \
+        threading.enumerate()

@@ -1,0 +1,212 @@
+"""A campaign's runs on Dask distributed, one row file per finished run.
+
+    execute.run(campaign, out, workers=K, scheduler=None | "tcp://HOST:PORT", ...)
+
+- cluster: a LocalCluster of K worker processes, one thread each (default K =
+  the machine's cores), on loopback, or the existing cluster at --scheduler;
+- each run is worker.run_task (the real SIL path in a private network
+  namespace of its own); its row is written to OUT/runs/NNNNNN.json (atomic
+  rename) as soon as it comes back, so a campaign interrupted or killed keeps
+  every run that finished, and a rerun into the same OUT skips them (the
+  folder must hold the same campaign: OUT/campaign-plan.json);
+- a run that crashes, is refused or times out comes back as a row with its
+  error (worker.py); a worker process that dies is replaced by its nanny and
+  Dask retries the run elsewhere, and a run that kills workers
+  ALLOWED_FAILURES times is recorded with Dask's error;
+- Ctrl-C (SIGINT) or SIGTERM cancels what has not finished, closes the
+  cluster and returns with interrupted=True; what finished is kept.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import os
+import signal
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from . import plan as P
+from . import worker as W
+
+#: how often Dask retries a run whose worker process died, before the run is recorded as failed
+ALLOWED_FAILURES = 2
+
+
+@dataclass
+class Outcome:
+    done: int           # rows in the folder for this campaign (skipped + finished now)
+    skipped: int        # already in the folder before this call
+    finished: int       # finished by this call
+    interrupted: bool
+    wall_s: float       # of this call's runs, from the first submit to the last row
+    workers: int
+
+
+def runs_dir(out: Path) -> Path:
+    return out / "runs"
+
+
+def row_path(out: Path, index: int) -> Path:
+    return runs_dir(out) / f"{index:06d}.json"
+
+
+def finished_indices(out: Path) -> set[int]:
+    d = runs_dir(out)
+    if not d.is_dir():
+        return set()
+    got = set()
+    for p in d.glob("*.json"):
+        try:
+            got.add(int(p.stem))
+        except ValueError:
+            continue
+    return got
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def prepare_dir(c: P.Campaign, out: Path) -> None:
+    """Creates OUT or checks that it holds this campaign (same scenario, law, seed, --set, dispersions)."""
+    if out.exists() and not out.is_dir():
+        raise P.CampaignError(f"--out {out}: exists and is not a folder")
+    fp = c.fingerprint()
+    old = P.load_campaign_dir_plan(out)
+    if old is not None and old.get("fingerprint") != fp:
+        raise P.CampaignError(f"--out {out}: holds another campaign (scenario {old.get('scenario')}, law "
+                              f"{old.get('law')}, seed {old.get('seed')}, dispersions {old.get('disperse')}); "
+                              "choose another folder")
+    runs_dir(out).mkdir(parents=True, exist_ok=True)
+    meta = {"fingerprint": fp, "scenario": c.scenario, "law": c.law, "runs": max(c.runs, (old or {}).get("runs", 0)),
+            "seed": c.seed, "sets": list(c.sets), "disperse": list(c.disperse)}
+    _write_atomic(out / "campaign-plan.json", json.dumps(meta, indent=1) + "\n")
+
+
+def _cluster(workers: int | None, scheduler: str | None):
+    from dask.distributed import Client, LocalCluster  # deferred: ~1 s, only a campaign needs Dask
+
+    if scheduler:
+        client = Client(scheduler, timeout="10s")
+        return client, None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                           dashboard_address=None, silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def check_workers(client) -> list[str]:
+    """One line per worker that cannot make a private network namespace (empty: all can)."""
+    res = client.run(W.netns_check)
+    return [f"worker {addr}: {why}" for addr, why in sorted(res.items()) if why]
+
+
+def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, scheduler: str | None = None,
+        keep_logs: bool = False, timeout_s: float | None = None, progress: bool = True, retry_errors: bool = False,
+        say=lambda msg: print(msg, file=sys.stderr, flush=True)) -> Outcome:
+    from dask import config as dask_config  # deferred: see _cluster
+    from dask.distributed import as_completed  # deferred: see _cluster
+
+    prepare_dir(c, out)
+    done0 = finished_indices(out) & set(range(c.runs))
+    if retry_errors:   # runs that did not complete (crash, timeout, refused) are flown again
+        done0 = {i for i in done0 if json.loads(row_path(out, i).read_text()).get("status") != W.STATUS_ERROR}
+    todo = [i for i in range(c.runs) if i not in done0]
+    if not todo:
+        say(f"aocs campaign: all {c.runs} runs already in {out}/ (nothing to run)")
+        return Outcome(len(done0), len(done0), 0, False, 0.0, 0)
+    specs = P.plan(c, disps, todo)
+    dask_config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES})
+    interrupted = False
+    old_handlers = {}
+
+    def on_signal(signum, frame):  # noqa: ARG001
+        raise KeyboardInterrupt
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        old_handlers[sig] = signal.signal(sig, on_signal)
+    client = cluster = None
+    finished = 0
+    bar = None
+    t0 = time.monotonic()
+    try:
+        client, cluster = _cluster(workers, scheduler)
+        problems = check_workers(client)
+        if problems:
+            raise P.CampaignError("no private network namespace per run on " + "; ".join(problems)
+                                  + " (start the workers as root or under `unshare --user --map-root-user`, "
+                                  "docs/campaigns.md)")
+        n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+        say(f"aocs campaign: {len(todo)} runs of {c.runs} ({len(done0)} already done) on {n_workers} Dask "
+            f"workers ({scheduler or 'local cluster'}); results in {out}/")
+        futures = {}
+        t0 = time.monotonic()
+        for s in specs:
+            f = client.submit(W.run_task, s.to_dict(), str(runs_dir(out) / f"{s.index:06d}"), keep_logs,
+                              timeout_s, key=f"aocs-run-{c.fingerprint()}-{s.index}", pure=False)
+            futures[f] = s
+        if progress:
+            from tqdm import tqdm  # deferred: only with a progress bar
+
+            bar = tqdm(total=c.runs, initial=len(done0), unit="run", desc="aocs campaign", file=sys.stderr,
+                       dynamic_ncols=True, smoothing=0.1)
+        for fut in as_completed(list(futures)):
+            s = futures[fut]
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - a run that killed its workers (KilledWorker) or lost
+                row = {"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
+                       "error": f"crashed: the run ended its worker process {ALLOWED_FAILURES + 1} times "
+                                f"({type(exc).__name__}: {exc})", "wall_s": None, "worker_pid": None}
+            record(out, s, row)
+            finished += 1
+            if bar is not None:
+                bar.update(1)
+                if row["status"] != W.STATUS_PASSED:
+                    bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
+                              file=sys.stderr)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        wall = time.monotonic() - t0
+        if bar is not None:
+            bar.close()
+        if interrupted:
+            say(f"aocs campaign: interrupted; {finished} runs finished in this call are kept in {out}/runs/")
+        for sig, h in old_handlers.items():
+            signal.signal(sig, h)
+        _close(client, cluster)
+    n_workers_final = locals().get("n_workers", 0)
+    return Outcome(len(done0) + finished, len(done0), finished, interrupted, wall, n_workers_final)
+
+
+def _close(client, cluster) -> None:
+    # each step bounded: a cluster that does not close in time is left to its nannies (they end with us)
+    for obj in (client, cluster):
+        if obj is None:
+            continue
+        try:
+            obj.close(timeout=10) if obj is client else obj.close(timeout=10)
+        except Exception:  # noqa: BLE001 - closing after an interrupt or a lost scheduler
+            pass
+
+
+def record(out: Path, spec: P.RunSpec, row: dict) -> None:
+    """The row of one finished run, with its inputs and the command that repeats it."""
+    row = dict(row)
+    row["inputs"] = spec.inputs
+    row["overrides"] = spec.overrides
+    row["repeat_command"] = P.repeat_command(spec, f"run-{spec.index:06d}.json")
+    _write_atomic(row_path(out, spec.index), json.dumps(row) + "\n")
+
+
+def read_rows(out: Path, runs: int) -> list[dict]:
+    rows = []
+    for i in sorted(finished_indices(out)):
+        if i < runs:
+            rows.append(json.loads(row_path(out, i).read_text()))
+    return rows

@@ -1,0 +1,182 @@
+"""A campaign's definition and its runs: what each run sets, and the command that repeats it.
+
+    Campaign(scenario, law, runs, seed, sets, dispersions) -> plan(c) -> [RunSpec, ...]
+
+The definition comes from the command line and/or a `[campaign]` table of a
+campaign file (docs/campaigns.md):
+
+    [campaign]
+    scenario = "irassi_large"          # only in a campaign file
+    law = "quat_pd"
+    runs = 1000
+    seed = 1
+    set = ["actuator.axis_limit=0.5"]  # like --set
+    disperse = ["plant.w0=normal:0:1e-4", "plant.euler321_deg=rotation:2"]
+
+Each run's overrides are the campaign's --set plus its dispersed values
+(dispersions.sample: a function of seed and index), and its repeat command
+`aocs run SCENARIO --law L --set ... --json FILE --no-plots -q` carries them
+written with repr, so that command alone flies the same run bit for bit.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import shlex
+import tomllib
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from aocs_plant import scenario as scmod
+from aocs_runner import scenario_opts
+
+from . import dispersions as D
+
+#: most runs of one campaign (a campaign folder holds one result file per run)
+RUNS_MAX = 1_000_000
+CAMPAIGN_KEYS = ("scenario", "law", "runs", "seed", "set", "disperse")
+
+
+class CampaignError(ValueError):
+    """A campaign definition that cannot be run; the message names the option or key."""
+
+
+@dataclass
+class Campaign:
+    scenario: str
+    law: str | None
+    runs: int
+    seed: int
+    sets: list = field(default_factory=list)
+    disperse: list = field(default_factory=list)
+
+    def fingerprint(self) -> str:
+        """What makes two campaigns the same (a resumed campaign folder must hold this one)."""
+        d = {"scenario": str(scmod.resolve(self.scenario)), "law": self.law, "seed": self.seed,
+             "sets": list(self.sets), "disperse": list(self.disperse)}
+        return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
+
+
+@dataclass
+class RunSpec:
+    index: int
+    scenario: str
+    law: str | None
+    overrides: dict     # dotted key -> value (the campaign's --set, then the dispersed values)
+    inputs: dict        # dispersed scalar -> value (results columns)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def read_file_section(path: str) -> dict:
+    """The [campaign] table of a campaign or scenario file ({} when there is none)."""
+    p = scmod.resolve(path)
+    try:
+        with open(p, "rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise CampaignError(f"{p}: no such file") from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise CampaignError(f"{p}: not readable as TOML: {exc}") from None
+    sec = data.get("campaign")
+    if sec is None:
+        return {}
+    if not isinstance(sec, dict):
+        raise CampaignError(f"{p}: campaign: must be a table")
+    for k, v in sec.items():
+        if k not in CAMPAIGN_KEYS:
+            raise CampaignError(f"{p}: campaign.{k}: unknown key; known: {', '.join(CAMPAIGN_KEYS)}")
+        if k in ("set", "disperse") and not (isinstance(v, list) and all(isinstance(x, str) for x in v)):
+            raise CampaignError(f"{p}: campaign.{k}: must be a list of strings (\"KEY=...\")")
+        if k in ("runs", "seed") and not (isinstance(v, int) and not isinstance(v, bool)):
+            raise CampaignError(f"{p}: campaign.{k}: must be an integer")
+        if k in ("scenario", "law") and not isinstance(v, str):
+            raise CampaignError(f"{p}: campaign.{k}: must be a string")
+    sec = dict(sec)
+    if "kind" in data:            # a scenario file: it is the scenario
+        if "scenario" in sec:
+            raise CampaignError(f"{p}: campaign.scenario: a scenario file's campaign flies that scenario")
+        sec["scenario"] = str(p)
+    elif "scenario" not in sec:
+        raise CampaignError(f"{p}: campaign.scenario: missing (the scenario id or file)")
+    return sec
+
+
+def document(c: Campaign) -> dict:
+    """The scenario document with the campaign's --set applied (the nominal of every dispersion)."""
+    return scmod.document(c.scenario, scenario_opts.parse_sets(c.sets))
+
+
+def check(c: Campaign) -> list[D.Dispersion]:
+    """Validates the campaign before anything runs; returns its dispersions."""
+    if not 1 <= c.runs <= RUNS_MAX:
+        raise CampaignError(f"--runs {c.runs}: must be in [1, {RUNS_MAX}]")
+    if c.seed < 0:
+        raise CampaignError(f"--seed {c.seed}: must be >= 0")
+    disps = D.parse_all(c.disperse)
+    base = scenario_opts.parse_sets(c.sets)
+    for d in disps:
+        if d.key in base and not d.index:
+            raise D.DispersionError(f"--disperse {d.text}: {d.key} is also given with --set")
+    doc = document(c)
+    sid = doc.get("id", c.scenario)
+    D.check_against(disps, doc, sid)
+    # every dispersed key goes through the loader once (a key the loader does not know is named by it)
+    ov, _ = D.sample(disps, doc, c.seed, 0)
+    try:
+        scmod.load(c.scenario, {**base, **ov})
+    except scmod.ScenarioError as exc:
+        names = ", ".join(d.text for d in disps) or "(none)"
+        raise D.DispersionError(f"--disperse {names}: the scenario refuses run 0's values: {exc}") from None
+    return disps
+
+
+def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
+    doc = document(c)
+    base = scenario_opts.parse_sets(c.sets)
+    out = []
+    for i in (range(c.runs) if indices is None else indices):
+        ov, inputs = D.sample(disps, doc, c.seed, i)
+        out.append(RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs))
+    return out
+
+
+def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
+    """The `aocs run` command that repeats this run alone (same metrics JSON, bit for bit)."""
+    words = ["aocs", "run", spec.scenario]
+    if spec.law:
+        words += ["--law", spec.law]
+    words += scenario_opts.to_args(spec.overrides)
+    words += ["--json", json_path, "--no-plots", "-q"]
+    return shlex.join(words)
+
+
+def load_campaign_dir_plan(out: Path) -> dict | None:
+    p = out / "campaign-plan.json"
+    if not p.is_file():
+        return None
+    try:
+        return json.loads(p.read_text())
+    except json.JSONDecodeError:
+        return None
+
+
+#: metrics of a run that measure the machine, not the flight (wall and step times, the log's path,
+#: the node's own timing report, the overruns these cause and so the verdict's timing check): left
+#: out when a repeated run is compared with the campaign's row; everything else is bit-identical
+VOLATILE_METRICS = ("timing", "lockstep", "loop", "realtime", "fsw_node", "wall_s", "log", "verdict",
+                    "counters.overruns")
+
+
+def flight_metrics(metrics: dict) -> dict:
+    """The metrics without VOLATILE_METRICS (a deep copy)."""
+    out = json.loads(json.dumps(metrics))
+    for k in VOLATILE_METRICS:
+        node = out
+        parts = k.split(".")
+        for p in parts[:-1]:
+            node = node.get(p, {}) if isinstance(node, dict) else {}
+        if isinstance(node, dict):
+            node.pop(parts[-1], None)
+    return out

@@ -1,0 +1,223 @@
+"""A campaign worker's plant server: one single-threaded process per worker that has the plant's modules
+imported once and forks a plant_node per run.
+
+Why: a new interpreter per run costs ~0.3-0.5 s of imports; forking the plant from the Dask worker itself
+saves them but forks a multi-threaded process (Dask's event loop, the run's recorder and LCM's receive
+threads), whose child inherits every lock another thread held at that instant (glib's allocator, LCM's
+handles) with nobody left to release it. The server is started with subprocess (exec: no inherited
+threads) before the worker's first run and never starts a thread, so its children are forks of a
+single-threaded process.
+
+Protocol (one JSON object per line over a socketpair): the worker sends {"id", "args", "stdout",
+"netns"}; the server forks a child that joins the network namespace at "netns" (the run thread's
+/proc/PID/task/TID/ns/net, netns.join_netns), writes its stdout to "stdout", runs plant_node.main(args)
+and leaves with os._exit; it answers {"id", "pid"} (or {"id", "error"}), and {"pid", "exit"} (the exit
+code as subprocess gives it: negative for a signal) when it has reaped the child. The server ends when the
+worker does (end of file on the socket); its children end with it (PR_SET_PDEATHSIG).
+"""
+from __future__ import annotations
+
+import json
+import os
+import select
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+import traceback
+
+
+def _child(req: dict) -> None:
+    """In the forked child: never returns."""
+    from aocs_runner import orchestrate, plant_node  # deferred: imported by the server before any fork
+    from aocs_wire import netns
+
+    code = 1
+    try:
+        fd = os.open(req["stdout"], os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        os.dup2(fd, 1)
+        os.close(fd)
+        null = os.open(os.devnull, os.O_RDONLY)
+        os.dup2(null, 0)
+        os.close(null)
+        orchestrate._pdeathsig()   # ends with the server, as the runner's other children with theirs
+        for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGCHLD):
+            signal.signal(sig, signal.SIG_DFL)   # plant_node sets its own
+        sys.stdout = open(1, "w", closefd=False)
+        sys.stderr = open(2, "w", closefd=False)
+        netns.join_netns(req["netns"])
+        plant_node.T_PROCESS = time.perf_counter()
+        code = plant_node.main(req["args"])
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else 1
+    except BaseException:  # noqa: BLE001 - the child must end here, whatever happened
+        traceback.print_exc()
+        code = 1
+    finally:
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(code)
+
+
+def serve(sock: socket.socket) -> int:
+    """The server loop (single thread): requests in, forks, exit statuses out."""
+    from aocs_runner import orchestrate, plant_node  # noqa: F401 - imported once, inherited by every fork
+
+    # no PDEATHSIG here: it follows the thread that started us (a Dask worker thread), not the worker; the
+    # end of file on the socket says the worker is gone
+    signal.signal(signal.SIGINT, signal.SIG_IGN)   # the worker's Ctrl-C is the worker's: it ends us
+    children: set[int] = set()
+    buf = b""
+    out = sock.makefile("wb", buffering=0)
+
+    def send(msg: dict) -> None:
+        out.write((json.dumps(msg) + "\n").encode())
+
+    sock.sendall(b'{"ready": true}\n')
+    while True:
+        r, _, _ = select.select([sock], [], [], 0.005 if children else 0.5)
+        if r:
+            chunk = sock.recv(65536)
+            if not chunk:   # the worker is gone
+                return 0
+            buf += chunk
+            while b"\n" in buf:
+                line, buf = buf.split(b"\n", 1)
+                req = json.loads(line)
+                try:
+                    pid = os.fork()
+                except OSError as exc:
+                    send({"id": req["id"], "error": f"fork: {exc}"})
+                    continue
+                if pid == 0:
+                    sock.close()
+                    _child(req)
+                children.add(pid)
+                send({"id": req["id"], "pid": pid})
+        for pid in list(children):
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                children.discard(pid)
+                send({"pid": pid, "exit": os.waitstatus_to_exitcode(status)})
+
+
+class ServerEnded(RuntimeError):
+    """The plant server's socket closed: the server is gone."""
+
+
+class ServedChild:
+    """A plant forked by the server, with the part of subprocess.Popen that orchestrate.Proc uses."""
+
+    def __init__(self, server: "PlantServer", pid: int):
+        self._server = server
+        self.pid = pid
+        self.returncode = None
+
+    def poll(self):
+        if self.returncode is None:
+            self.returncode = self._server.exit_code(self.pid)
+        return self.returncode
+
+    def wait(self, timeout=None):
+        end = None if timeout is None else time.monotonic() + timeout
+        while self.poll() is None:
+            if end is not None and time.monotonic() > end:
+                raise subprocess.TimeoutExpired(f"pid {self.pid}", timeout)
+            time.sleep(0.001)
+        return self.returncode
+
+    def send_signal(self, sig):
+        if self.poll() is None:
+            try:
+                os.kill(self.pid, sig)
+            except ProcessLookupError:
+                pass
+
+    def kill(self):
+        self.send_signal(signal.SIGKILL)
+
+
+class PlantServer:
+    """The worker's side: starts the server (once; again if it died) and asks it for plants."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._proc = None
+        self._sock = None
+        self._buf = b""
+        self._exits: dict[int, int] = {}
+        self._n = 0
+
+    def ensure_running(self) -> None:
+        with self._lock:
+            if self._proc is not None and self._proc.poll() is None:
+                return
+            mine, theirs = socket.socketpair()
+            self._proc = subprocess.Popen([sys.executable, "-m", "aocs_campaign.plant_server",
+                                           str(theirs.fileno())], pass_fds=[theirs.fileno()],
+                                          stdin=subprocess.DEVNULL)
+            theirs.close()
+            self._sock, self._buf, self._exits = mine, b"", {}
+            self._read_until(lambda m: m.get("ready"), 60.0, "start")
+
+    def _pump(self, timeout: float, what: str) -> list[dict]:
+        """The messages that arrive within timeout (at most one read; exit statuses kept); the caller
+        holds the lock. Raises when the server has ended."""
+        r, _, _ = select.select([self._sock], [], [], max(0.0, timeout))
+        if r:
+            chunk = self._sock.recv(65536)
+            if not chunk:
+                raise ServerEnded(f"the plant server ended ({what}): exit {self._proc.poll()}")
+            self._buf += chunk
+        msgs = []
+        while b"\n" in self._buf:
+            line, self._buf = self._buf.split(b"\n", 1)
+            msg = json.loads(line)
+            if "exit" in msg:
+                self._exits[msg["pid"]] = msg["exit"]
+            msgs.append(msg)
+        return msgs
+
+    def _read_until(self, done, timeout: float, what: str) -> dict:
+        end = time.monotonic() + timeout
+        while True:
+            for msg in self._pump(end - time.monotonic(), what):
+                if done(msg):
+                    return msg
+            if time.monotonic() > end:
+                raise RuntimeError(f"the plant server did not answer ({what}) within {timeout:g} s")
+
+    def launch(self, args: list, stdout_path, env: dict) -> ServedChild:  # noqa: ARG002 - env: the server's
+        """plant_node.main(args) in a child of the server, in the calling thread's network namespace."""
+        self.ensure_running()
+        with self._lock:
+            self._n += 1
+            rid = self._n
+            req = {"id": rid, "args": [str(a) for a in args], "stdout": str(stdout_path),
+                   "netns": f"/proc/{os.getpid()}/task/{threading.get_native_id()}/ns/net"}
+            self._sock.sendall((json.dumps(req) + "\n").encode())
+            msg = self._read_until(lambda m: m.get("id") == rid, 30.0, "fork")
+        if "error" in msg:
+            raise RuntimeError(f"the plant server could not start plant_node: {msg['error']}")
+        return ServedChild(self, msg["pid"])
+
+    def exit_code(self, pid: int) -> int | None:
+        with self._lock:
+            if pid not in self._exits:
+                try:
+                    self._pump(0.0, "poll")
+                except ServerEnded:   # the server died: its children died with it (PDEATHSIG)
+                    self._exits[pid] = -signal.SIGKILL
+            return self._exits.pop(pid, None)
+
+    @property
+    def pid(self) -> int | None:
+        return None if self._proc is None else self._proc.pid
+
+
+if __name__ == "__main__":
+    sys.exit(serve(socket.socket(fileno=int(sys.argv[1]))))

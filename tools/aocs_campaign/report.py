@@ -1,0 +1,226 @@
+"""A campaign's results: the per-run table (Parquet and CSV), the campaign JSON (statistics and
+requirement pass fractions, SPEC 5.4), the plots and report.md.
+
+Table: one row per run, columns
+    index, status (passed | failed | error), error, repeat_command,
+    in.<dispersed scalar>            the drawn values (dispersions.sample)
+    m.<metric path>                  every number of the run's metrics JSON, flattened
+                                     (pointing_error_arcsec.final_max, max_abs_torque_nm[2], ...)
+Requirements (pass = True per run; a run with no metrics does not pass):
+    settled           a settle time exists (aocs_analysis.run_metrics: inside every settle
+                      criterion from then to the end)
+    requirement       pointing_error_arcsec.final_max <= the scenario's requirement_arcsec
+    goal              pointing_error_arcsec.final_max <= the scenario's goal_arcsec
+    limits            no command beyond the flight software's limits and none non-finite
+                      (limits.commands_over_limit == limits.commands_not_finite == 0)
+    verdict           the run's own verdict (aocs_analysis.verdict) passed
+"""
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+from aocs_plant.scenario import load
+
+from . import plots as plotmod
+from . import stats
+
+#: metrics shown in report.md and plotted (column, label with unit); the JSON summarises every column
+KEY_METRICS = (
+    ("m.pointing_error_arcsec.final_max", "pointing error, max over the window (arcsec)"),
+    ("m.pointing_error_arcsec.final_rms", "pointing error, RMS over the window (arcsec)"),
+    ("m.settle_time_s", "settle time (s)"),
+    ("m.max_torque_norm_nm", "max torque command norm (N m)"),
+    ("m.effort", "effort, integral of the squared command norm (N^2 m^2 s)"),
+    ("m.timing.step_ns_p99", "executive step time p99 (ns)"),
+)
+#: metrics JSON sections that are no run figure (paths, lists of records, the run's plots)
+SKIP_SECTIONS = ("log.path", "commands", "plots", "fsw_node", "settle_criterion.criteria")
+
+
+def flatten(d, prefix="") -> dict:
+    """Numbers and booleans of a nested dict/list as {dotted.path[i]: value} (strings and None dropped)."""
+    out = {}
+    if isinstance(d, dict):
+        for k, v in d.items():
+            p = f"{prefix}.{k}" if prefix else str(k)
+            if p in SKIP_SECTIONS:
+                continue
+            out.update(flatten(v, p))
+    elif isinstance(d, (list, tuple)):
+        if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in d):
+            for i, x in enumerate(d):
+                out[f"{prefix}[{i}]"] = float(x)
+    elif isinstance(d, bool):
+        out[prefix] = d
+    elif isinstance(d, (int, float)):
+        out[prefix] = float(d)
+    return out
+
+
+def table_rows(rows: list[dict]) -> list[dict]:
+    out = []
+    for r in rows:
+        t = {"index": int(r["index"]), "status": r["status"], "error": r.get("error"),
+             "wall_s": r.get("wall_s"), "repeat_command": r.get("repeat_command")}
+        for k, v in (r.get("inputs") or {}).items():
+            t[f"in.{k}"] = float(v)
+        if r.get("metrics"):
+            for k, v in flatten(r["metrics"]).items():
+                t[f"m.{k}"] = v
+        out.append(t)
+    return out
+
+
+def requirements(rows: list[dict], requirement: float | None, goal: float | None) -> dict:
+    def pe(r):
+        m = r.get("metrics") or {}
+        return (m.get("pointing_error_arcsec") or {}).get("final_max")
+
+    def lim_ok(r):
+        m = r.get("metrics")
+        if not m:
+            return None
+        lim = m.get("limits") or {}
+        return lim.get("commands_over_limit") == 0 and lim.get("commands_not_finite") == 0
+
+    flags = {
+        "settled": [bool(r.get("metrics")) and r["metrics"].get("settle_time_s") is not None for r in rows],
+        "limits": [lim_ok(r) is True for r in rows],
+        "verdict": [bool(r.get("metrics")) and bool(r["metrics"]["verdict"]["passed"]) for r in rows],
+    }
+    desc = {"settled": "settled (inside every settle criterion to the end)",
+            "limits": "limits respected (no command beyond the limits, none non-finite)",
+            "verdict": "run verdict passed (log complete, counters, limits)"}
+    if requirement is not None:
+        flags["requirement"] = [pe(r) is not None and pe(r) <= requirement for r in rows]
+        desc["requirement"] = f"pointing error max over the window <= {requirement:g} arcsec (requirement)"
+    if goal is not None:
+        flags["goal"] = [pe(r) is not None and pe(r) <= goal for r in rows]
+        desc["goal"] = f"pointing error max over the window <= {goal:g} arcsec (goal)"
+    return {k: {"what": desc[k], **stats.pass_fraction(v)} for k, v in flags.items()}
+
+
+def build(out: Path, campaign, rows: list[dict], *, outcome=None, command: str | None = None,
+          commit: str | None = None, plots: bool = True) -> dict:
+    """Writes results.parquet, results.csv, campaign.json, the plots and report.md; returns the JSON."""
+    import pyarrow as pa  # deferred: only the aggregation needs it
+    import pyarrow.csv as pacsv  # deferred: see above
+    import pyarrow.parquet as pq  # deferred: see above
+
+    sc = load(campaign.scenario, _sets(campaign))
+    req, goal = sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec
+    trows = table_rows(rows)
+    cols = []
+    for t in trows:
+        for k in t:
+            if k not in cols:
+                cols.append(k)
+    full = [{k: t.get(k) for k in cols} for t in trows]
+    tab = pa.Table.from_pylist(full)
+    pq.write_table(tab, out / "results.parquet")
+    pacsv.write_csv(tab, out / "results.csv")
+    numeric = [k for k in cols if k.startswith(("m.", "in.")) or k == "wall_s"]
+    summ = {}
+    for k in numeric:
+        vals = [t.get(k) for t in trows]
+        if any(isinstance(v, bool) for v in vals):
+            continue
+        summ[k] = stats.summary(vals)
+    counts = {s: sum(1 for r in rows if r["status"] == s) for s in ("passed", "failed", "error")}
+    doc = {
+        "campaign": {"scenario": sc.id, "law": campaign.law or sc.control.law, "runs": campaign.runs,
+                     "seed": campaign.seed, "sets": list(campaign.sets), "disperse": list(campaign.disperse),
+                     "command": command, "commit": commit, "created": time.strftime("%Y-%m-%dT%H:%M:%S")},
+        "rows": len(rows), "status": counts,
+        "complete": len(rows) == campaign.runs,
+        "throughput": None if outcome is None else {
+            "runs_this_call": outcome.finished, "wall_s": outcome.wall_s, "workers": outcome.workers,
+            "runs_per_minute": (60.0 * outcome.finished / outcome.wall_s) if outcome.wall_s > 0 else None},
+        "requirements": requirements(rows, req, goal),
+        "metrics": summ,
+        "failed_runs": [{"index": r["index"], "status": r["status"], "error": r.get("error"),
+                         "repeat_command": r.get("repeat_command")} for r in rows if r["status"] != "passed"],
+        "plots": [],
+    }
+    if plots and rows:
+        inputs = [k for k in cols if k.startswith("in.")]
+        doc["plots"] = [p.name for p in plotmod.campaign_plots(out, trows, rows, KEY_METRICS, inputs, sc,
+                                                               f"{sc.id} / {doc['campaign']['law']}")]
+    (out / "campaign.json").write_text(json.dumps(doc, indent=1) + "\n")
+    (out / "report.md").write_text(report_md(doc, sc))
+    return doc
+
+
+def _sets(campaign) -> dict:
+    from aocs_runner import scenario_opts  # deferred: keeps this module's import light
+
+    return scenario_opts.parse_sets(campaign.sets)
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, float) and (v == 0 or 1e-3 <= abs(v) < 1e5):
+        return f"{v:.4g}"
+    return f"{v:.3e}" if isinstance(v, float) else str(v)
+
+
+def report_md(doc: dict, sc) -> str:
+    c = doc["campaign"]
+    lines = [f"# Monte Carlo campaign: {c['scenario']} with {c['law']}", "",
+             f"{doc['rows']} of {c['runs']} runs recorded ({doc['status']['passed']} passed, "
+             f"{doc['status']['failed']} failed their verdict, {doc['status']['error']} did not complete)"
+             + ("" if doc["complete"] else "; the campaign is INCOMPLETE (interrupted: rerun the same command "
+                                            "to finish it)") + ".", ""]
+    if c.get("command"):
+        lines += ["Command" + (f" (commit {c['commit']})" if c.get("commit") else "") + ":", "",
+                  "```", c["command"], "```", ""]
+    lines += [f"Scenario: {sc.description}", "", f"Seed {c['seed']}; fixed overrides: "
+              + (", ".join(f"`{s}`" for s in c["sets"]) or "none") + "; dispersions:", ""]
+    lines += [f"- `{d}`" for d in c["disperse"]] or ["- none"]
+    lines += ["", "Each run's values are a function of (seed, run index) alone; `results.csv` / "
+              "`results.parquet` hold, per run, the drawn values (`in.*`), every metric (`m.*`), the status, "
+              "the error and the `aocs run` command that repeats that run bit for bit.", ""]
+    t = doc.get("throughput")
+    if t and t.get("runs_per_minute"):
+        lines += [f"Throughput of this call: {t['runs_this_call']} runs in {t['wall_s']:.1f} s on {t['workers']} "
+                  f"workers = {t['runs_per_minute']:.1f} runs per minute.", ""]
+    lines += ["## Requirements", "", "Pass fraction over all recorded runs (a run that did not complete does not "
+              "pass), with its 95 % Wilson score interval.", "",
+              "| requirement | passed | fraction | 95 % interval |", "|---|---|---|---|"]
+    for r in doc["requirements"].values():
+        w = r["wilson95"]
+        lines.append(f"| {r['what']} | {r['passed']} / {r['n']} | {_fmt(r['fraction'])} | "
+                     + (f"[{w[0]:.4f}, {w[1]:.4f}]" if w else "-") + " |")
+    lines += ["", "## Metrics", "", "Over the runs that produced metrics (percentiles by linear interpolation); "
+              "`campaign.json` has every metric.", "",
+              "| metric | n | min | median | p95 | p99 | max |", "|---|---|---|---|---|---|---|"]
+    for k, label in KEY_METRICS:
+        s = doc["metrics"].get(k)
+        if s:
+            lines.append(f"| {label} | {s['n']} | " + " | ".join(_fmt(s[x]) for x in
+                                                                  ("min", "median", "p95", "p99", "max")) + " |")
+    ins = [k for k in doc["metrics"] if k.startswith("in.")]
+    if ins:
+        lines += ["", "Dispersed inputs:", "", "| input | min | median | max |", "|---|---|---|---|"]
+        for k in ins:
+            s = doc["metrics"][k]
+            lines.append(f"| `{k[3:]}` | {_fmt(s['min'])} | {_fmt(s['median'])} | {_fmt(s['max'])} |")
+    if doc["failed_runs"]:
+        lines += ["", "## Runs that did not pass", "", f"{len(doc['failed_runs'])} runs (logs kept in "
+                  "`runs/NNNNNN/`; the first 20 listed):", ""]
+        for f in doc["failed_runs"][:20]:
+            err = str(f["error"]).splitlines()[0] if f["error"] else ""
+            lines.append(f"- run {f['index']} ({f['status']}): {err}")
+            lines.append(f"  repeat: `{f['repeat_command']}`")
+    if doc["plots"]:
+        lines += ["", "## Plots", ""]
+        lines += [f"![{p}]({p})" for p in doc["plots"]]
+    return "\n".join(lines) + "\n"
+
+
+def finite(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)

@@ -1,0 +1,165 @@
+"""One campaign run on a Dask worker: the real SIL path (aocs_runner.run.execute: plant_node,
+fsw_node, the LCM recorder) in a private network namespace of its own.
+
+`run_task` is what the client submits. It runs in a worker thread: the
+thread moves into a fresh network namespace (aocs_wire.netns.enter_netns
+with fresh=True; Linux namespaces are per thread, and the run's children and
+recorder thread inherit it; the plant is forked by the worker's plant server, plant_server.py, into it), then flies the run and returns one row: status,
+error text, the run's metrics JSON and its pointing error decimated for the
+campaign's overlay plot. It never raises for a run that went wrong: a crash,
+a refused value or a timeout is a row with status "error" and the text that
+`aocs run` would have printed.
+
+A worker needs CAP_SYS_ADMIN in its user namespace to make the namespaces:
+root, or a worker started under `unshare --user --map-root-user`
+(docs/campaigns.md); `netns_check` says which, or why neither.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import threading
+import time
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+from aocs_core import paths
+from aocs_plant.scenario import ScenarioError
+from aocs_runner import events as evmod
+from aocs_runner import orchestrate, scenario_opts
+from aocs_runner.run import RunFailed, RunOptions, execute
+from aocs_wire import fsw_config, netns
+
+from .plant_server import PlantServer
+
+#: points per run kept of the pointing error history (overlay plot)
+SERIES_POINTS = 500
+#: files of a run folder kept for a run that passed when --keep-logs is not given: none (the row has
+#: every metric); a run that failed or errored keeps its whole folder (log, config, node output)
+STATUS_PASSED, STATUS_FAILED, STATUS_ERROR = "passed", "failed", "error"
+#: lockstep wait for each command, s: `aocs run`'s 2 s is too short on a machine loaded by a campaign's
+#: parallel runs (the flight is the same: a wait bounds the run, it does not enter it)
+REPLY_TIMEOUT_S = 10.0
+
+
+def netns_check() -> str | None:
+    """None when this process can make a private network namespace per run, else why not (one line)."""
+    err = None
+
+    def probe():
+        nonlocal err
+        try:
+            netns.enter_netns(fresh=True)
+        except (netns.NetnsError, OSError) as exc:
+            err = str(exc)
+
+    t = threading.Thread(target=probe)   # a throw-away thread: its namespace goes with it
+    t.start()
+    t.join()
+    return err
+
+
+def _decimate(series: dict | None) -> dict | None:
+    if not series or "true_angle" not in series:
+        return None
+    t = np.asarray(series["t"], float)
+    e = np.asarray(series["true_angle"], float)
+    step = max(1, int(np.ceil(t.size / SERIES_POINTS)))
+    idx = np.arange(0, t.size, step)
+    if idx.size and idx[-1] != t.size - 1:
+        idx = np.append(idx, t.size - 1)
+    return {"t_s": t[idx].tolist(), "pointing_error_arcsec": e[idx].tolist()}
+
+
+class _Watchdog:
+    """Kills the run's child processes after timeout_s: those started since the run began (a worker has one
+    thread, so one run at a time); the run then fails with "timed out"."""
+
+    def __init__(self, timeout_s: float | None):
+        self.fired = False
+        self._t = None
+        self._before: set = set()
+        if timeout_s:
+            self._t = threading.Timer(timeout_s, self._fire)
+            self._t.daemon = True
+
+    def _fire(self):
+        self.fired = True
+        import psutil  # deferred: only a run that timed out needs it (a distributed dependency)
+
+        for c in psutil.Process().children(recursive=True):
+            if c.pid in self._before:   # not the run's (a helper process of the worker itself)
+                continue
+            try:
+                c.kill()
+            except psutil.Error:
+                pass
+
+    def __enter__(self):
+        if self._t:
+            import psutil  # deferred: see _fire
+
+            self._before = {c.pid for c in psutil.Process().children(recursive=True)}
+            self._t.start()
+        return self
+
+    def __exit__(self, *exc):
+        if self._t:
+            self._t.cancel()
+        return False
+
+
+#: this worker's plant server (plant_server.py): started at the first run, before the run's namespace and
+#: watchdog, so it is neither in a run's namespace nor one of the run's children the watchdog kills
+PLANT_SERVER = PlantServer()
+
+
+def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float | None = None,
+             fork: bool = True) -> dict:
+    """Fly one run (spec: plan.RunSpec.to_dict()); the result row (never raises for the run itself)."""
+    t0 = time.monotonic()
+    row = {"index": spec["index"], "status": STATUS_ERROR, "error": None, "metrics": None, "series": None,
+           "worker_pid": os.getpid(), "run_dir": run_dir}
+    out = Path(run_dir)
+    try:
+        if fork:
+            PLANT_SERVER.ensure_running()
+        netns.enter_netns(fresh=True)
+        # the same --set text as the repeat command (plan.repeat_command): the run reads its values back
+        # from that text, as `aocs run` does, so the two are the same run bit for bit
+        sets = [f"{k}={scenario_opts.toml_value(v)}" for k, v in spec["overrides"].items()]
+        opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
+                          quiet=True, reply_timeout=REPLY_TIMEOUT_S,
+                          plant_launcher=PLANT_SERVER.launch if fork else None)
+        with _Watchdog(timeout_s) as wd:
+            try:
+                res = execute(opts)
+            except RunFailed as exc:
+                if wd.fired:
+                    raise RunFailed(f"timed out after {timeout_s:g} s (killed); {exc}") from None
+                raise
+        m = res.metrics
+        row["metrics"] = m
+        row["series"] = _decimate(res.series)
+        row["status"] = STATUS_PASSED if m["verdict"]["passed"] else STATUS_FAILED
+        if row["status"] == STATUS_FAILED:
+            from aocs_analysis import verdict  # deferred: only a failed verdict needs its summary
+
+            row["error"] = verdict.summary(m["verdict"])
+    except (ScenarioError, ValueError, fsw_config.ConfigError, evmod.EventError, paths.SetupError,
+            netns.NetnsError) as exc:
+        row["error"] = f"refused: {exc}"
+    except (RunFailed, orchestrate.RunAborted) as exc:
+        row["error"] = f"FAILED: {exc}"
+    except Exception as exc:  # noqa: BLE001 - a campaign records every run, whatever broke
+        row["error"] = f"crashed: {type(exc).__name__}: {exc}\n{traceback.format_exc(limit=8)}"
+    row["wall_s"] = time.monotonic() - t0
+    if row["status"] == STATUS_PASSED and not keep_logs:
+        shutil.rmtree(out, ignore_errors=True)
+    elif row["error"]:
+        out.mkdir(parents=True, exist_ok=True)   # a run refused before it started has no folder yet
+        (out / "error.txt").write_text(row["error"] + "\n")
+    return row
+
