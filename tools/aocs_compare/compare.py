@@ -112,9 +112,12 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
             s.append(f'laws.{law}.table="{table}"')
         if law == "none":
             s.append("control.enabled=false")
-        if reuse and _reusable(row.out_dir, scenario, law, limit, duration, s):
+        curves = (curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
+                  if reuse and _reusable(row.out_dir, scenario, law, limit, duration, s) else None)
+        # reused only when this build's wire types decode the log (one of an older wire version reads empty)
+        if curves is not None and curves["t"].size:
             row.metrics = json.loads((row.out_dir / "metrics.json").read_text())
-            row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
+            row.curves = curves
             result.append(row)
             if progress is not None:
                 progress(name + " (reused)")
