@@ -32,7 +32,7 @@ import traceback
 def _child(req: dict) -> None:
     """In the forked child: never returns."""
     from aocs_runner import orchestrate, plant_node  # deferred: imported by the server before any fork
-    from aocs_wire import netns
+    from aocs_wire import netns  # deferred: as above
 
     code = 1
     try:
@@ -65,7 +65,7 @@ def _child(req: dict) -> None:
 
 def serve(sock: socket.socket) -> int:
     """The server loop (single thread): requests in, forks, exit statuses out."""
-    from aocs_runner import orchestrate, plant_node  # noqa: F401 - imported once, inherited by every fork
+    from aocs_runner import orchestrate, plant_node  # noqa: F401 - deferred: imported once, inherited by every fork
 
     # no PDEATHSIG here: it follows the thread that started us (a Dask worker thread), not the worker; the
     # end of file on the socket says the worker is gone
