@@ -110,6 +110,20 @@ static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
         laws->orbit_lqr.k[i][i] = AOCS_R(2.0);
         laws->orbit_lqr.k[i][3 + i] = AOCS_R(0.3);
     }
+    /* SPEC 5.2: kd kp = 32 > lambda_max(J) ki (J = the smc inertia above, copied in by the executive) */
+    laws->quat_pid.kp = AOCS_R(4.0);
+    laws->quat_pid.kd = AOCS_R(8.0);
+    laws->quat_pid.ki = AOCS_R(1.0);
+    laws->quat_pid.z_max = AOCS_R(0.1);
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 9; ++j) {
+            laws->lqr_quat_i.k[i][j] = AOCS_R(0.05) * (real_t)(i + 1) - AOCS_R(0.02) * (real_t)j;
+        }
+        laws->lqr_quat_i.k[i][i] = AOCS_R(2.0);       /* z */
+        laws->lqr_quat_i.k[i][3 + i] = AOCS_R(20.0);  /* qe_vec */
+        laws->lqr_quat_i.k[i][6 + i] = AOCS_R(30.0);  /* we */
+    }
+    laws->lqr_quat_i.z_max = AOCS_R(0.1);
     laws->mrp_sat.k = AOCS_R(50.0);
     laws->mrp_sat.lambda = AOCS_R(0.6);
     laws->mrp_sat.u_max = AOCS_R(0.05);
