@@ -27,6 +27,8 @@ from pathlib import Path
 import lcm
 
 from aocs_wire import netns, wire
+from aocs_wire.recorder import marker_message
+from aocs_wire.udpm import Udpm
 
 _PR_SET_PDEATHSIG = 1
 #: SO_RCVBUF asked for lcm-logger's socket (bytes); the kernel caps it at net.core.rmem_max
@@ -39,7 +41,7 @@ class RunAborted(RuntimeError):
     """The run was interrupted (signal) or a child failed; message says which and why."""
 
 
-def _pdeathsig():  # runs in the child between fork and exec
+def set_pdeathsig():  # runs in the child between fork and exec (or in a forked plant, plant_fork.py)
     try:
         libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
         libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
@@ -153,7 +155,7 @@ class Processes:
         out, err = target(stdout), target(stderr)
         try:
             p = subprocess.Popen([str(c) for c in cmd], stdout=out, stderr=err, env=env, cwd=cwd,
-                                 stdin=subprocess.DEVNULL, preexec_fn=_pdeathsig)
+                                 stdin=subprocess.DEVNULL, preexec_fn=set_pdeathsig)
         except OSError as exc:
             for f in files:
                 f.close()
@@ -189,6 +191,34 @@ class MarkerLink:
         data = json.dumps({"marker": what, "n": self.n, "wall_time": time.time(), **info}).encode()
         self.lc.publish(wire.RUNNER, data)
         return data
+
+
+class PlantLogMarkers:
+    """The runner's markers when the plant records the bus (`--recorder plant`, plant_node --log): the
+    start marker once the plant listens, the end marker (repeated until the plant has ended: it stops
+    recording on it) after the flight computer has stopped."""
+
+    def __init__(self, plant: Proc, log_path: Path):
+        netns.require_netns()
+        self.plant, self.log_path = plant, log_path
+        self.pub = Udpm(netns.LCM_URL, receive=False)
+        self.n = 0
+
+    def publish(self, what: str, **info) -> None:
+        self.n += 1
+        self.pub.publish(wire.RUNNER, marker_message(what, f"{what}-{self.n}", **info))
+
+    def end(self, timeout: float = 10.0, **info):
+        """Publish the end marker until the plant ends (bounded); its exit code (None: still running,
+        then stopped)."""
+        try:
+            deadline = time.monotonic() + timeout
+            while self.plant.alive() and time.monotonic() < deadline:
+                self.publish("end", **info)
+                self.plant.wait(0.05)
+            return self.plant.poll() if not self.plant.alive() else self.plant.stop()
+        finally:
+            self.pub.close()
 
 
 def _file_contains(path: Path, needle: bytes) -> bool:

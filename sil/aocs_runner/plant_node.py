@@ -17,6 +17,14 @@ Per control tick k (time t_k = (start_tick + k) dt):
      late at most, like a sampled actuator interface).
 After the last period, truth_t of tick N (the final state) is published.
 
+With --log PATH the plant is also the run's recorder (aocs campaign): its udpm socket receives every
+message on the group, its own included, and it writes each one to PATH (the lcm-logger format) in the
+order it received them; with --truth log its truth samples go to that log only, not on the bus (no other
+process reads them, and sending them cost the plant, the flight computer and a recorder ~0.3 s of CPU per
+500 s irassi_large run). After the last tick it writes --done-file and records on until the runner's
+"end" marker (the runner stops the flight computer first, so its last status is in the log), at most
+END_MARKER_TIMEOUT_S.
+
 Before the first tick the node waits (bounded, --ready-timeout) for a
 status_t heartbeat of the flight computer, so no sensor frame is sent before
 it listens. Exit codes: 0 done, 2 bad arguments / scenario, 3 no flight
@@ -35,6 +43,7 @@ from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
 from aocs_plant.scenario import ScenarioError, load
 from aocs_wire import netns, wire
+from aocs_wire.recorder import EventLogWriter, marker_of
 from aocs_wire.udpm import Udpm
 
 from . import events as evmod
@@ -52,6 +61,10 @@ from array import array  # noqa: E402
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_mul, quat_to_dcm  # noqa: E402
 
 EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
+#: --log: longest wait for the runner's end marker after the last tick, s
+END_MARKER_TIMEOUT_S = 30.0
+#: --log: events kept in memory before they are written
+LOG_FLUSH_EVENTS = 4096
 
 _stop = False
 
@@ -77,6 +90,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lcm-url", default=None, help="LCM URL (default: the namespace's udpm URL)")
     p.add_argument("--lcm-lib", action="store_true",
                    help="use the LCM library's receive thread instead of reading udpm directly (udpm.py)")
+    p.add_argument("--log", default=None, metavar="PATH",
+                   help="record every message on the bus to PATH (the plant is the run's recorder)")
+    p.add_argument("--truth", choices=("bus", "log"), default="bus",
+                   help="truth_t published on the bus (default) or written to the --log file only")
+    p.add_argument("--done-file", default=None,
+                   help="with --log: written after the last tick; the plant then records until the end marker")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
 
@@ -96,6 +115,49 @@ class _Link:
         self.wire = wire
         self.frame_cmd = 0
         self.request = 0
+        self.log = None           # EventLogWriter when the plant records the bus (--log)
+        self.end_seen = False     # the runner's end marker has been recorded
+        self.truth_on_bus = True
+
+    def record(self, path: str, truth_on_bus: bool) -> None:
+        """Record every message the socket receives (all channels) to path; truth_t to the bus or not."""
+        self.log = EventLogWriter(path)
+        self.truth_on_bus = truth_on_bus
+        self.lc.subscribe_all(self._on_any)
+
+    def _on_any(self, channel: str, data: bytes) -> None:
+        log = self.log
+        log.add(channel, data)
+        if channel == wire.RUNNER and (marker_of(channel, data) or {}).get("marker") == "end":
+            self.end_seen = True
+        if log.pending >= LOG_FLUSH_EVENTS:
+            log.flush()
+
+    def publish_truth(self, data: bytes) -> None:
+        if self.truth_on_bus:
+            self.lc.publish("AOCS_TRUTH", data)
+        else:
+            self._on_any("AOCS_TRUTH", data)
+
+    def record_until_end_marker(self, done_file: str | None) -> None:
+        """After the last tick (--log): say so in done_file, then record until the runner's end marker."""
+        if self.log is None:
+            return
+        if done_file:
+            with open(done_file, "w") as f:
+                f.write("done\n")
+        end = time.monotonic() + END_MARKER_TIMEOUT_S
+        while not self.end_seen and not _stop:
+            left = end - time.monotonic()
+            if left <= 0:
+                print(f"plant_node: no end marker from the runner within {END_MARKER_TIMEOUT_S:g} s; "
+                      "the log ends here", file=sys.stderr, flush=True)
+                break
+            self.lc.handle_timeout(max(1, int(min(left, 0.1) * 1000)))
+
+    def close_log(self) -> None:
+        if self.log is not None:
+            self.log.close()
 
     def command(self, ev, utime):
         c = self.codecs.command
@@ -151,9 +213,22 @@ def run(args) -> int:
     except (ScenarioError, evmod.EventError, ValueError) as exc:
         print(f"plant_node: {exc}", file=sys.stderr)
         return EXIT_ARGS
+    if args.log is not None and (args.lcm_lib or not (args.lcm_url or netns.LCM_URL).startswith("udpm://")):
+        print("plant_node: --log records the udpm socket the plant reads itself: not with --lcm-lib or "
+              "another transport", file=sys.stderr)
+        return EXIT_ARGS
     plant = Plant(sc)
     check = StepDoubling(sc)   # the run's integration error (SPEC 4.3)
     link = _Link(args.lcm_url, args.lcm_lib)
+    if args.log is not None:
+        link.record(args.log, truth_on_bus=args.truth == "bus")
+    try:
+        return _fly(args, sc, plant, check, link, evs)
+    finally:
+        link.close_log()
+
+
+def _fly(args, sc, plant, check, link, evs) -> int:
     t_built = time.perf_counter()
     if not _wait_ready(link, args.ready_timeout, args.ready_file):
         if _stop:
@@ -181,6 +256,7 @@ def run(args) -> int:
         "integration_error": check.summary(),
     }
     print(json.dumps({"plant_node": summary}), flush=True)
+    link.record_until_end_marker(args.done_file)
     return code
 
 
@@ -247,7 +323,7 @@ class _Loop:
                                0.0, 0.0, 0.0, 1.0, *z3, x[3], x[4], x[5], x[0], x[1], x[2],
                                *z3, *applied, *z3, *dist, 0.0, *z3, *self.truth_wheels())
         self.frame_truth += 1
-        self.link.lc.publish("AOCS_TRUTH", data)
+        self.link.publish_truth(data)
 
     def _pad(self, v):
         v = tuple(v)

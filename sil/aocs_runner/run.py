@@ -28,7 +28,7 @@ from aocs_wire import fsw_config, lcmlog, netns
 from aocs_wire.recorder import Recorder
 
 from . import events as evmod
-from . import orchestrate, scenario_gains, scenario_opts
+from . import orchestrate, plant_fork, scenario_gains, scenario_opts
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
@@ -148,6 +148,9 @@ def check_options(opts: RunOptions) -> None:
     if rt is not None and not (math.isfinite(rt) and 0.0 < rt <= REPLY_TIMEOUT_MAX_S):
         raise ValueError(f"--reply-timeout {rt:g}: must be a finite number of seconds in "
                          f"(0, {REPLY_TIMEOUT_MAX_S:g}]")
+    if opts.recorder == "plant" and (opts.realtime or opts.plant_lcm_lib):
+        raise ValueError("--recorder plant: the plant records the socket it reads itself, in lockstep only "
+                         "(not with --realtime or --plant-lcm-lib)")
     if opts.out is not None and Path(opts.out).exists() and not Path(opts.out).is_dir():
         raise ValueError(f"--out {opts.out}: exists and is not a folder")
     if opts.json_path is not None:
@@ -229,6 +232,12 @@ def execute(opts: RunOptions) -> RunResult:
         plant_cmd.append("-q")
     if opts.plant_lcm_lib:
         plant_cmd.append("--lcm-lib")
+    plant_records = opts.recorder == "plant"
+    done = out / "plant_node.done"
+    if plant_records:
+        # the plant records the bus itself, its truth in the log only (plant_node.py, --log)
+        done.unlink(missing_ok=True)
+        plant_cmd += ["--log", str(log_path), "--truth", "log", "--done-file", str(done)]
     env = paths.python_env()
     if pil_root is not None:
         env["AOCS_PIL_BUILD_ROOT"] = str(pil_root)
@@ -237,32 +246,41 @@ def execute(opts: RunOptions) -> RunResult:
     failure = None
     recorder = None
     with orchestrate.Processes() as procs:
+        # the plant first: once it listens for the flight computer's heartbeat, the recorder and then the
+        # flight computer start (so in real time no period of the node passes before the plant runs; the
+        # plant publishes nothing before that heartbeat). Forked while this process has no other thread
+        # (plant_fork.py), else a new interpreter or the campaign's plant server
+        ready = out / "plant_node.ready"
+        ready.unlink(missing_ok=True)
+        plant_args = plant_cmd[3:] + ["--ready-file", str(ready)]
+        if opts.plant_launcher is not None:
+            plant = procs.adopt("plant_node", opts.plant_launcher(plant_args, out / "plant_node.stdout", env))
+        elif plant_fork.can_fork():
+            plant = procs.adopt("plant_node", plant_fork.fork(plant_args, out / "plant_node.stdout"))
+        else:
+            plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
+                                stdout=out / "plant_node.stdout", stderr=None, env=env)
+        markers = None
         if opts.recorder == "lcm-logger":
             link = orchestrate.MarkerLink()
             logger = orchestrate.start_logger(procs, paths.lcm_logger_exe(), log_path, link,
                                               out / "lcm-logger.stderr", scenario=sc.id, law=law, mode=mode)
+        elif plant_records:
+            markers = orchestrate.PlantLogMarkers(plant, log_path)
         else:
             recorder = Recorder(log_path).start(scenario=sc.id, law=law, mode=mode)
         try:
             fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
-            # the plant first: once it listens for the flight computer's heartbeat, the flight
-            # computer starts (so in real time no period of the node passes before the plant runs)
-            ready = out / "plant_node.ready"
-            ready.unlink(missing_ok=True)
-            if opts.plant_launcher is None:
-                plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
-                                    stdout=out / "plant_node.stdout", stderr=None, env=env)
-            else:
-                plant = procs.adopt("plant_node", opts.plant_launcher(
-                    plant_cmd[3:] + ["--ready-file", str(ready)], out / "plant_node.stdout", env))
             end = time.monotonic() + 30.0
             while not ready.is_file():
                 if not plant.alive():
                     raise RunFailed(f"plant_node {orchestrate.describe_exit(plant.poll())} before it was ready")
                 if time.monotonic() > end:
                     raise RunFailed("plant_node was not ready within 30 s")
-                time.sleep(0.005)
+                time.sleep(0.002)
             ready.unlink()
+            if markers is not None:
+                markers.publish("start", scenario=sc.id, law=law, mode=mode)   # the plant listens: recorded
             fc = procs.start(fc_name, fc_cmd, stdout=out / "fsw_node.stdout", stderr=out / "fsw_node.stderr",
                              env=env)
             hard_end = (time.monotonic() + sc.duration_s + 60.0) if opts.realtime else None
@@ -272,6 +290,8 @@ def execute(opts: RunOptions) -> RunResult:
                     if rc_p != 0:
                         failure = ("plant_node", rc_p, plant)
                     break
+                if plant_records and done.is_file():
+                    break   # the last tick is flown; the plant records on until the end marker
                 if rc_f is not None:
                     failure = (fc_name, rc_f, fc)
                     plant.stop()
@@ -280,13 +300,17 @@ def execute(opts: RunOptions) -> RunResult:
                     failure = ("plant_node", None, plant)
                     plant.stop()
                     break
-                time.sleep(0.01)
+                time.sleep(0.005)
             rc_fc = fc.stop()  # SIGTERM: the node publishes its last status and reports
             if failure is None and rc_fc != 0:
                 failure = (fc_name, rc_fc, fc)
         finally:
             if recorder is not None:
                 recorder.stop(scenario=sc.id)
+            elif markers is not None:
+                rc_p = markers.end(scenario=sc.id)   # the plant has recorded everything before it, and ends
+                if failure is None and rc_p not in (None, 0):
+                    failure = ("plant_node", rc_p, plant)
             else:
                 orchestrate.stop_logger(logger, link, log_path, scenario=sc.id)
     wall = time.monotonic() - t_wall0

@@ -27,7 +27,7 @@ import numpy as np
 
 from aocs_core import paths, registry
 from aocs_design import designs
-from aocs_design.checks import DesignError
+from aocs_design.errors import DesignError
 
 GAINS_TOML = paths.REPO / "tools" / "gains.toml"
 

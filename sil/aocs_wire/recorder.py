@@ -10,11 +10,17 @@ lcm-logger does not raise that limit. A lockstep run publishes ~30,000
 messages/s, and on a 2-core machine shared by the plant and the flight
 computer the logger's main thread is regularly off the CPU for more than
 1 ms: measured, 0.1-2 % of the messages of a 30,000-step landsat8_q1 run were
-missing, in bursts (the kernel socket reported no drops). This recorder
-subscribes with an unbounded queue (set_queue_capacity(0)) and runs as a
-thread of the runner, whose main thread only polls its children. It is
+missing, in bursts (the kernel socket reported no drops).
+
+This recorder reads the udpm group's socket itself (udpm.Udpm, the plant's
+reader, with a catch-all subscription and a 4 MiB socket buffer): no queue
+of the library, no receive thread handing each message over a pipe to a
+Python callback. It runs as one thread of the runner, whose main thread only
+polls its children; it costs ~4 us of CPU per message where the library's
+path cost ~15 us (0.3 s of a 500 s irassi_large run, 20,000 messages). It is
 ready when it has recorded its own start marker, and everything published
-before its end marker is in the file when stop() returns.
+before its end marker is in the file when stop() returns. The thread that
+reads the socket closes it, after its last read.
 `aocs run --recorder lcm-logger` uses lcm-logger instead (orchestrate.py).
 """
 from __future__ import annotations
@@ -25,17 +31,66 @@ import threading
 import time
 from pathlib import Path
 
-import lcm
-
 from . import netns, wire
+from .udpm import Udpm
 
 _SYNC = 0xEDA1DA01
 _HEAD = struct.Struct(">IqqII")
+#: the recorder's nap after reading what was queued, s
+NAP_S = 0.002
 
 
 def encode_event(n: int, utime: int, channel: str, data: bytes) -> bytes:
     ch = channel.encode()
     return _HEAD.pack(_SYNC, n, utime, len(ch), len(data)) + ch + data
+
+
+def marker_of(channel: str, data: bytes) -> dict | None:
+    """The JSON object of an AOCS_RUNNER marker message, None for any other message or a damaged one."""
+    if channel != wire.RUNNER:
+        return None
+    try:
+        m = json.loads(data.decode())
+    except (UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    return m if isinstance(m, dict) else None
+
+
+def marker_message(what: str, tag: str, **info) -> bytes:
+    """An AOCS_RUNNER marker's payload (JSON): its kind ("start", "end"), a tag unique in the run, the
+    wall time and the run's information (scenario, law, mode)."""
+    return json.dumps({"marker": what, "tag": tag, "wall_time": time.time(), **info}).encode()
+
+
+class EventLogWriter:
+    """Events appended in memory (event number, receive time in us since the epoch, channel, payload) and
+    written to an lcm-logger file by flush(): the recorder thread's and the recording plant's log."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        self._f = open(self.path, "wb")
+        self._buf: list[bytes] = []
+        self.count = 0
+
+    def add(self, channel: str, data: bytes) -> None:
+        self._buf.append(encode_event(self.count, time.time_ns() // 1000, channel, data))
+        self.count += 1
+
+    @property
+    def pending(self) -> int:
+        """Events not yet written."""
+        return len(self._buf)
+
+    def flush(self) -> None:
+        if self._buf:
+            buf, self._buf = self._buf, []
+            self._f.write(b"".join(buf))
+            self._f.flush()
+
+    def close(self) -> None:
+        if not self._f.closed:
+            self.flush()
+            self._f.close()
 
 
 class Recorder:
@@ -45,94 +100,75 @@ class Recorder:
                  flush_s: float = 0.25):
         if url is None:
             netns.require_netns()
-            url = f"{netns.LCM_URL}&recv_buf_size={recv_buf}"
+            url = netns.LCM_URL
         self.path = Path(path)
-        self._f = open(self.path, "wb")
-        self._lc = lcm.LCM(url)
-        self._pub = lcm.LCM(url.split("&recv_buf_size")[0])
-        self._buf: list[bytes] = []
-        self._n = 0
+        self._log = EventLogWriter(self.path)
+        self._link: Udpm | None = Udpm(url, recv_buf=recv_buf)
+        self._link.subscribe_all(self._on_message)
         self._flush_s = flush_s
         self._stop = threading.Event()
         self._seen_markers: set = set()
         self._cv = threading.Condition()
         self.error: BaseException | None = None
-        self._sub = self._lc.subscribe(".*", self._on_message)
-        self._sub.set_queue_capacity(0)  # unbounded: never drop
         self._thread = threading.Thread(target=self._run, name="aocs-recorder", daemon=True)
         self._markers = 0
 
     @property
     def count(self) -> int:
-        return self._n
+        return self._log.count
 
     def _on_message(self, channel, data):
-        self._buf.append(encode_event(self._n, time.time_ns() // 1000, channel, data))
-        self._n += 1
-        if channel == wire.RUNNER:
-            try:
-                tag = json.loads(data.decode()).get("tag")
-            except (UnicodeDecodeError, json.JSONDecodeError, AttributeError):
-                tag = None
-            if tag is not None:
-                with self._cv:
-                    self._seen_markers.add(tag)
-                    self._cv.notify_all()
-
-    def _write(self):
-        if self._buf:
-            buf, self._buf = self._buf, []
-            self._f.write(b"".join(buf))
-            self._f.flush()
+        self._log.add(channel, data)
+        tag = (marker_of(channel, data) or {}).get("tag")
+        if tag is not None:
+            with self._cv:
+                self._seen_markers.add(tag)
+                self._cv.notify_all()
 
     def _run(self):
+        link = self._link
         try:
             next_flush = time.monotonic() + self._flush_s
             while not self._stop.is_set():
-                self._lc.handle_timeout(20)
+                if link.handle_timeout(20):
+                    # a nap after each burst: the socket buffer holds the next ones (4 MiB, ~60 ms of a
+                    # lockstep run), read in one go, instead of a wake-up per message that takes a core
+                    # from the plant or the flight computer (their round trip is the run's pace)
+                    time.sleep(NAP_S)
                 if time.monotonic() >= next_flush:
-                    self._write()
+                    self._log.flush()
                     next_flush = time.monotonic() + self._flush_s
             # drain what is queued
-            while self._lc.handle_timeout(0) > 0:
+            while link.handle_timeout(0) > 0:
                 pass
-            self._write()
+            self._log.flush()
         except BaseException as exc:  # noqa: BLE001 - reported by stop()
             self.error = exc
         finally:
             self._release_reader()
 
     def _release_reader(self):
-        """Destroy the receiving handle: called by the thread that reads it, once it has stopped reading
-        (or by stop() when that thread never started), so no handle is freed while a thread is inside it.
-        pylcm has no close(), and its objects are not tracked by Python's cycle collector: the
-        subscription's callback (a bound method of this recorder) makes a cycle that is never freed, and
-        with it the handle's sockets, pipe and receive thread. In a worker that flies hundreds of runs
-        the leaked descriptors pass FD_SETSIZE (1024) and LCM's select() then writes past its fd_set
-        on the stack (the segfaults in _lcm.so of docs/campaigns.md). Unsubscribing breaks the cycle;
-        dropping the last reference destroys the handle (lcm_destroy) here."""
-        lc, sub = self._lc, self._sub
-        self._lc = self._sub = None
-        if lc is not None and sub is not None:
-            try:
-                lc.unsubscribe(sub)
-            except Exception:  # noqa: BLE001 - the handle goes either way
-                pass
-        del lc, sub
+        """Close the sockets: called by the thread that reads them, once it has stopped reading (or by
+        stop() when that thread never started), so no socket is closed under a read. A campaign worker
+        records hundreds of runs in one process: every recorder gives its descriptors back."""
+        link, self._link = self._link, None
+        if link is not None:
+            link.close()
 
     def marker(self, what: str, timeout: float = 5.0, **info) -> None:
         """Publish an AOCS_RUNNER marker and wait (bounded) until it is recorded."""
         self._markers += 1
         tag = f"{what}-{self._markers}"
-        data = json.dumps({"marker": what, "tag": tag, "wall_time": time.time(), **info}).encode()
+        data = marker_message(what, tag, **info)
         end = time.monotonic() + timeout
         with self._cv:
             while tag not in self._seen_markers:
                 left = end - time.monotonic()
-                if left <= 0 or not self._thread.is_alive():
+                link = self._link
+                if left <= 0 or not self._thread.is_alive() or link is None:
                     raise RuntimeError(f"the recorder did not see its '{what}' marker within {timeout} s"
                                        + (f": {self.error}" if self.error else ""))
-                self._pub.publish(wire.RUNNER, data)
+                link.publish(wire.RUNNER, data)   # a plain sendto, safe beside the reading thread
                 self._cv.wait(min(left, 0.05))
 
     def start(self, **info) -> "Recorder":
@@ -146,13 +182,11 @@ class Recorder:
                 self.marker("end", **info)
         finally:
             self._stop.set()
-            if self._thread.ident is None:   # never started: nothing reads the handle
+            if self._thread.ident is None:   # never started: nothing reads the sockets
                 self._release_reader()
             else:
                 self._thread.join(timeout=10.0)
             if not self._thread.is_alive():
-                self._f.close()
-            # the publishing handle is used by this (the caller's) thread only, in marker()
-            self._pub = None
+                self._log.close()
         if self.error is not None:
             raise RuntimeError(f"recorder failed: {self.error}")

@@ -9,7 +9,10 @@ multicast group,
 
 (big-endian). Every aocs_lcm type is far below the 64 kB datagram limit, so
 the fragmented form ("LC03") is never sent; received fragments are counted
-and dropped.
+and, for a catch-all subscription (the run's recorder), put back together
+(the library's format: a 20-byte header magic | sequence | message size |
+fragment offset | uint16 fragment number | uint16 fragment count, the channel
+and its NUL in fragment 0 only).
 
 Why: the LCM library receives on a background thread and hands each message
 to the caller's thread through a pipe, two thread switches per message on a
@@ -29,6 +32,9 @@ from urllib.parse import parse_qs, urlparse
 MAGIC_SHORT = 0x4C433032   # "LC02"
 MAGIC_LONG = 0x4C433033    # "LC03" (fragment)
 _HEAD = struct.Struct(">II")
+_FRAG = struct.Struct(">IIIIHH")
+#: messages being put together from fragments at once (older ones are dropped, counted as incomplete)
+MAX_PARTIAL = 16
 
 
 def parse_url(url: str) -> tuple[str, int, int]:
@@ -43,28 +49,35 @@ def parse_url(url: str) -> tuple[str, int, int]:
 class Udpm:
     """Publish and receive LCM messages on one udpm group, in the caller's thread."""
 
-    def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024):
+    def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024, receive: bool = True):
+        """receive=False: a publisher only (no socket joins the group, so no message is queued for it)."""
         group, port, ttl = parse_url(url)
         self.dest = (group, port)
-        rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
-        rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        if hasattr(socket, "SO_REUSEPORT"):
-            rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
-        rx.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, recv_buf)
-        rx.bind(("", port))
-        mreq = struct.pack("4s4s", socket.inet_aton(group), socket.inet_aton("0.0.0.0"))
-        rx.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, mreq)
-        rx.setblocking(False)
+        rx = None
+        if receive:
+            rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+            rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            if hasattr(socket, "SO_REUSEPORT"):
+                rx.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+            rx.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, recv_buf)
+            rx.bind(("", port))
+            mreq = struct.pack("4s4s", socket.inet_aton(group), socket.inet_aton("0.0.0.0"))
+            rx.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, mreq)
+            rx.setblocking(False)
         tx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
         tx.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, ttl)
         tx.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
         self._rx, self._tx = rx, tx
         self._seq = 0
         self._poll = select.poll()
-        self._poll.register(rx, select.POLLIN)
+        if rx is not None:
+            self._poll.register(rx, select.POLLIN)
         self.fragments = 0     # LC03 datagrams received (never sent by aocs types)
         self.garbage = 0       # datagrams that are not LCM at all
+        self.incomplete = 0    # fragmented messages abandoned before their last fragment
         self._handlers: dict[bytes, object] = {}
+        self._every = None     # handler(channel, data) of every message, whatever its channel
+        self._partial: dict[tuple, list] = {}
 
     def fileno(self) -> int:
         return self._rx.fileno()
@@ -81,7 +94,47 @@ class Udpm:
         return channel
 
     def unsubscribe(self, token: str) -> None:
+        if token == "*":
+            self._every = None
         self._handlers.pop(token.encode(), None)
+
+    def subscribe_all(self, handler) -> str:
+        """handler(channel, data) for every message on the group, whatever its channel, called before
+        the channel's own handler; fragmented messages are put together first. Token "*"."""
+        self._every = handler
+        return "*"
+
+    def _fragment(self, d: bytes):
+        """(channel, data) once the last fragment of a message has come, else None."""
+        if len(d) < _FRAG.size:
+            self.garbage += 1
+            return None
+        _, seq, size, offset, no, count = _FRAG.unpack_from(d)
+        body = d[_FRAG.size:]
+        key = (seq, size, count)
+        part = self._partial.get(key)
+        if no == 0:
+            end = body.find(b"\0")
+            if end < 0:
+                self.garbage += 1
+                return None
+            part = self._partial.setdefault(key, [None, bytearray(size), 0])
+            part[0] = body[:end].decode(errors="replace")
+            body = body[end + 1:]
+        elif part is None:
+            part = self._partial.setdefault(key, [None, bytearray(size), 0])
+        if offset + len(body) > size:
+            self.garbage += 1
+            return None
+        part[1][offset:offset + len(body)] = body
+        part[2] += 1
+        if len(self._partial) > MAX_PARTIAL:
+            del self._partial[next(iter(self._partial))]
+            self.incomplete += 1
+        if part[2] == count and part[0] is not None:
+            del self._partial[key]
+            return part[0], bytes(part[1])
+        return None
 
     def handle_timeout(self, timeout_ms: int) -> int:
         """Dispatch every datagram already queued, waiting at most timeout_ms for the first.
@@ -109,6 +162,11 @@ class Udpm:
             if magic != MAGIC_SHORT:
                 if magic == MAGIC_LONG:
                     self.fragments += 1
+                    if self._every is not None:
+                        whole = self._fragment(d)
+                        if whole is not None:
+                            self._every(*whole)
+                            handled += 1
                 else:
                     self.garbage += 1
                 continue
@@ -116,11 +174,16 @@ class Udpm:
             if end < 0:
                 self.garbage += 1
                 continue
-            h = handlers.get(d[8:end])
+            ch = d[8:end]
+            if self._every is not None:
+                self._every(ch.decode(errors="replace"), d[end + 1:])
+                handled += 1
+            h = handlers.get(ch)
             if h is not None:
-                h(d[8:end].decode(), d[end + 1:])
+                h(ch.decode(), d[end + 1:])
                 handled += 1
 
     def close(self) -> None:
-        self._rx.close()
+        if self._rx is not None:
+            self._rx.close()
         self._tx.close()

@@ -373,7 +373,7 @@ static const char *run_lockstep(node_t *n, int *failed)
     uint64_t idle_ns = seconds_ns(n->cfg.idle_timeout_s);
     uint64_t run_ns = seconds_ns(n->cfg.run_timeout_s);
     uint64_t status_ns = seconds_ns(n->cfg.status_period_s);
-    uint64_t next_status = n->t_start_ns + status_ns;
+    uint64_t next_status = n->t_start_ns; /* the first heartbeat at once: the plant starts on it */
     unsigned errors = 0u;
     n->t_last_sensor_ns = n->t_start_ns;
     while (g_stop == 0) {
@@ -405,7 +405,7 @@ static const char *run_realtime(node_t *n, int *failed)
 {
     uint64_t run_ns = seconds_ns(n->cfg.run_timeout_s);
     uint64_t status_ns = seconds_ns(n->cfg.status_period_s);
-    uint64_t next_status = n->t_start_ns + status_ns;
+    uint64_t next_status = n->t_start_ns; /* the first heartbeat at once: the plant starts on it */
     uint64_t deadline = n->t_start_ns + n->exec.period_ns;
     unsigned errors = 0u;
     if (aocs_exec_timer_init(&n->timer, n->exec.period_ns, deadline) != AOCS_OK) {

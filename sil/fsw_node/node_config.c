@@ -9,6 +9,8 @@
  */
 #include "node_config.h"
 
+#include "aocs/control/gain_matrix.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -278,16 +280,25 @@ static int check_rule(const key_def_t *k, double x, char *err, size_t err_size)
     return 0;
 }
 
+/* The longest list a key takes: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27 numbers). */
+#define NODE_VALUES_MAX (3u * AOCS_GAIN_COLS_MAX)
+
 static int set_numeric(aocs_node_config_t *cfg, const key_def_t *k, const char *value, char *err,
                        size_t err_size)
 {
-    double vals[18];
+    double vals[NODE_VALUES_MAX];
     const char *bad = NULL;
     unsigned want = (k->kind == KIND_REAL) ? k->count : ((k->kind == KIND_INERTIA) ? 9u : 1u);
-    int n = parse_numbers(value, vals, want, &bad);
+    int n;
     unsigned i;
     unsigned char *base = (unsigned char *)cfg + k->offset;
 
+    if (want > NODE_VALUES_MAX) { /* a key table row beyond the buffer: refused, never written past it */
+        set_err(err, err_size, "key '%s': takes %u values, more than this build reads (%u)", k->name, want,
+                NODE_VALUES_MAX);
+        return 1;
+    }
+    n = parse_numbers(value, vals, want, &bad);
     if (n == -1) {
         set_err(err, err_size, "key '%s': '%s' is not a finite number (%s)", k->name, bad, k->help);
         return 1;

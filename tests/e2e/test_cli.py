@@ -150,3 +150,31 @@ def test_a_set_design_weight_flies_a_k_designed_for_it(private_netns, capsys, tm
     # and the result: at 20 s the stiffer loop is nearer the target
     e_ref, e_new = log_ref.truth["pointing_err_arcsec"][-1], log_new.truth["pointing_err_arcsec"][-1]
     assert e_new < 0.8 * e_ref, (e_new, e_ref)
+
+
+def test_the_plant_as_recorder_logs_the_same_run_as_the_recorder_thread(private_netns, capsys, tmp_path):
+    """--recorder plant (aocs campaign's runs): the plant writes the log from its own socket, truth in
+    the log only. Same flight (every metric but the machine's timing), the same messages per channel
+    but the node's wall-clock heartbeats, both markers, the forged frames of the events, and fsw_node's
+    exiting status (sent after the last tick, when the runner stops it) in the log."""
+    from aocs_campaign.plan import flight_metrics
+
+    events = ["--event", "5:malformed", "--event", "7:duplicate", "--event", "9:foreign"]
+    got = {}
+    for rec in ("builtin", "plant"):
+        out = tmp_path / rec
+        rc = cli.main(["run", "irassi_small", "--duration", "20", "--out", str(out), "--no-plots", "-q",
+                       "--recorder", rec, "--json", str(tmp_path / f"{rec}.json"), *events])
+        capsys.readouterr()
+        assert rc == 0, rec
+        m = json.loads((tmp_path / f"{rec}.json").read_text())
+        assert m["log_complete"] and m["verdict"]["passed"], (rec, m["verdict"])
+        got[rec] = (m, lcmlog.read(out / "run.lcmlog"))
+    (ma, la), (mb, lb) = got["builtin"], got["plant"]
+    assert flight_metrics(ma) == flight_metrics(mb)
+    status = "AOCS_STATUS"
+    assert {k: v for k, v in la.counts.items() if k != status} == {k: v for k, v in lb.counts.items() if k != status}
+    assert lb.counts["AOCS_SENSORS.undecodable"] == 1 and lb.counts["AOCS_TRUTH"] == la.counts["AOCS_TRUTH"] == 201
+    assert [mk["marker"] for mk in lb.markers][0] == "start" and lb.markers[-1]["marker"] == "end"
+    assert lb.status["exiting"].tolist()[-1] == 1
+    assert json.loads((tmp_path / "plant" / "run.json").read_text())["recorder"] == "plant"

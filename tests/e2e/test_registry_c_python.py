@@ -157,3 +157,24 @@ def test_an_unknown_field_id_is_refused(dump_bin, tmp_path):
     free = next(i for i in range(1, 255) if i not in used)
     out = decode(dump_bin, bytes([free, 1]) + bytes(8), tmp_path)
     assert (out["pil_err"], out["field"]) == ("AOCS_PIL_ERR_FIELD", free)
+
+
+GAIN_FIELDS = [f for f in registry.load().fields if f.type == "gain"]
+
+
+@pytest.mark.parametrize("field", GAIN_FIELDS, ids=[f.key for f in GAIN_FIELDS])
+def test_an_explicit_gain_of_every_size_is_taken_and_one_value_more_refused(field, fsw_node_bin, tmp_path):
+    """A gain given by value (what `aocs run` writes for a K designed at run start: lqr_quat_i.k has 27
+    numbers) is read whole; fsw_node once read every list into an 18-number buffer and overran its stack
+    with a 3x9 gain. One number more than the field takes is a one-line refusal, never a crash."""
+    cfg = {k: v for k, v in reference_config(field.law).items() if k != field.key.rsplit(".", 1)[0] + ".table"}
+    cols = field.count // 3
+    # a positive diagonal in every 3x3 block (each state group: integral, attitude, rate) passes the checks
+    k = [(1.0 + r) if c % 3 == r else 0.0 for r in range(3) for c in range(cols)]
+    cfg[field.key] = " ".join(repr(x) for x in k)
+    res = run_node(fsw_node_bin, write(tmp_path / "k.cfg", cfg))
+    assert res.returncode == 0, res.stderr
+    cfg[field.key] += " 1.0"
+    res = run_node(fsw_node_bin, write(tmp_path / "k1.cfg", cfg))
+    assert res.returncode == 2 and res.returncode > 0, res.stderr
+    assert field.key in res.stderr and len(res.stderr.strip().splitlines()) == 1, res.stderr

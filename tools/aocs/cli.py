@@ -22,8 +22,10 @@ SUBCOMMANDS = {
     "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
 }
 
-#: sub-commands that run in a private network namespace (aocs_wire.netns): re-executed into it before
-#: their module is imported, so its imports (numpy, the plant) are paid once, not before and after
+#: sub-commands that run in a private network namespace (aocs_wire.netns), entered before their module is
+#: imported: in place with unshare(2) where this process may (root, or CAP_SYS_ADMIN), so nothing is paid
+#: twice; otherwise by re-executing once inside `unshare -n` (its imports, numpy and the plant, then come
+#: after the re-exec only)
 NETNS_FIRST = ("run",)
 
 
@@ -31,6 +33,11 @@ def _netns_first() -> None:
     from aocs_core import paths  # deferred: only a sub-command of NETNS_FIRST needs it
     from aocs_wire import netns  # deferred: see above
 
+    try:
+        netns.enter_netns()   # this process is single-threaded here: every thread and child inherits it
+        return
+    except (netns.NetnsError, OSError):
+        pass   # not allowed in place: re-execute inside unshare -n (which may still manage, e.g. with sudo rules)
     try:
         netns.reexec_in_netns(paths.self_argv())
     except netns.NetnsError:

@@ -47,7 +47,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m aocs_campaign.bench", description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=40)
     ap.add_argument("--workers", type=int, default=None)
-    ap.add_argument("--single", type=int, default=3, help="whole-process timings of one aocs run")
+    ap.add_argument("--single", type=int, default=3, help="whole-process timings of one aocs run (0: none)")
+    ap.add_argument("--sequential", type=int, default=None,
+                    help="how many of the campaign's runs to repeat as sequential aocs run processes "
+                         "(default: all; 0: none)")
     ap.add_argument("--seed", type=int, default=14)
     ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)
@@ -73,7 +76,7 @@ def main(argv=None) -> int:
         walls = []
         ok = 0
         t0 = time.monotonic()
-        for r in rows:
+        for r in rows[:len(rows) if args.sequential is None else args.sequential]:
             words = shlex.split(r["repeat_command"])[2:]
             j = words.index("--json")
             words[j + 1] = str(Path(tmp) / "seq.json")
@@ -81,8 +84,8 @@ def main(argv=None) -> int:
             walls.append(w)
             ok += q.returncode == 0
         seq_wall = time.monotonic() - t0
-        res["sequential_aocs_run"] = {"runs": len(rows), "passed": ok, "wall_s": seq_wall,
-                                      "runs_per_minute": 60.0 * len(rows) / seq_wall if seq_wall > 0 else None,
+        res["sequential_aocs_run"] = {"runs": len(walls), "passed": ok, "wall_s": seq_wall,
+                                      "runs_per_minute": 60.0 * len(walls) / seq_wall if walls else None,
                                       "median_run_wall_s": statistics.median(walls) if walls else None}
         # 3. one aocs run, whole process
         singles = []
@@ -90,8 +93,9 @@ def main(argv=None) -> int:
             q, w, c = _timed(AOCS + ["run", "irassi_large", "--law", "quat_pd", "-q", "--no-plots", "--out",
                                      str(Path(tmp) / "single")])
             singles.append((w, c, q.returncode))
-        res["single_aocs_run"] = {"n": len(singles), "median_wall_s": statistics.median(s[0] for s in singles),
-                                  "median_cpu_s": statistics.median(s[1] for s in singles),
+        res["single_aocs_run"] = {"n": len(singles),
+                                  "median_wall_s": statistics.median(s[0] for s in singles) if singles else None,
+                                  "median_cpu_s": statistics.median(s[1] for s in singles) if singles else None,
                                   "exits": [s[2] for s in singles]}
     res["load_after"] = os.getloadavg()
     c, s, one = res["campaign"], res["sequential_aocs_run"], res["single_aocs_run"]
@@ -101,10 +105,12 @@ def main(argv=None) -> int:
     print(f"  aocs campaign ({c['workers']} Dask workers): {c['runs_per_minute_whole_command']:.1f} runs/min "
           f"whole command ({c['wall_s']:.1f} s), {c['runs_per_minute_runs'] or 0:.1f} runs/min of runs alone; "
           f"status {c['status']}")
-    print(f"  sequential aocs run processes: {s['runs_per_minute'] or 0:.1f} runs/min ({s['wall_s']:.1f} s, "
-          f"median {s['median_run_wall_s'] or 0:.2f} s per run, {s['passed']}/{s['runs']} passed)")
-    print(f"  one aocs run irassi_large --law quat_pd -q --no-plots: median {one['median_wall_s']:.2f} s wall, "
-          f"{one['median_cpu_s']:.2f} s CPU over {one['n']} (exits {one['exits']})")
+    if s["runs"]:
+        print(f"  sequential aocs run processes: {s['runs_per_minute']:.1f} runs/min ({s['wall_s']:.1f} s, "
+              f"median {s['median_run_wall_s']:.2f} s per run, {s['passed']}/{s['runs']} passed)")
+    if one["n"]:
+        print(f"  one aocs run irassi_large --law quat_pd -q --no-plots: median {one['median_wall_s']:.2f} s wall, "
+              f"{one['median_cpu_s']:.2f} s CPU over {one['n']} (exits {one['exits']})")
     if args.json:
         Path(args.json).write_text(json.dumps(res, indent=1) + "\n")
     return 0

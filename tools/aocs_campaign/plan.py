@@ -148,7 +148,7 @@ def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
     if spec.law:
         words += ["--law", spec.law]
     words += scenario_opts.to_args(spec.overrides)
-    words += ["--json", json_path, "--no-plots", "-q"]
+    words += ["--recorder", "plant", "--json", json_path, "--no-plots", "-q"]   # the campaign's recorder (worker.py)
     return shlex.join(words)
 
 

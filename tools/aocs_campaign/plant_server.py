@@ -26,46 +26,20 @@ import subprocess
 import sys
 import threading
 import time
-import traceback
+
+from aocs_runner import plant_fork
 
 
 def _child(req: dict) -> None:
     """In the forked child: never returns."""
-    from aocs_runner import orchestrate, plant_node  # deferred: imported by the server before any fork
-    from aocs_wire import netns  # deferred: as above
+    from aocs_runner import plant_fork  # deferred: imported by the server before any fork
 
-    code = 1
-    try:
-        fd = os.open(req["stdout"], os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-        os.dup2(fd, 1)
-        os.close(fd)
-        null = os.open(os.devnull, os.O_RDONLY)
-        os.dup2(null, 0)
-        os.close(null)
-        orchestrate._pdeathsig()   # ends with the server, as the runner's other children with theirs
-        for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGCHLD):
-            signal.signal(sig, signal.SIG_DFL)   # plant_node sets its own
-        sys.stdout = open(1, "w", closefd=False)
-        sys.stderr = open(2, "w", closefd=False)
-        netns.join_netns(req["netns"])
-        plant_node.T_PROCESS = time.perf_counter()
-        code = plant_node.main(req["args"])
-    except SystemExit as exc:
-        code = exc.code if isinstance(exc.code, int) else 1
-    except BaseException:  # noqa: BLE001 - the child must end here, whatever happened
-        traceback.print_exc()
-        code = 1
-    finally:
-        try:
-            sys.stdout.flush()
-            sys.stderr.flush()
-        finally:
-            os._exit(code)
+    plant_fork.child_main(req["args"], req["stdout"], req["netns"])
 
 
 def serve(sock: socket.socket) -> int:
     """The server loop (single thread): requests in, forks, exit statuses out."""
-    from aocs_runner import orchestrate, plant_node  # noqa: F401 - deferred: imported once, inherited by every fork
+    from aocs_runner import plant_fork  # noqa: F401 - deferred: imported once (the plant too), inherited by every fork
 
     # no PDEATHSIG here: it follows the thread that started us (a Dask worker thread), not the worker; the
     # end of file on the socket says the worker is gone
@@ -109,36 +83,17 @@ class ServerEnded(RuntimeError):
     """The plant server's socket closed: the server is gone."""
 
 
-class ServedChild:
-    """A plant forked by the server, with the part of subprocess.Popen that orchestrate.Proc uses."""
+class ServedChild(plant_fork.ForkedChild):
+    """A plant forked by the server (not a child of this process): its exit status comes from the server."""
 
     def __init__(self, server: "PlantServer", pid: int):
+        super().__init__(pid)
         self._server = server
-        self.pid = pid
-        self.returncode = None
 
     def poll(self):
         if self.returncode is None:
             self.returncode = self._server.exit_code(self.pid)
         return self.returncode
-
-    def wait(self, timeout=None):
-        end = None if timeout is None else time.monotonic() + timeout
-        while self.poll() is None:
-            if end is not None and time.monotonic() > end:
-                raise subprocess.TimeoutExpired(f"pid {self.pid}", timeout)
-            time.sleep(0.001)
-        return self.returncode
-
-    def send_signal(self, sig):
-        if self.poll() is None:
-            try:
-                os.kill(self.pid, sig)
-            except ProcessLookupError:
-                pass
-
-    def kill(self):
-        self.send_signal(signal.SIGKILL)
 
 
 class PlantServer:

@@ -5,9 +5,7 @@ import numpy as np
 import scipy.linalg as sla
 from scipy.optimize import minimize_scalar
 
-
-class DesignError(RuntimeError):
-    """A design check failed; no table may be written."""
+from .errors import DesignError
 
 
 class UncontrollableError(DesignError):

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import lmi_hinf, models, riccati
-from .checks import DesignError
+from . import models
+from .errors import DesignError
 
 #: the design kinds with LQR weights q (one per state: 6, or 9 for lqr_quat_i) and r (3): the
 #: weights a scenario may set
@@ -58,6 +58,10 @@ def _inertia_text(j: np.ndarray) -> str:
 def design_one(name: str, d: dict, p: dict, hinf: dict):
     """The design `d` ([designs.<name>]) on plant `p` ([plants.<d.plant>]); hinf: the [hinf] table.
     Raises DesignError when a check fails, KeyError / TypeError / ValueError on a bad configuration."""
+    # riccati and lmi_hinf import scipy and cvxpy (~0.5 s); every `aocs run` imports this module for the light
+    # helpers above, and only a scenario whose gain is designed at run start calls this
+    from . import lmi_hinf, riccati  # deferred: scipy and cvxpy only when a gain is designed
+
     kind = d["kind"]
     if kind == "lqr_quat":
         j = inertia_of(p)
