@@ -41,6 +41,18 @@ class RunAborted(RuntimeError):
     """The run was interrupted (signal) or a child failed; message says which and why."""
 
 
+_PR_SET_NAME = 15
+
+
+def set_process_name(name: str) -> None:
+    """The calling process's name (/proc/PID/comm, what ps and top show; 15 bytes at most); best effort."""
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc.prctl(_PR_SET_NAME, ctypes.c_char_p(name.encode()[:15]), 0, 0, 0)
+    except OSError:
+        pass
+
+
 def set_pdeathsig():  # runs in the child between fork and exec (or in a forked plant, plant_fork.py)
     try:
         libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)

@@ -39,6 +39,7 @@ def child_main(args: list, stdout_path, netns_path: str | None = None) -> None:
         os.dup2(null, 0)
         os.close(null)
         orchestrate.set_pdeathsig()   # ends with its parent, as the runner's other children
+        orchestrate.set_process_name("plant_node")   # its command line is still its parent's
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGCHLD):
             signal.signal(sig, signal.SIG_DFL)   # plant_node sets its own
         sys.stdout = open(1, "w", closefd=False)

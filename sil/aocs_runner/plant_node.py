@@ -64,7 +64,7 @@ EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
 #: --log: longest wait for the runner's end marker after the last tick, s
 END_MARKER_TIMEOUT_S = 30.0
 #: --log: events kept in memory before they are written
-LOG_FLUSH_EVENTS = 4096
+LOG_FLUSH_EVENTS = 1024
 
 _stop = False
 
@@ -130,7 +130,7 @@ class _Link:
         log.add(channel, data)
         if channel == wire.RUNNER and (marker_of(channel, data) or {}).get("marker") == "end":
             self.end_seen = True
-        if log.pending >= LOG_FLUSH_EVENTS:
+        if log.pending >= LOG_FLUSH_EVENTS:   # in lockstep the loop writes once per tick
             log.flush()
 
     def publish_truth(self, data: bytes) -> None:
@@ -426,6 +426,7 @@ class _Loop:
                 self.stale_replies += 1
 
         lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
+        flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
         waits = 0
         for k in range(n):
             if _stop:
@@ -472,6 +473,7 @@ class _Loop:
             plant.advance()
             check.end(plant)
             self.steps += 1
+            flush_log()   # what the plant records, once per tick: a plant killed loses one tick at most
             self.progress(k)
         self.truth(k0 + n)
         self.handle_calls = waits

@@ -58,7 +58,7 @@ class RunOptions:
     label: str | None = None
     plots: bool = True
     quiet: bool = False
-    recorder: str = "builtin"
+    recorder: str = "auto"        # auto | builtin | plant | lcm-logger (recorder_of)
     plant_lcm_lib: bool = False
     allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
     # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
@@ -136,6 +136,18 @@ def _last_json(path: Path, key: str) -> dict | None:
 REPLY_TIMEOUT_MAX_S = 3600.0
 
 
+RECORDERS = ("auto", "builtin", "plant", "lcm-logger")
+
+
+def recorder_of(opts: RunOptions) -> str:
+    """What records the run: `auto` is the plant itself in lockstep (plant_node --log, truth in the log
+    only: the fastest, docs/sil.md) and the runner's recorder thread in real time or with --plant-lcm-lib
+    (where the plant does not read the bus's socket itself)."""
+    if opts.recorder != "auto":
+        return opts.recorder
+    return "builtin" if (opts.realtime or opts.plant_lcm_lib) else "plant"
+
+
 def check_options(opts: RunOptions) -> None:
     """Refuses, before anything starts, what the run could not honour (ValueError naming the option)."""
     if opts.law is not None and not opts.law.strip():
@@ -148,6 +160,8 @@ def check_options(opts: RunOptions) -> None:
     if rt is not None and not (math.isfinite(rt) and 0.0 < rt <= REPLY_TIMEOUT_MAX_S):
         raise ValueError(f"--reply-timeout {rt:g}: must be a finite number of seconds in "
                          f"(0, {REPLY_TIMEOUT_MAX_S:g}]")
+    if opts.recorder not in RECORDERS:
+        raise ValueError(f"--recorder {opts.recorder!r}: one of {', '.join(RECORDERS)}")
     if opts.recorder == "plant" and (opts.realtime or opts.plant_lcm_lib):
         raise ValueError("--recorder plant: the plant records the socket it reads itself, in lockstep only "
                          "(not with --realtime or --plant-lcm-lib)")
@@ -197,6 +211,7 @@ def execute(opts: RunOptions) -> RunResult:
     netns.require_netns()
     t_wall0 = time.monotonic()
     sc, ov, law, out = prepare(opts)
+    rec_kind = recorder_of(opts)
     evmod.schedule(evmod.parse_all(opts.events), sc.dt, sc.n_steps)  # validate before starting anything
     paths.import_bindings()
     out.mkdir(parents=True, exist_ok=True)
@@ -215,7 +230,7 @@ def execute(opts: RunOptions) -> RunResult:
     pil_root = pil_build_root(opts.target) if opts.target in PIL_PRESETS else None
     log_path = out / "run.lcmlog"
     meta = {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": ov, "law": law,
-            "mode": mode, "recorder": opts.recorder, "plant_lcm_lib": opts.plant_lcm_lib, "target": opts.target, "events": list(opts.events), "label": opts.label,
+            "mode": mode, "recorder": rec_kind, "plant_lcm_lib": opts.plant_lcm_lib, "target": opts.target, "events": list(opts.events), "label": opts.label,
             "fsw_config": cfg, "fsw_config_file": cfg_path.name, "fc_command": fc_cmd,
             "gains": {n: c.to_json() for n, c in gains.items()},
             "pil_image": str(pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if pil_root else None,
@@ -232,7 +247,7 @@ def execute(opts: RunOptions) -> RunResult:
         plant_cmd.append("-q")
     if opts.plant_lcm_lib:
         plant_cmd.append("--lcm-lib")
-    plant_records = opts.recorder == "plant"
+    plant_records = rec_kind == "plant"
     done = out / "plant_node.done"
     if plant_records:
         # the plant records the bus itself, its truth in the log only (plant_node.py, --log)
@@ -261,7 +276,7 @@ def execute(opts: RunOptions) -> RunResult:
             plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
                                 stdout=out / "plant_node.stdout", stderr=None, env=env)
         markers = None
-        if opts.recorder == "lcm-logger":
+        if rec_kind == "lcm-logger":
             link = orchestrate.MarkerLink()
             logger = orchestrate.start_logger(procs, paths.lcm_logger_exe(), log_path, link,
                                               out / "lcm-logger.stderr", scenario=sc.id, law=law, mode=mode)
@@ -341,7 +356,7 @@ def execute(opts: RunOptions) -> RunResult:
             dropped_ticks=dropped)
     except lcmlog.LogIntegrityError as exc:
         log_problems = [str(exc)]
-    if log_problems and opts.recorder == "lcm-logger":
+    if log_problems and rec_kind == "lcm-logger":
         log_problems.append("lcm-logger drops messages under load (docs/sil.md); the builtin recorder does not")
     elif log_problems:
         log_problems.append("the recorder could not keep up: was the runner paused or the machine overloaded?")

@@ -303,10 +303,12 @@ def _children(pid):
 
 
 def _find_child(pid, needle):
+    """The child whose command line or name (/proc/PID/comm: a plant forked by the runner keeps the
+    runner's command line and is named plant_node, aocs_runner.plant_fork) contains needle."""
     for c in _children(pid):
         try:
-            with open(f"/proc/{c}/cmdline", "rb") as f:
-                if needle in f.read():
+            with open(f"/proc/{c}/cmdline", "rb") as f, open(f"/proc/{c}/comm", "rb") as g:
+                if needle in f.read() or needle in g.read():
                     return c
         except FileNotFoundError:
             continue

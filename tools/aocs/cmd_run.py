@@ -15,7 +15,7 @@ from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import events as evmod
 from aocs_runner import orchestrate
-from aocs_runner.run import TARGETS, RunFailed, RunOptions, execute
+from aocs_runner.run import RECORDERS, TARGETS, RunFailed, RunOptions, execute
 from aocs_wire import fsw_config, netns
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
@@ -42,10 +42,11 @@ def add_arguments(p) -> None:
                    help="scheduled command or transport fault, e.g. 100:law=smc, 5:malformed (docs/sil.md)")
     p.add_argument("--reply-timeout", type=float, default=None,
                    help="lockstep: max wait for each command, s (default 2; 10 for pil targets)")
-    p.add_argument("--recorder", choices=("builtin", "lcm-logger", "plant"), default="builtin",
-                   help="what records the LCM log: the runner's lossless recorder (default), lcm-logger, "
-                        "which can drop messages under load, or the plant itself, with its truth in the log "
-                        "only, not on the bus (lockstep; the fastest; aocs campaign's runs) (docs/sil.md)")
+    p.add_argument("--recorder", choices=RECORDERS, default="auto",
+                   help="what records the LCM log: the plant itself, its truth in the log only, not on the bus "
+                        "(lockstep; the fastest), the runner's lossless recorder thread (real time), both "
+                        "chosen by auto (default); builtin: the recorder thread, truth on the bus, in lockstep "
+                        "too; lcm-logger, which can drop messages under load (docs/sil.md)")
     p.add_argument("--plant-lcm-lib", action="store_true",
                    help="plant_node receives through the LCM library's thread instead of reading udpm "
                         "directly (for comparison; docs/sil.md)")
