@@ -94,8 +94,10 @@ def _cluster(workers: int | None, scheduler: str | None):
         client = Client(scheduler, timeout="10s")
         return client, None
     n = workers or os.cpu_count() or 1
+    # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a
+    # traceback; a run that broke is in its row (worker.run_task), not in Dask's log
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=logging.ERROR)
+                           dashboard_address=None, silence_logs=logging.CRITICAL)
     return Client(cluster), cluster
 
 

@@ -75,6 +75,14 @@ def campaign_plots(out: Path, trows, rows, key_metrics, inputs, sc, title: str) 
     return paths
 
 
+def _exponent(x: np.ndarray) -> int:
+    """0 for values whose largest magnitude lies in [1e-3, 1e4) (or none), else its power of ten."""
+    big = float(np.max(np.abs(x))) if x.size else 0.0
+    if big == 0.0 or 1e-3 <= big < 1e4:
+        return 0
+    return int(math.floor(math.log10(big)))
+
+
 def _scatter(out, trows, col, label, v, inputs, sc, title) -> Path:
     plt = house._plt()
     n = len(inputs)
@@ -90,14 +98,17 @@ def _scatter(out, trows, col, label, v, inputs, sc, title) -> Path:
         ax = axes[k // ncol][k % ncol]
         x = _values(trows, inp)
         ok = np.isfinite(x) & np.isfinite(v)
-        ax.scatter(x[ok], v[ok], s=6, alpha=0.6, color="tab:blue", label="run")
+        # very small or large inputs in units of a power of ten named in the label (matplotlib's own offset
+        # text sits on the axis label)
+        e = _exponent(x[ok])
+        ax.scatter(x[ok] / 10.0 ** e, v[ok], s=6, alpha=0.6, color="tab:blue", label="run")
         _lines(ax, col, sc, vertical=False)
-        ax.set_xlabel(f"{inp[3:]} ({_unit(inp)})", fontsize=house.LABEL_PT - 1)
+        ax.set_xlabel(f"{inp[3:]} ({'' if e == 0 else f'x 1e{e} '}{_unit(inp)})", fontsize=house.LABEL_PT - 1)
         if k % ncol == 0:   # the short name and its unit: "pointing error (arcsec)"
             unit = label[label.rfind("("):] if "(" in label else ""
             ax.set_ylabel(f"{label.split(',')[0].split(' (')[0]} {unit}", fontsize=house.LABEL_PT - 1)
         ax.tick_params(labelsize=house.LABEL_PT - 2)
-        ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4), useOffset=False)
+        ax.ticklabel_format(axis="x", style="plain", useOffset=False)
         ax.grid(True, alpha=0.3)
         if logy:
             ax.set_yscale("log")
