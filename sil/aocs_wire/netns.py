@@ -55,10 +55,16 @@ def current_netns_id() -> str:
     return os.readlink("/proc/thread-self/ns/net")
 
 
+#: namespaces this process made or joined (enter_netns, join_netns): a campaign worker flies runs in several
+#: threads at once, each in a namespace of its own, and AOCS_NETNS (one per process) names only the last
+_OURS: set[str] = set()
+
+
 def in_netns() -> bool:
-    """True when this process runs inside a namespace made by this module."""
-    tag = os.environ.get(ENV_VAR)
-    return bool(tag) and tag == current_netns_id()
+    """True when the calling thread runs inside a namespace made by this module (by this process, or by the
+    one that started it: AOCS_NETNS)."""
+    here = current_netns_id()
+    return here in _OURS or os.environ.get(ENV_VAR) == here
 
 
 def _setup_script() -> str:
@@ -134,6 +140,7 @@ def enter_netns(fresh: bool = False) -> str:
         if res.returncode != 0:
             raise NetnsError(f"{' '.join(c)} failed: {res.stderr.strip()}")
     os.environ[ENV_VAR] = after
+    _OURS.add(after)
     return after
 
 
@@ -151,6 +158,7 @@ def join_netns(path: str) -> str:
         os.close(fd)
     after = current_netns_id()
     os.environ[ENV_VAR] = after
+    _OURS.add(after)
     return after
 
 

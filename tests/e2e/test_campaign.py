@@ -238,3 +238,38 @@ def test_the_plant_server_forks_each_run_s_plant_and_outlives_a_killed_one(priva
     while len(os.listdir("/proc/self/task")) > tasks and time.monotonic() < end:
         time.sleep(0.05)
     assert len(os.listdir("/proc/self/task")) <= tasks, threading.enumerate()   # fewer: another test's ended
+
+
+def test_two_runs_at_once_in_one_worker_a_timeout_kills_only_its_own(private_netns, fsw_node_bin, tmp_path,
+                                                                     monkeypatch):
+    """A worker flies RUNS_PER_WORKER runs at once, each thread in its own network namespace: run A, timed
+    out, is killed with its plant and flight computer (the processes in A's namespace), while run B,
+    started after A and flying at the same moment, passes (a watchdog that killed the children started
+    since A began took B's too)."""
+    import threading
+
+    from aocs_campaign import worker as W
+    from aocs_wire import netns
+
+    monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
+    assert W.RUNS_PER_WORKER >= 2
+    rows = {}
+    long_run = {"index": 0, "scenario": "irassi_large", "law": "quat_pd", "overrides": {"duration_s": 3000.0}}
+    other_run = dict(long_run, index=1)     # ~2.5 s or more of flight: still flying when A is killed
+    a = threading.Thread(target=lambda: rows.__setitem__("a", W.run_task(long_run, str(tmp_path / "a"),
+                                                                         timeout_s=1.0)))
+    b = threading.Thread(target=lambda: rows.__setitem__("b", W.run_task(other_run, str(tmp_path / "b"))))
+    try:
+        a.start()
+        time.sleep(0.3)     # A is flying when B starts, and B still flies when A's time is up
+        b.start()
+        a.join(120)
+        b.join(120)
+        assert rows["a"]["status"] == W.STATUS_ERROR and "timed out" in rows["a"]["error"], rows["a"]["error"]
+        assert rows["b"]["status"] == W.STATUS_PASSED, rows["b"]["error"]
+        assert rows["b"]["metrics"]["timing"]["steps"] == 30000
+        assert rows["b"]["wall_s"] > 1.0 - 0.3    # B was flying when A's watchdog fired
+    finally:
+        if W.PLANT_SERVER._proc is not None:
+            W.PLANT_SERVER._proc.kill()
+            W.PLANT_SERVER._proc.wait(10)

@@ -2,8 +2,9 @@
 
     execute.run(campaign, out, workers=K, scheduler=None | "tcp://HOST:PORT", ...)
 
-- cluster: a LocalCluster of K worker processes, one thread each (default K =
-  the machine's cores), on loopback, or the existing cluster at --scheduler;
+- cluster: a LocalCluster of K worker processes (default K = the machine's
+  cores) flying worker.RUNS_PER_WORKER runs each at once (threads), on
+  loopback, or the existing cluster at --scheduler;
 - each run is worker.run_task (the real SIL path in a private network
   namespace of its own); its row is written to OUT/runs/NNNNNN.json (atomic
   rename) as soon as it comes back, so a campaign interrupted or killed keeps
@@ -96,7 +97,7 @@ def _cluster(workers: int | None, scheduler: str | None):
     n = workers or os.cpu_count() or 1
     # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a
     # traceback; a run that broke is in its row (worker.run_task), not in Dask's log
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+    cluster = LocalCluster(n_workers=n, threads_per_worker=W.RUNS_PER_WORKER, processes=True, host="127.0.0.1",
                            dashboard_address=None, silence_logs=logging.CRITICAL)
     return Client(cluster), cluster
 

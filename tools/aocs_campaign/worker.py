@@ -1,10 +1,12 @@
 """One campaign run on a Dask worker: the real SIL path (aocs_runner.run.execute: plant_node,
 fsw_node; the plant records the bus) in a private network namespace of its own.
 
-`run_task` is what the client submits. It runs in a worker thread: the
-thread moves into a fresh network namespace (aocs_wire.netns.enter_netns
-with fresh=True; Linux namespaces are per thread, and the run's children and
-recorder thread inherit it; the plant is forked by the worker's plant server, plant_server.py, into it), then flies the run and returns one row: status,
+`run_task` is what the client submits. It runs in a worker thread (a worker
+flies RUNS_PER_WORKER at once): the thread moves into a fresh network
+namespace (aocs_wire.netns.enter_netns with fresh=True; Linux namespaces are
+per thread, and the run's flight computer inherits it; the plant is forked by
+the worker's plant server, plant_server.py, into it), then flies the run and
+returns one row: status,
 error text, the run's metrics JSON and its pointing error decimated for the
 campaign's overlay plot. It never raises for a run that went wrong: a crash,
 a refused value or a timeout is a row with status "error" and the text that
@@ -42,6 +44,10 @@ STATUS_PASSED, STATUS_FAILED, STATUS_ERROR = "passed", "failed", "error"
 #: lockstep wait for each command, s: `aocs run`'s 2 s is too short on a machine loaded by a campaign's
 #: parallel runs (the flight is the same: a wait bounds the run, it does not enter it)
 REPLY_TIMEOUT_S = 10.0
+#: runs a local worker process flies at once (threads, each run in its own network namespace): a lockstep
+#: run is a ping-pong of plant and flight computer, each waiting on the other, ~0.8 of a core for one run;
+#: two per core keep the cores busy
+RUNS_PER_WORKER = 2
 
 
 def netns_check() -> str | None:
@@ -73,25 +79,38 @@ def _decimate(series: dict | None) -> dict | None:
     return {"t_s": t[idx].tolist(), "pointing_error_arcsec": e[idx].tolist()}
 
 
+def _in_namespace(ns: str) -> list:
+    """This process's descendants that live in the network namespace ns (a run's: its plant, joined by
+    setns from the plant server, and its flight computer)."""
+    import psutil  # deferred: only a run that timed out needs it (a distributed dependency)
+
+    out = []
+    for c in psutil.Process().children(recursive=True):
+        try:
+            if os.readlink(f"/proc/{c.pid}/ns/net") == ns:
+                out.append(c)
+        except OSError:
+            continue
+    return out
+
+
 class _Watchdog:
-    """Kills the run's child processes after timeout_s: those started since the run began (a worker has one
-    thread, so one run at a time); the run then fails with "timed out"."""
+    """Kills the run's processes after timeout_s: those in the run's own network namespace (a worker flies
+    RUNS_PER_WORKER runs at once, each in its own namespace); the run then fails with "timed out"."""
 
     def __init__(self, timeout_s: float | None):
         self.fired = False
         self._t = None
-        self._before: set = set()
+        self._ns = netns.current_netns_id()   # the run thread's namespace, entered before this
         if timeout_s:
             self._t = threading.Timer(timeout_s, self._fire)
             self._t.daemon = True
 
     def _fire(self):
         self.fired = True
-        import psutil  # deferred: only a run that timed out needs it (a distributed dependency)
+        import psutil  # deferred: see _in_namespace
 
-        for c in psutil.Process().children(recursive=True):
-            if c.pid in self._before:   # not the run's (a helper process of the worker itself)
-                continue
+        for c in _in_namespace(self._ns):
             try:
                 c.kill()
             except psutil.Error:
@@ -99,9 +118,6 @@ class _Watchdog:
 
     def __enter__(self):
         if self._t:
-            import psutil  # deferred: see _fire
-
-            self._before = {c.pid for c in psutil.Process().children(recursive=True)}
             self._t.start()
         return self
 
