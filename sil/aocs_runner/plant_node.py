@@ -65,6 +65,7 @@ EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
 END_MARKER_TIMEOUT_S = 30.0
 #: --log: events kept in memory before they are written
 LOG_FLUSH_EVENTS = 1024
+_RUNNER, _TRUTH = wire.RUNNER.encode(), b"AOCS_TRUTH"
 
 _stop = False
 
@@ -123,12 +124,12 @@ class _Link:
         """Record every message the socket receives (all channels) to path; truth_t to the bus or not."""
         self.log = EventLogWriter(path)
         self.truth_on_bus = truth_on_bus
-        self.lc.subscribe_all(self._on_any)
+        self.lc.subscribe_all(self._on_any, raw_channel=True)
 
-    def _on_any(self, channel: str, data: bytes) -> None:
+    def _on_any(self, channel: bytes, data: bytes) -> None:
         log = self.log
         log.add(channel, data)
-        if channel == wire.RUNNER and (marker_of(channel, data) or {}).get("marker") == "end":
+        if channel == _RUNNER and (marker_of(wire.RUNNER, data) or {}).get("marker") == "end":
             self.end_seen = True
         if log.pending >= LOG_FLUSH_EVENTS:   # in lockstep the loop writes once per tick
             log.flush()
@@ -137,7 +138,7 @@ class _Link:
         if self.truth_on_bus:
             self.lc.publish("AOCS_TRUTH", data)
         else:
-            self._on_any("AOCS_TRUTH", data)
+            self.log.add(_TRUTH, data)
 
     def record_until_end_marker(self, done_file: str | None) -> None:
         """After the last tick (--log): say so in done_file, then record until the runner's end marker."""

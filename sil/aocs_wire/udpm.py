@@ -77,6 +77,7 @@ class Udpm:
         self.incomplete = 0    # fragmented messages abandoned before their last fragment
         self._handlers: dict[bytes, object] = {}
         self._every = None     # handler(channel, data) of every message, whatever its channel
+        self._every_raw = False
         self._partial: dict[tuple, list] = {}
 
     def fileno(self) -> int:
@@ -98,10 +99,12 @@ class Udpm:
             self._every = None
         self._handlers.pop(token.encode(), None)
 
-    def subscribe_all(self, handler) -> str:
+    def subscribe_all(self, handler, raw_channel: bool = False) -> str:
         """handler(channel, data) for every message on the group, whatever its channel, called before
-        the channel's own handler; fragmented messages are put together first. Token "*"."""
+        the channel's own handler; fragmented messages are put together first. raw_channel: the channel
+        as the datagram's bytes (no decoding: the recording plant's hot loop). Token "*"."""
         self._every = handler
+        self._every_raw = raw_channel
         return "*"
 
     def _fragment(self, d: bytes):
@@ -165,7 +168,7 @@ class Udpm:
                     if self._every is not None:
                         whole = self._fragment(d)
                         if whole is not None:
-                            self._every(*whole)
+                            self._every(whole[0].encode() if self._every_raw else whole[0], whole[1])
                             handled += 1
                 else:
                     self.garbage += 1
@@ -176,7 +179,7 @@ class Udpm:
                 continue
             ch = d[8:end]
             if self._every is not None:
-                self._every(ch.decode(errors="replace"), d[end + 1:])
+                self._every(ch if self._every_raw else ch.decode(errors="replace"), d[end + 1:])
                 handled += 1
             h = handlers.get(ch)
             if h is not None:
