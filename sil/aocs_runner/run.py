@@ -324,6 +324,7 @@ def execute(opts: RunOptions) -> RunResult:
                 recorder.stop(scenario=sc.id)
             elif markers is not None:
                 rc_p = markers.end(scenario=sc.id)   # the plant has recorded everything before it, and ends
+                done.unlink(missing_ok=True)
                 if failure is None and rc_p not in (None, 0):
                     failure = ("plant_node", rc_p, plant)
             else:
