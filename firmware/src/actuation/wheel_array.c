@@ -13,6 +13,11 @@
  * gain above ~1e3 per N m, which no real array has. */
 #define WHEEL_SPAN_DET_MIN AOCS_R(1.0e-6)
 
+/* The share of the torque room left by the body torque that the null-space management may use (spec 5.3.2):
+ * half, so it never takes a wheel to its bound on its own and the body torque keeps the other half of any
+ * transient margin. */
+#define WHEEL_NULL_ROOM_SHARE AOCS_R(0.5)
+
 static uint32_t wheel_bit(uint32_t i)
 {
     return (uint32_t)1u << i;
@@ -343,10 +348,15 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
                 }
                 un[i] = cfg->null_gain_per_s * acc;
             }
-            /* one scale r for every wheel (a multiple of a null vector is one): what room s tau leaves */
+            /* one scale r for every wheel (a multiple of a null vector is one) within a share of the room
+             * s tau leaves: the momentum management never takes a wheel to its torque or speed bound */
             for (uint32_t i = 0u; i < cfg->n; ++i) {
                 int unused = 0;
-                r = wheels_fit(room[i], s * tau[i], un[i], r, &unused);
+                const real_t base = s * tau[i];
+                wheel_room_t share = room[i];
+                share.lo = base + (WHEEL_NULL_ROOM_SHARE * (room[i].lo - base));
+                share.hi = base + (WHEEL_NULL_ROOM_SHARE * (room[i].hi - base));
+                r = wheels_fit(share, base, un[i], r, &unused);
             }
         }
         /* one scale for every wheel: the delivered torque keeps u_c's direction (docs/spec.md 5.3) */
