@@ -22,6 +22,12 @@ def run(private_netns, fsw_node_bin, aocs_lcm):
     return go
 
 
+def _friction(w, om):
+    """The plant's bearing friction (docs/spec.md 5.3.1), the model of the flight software's feedforward."""
+    om = np.clip(om, -np.array(w.speed_limit_rad_s), np.array(w.speed_limit_rad_s))
+    return w.viscous_nms * om + w.coulomb_nm * np.tanh(om / w.coulomb_width_rad_s)
+
+
 def _check_allocation(sc, log):
     w = sc.effectors["wheels"]
     n = w.n
@@ -32,10 +38,30 @@ def _check_allocation(sc, log):
     c = log.cmd
     u_w = c["u_wheels"][:, :n]
     assert np.all(c["n_wheels"] == n) and np.all(c["wheel_status"] == 0)
-    # the delivered body torque u_sat is -Gs u_s ...
-    np.testing.assert_allclose(c["u_sat"], -(G @ u_w.T).T, atol=1e-12)
-    # ... u_s is the minimum-norm allocation of u_sat (so of the law's command, scaled)
-    np.testing.assert_allclose(u_w, -(P @ c["u_sat"].T).T, atol=1e-9)
+    # the friction feedforward from the tachometer speeds of the same tick (docs/spec.md 5.3.2)
+    at = {int(t): k for k, t in enumerate(log.sensors["tick"])}
+    om = log.sensors["wheel_speed"][[at[int(t)] for t in c["tick"]], :n]
+    f = _friction(w, om)
+    f[:, list(w.failed)] = 0.0
+    net = u_w - f
+    # the delivered body torque u_sat is -Gs (u_s - f) (the null-space torque gives none) ...
+    np.testing.assert_allclose(c["u_sat"], -(G @ net.T).T, atol=1e-12)
+    # ... the net torques are the minimum-norm allocation of u_sat plus a null-space part, a multiple of the
+    # null-space torque k_n N Js (Omega* - Omega), N = I - Gs^+ Gs over the healthy wheels
+    null = net + (P @ c["u_sat"].T).T
+    if w.null_gain_per_s > 0.0 and len(healthy) > 3:
+        N = np.eye(n) - P @ G
+        e = np.array(w.spin_inertia_kg_m2) * (np.array(w.null_speed_rad_s) - om)
+        full = w.null_gain_per_s * (N @ e.T).T
+        # null = r full with one r in [0, 1] per step (the uniform scale)
+        nz = np.abs(full).max(axis=1) > 1e-9
+        r = np.einsum("ij,ij->i", null[nz], full[nz]) / np.einsum("ij,ij->i", full[nz], full[nz])
+        assert np.all(r > -1e-9) and np.all(r <= 1.0 + 1e-9)
+        np.testing.assert_allclose(null[nz], r[:, None] * full[nz], atol=1e-9)
+        # it ran whole in some steps; in this step-command run the saturated slew mostly leaves no room
+        assert (r > 0.999).sum() > 10
+    else:
+        np.testing.assert_allclose(null, 0.0, atol=1e-9)
     # one uniform scale keeps the direction of the law's command
     np.testing.assert_allclose(c["u_sat"], c["wheel_scale"][:, None] * c["u_unsat"], rtol=1e-9, atol=1e-12)
     # no wheel beyond its torque limit, a failed wheel gets nothing

@@ -175,7 +175,10 @@ aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cf
             for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
                 for (uint32_t j = 0u; j < AOCS_WHEELS_MAX; ++j) {
                     real_t p = AOCS_R(0.0);
-                    if ((i < cfg->n) && (j < cfg->n) && (wheel_healthy(cfg, i) != 0) && (wheel_healthy(cfg, j) != 0)) {
+                    /* three healthy wheels spanning three axes have no null space: P_N = 0 exactly, not the
+                     * rounding residue of I - Gs^+ Gs (which k_n would amplify in the float build) */
+                    if ((healthy > AOCS_WHEELS_MIN) && (i < cfg->n) && (j < cfg->n) && (wheel_healthy(cfg, i) != 0) &&
+                        (wheel_healthy(cfg, j) != 0)) {
                         const aocs_vec3_t g = cfg->axis_B[j];
                         p = ((i == j) ? AOCS_R(1.0) : AOCS_R(0.0)) -
                             ((wa->pinv[i][0] * g.v[0]) + (wa->pinv[i][1] * g.v[1]) + (wa->pinv[i][2] * g.v[2]));

@@ -147,6 +147,14 @@ def c_keys():
                       r'\s*AOCS_LAW_\w+\}', body)
     general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
     assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
+    # WHEEL_KEYS: wheel<i>.<field> for i = 0 .. AOCS_WHEELS_MAX - 1, wheel by wheel, after the general rows
+    wbody = NODE_CONFIG_C[NODE_CONFIG_C.index("static const wheel_key_def_t WHEEL_KEYS[] = {"):]
+    wbody = wbody[:wbody.index("\n};")]
+    wrows = re.findall(r'\{"(\w+)",\s*WOFF\([^)]*\),\s*sizeof\(\w+\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+)\}',
+                       wbody)
+    assert len(wrows) >= 8, "node_config.c WHEEL_KEYS not parsed"
+    general += [(f"wheel{i}.{f}", "real", int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h)))
+                for i in range(6) for f, c, r, h in wrows]
     # LAW_KEY_ROW of node_config.c over the field rows of laws.def
     kinds = {"REAL": "real", "VEC3": "real", "GAIN": "real", "MAT3": "inertia", "TABLE": "gain_table"}
     laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"].lower(),
