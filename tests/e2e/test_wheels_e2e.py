@@ -5,12 +5,18 @@ here with numpy (minimum-norm allocation, uniform scale, limits, failed wheel, m
 """
 from __future__ import annotations
 
+import json
+import sys
+import time
+
 import numpy as np
 import pytest
 
+from aocs_core import paths
 from aocs_plant import load
+from aocs_runner import orchestrate
 from aocs_runner.run import RunOptions, execute
-from aocs_wire import lcmlog
+from aocs_wire import fsw_config, lcmlog
 
 
 @pytest.fixture(scope="module")
@@ -96,3 +102,36 @@ def test_the_slew_on_wheels_is_allocated_as_spec_5_3(run, tmp_path, sid):
     assert env["eigenaxis_bound_s"] == pytest.approx(186.84 if sid == "irassi_rw" else 252.98, abs=0.01)
     text = res.table
     assert "peak wheel speed" in text and ("removed: wheel 0" in text) == (sid == "irassi_rw_failed")
+
+
+def test_plant_node_refuses_a_flight_computer_with_another_wheel_count(private_netns, fsw_node_bin, aocs_lcm,
+                                                                        tmp_path):
+    """fsw_node configured for a 3-wheel pyramid, plant_node flying irassi_rw's 4 wheels: the plant applies
+    none of the flight computer's commands, ends with its no-reply exit code and says why in one line
+    (plant_node.wheels_disagree), and the flight computer's process is left to its idle timeout."""
+    sc3 = load("irassi_rw", {"wheels.count": 3, "wheels.null_gain_per_s": 0.0, "wheels.null_speed_rad_s": 0.0})
+    assert sc3.effectors["wheels"].n == 3 and load("irassi_rw").effectors["wheels"].n == 4
+    cfg = fsw_config.node_config(sc3, "quat_pd", idle_timeout_s=3.0)
+    cfg_path = fsw_config.write(tmp_path / "fsw_node.cfg", cfg)
+    ready = tmp_path / "plant.ready"
+    with orchestrate.Processes() as procs:
+        plant = procs.start("plant_node", [sys.executable, "-m", "aocs_runner.plant_node", "irassi_rw", "-q",
+                                           "--ready-file", str(ready)],
+                            stdout=tmp_path / "plant.out", stderr=tmp_path / "plant.err", env=paths.python_env())
+        end = time.monotonic() + 30
+        while not ready.exists():
+            assert plant.alive() and time.monotonic() < end, "plant_node not ready"
+            time.sleep(0.01)
+        fc = procs.start("fsw_node", [fsw_node_bin, cfg_path], stdout=tmp_path / "fsw.out",
+                         stderr=tmp_path / "fsw.err")
+        rc = plant.wait(30)
+        fc.stop()
+    assert rc == 4     # EXIT_NO_REPLY of plant_node.py: no command of that flight computer can be applied
+    err = [ln for ln in (tmp_path / "plant.err").read_text().splitlines() if ln.strip()]
+    assert len(err) == 1, err
+    assert err[0] == ("plant_node: the flight computer commands 3 wheel(s), the plant has 4 (its configuration "
+                      "was not written from this scenario's [wheels])")
+    summary = json.loads((tmp_path / "plant.out").read_text().strip().splitlines()[-1])["plant_node"]
+    assert summary["reason"] == "wheels_mismatch"
+    # refused at the first reply: nothing was integrated with the foreign commands
+    assert summary["steps"] == 0
