@@ -156,9 +156,6 @@ class NodeConfig:
         by_name = key_by_name()
         for name, value in self.values:
             key = by_name[name]
-            if key.pil is None and name.startswith("wheel"):
-                raise ConfigError(f"key '{name}': the PIL frames do not carry the reaction wheel array yet "
-                                  "(docs/wire-contract.md); fly a [wheels] scenario on the host flight computer")
             if name == "budget_ns":
                 if value > 0:
                     # a ns budget at the target's nominal clock, one instruction per cycle

