@@ -182,8 +182,8 @@ def test_corrupted_frame_gets_an_error_reply_and_the_image_goes_on(target):
 
 @pytest.mark.parametrize("raw_prefix, err", [
     (b"garbage!" * 3, "AOCS_PIL_ERR_MAGIC"),
-    (struct.pack("<IBBHI", frame.MAGIC, 9, frame.T_STEP, 120, 5), "AOCS_PIL_ERR_VERSION"),
-    (struct.pack("<IBBHI", frame.MAGIC, 1, frame.T_STEP, 4000, 5), "AOCS_PIL_ERR_LENGTH"),
+    (struct.pack("<IBBHI", frame.MAGIC, 9, frame.T_STEP, frame.STEP.size, 5), "AOCS_PIL_ERR_VERSION"),
+    (struct.pack("<IBBHI", frame.MAGIC, frame.VERSION, frame.T_STEP, 4000, 5), "AOCS_PIL_ERR_LENGTH"),
 ])
 def test_bad_headers_are_reported_then_the_stream_resyncs(raw_prefix, err):
     q = start("pil-m7")
