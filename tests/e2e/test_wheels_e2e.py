@@ -10,9 +10,9 @@ import sys
 import time
 
 import numpy as np
-import pil_support
 import pytest
 
+import pil_support
 from aocs_core import paths
 from aocs_plant import load
 from aocs_runner import orchestrate
