@@ -471,7 +471,7 @@ static void test_config_wheel_fields_apply(void **state)
         for (uint32_t f = 1u; f < AOCS_PIL_WHEEL_STRIDE; ++f) {
             real_t v = (real_t)(1.0 + 10.0 * (double)i + (double)f);
             if (f == 4u || f == 5u) {
-                v = (real_t)(1e-5 * v); /* viscous, Coulomb: small against the motor limit */
+                v = (real_t)(1e-5 * (double)v); /* viscous, Coulomb: small against the motor limit */
             }
             if (f == 2u) {
                 v = AOCS_R(0.25);
