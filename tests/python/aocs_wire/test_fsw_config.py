@@ -80,9 +80,19 @@ def test_the_wheels_section_writes_the_friction_model_and_the_null_space_keys():
     cfg2 = fsw_config.node_config(sc2, "quat_pid")
     assert float(cfg2["wheel3.coulomb"]) == sc2.effectors["wheels"].coulomb_nm == 0.0
     assert "wheels.null_gain" not in cfg2 and "wheel0.null_speed" not in cfg2
+    # a model error on purpose: the flight software's b and c scaled, the plant's untouched; 0 = no feedforward
+    sc3 = load("irassi_rw", {"wheels.fsw_friction_scale": 0.8})
+    cfg3 = fsw_config.node_config(sc3, "quat_pid")
+    assert sc3.effectors["wheels"].coulomb_nm == 2.0e-3
+    assert float(cfg3["wheel1.coulomb"]) == 0.8 * 2.0e-3 and float(cfg3["wheel2.viscous"]) == 0.8 * 1.0e-5
+    assert float(cfg3["wheel0.coulomb_width"]) == 0.5
+    cfg0 = fsw_config.node_config(load("irassi_rw", {"wheels.fsw_friction_scale": 0.0}), "quat_pid")
+    assert float(cfg0["wheel0.coulomb"]) == 0.0 == float(cfg0["wheel3.viscous"])
     # the loader refuses what the flight software's init would refuse
-    with pytest.raises(ScenarioError, match="not below the torque limit"):
+    with pytest.raises(ScenarioError, match="not below the torque"):
         load("irassi_rw", {"wheels.coulomb_nm": 0.25})
+    with pytest.raises(ScenarioError, match="not below the torque"):
+        load("irassi_rw", {"wheels.fsw_friction_scale": 40.0})   # 40 x 8e-3 N m
     with pytest.raises(ScenarioError, match="null_gain_per_s"):
         load("irassi_rw", {"wheels.null_gain_per_s": 20.0})
     with pytest.raises(ScenarioError, match="null_speed_rad_s"):
