@@ -363,16 +363,17 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
             }
         }
         /* one scale for every wheel: the delivered torque keeps u_c's direction (docs/spec.md 5.3) */
-        aocs_vec3_t body = aocs_vec3_zero();
         for (uint32_t i = 0u; i < cfg->n; ++i) {
             if (wheel_healthy(cfg, i) != 0) {
                 const real_t net = (s * tau[i]) + (r * un[i]);
                 out->null_nm[i] = r * un[i];
                 out->u_s_nm[i] = net + out->friction_nm[i];
-                body = aocs_vec3_sub(body, aocs_vec3_scale(cfg->axis_B[i], s * tau[i]));
             }
         }
-        out->u_body_B_nm = body;
+        /* -Gs (u_s - f^) = -Gs (s tau + r u_n) = s Gs Gs^+ u_c = s u_c, reported as s u_c itself: the sum over
+         * the wheels equals it only to rounding, which could put a saturated command an ulp beyond its limit
+         * (found by fuzz_exec_step); with 0 <= s <= 1 each component of s u_c is within |u_c| exactly */
+        out->u_body_B_nm = aocs_vec3_scale(u_c_B, s);
         out->scale = s;
         out->null_scale = r;
         if (limiter < AOCS_WHEELS_MAX) {
