@@ -101,14 +101,39 @@ def field_rows() -> list[dict]:
     return rows
 
 
-def exec_field_rows() -> list[dict]:
-    """AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h."""
-    cols = ("name", "pil_id", "kind", "count", "key")
+def _define(text: str, name: str) -> int:
+    m = re.search(rf"^#define {name} (\d+)u?", text, re.M)
+    assert m, name
+    return int(m.group(1))
+
+
+def wheel_field_rows() -> list[dict]:
+    """AOCS_PIL_WHEEL_FIELD_ROWS of pil_frame.h: one dict per per-wheel field."""
+    cols = ("name", "index", "count", "key", "member", "read")
     rows = []
-    for r in _rows(_macro_body(PIL_FRAME_H.read_text(), "AOCS_PIL_EXEC_FIELD_ROWS")):
+    for r in _rows(_macro_body(PIL_FRAME_H.read_text(), "AOCS_PIL_WHEEL_FIELD_ROWS")):
+        d = dict(zip(cols, r))
+        d["index"], d["count"], d["key"] = _num(d["index"]), _num(d["count"]), _str(d["key"])
+        rows.append(d)
+    return rows
+
+
+def exec_field_rows() -> list[dict]:
+    """AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h, then its per-wheel fields wheel by wheel (0 .. 5) as the
+    registry lists them: WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i * AOCS_PIL_WHEEL_STRIDE + index,
+    key wheel<i>.<key>."""
+    cols = ("name", "pil_id", "kind", "count", "key")
+    text = PIL_FRAME_H.read_text()
+    rows = []
+    for r in _rows(_macro_body(text, "AOCS_PIL_EXEC_FIELD_ROWS")):
         d = dict(zip(cols, r))
         d["pil_id"], d["count"], d["key"] = _num(d["pil_id"]), _num(d["count"]), _str(d["key"])
         rows.append(d)
+    base, stride = _define(text, "AOCS_PIL_CFG_WHEEL_BASE"), _define(text, "AOCS_PIL_WHEEL_STRIDE")
+    for i in range(6):
+        for w in wheel_field_rows():
+            rows.append({"name": f"WHEEL{i}_{w['name']}", "pil_id": base + i * stride + w["index"], "kind": "REAL",
+                         "count": w["count"], "key": f"wheel{i}.{w['key']}"})
     return rows
 
 

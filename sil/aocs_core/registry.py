@@ -99,6 +99,10 @@ class Registry:
         self.path = path
         self.real_t: str = data["real_t"]
         self.table_name_max: int = data["pil"]["table_name_max"]
+        #: instruction allowances added to a step's budget (aocs/budget.h), per target ("cortex-m4f", "cortex-m7"):
+        #: guidance mode SLEW, and a reaction wheel array
+        self.slew_instructions: dict[str, int] = dict(data["pil"]["slew_instructions"])
+        self.wheels_instructions: dict[str, int] = dict(data["pil"]["wheels_instructions"])
         self.fields: tuple[Field, ...] = tuple(
             Field(f["key"], f["name"], f["law"], f["config"], f["member"], f["type"], f["count"], f["rule"],
                   f["unit"], f["pil_id"], f["variant"], f["ref"]) for f in data["fields"])

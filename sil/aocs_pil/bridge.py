@@ -120,6 +120,8 @@ class Bridge:
         self.counters = {n: 0 for n in frame.COUNTER_NAMES}
         self.pil_overruns = 0
         self.budget = 0
+        # the wheel array of the configuration (wheels.count; 0 = none), as fsw_node's cfg.exec.wheels.n
+        self.n_wheels = int(dict(cfg.values).get("wheels.count", 0))
         # wire bookkeeping (fsw_node's node_t)
         self.frame_cmd = 0
         self.frame_status = 0
@@ -233,7 +235,11 @@ class Bridge:
             valid |= 2
         if (msg.valid & st.VALID_POSITION) and (msg.valid & st.VALID_VELOCITY):
             valid |= 4
-        payload = frame.encode_step(msg.tick, seconds_to_ns(msg.t_s), valid, msg.q, msg.w, msg.pos, msg.vel)
+        # tachometers as fsw_node reads them (node_wire.c): a wheel the message does not measure reads NaN
+        wheels = [msg.wheel_speed[i] if (msg.valid & st.VALID_WHEELS) and i < msg.n_wheels else math.nan
+                  for i in range(min(frame.WHEELS_MAX, len(msg.wheel_speed)))]
+        payload = frame.encode_step(msg.tick, seconds_to_ns(msg.t_s), valid, msg.q, msg.w, msg.pos, msg.vel,
+                                    wheels)
         try:
             seq = self.q.next_seq()
             raw = frame.encode(frame.T_STEP, seq, payload)
@@ -298,6 +304,14 @@ class Bridge:
         m.n_malformed = self.n_malformed
         m.n_cmd_accepted = self.n_cmd_accepted
         m.n_cmd_rejected = self.n_cmd_rejected
+        # the wheel array's allocation of this step (all zero without one), as fsw_node publishes it
+        m.n_wheels = self.n_wheels
+        m.u_wheels = list(r.u_wheels[:len(m.u_wheels)])
+        m.wheel_scale = r.wheel_scale
+        m.wheel_limited = r.wheel_limited
+        m.wheel_status = r.wheel_status
+        m.h_total = list(r.h_total)
+        m.wheel_speed_margin = r.speed_margin
         self.lc.publish(CH_ACTUATOR, m.encode())
 
     # ---------------------------------------------------------------- AOCS_COMMAND

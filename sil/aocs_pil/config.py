@@ -70,11 +70,18 @@ _GENERAL = (
     ("guidance.jerk_time", "real", 1, NONNEG, "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang"),
     ("wheels.count", "u32", 1, POS, "reaction wheels, 3 to 6 (absent: none)"),
     ("wheels.failed_mask", "u32", 1, NONNEG, "bit i set: wheel i declared failed"),
-) + tuple(row for i in range(6) for row in (
-    (f"wheel{i}.axis", "real", 3, ANY, "unit spin axis g in B, 3 numbers"),
-    (f"wheel{i}.js", "real", 1, POS, "spin inertia Js, kg m^2"),
-    (f"wheel{i}.u_max", "real", 1, POS, "motor torque limit, N m"),
-    (f"wheel{i}.omega_max", "real", 1, POS, "speed limit, rad/s")))
+    ("wheels.null_gain", "real", 1, NONNEG, "null-space wheel speed management gain k_n, 1/s, 0 = none"),
+) + tuple((f"wheel{i}.{field}", kind, count, rule, help_) for i in range(6)
+          for field, kind, count, rule, help_ in (
+    # node_config.c WHEEL_KEYS: the per-wheel keys wheel<i>.<field>, in its order
+    ("axis", "real", 3, ANY, "unit spin axis g in B, 3 numbers"),
+    ("js", "real", 1, POS, "spin inertia Js, kg m^2"),
+    ("u_max", "real", 1, POS, "motor torque limit, N m"),
+    ("omega_max", "real", 1, POS, "speed limit, rad/s"),
+    ("viscous", "real", 1, NONNEG, "viscous friction b of the friction feedforward, N m s/rad"),
+    ("coulomb", "real", 1, NONNEG, "Coulomb friction c of the friction feedforward, N m"),
+    ("coulomb_width", "real", 1, POS, "width of the Coulomb term's tanh, rad/s"),
+    ("null_speed", "real", 1, ANY, "target speed of the null-space management, rad/s")))
 
 #: the enumerated guidance keys: value -> the firmware's enum value (aocs_guidance_mode_t,
 #: aocs_slew_profile_t, executive.h and guidance/slew.h order), and the words of fsw_node's message
@@ -149,9 +156,6 @@ class NodeConfig:
         by_name = key_by_name()
         for name, value in self.values:
             key = by_name[name]
-            if key.pil is None and name.startswith("wheel"):
-                raise ConfigError(f"key '{name}': the PIL frames do not carry the reaction wheel array yet "
-                                  "(docs/wire-contract.md); fly a [wheels] scenario on the host flight computer")
             if name == "budget_ns":
                 if value > 0:
                     # a ns budget at the target's nominal clock, one instruction per cycle
@@ -419,4 +423,8 @@ def status_hint(status_name: str, law: str) -> str:
         **{f"AOCS_ERR_{w}": "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max"
            for w in ("WHEEL_COUNT", "WHEEL_FAILED_MASK", "WHEEL_AXIS_NOT_UNIT", "WHEEL_INERTIA_NOT_POSITIVE",
                      "WHEEL_LIMIT_NOT_POSITIVE", "WHEELS_NOT_SPANNING")},
+        **{f"AOCS_ERR_{w}": "wheel<i>.viscous, .coulomb, .coulomb_width (b omega_max + c < u_max)"
+           for w in ("WHEEL_FRICTION_NEGATIVE", "WHEEL_FRICTION_WIDTH_NOT_POSITIVE", "WHEEL_FRICTION_EXCEEDS_LIMIT")},
+        "AOCS_ERR_WHEEL_NULL_GAIN_INVALID": "wheels.null_gain (>= 0, null_gain * control_period_s <= 1)",
+        "AOCS_ERR_WHEEL_NULL_SPEED_INVALID": "wheel<i>.null_speed (|null_speed| < omega_max)",
     }.get(status_name, "the keys of the selected law")

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from aocs_core import registry
 
 MAGIC = 0x4C495041
-VERSION = 1
+VERSION = 2
 HEADER_BYTES = 12
 CRC_BYTES = 4
 PAYLOAD_MAX = 1024
@@ -62,15 +62,15 @@ def cfg_name_by_id() -> dict[int, str]:
     return {v[0]: k for k, v in cfg_fields().items()}
 
 HELLO = struct.Struct("<7I")
-STEP = struct.Struct("<IQI13d")
-STEP_REPLY = struct.Struct("<I5i6d6I10II2i")
+STEP = struct.Struct("<IQI19d")
+STEP_REPLY = struct.Struct("<I5i6d6I10II2i7dIi3dd")
 SELECT = struct.Struct("<iI7d")
 ACK = struct.Struct("<2iI2i4I")
 BYE_REPLY = struct.Struct("<4I")
 ERROR = struct.Struct("<i3I")
 _HEADER = struct.Struct("<IBBHI")
 assert (HELLO.size, STEP.size, STEP_REPLY.size, SELECT.size, ACK.size, BYE_REPLY.size, ERROR.size) == \
-    (28, 120, 148, 64, 36, 16, 16)
+    (28, 168, 244, 64, 36, 16, 16)
 
 
 class FrameError(Exception):
@@ -149,11 +149,20 @@ class Hello:
                           self.calib_expected, self.overhead)
 
 
-def encode_step(tick: int, t_sensor_ns: int, valid: int, q, w, pos, vel) -> bytes:
+WHEELS_MAX = 6   # AOCS_WHEELS_MAX (wheel_array.h): tachometers in STEP, wheel torques in STEP_REPLY
+
+
+def encode_step(tick: int, t_sensor_ns: int, valid: int, q, w, pos, vel, wheel_speed=None) -> bytes:
+    """wheel_speed: up to WHEELS_MAX tachometer speeds (rad/s); the wheels not given read NaN, as fsw_node
+    reads a wheel the sensor message does not measure."""
     vals = [float(x) for x in (*q, *w, *pos, *vel)]
     if len(vals) != 13:
         raise ValueError("q needs 4 values, w, pos and vel 3 each")
-    return STEP.pack(tick & 0xFFFFFFFF, t_sensor_ns, valid & 0xFFFFFFFF, *vals)
+    ws = [float(x) for x in (wheel_speed or ())]
+    if len(ws) > WHEELS_MAX:
+        raise ValueError(f"{len(ws)} wheel speeds, at most {WHEELS_MAX}")
+    ws += [math.nan] * (WHEELS_MAX - len(ws))
+    return STEP.pack(tick & 0xFFFFFFFF, t_sensor_ns, valid & 0xFFFFFFFF, *vals, *ws)
 
 
 COUNTER_NAMES = ("steps", "invalid", "stale", "missing", "law_error", "overrun", "mode_transitions", "saturated",
@@ -180,6 +189,13 @@ class StepReply:
     pil_overruns: int
     exec_law: int
     exec_mode: int
+    # the wheel array (all zero without one): what fsw_node publishes in actuator_cmd_t
+    u_wheels: tuple = (0.0,) * WHEELS_MAX
+    wheel_scale: float = 0.0
+    wheel_limited: int = 0       # torque-limited mask | speed-limited mask << 8
+    wheel_status: int = 0
+    h_total: tuple = (0.0, 0.0, 0.0)
+    speed_margin: float = 0.0
 
     @classmethod
     def decode(cls, p: bytes) -> "StepReply":
@@ -189,14 +205,16 @@ class StepReply:
                    u_cmd=tuple(v[6:9]), u_unsat=tuple(v[9:12]), saturated=v[12], overrun=v[13], exact=v[14],
                    instructions=v[15], law_instructions=v[16], budget=v[17],
                    counters=dict(zip(COUNTER_NAMES, v[18:28])), pil_overruns=v[28], exec_law=v[29],
-                   exec_mode=v[30])
+                   exec_mode=v[30], u_wheels=tuple(v[31:37]), wheel_scale=v[37], wheel_limited=v[38],
+                   wheel_status=v[39], h_total=tuple(v[40:43]), speed_margin=v[43])
 
     def encode(self) -> bytes:
         return STEP_REPLY.pack(self.tick, self.step_status, self.law, self.mode, self.law_status,
                                self.input_status, *self.u_cmd, *self.u_unsat, self.saturated, self.overrun,
                                self.exact, self.instructions, self.law_instructions, self.budget,
                                *(self.counters[n] for n in COUNTER_NAMES), self.pil_overruns, self.exec_law,
-                               self.exec_mode)
+                               self.exec_mode, *self.u_wheels, self.wheel_scale, self.wheel_limited,
+                               self.wheel_status, *self.h_total, self.speed_margin)
 
 
 def encode_select(law: int, qd=None, wd=(0.0, 0.0, 0.0)) -> bytes:

@@ -294,9 +294,11 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
         for k in range(sc.n_steps):
             res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if sc.kind == "attitude" else 0.0)
             s = plant.sense()
+            wheels = s.get("wheel_speed")   # the tachometers of a [wheels] array (None without one)
             if sc.kind == "attitude":
                 valid = (1 if s["q_valid"] else 0) | (2 if s["w_valid"] else 0)
-                payload = frame.encode_step(k, seconds_to_ns(s["t"]), valid, s["q"], s["w"], (0, 0, 0), (0, 0, 0))
+                payload = frame.encode_step(k, seconds_to_ns(s["t"]), valid, s["q"], s["w"], (0, 0, 0), (0, 0, 0),
+                                            wheels)
             else:
                 valid = 4 if (s["pos_valid"] and s["vel_valid"]) else 0
                 payload = frame.encode_step(k, seconds_to_ns(s["t"]), valid, (0, 0, 0, 1), (0, 0, 0),
@@ -304,7 +306,7 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
             _, p = q.request(frame.T_STEP, payload, frame.T_STEP_REPLY)
             r = frame.StepReply.decode(p)
             res.replies.append(r)
-            plant.apply(r.u_cmd)
+            plant.apply(r.u_cmd, None if wheels is None else r.u_wheels[:len(wheels)])
             plant.advance()
         res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if sc.kind == "attitude" else 0.0)
         res.bye = q.stop()

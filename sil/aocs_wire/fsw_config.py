@@ -23,7 +23,11 @@ What comes from where (docs/sil.md):
 - the reaction wheel array, when the scenario has a [wheels] section: the
   same description that builds the plant's wheels (aocs_plant.effectors.
   reaction_wheels) gives `wheels.count`, `wheels.failed_mask` and per wheel
-  `wheel<i>.axis / js / u_max / omega_max`, so the two cannot disagree; the
+  `wheel<i>.axis / js / u_max / omega_max`, the friction model of the
+  flight software's feedforward `wheel<i>.viscous / coulomb / coulomb_width`
+  (the plant's own friction coefficients, b and c times the [wheels] key
+  `fsw_friction_scale`, 1 by default) and the null-space management
+  `wheels.null_gain`, `wheel<i>.null_speed`, so the two cannot disagree; the
   spacecraft inertia for the momentum is the `inertia` key;
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
@@ -96,6 +100,15 @@ def wheel_keys(scenario) -> dict[str, str]:
         out[f"wheel{i}.js"] = _num(w.spin_inertia_kg_m2[i])
         out[f"wheel{i}.u_max"] = _num(w.torque_limit_nm[i])
         out[f"wheel{i}.omega_max"] = _num(w.speed_limit_rad_s[i])
+        # the friction feedforward models the plant's bearing friction (docs/spec.md 5.3.2), times
+        # fsw_friction_scale (1: exactly the plant's; a model error otherwise)
+        out[f"wheel{i}.viscous"] = _num(w.fsw_friction_scale * w.viscous_nms)
+        out[f"wheel{i}.coulomb"] = _num(w.fsw_friction_scale * w.coulomb_nm)
+        out[f"wheel{i}.coulomb_width"] = _num(w.coulomb_width_rad_s)
+        if w.null_gain_per_s > 0.0:
+            out[f"wheel{i}.null_speed"] = _num(w.null_speed_rad_s[i])
+    if w.null_gain_per_s > 0.0:
+        out["wheels.null_gain"] = _num(w.null_gain_per_s)
     return out
 
 

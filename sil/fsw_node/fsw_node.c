@@ -311,6 +311,14 @@ static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
     case AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE:
     case AOCS_ERR_WHEELS_NOT_SPANNING:
         return "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max";
+    case AOCS_ERR_WHEEL_FRICTION_NEGATIVE:
+    case AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE:
+    case AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT:
+        return "wheel<i>.viscous, .coulomb, .coulomb_width (b omega_max + c < u_max)";
+    case AOCS_ERR_WHEEL_NULL_GAIN_INVALID:
+        return "wheels.null_gain (>= 0, null_gain * control_period_s <= 1)";
+    case AOCS_ERR_WHEEL_NULL_SPEED_INVALID:
+        return "wheel<i>.null_speed (|null_speed| < omega_max)";
     default:
         return "the keys of the selected law";
     }

@@ -104,55 +104,50 @@ static const key_def_t KEYS[] = {
      AOCS_LAW_NONE},
     {"wheels.failed_mask", KIND_U32, OFF(exec.wheels.failed_mask), 1u, RULE_NONNEG,
      "bit i set: wheel i declared failed", AOCS_LAW_NONE},
-    /* the reaction wheel array (docs/wire-contract.md "Reaction wheels"; wheel_array.h): wheels.count = 0 or
-     * absent is none; the executive validates the rest (unit axes, a spanning array). The spacecraft inertia
-     * for the momentum is the `inertia` key (one source), copied after the file is read. */
-    {"wheel0.axis", KIND_REAL, OFF(exec.wheels.axis_B[0]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel0.js", KIND_REAL, OFF(exec.wheels.js_kgm2[0]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel0.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[0]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel0.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[0]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
-    {"wheel1.axis", KIND_REAL, OFF(exec.wheels.axis_B[1]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel1.js", KIND_REAL, OFF(exec.wheels.js_kgm2[1]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel1.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[1]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel1.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[1]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
-    {"wheel2.axis", KIND_REAL, OFF(exec.wheels.axis_B[2]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel2.js", KIND_REAL, OFF(exec.wheels.js_kgm2[2]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel2.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[2]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel2.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[2]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
-    {"wheel3.axis", KIND_REAL, OFF(exec.wheels.axis_B[3]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel3.js", KIND_REAL, OFF(exec.wheels.js_kgm2[3]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel3.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[3]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel3.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[3]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
-    {"wheel4.axis", KIND_REAL, OFF(exec.wheels.axis_B[4]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel4.js", KIND_REAL, OFF(exec.wheels.js_kgm2[4]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel4.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[4]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel4.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[4]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
-    {"wheel5.axis", KIND_REAL, OFF(exec.wheels.axis_B[5]), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers",
-     AOCS_LAW_NONE},
-    {"wheel5.js", KIND_REAL, OFF(exec.wheels.js_kgm2[5]), 1u, RULE_POS, "spin inertia Js, kg m^2", AOCS_LAW_NONE},
-    {"wheel5.u_max", KIND_REAL, OFF(exec.wheels.u_max_nm[5]), 1u, RULE_POS, "motor torque limit, N m",
-     AOCS_LAW_NONE},
-    {"wheel5.omega_max", KIND_REAL, OFF(exec.wheels.omega_max_radps[5]), 1u, RULE_POS, "speed limit, rad/s",
-     AOCS_LAW_NONE},
+    {"wheels.null_gain", KIND_REAL, OFF(exec.wheels.null_gain_per_s), 1u, RULE_NONNEG,
+     "null-space wheel speed management gain k_n, 1/s, 0 = none", AOCS_LAW_NONE},
     AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)
 };
 
 #define KEY_COUNT (sizeof(KEYS) / sizeof(KEYS[0]))
+
+/*
+ * The reaction wheel array's per-wheel keys, `wheel<i>.<field>` with i = 0 ..
+ * AOCS_WHEELS_MAX - 1 (docs/wire-contract.md "Reaction wheels"; wheel_array.h):
+ * one row per field, the wheel's value at offset + i * stride. wheels.count = 0
+ * or absent is none; the executive validates the rest (unit axes, a spanning
+ * array, the friction model below the motor limit). The spacecraft inertia for
+ * the momentum is the `inertia` key (one source), copied after the file is read.
+ */
+typedef struct {
+    const char *field;
+    size_t offset;     /* of wheel 0's value */
+    size_t stride;     /* bytes from one wheel's value to the next */
+    unsigned count;
+    key_rule_t rule;
+    const char *help;
+} wheel_key_def_t;
+
+#define WOFF(member) OFF(exec.wheels.member)
+static const wheel_key_def_t WHEEL_KEYS[] = {
+    {"axis", WOFF(axis_B[0]), sizeof(aocs_vec3_t), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers"},
+    {"js", WOFF(js_kgm2[0]), sizeof(real_t), 1u, RULE_POS, "spin inertia Js, kg m^2"},
+    {"u_max", WOFF(u_max_nm[0]), sizeof(real_t), 1u, RULE_POS, "motor torque limit, N m"},
+    {"omega_max", WOFF(omega_max_radps[0]), sizeof(real_t), 1u, RULE_POS, "speed limit, rad/s"},
+    {"viscous", WOFF(viscous_nms[0]), sizeof(real_t), 1u, RULE_NONNEG,
+     "viscous friction b of the friction feedforward, N m s/rad"},
+    {"coulomb", WOFF(coulomb_nm[0]), sizeof(real_t), 1u, RULE_NONNEG,
+     "Coulomb friction c of the friction feedforward, N m"},
+    {"coulomb_width", WOFF(coulomb_width_radps[0]), sizeof(real_t), 1u, RULE_POS,
+     "width of the Coulomb term's tanh, rad/s"},
+    {"null_speed", WOFF(null_speed_radps[0]), sizeof(real_t), 1u, RULE_ANY,
+     "target speed of the null-space management, rad/s"},
+};
+
+#define WHEEL_KEY_COUNT (sizeof(WHEEL_KEYS) / sizeof(WHEEL_KEYS[0]))
+#define WHEEL_KEY_PREFIX "wheel"
+/* one slot per key for the loader's duplicate check: KEYS, then wheel i's field f at KEY_COUNT + i * F + f */
+#define KEY_SLOTS (KEY_COUNT + ((size_t)AOCS_WHEELS_MAX * WHEEL_KEY_COUNT))
 
 
 static void set_err(char *err, size_t err_size, const char *fmt, ...)
@@ -233,6 +228,42 @@ static const key_def_t *find_key(const char *key)
         }
     }
     return NULL;
+}
+
+/*
+ * The key definition of `key` in *out and its duplicate-check slot: a KEYS row
+ * as it is, or a `wheel<i>.<field>` key (one digit i below AOCS_WHEELS_MAX, a
+ * field of WHEEL_KEYS) as a row at wheel i's offset, named by `key` itself
+ * (which must outlive *out). 0 when known, 1 otherwise.
+ */
+static int resolve_key(const char *key, key_def_t *out, size_t *slot)
+{
+    const key_def_t *k = find_key(key);
+    const size_t plen = strlen(WHEEL_KEY_PREFIX);
+    if (k != NULL) {
+        *out = *k;
+        *slot = (size_t)(k - KEYS);
+        return 0;
+    }
+    if ((strncmp(key, WHEEL_KEY_PREFIX, plen) == 0) && isdigit((unsigned char)key[plen]) && (key[plen + 1u] == '.')) {
+        unsigned wheel = (unsigned)(key[plen] - '0');
+        size_t f;
+        for (f = 0u; (wheel < AOCS_WHEELS_MAX) && (f < WHEEL_KEY_COUNT); ++f) {
+            if (strcmp(&key[plen + 2u], WHEEL_KEYS[f].field) == 0) {
+                const wheel_key_def_t *w = &WHEEL_KEYS[f];
+                out->name = key;
+                out->kind = KIND_REAL;
+                out->offset = w->offset + ((size_t)wheel * w->stride);
+                out->count = w->count;
+                out->rule = w->rule;
+                out->help = w->help;
+                out->law = AOCS_LAW_NONE;
+                *slot = KEY_COUNT + ((size_t)wheel * WHEEL_KEY_COUNT) + f;
+                return 0;
+            }
+        }
+    }
+    return 1;
 }
 
 /* Splits value into up to max finite numbers; returns the count or -1 (bad token in *bad). */
@@ -383,8 +414,10 @@ static int set_numeric(aocs_node_config_t *cfg, const key_def_t *k, const char *
 int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
                          size_t err_size)
 {
-    const key_def_t *k = find_key(key);
-    if (k == NULL) {
+    key_def_t def;
+    size_t slot = 0u;
+    const key_def_t *k = &def;
+    if (resolve_key(key, &def, &slot) != 0) {
         set_err(err, err_size, "unknown key '%s'", key);
         return 1;
     }
@@ -477,7 +510,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     FILE *f;
     char line[1024];
     char msg[AOCS_NODE_ERR_MAX];
-    unsigned seen[KEY_COUNT]; /* line of each key, 0 = not given */
+    unsigned seen[KEY_SLOTS]; /* line of each key (resolve_key's slot), 0 = not given */
     unsigned lineno = 0u;
     int rc = 0;
 
@@ -494,7 +527,9 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         char *key;
         char *value;
         char *hash;
-        const key_def_t *k;
+        key_def_t def;
+        size_t slot = 0u;
+        int known;
         ++lineno;
         if ((strchr(line, '\n') == NULL) && !feof(f)) {
             set_err(err, err_size, "%s:%u: line longer than %u characters", path, lineno,
@@ -519,8 +554,8 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         *eq = '\0';
         key = trim(s);
         value = trim(eq + 1);
-        k = find_key(key);
-        if ((k != NULL) && (seen[k - KEYS] != 0u)) {
+        known = (resolve_key(key, &def, &slot) == 0);
+        if (known && (seen[slot] != 0u)) {
             set_err(err, err_size, "%s:%u: key '%s' given twice", path, lineno, key);
             rc = 1;
             break;
@@ -530,7 +565,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
             rc = 1;
             break;
         }
-        seen[k - KEYS] = lineno;
+        seen[slot] = lineno;
     }
     if ((rc == 0) && ferror(f)) {
         set_err(err, err_size, "%s: read error", path);

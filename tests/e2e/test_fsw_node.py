@@ -473,6 +473,13 @@ def test_realtime_rate_and_safe_mode_when_plant_stops(fsw_node, lcm_link):
         # rotating target: finite rate, and no fixed target rate next to it
         ({"target_rotation_rate": "0 nan 0"}, "'target_rotation_rate'"),
         ({"target_rotation_rate": "0 0"}, "'target_rotation_rate'"),
+        # the per-wheel keys wheel<i>.<field>: wheels 0 to 5, the fields of WHEEL_KEYS, their own sign rules
+        ({"wheel6.js": "0.08"}, "unknown key 'wheel6.js'"),
+        ({"wheel0.spin": "1"}, "unknown key 'wheel0.spin'"),
+        ({"wheel2.coulomb": "-1e-3"}, ("'wheel2.coulomb'", ">= 0")),
+        ({"wheel5.coulomb_width": "0"}, ("'wheel5.coulomb_width'", "> 0")),
+        ({"wheel1.axis": "1 0"}, "'wheel1.axis'"),
+        ({"wheels.null_gain": "-0.1"}, "'wheels.null_gain'"),
         ({"target_rotation_rate": "0 -7.292115e-5 0", "target_w": "0 0 1e-3"},
          ("AOCS_ERR_TARGET_INVALID", "target_rotation_rate")),
     ],

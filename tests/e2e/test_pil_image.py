@@ -22,6 +22,7 @@ import pytest
 
 from aocs_core import registry
 from aocs_pil import frame, harness, qemu
+from aocs_plant.scenario import load
 from pil_support import TARGETS, configure, image, start
 
 KP, KD = 4.0, 8.0
@@ -181,8 +182,8 @@ def test_corrupted_frame_gets_an_error_reply_and_the_image_goes_on(target):
 
 @pytest.mark.parametrize("raw_prefix, err", [
     (b"garbage!" * 3, "AOCS_PIL_ERR_MAGIC"),
-    (struct.pack("<IBBHI", frame.MAGIC, 9, frame.T_STEP, 120, 5), "AOCS_PIL_ERR_VERSION"),
-    (struct.pack("<IBBHI", frame.MAGIC, 1, frame.T_STEP, 4000, 5), "AOCS_PIL_ERR_LENGTH"),
+    (struct.pack("<IBBHI", frame.MAGIC, 9, frame.T_STEP, frame.STEP.size, 5), "AOCS_PIL_ERR_VERSION"),
+    (struct.pack("<IBBHI", frame.MAGIC, frame.VERSION, frame.T_STEP, 4000, 5), "AOCS_PIL_ERR_LENGTH"),
 ])
 def test_bad_headers_are_reported_then_the_stream_resyncs(raw_prefix, err):
     q = start("pil-m7")
@@ -305,6 +306,44 @@ def test_every_law_within_its_instruction_budget(scenario, law, duration, target
     assert worst <= budget, f"{law} on {target}: worst step {worst} instructions > budget {budget}"
     assert r.replies[-1].pil_overruns == 0
     assert min(r.instructions) > 500          # a real step, not an empty measurement
+
+
+# ---- the wheel step: allocation, friction feedforward, null-space management, momentum ---------------------
+#: the reaction wheel scenarios with the on-board slew guidance, cut after the slew and its settling (the
+#: worst step is the planning one, with the wheel envelope); the laws with the largest steps of the sweep above
+SIX_WHEELS = {"wheels.count": 6, "wheels.null_speed_rad_s": [50.0, -50.0, 50.0, -50.0, 50.0, -50.0]}
+WHEEL_SWEEP = [("irassi_rw", "quat_pd", {}), ("irassi_rw", "smc", {}), ("irassi_rw", "quat_pid", {}),
+               ("irassi_rw", "lqr_quat_i", {}), ("irassi_rw_failed", "lqr_quat_i", {}),
+               ("irassi_rw", "quat_pid", SIX_WHEELS), ("irassi_rw", "lqr_quat_i", SIX_WHEELS)]
+
+
+@pytest.mark.parametrize("target", TARGETS)
+@pytest.mark.parametrize("scenario, law, extra", WHEEL_SWEEP,
+                         ids=[f"{s}-{law}" + ("-6" if x else "") for s, law, x in WHEEL_SWEEP])
+def test_the_wheel_step_within_its_instruction_budget(scenario, law, extra, target):
+    """The image flies the wheel array of the scenario (CONFIG wheel fields, tachometers in, wheel torques out)
+    and every step fits the law's budget plus the slew and the wheel allowances of aocs/budget.h."""
+    image(target)
+    reg = registry.load()
+    core = {"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}[target]
+    r = harness.run_direct(scenario, law, target, duration_s=300.0, overrides={"guidance.mode": "slew", **extra})
+    budget = budgets()[law][TARGETS.index(target)] + reg.slew_instructions[core] + reg.wheels_instructions[core]
+    assert len(r.replies) == 3000
+    assert all(x.step_status == 0 and x.law == law_id(law) and x.wheel_status == 0 for x in r.replies)
+    assert all(x.exact == 1 for x in r.replies), "a count was not exact (SysTick wrap inside a window)"
+    assert all(x.budget == budget for x in r.replies)
+    worst = max(r.instructions)
+    assert worst <= budget, f"{law} on {target} with wheels: worst step {worst} instructions > budget {budget}"
+    assert r.replies[-1].pil_overruns == 0
+    # really the wheel step: the image allocated to the wheels (torques within the limit, the failed one idle)
+    # and the loop flew the slew: settled (within the scenarios' 10 arcsec settle criterion) from 39.3 deg
+    sc = load(scenario, extra or None)
+    w = sc.effectors["wheels"]
+    assert max(abs(u) for x in r.replies for u in x.u_wheels[:w.n]) > 0.1
+    assert max(abs(u) for x in r.replies for u in x.u_wheels[:w.n]) <= max(w.torque_limit_nm) * (1 + 1e-6)
+    for i in w.failed:
+        assert all(x.u_wheels[i] == 0.0 for x in r.replies)
+    assert r.pointing_arcsec[-1] < 10.0 and r.pointing_arcsec[0] > 1e5
 
 
 def test_float_build_meets_the_irassi_requirement():

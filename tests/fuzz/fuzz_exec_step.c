@@ -7,13 +7,16 @@
  * Input layout (reads past the end give zeros):
  *   u8  law (mod AOCS_LAW_COUNT)      u8 flags: bit0 real time, bits1-2 limit kind
  *                                     (axis / norm / both), bit3 raw limit doubles,
- *                                     bit4 rotating target
+ *                                     bit4 rotating target, bit5 reaction wheels (the SPEC 5.3
+ *                                     pyramid with friction feedforward and null-space
+ *                                     management, wheel 3 failed when bit6)
  *   u8  period choice                 3 x u16 axis limit magnitudes, u16 norm magnitude
  *   (bit3: 4 x f64 raw limits)        u8 M, u8 N, u16 stale timeout (periods / 16)
  *   then ops until the end, each one u8 op then its fields:
  *     0-5  step: u8 tick mode, u8 time mode (+ raw u32 / u64 when asked), u8 valid,
  *          4 x f64 q (or a unit q from 3 bytes when bit7 of valid), 3 x f64 w,
- *          3 x f64 pos, 3 x f64 vel
+ *          3 x f64 pos, 3 x f64 vel, and with wheels 4 x u16 tachometer speeds (+-1000 rad/s, or
+ *          a raw f64 each when bit6 of valid)
  *     6    step_no_input            7  select: u8 law, u8 with target, 4 x f64 qd
  *     8    HAL clock jump: u64      9  set_target_epoch: u64
  *
@@ -78,6 +81,9 @@ static int build_config(fuzz_reader_t *r, aocs_exec_config_t *cfg)
     }
     if ((flags & 16u) != 0u) {
         cfg->target_rotation_rate_D = aocs_vec3_make(AOCS_R(0.01), AOCS_R(-0.02), AOCS_R(0.005));
+    }
+    if ((flags & 32u) != 0u) {
+        fuzz_wheels(&cfg->wheels, (flags & 64u) != 0u);
     }
     cfg->recover_good_samples = 1u + (uint32_t)(fuzz_u8(r) % 16u);
     cfg->missing_max_periods = 1u + (uint32_t)(fuzz_u8(r) % 16u);
@@ -162,16 +168,24 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 in.pos_m.v[i] = (real_t)fuzz_f64(&r);
                 in.vel_mps.v[i] = (real_t)fuzz_f64(&r);
             }
+            if (cfg.wheels.n != 0u) {
+                for (uint32_t i = 0u; i < cfg.wheels.n; ++i) {
+                    in.wheel_speed_radps[i] = ((valid & 0x40u) != 0u) ? (real_t)fuzz_f64(&r)
+                                                                      : (real_t)((double)fuzz_u16(&r) / 32.768 - 1000.0);
+                }
+            }
             if (aocs_exec_step(&exec, &in, &out) != AOCS_OK) {
                 abort(); /* an initialised executive always produces a command */
             }
             fuzz_check_output(&cfg, &out);
+            fuzz_check_wheels(&cfg, &out);
         } else if (op == 6u) {
             g_now_ns += period_ns;
             if (aocs_exec_step_no_input(&exec, &out) != AOCS_OK) {
                 abort();
             }
             fuzz_check_output(&cfg, &out);
+            fuzz_check_wheels(&cfg, &out);
         } else if (op == 7u) {
             aocs_exec_target_t tgt;
             uint8_t law = fuzz_u8(&r);

@@ -166,4 +166,45 @@ static inline void fuzz_check_output(const aocs_exec_config_t *cfg, const aocs_e
     }
 }
 
+/* ---- the reaction wheel array (wheel_array.h, docs/spec.md 5.3) ---- */
+
+/* The SPEC 5.3 reference pyramid about x with the irassi_rw friction model and null-space management
+ * (docs/spec.md 5.3.2); wheel 3 failed when asked. A configuration aocs_wheels_init accepts. */
+static inline void fuzz_wheels(aocs_wheels_config_t *w, int failed)
+{
+    const double beta = acos(1.0 / sqrt(3.0));
+    aocs_wheels_config_default(w);
+    w->n = 4u;
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        const double az = 1.5707963267948966 * (double)i;
+        w->axis_B[i] = aocs_vec3_make((real_t)cos(beta), (real_t)(sin(beta) * cos(az)), (real_t)(sin(beta) * sin(az)));
+        w->js_kgm2[i] = AOCS_R(0.08);
+        w->u_max_nm[i] = AOCS_R(0.25);
+        w->omega_max_radps[i] = AOCS_R(600.0);
+        w->viscous_nms[i] = AOCS_R(1.0e-5);
+        w->coulomb_nm[i] = AOCS_R(2.0e-3);
+        w->coulomb_width_radps[i] = AOCS_R(0.5);
+        w->null_speed_radps[i] = AOCS_R(((i % 2u) == 0u) ? 50.0 : -50.0);
+    }
+    w->null_gain_per_s = AOCS_R(0.02);
+    w->failed_mask = (failed != 0) ? 8u : 0u;
+    w->inertia_B_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
+}
+
+/* every wheel command finite and within its motor limit (the compensation included), none to a failed wheel */
+static inline void fuzz_check_wheels(const aocs_exec_config_t *cfg, const aocs_exec_output_t *out)
+{
+    for (uint32_t i = 0u; i < cfg->wheels.n; ++i) {
+        const real_t u = out->wheels.u_s_nm[i];
+        if (!AOCS_IS_FINITE(u) || !(AOCS_FABS(u) <= (cfg->wheels.u_max_nm[i] * (AOCS_R(1.0) + AOCS_R(16.0) * AOCS_REAL_EPS)))) {
+            fuzz_fail("wheel command not finite or beyond its motor limit", cfg, out->u_cmd);
+        }
+        if (((cfg->wheels.failed_mask >> i) & 1u) != 0u) {
+            if (u > AOCS_R(0.0) || u < AOCS_R(0.0)) {
+                fuzz_fail("a failed wheel was commanded", cfg, out->u_cmd);
+            }
+        }
+    }
+}
+
 #endif /* AOCS_FUZZ_SUPPORT_H */

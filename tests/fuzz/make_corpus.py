@@ -124,6 +124,14 @@ CONFIGS = {
                   f"wheel{i}.axis = {a}\nwheel{i}.js = 0.08\nwheel{i}.u_max = 0.25\nwheel{i}.omega_max = 600\n"
                   for i, a in enumerate(("0.57735 0.81650 0", "0.57735 0 0.81650", "0.57735 -0.81650 0",
                                          "0.57735 0 -0.81650"))),
+    # the same with the friction feedforward model and the null-space management (docs/spec.md 5.3.2)
+    "wheels_friction": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 1 1 1\n"
+                       "inertia = 2059.5 5954.2 5974.3\nwheels.count = 4\nwheels.null_gain = 0.02\n" + "".join(
+                           f"wheel{i}.axis = {a}\nwheel{i}.js = 0.08\nwheel{i}.u_max = 0.25\nwheel{i}.omega_max = 600\n"
+                           f"wheel{i}.viscous = 1e-5\nwheel{i}.coulomb = 2e-3\nwheel{i}.coulomb_width = 0.5\n"
+                           f"wheel{i}.null_speed = {50 if i % 2 == 0 else -50}\n"
+                           for i, a in enumerate(("0.57735 0.81650 0", "0.57735 0 0.81650", "0.57735 -0.81650 0",
+                                                  "0.57735 0 -0.81650"))),
 }
 
 
@@ -156,6 +164,15 @@ def exec_seeds() -> None:
     orbit = bytes([10, 2 << 1, 0]) + struct.pack("<4H", 30000, 30000, 30000, 40000) + bytes([3, 3]) + struct.pack(
         "<H", 32)
     _write("fuzz_exec_step", "orbit", orbit + b"".join(step(valid=0x84) for _ in range(5)))
+    # quat_pd on the reaction wheel pyramid (flags bit5), wheel 3 failed in the second seed (bit6): each step
+    # then carries 4 tachometer readings as u16 (+-1000 rad/s), 0x8000 = 0 rad/s, 0x8010 = 0.49 rad/s
+    tach = struct.pack("<4H", 0x8000, 0x8010, 0x7FF0, 0xC000)
+    wheels = bytes([2, 32, 0]) + struct.pack("<4H", 30000, 30000, 30000, 30000) + bytes([3, 3]) + struct.pack(
+        "<H", 32)
+    _write("fuzz_exec_step", "wheels", wheels + b"".join(step(extra=b"") + tach for _ in range(6)))
+    wheels_failed = bytes([11, 32 | 64, 0]) + wheels[3:]
+    _write("fuzz_exec_step", "wheels_failed", wheels_failed + b"".join(step() + tach for _ in range(6))
+           + bytes([6, 6]) + step() + tach)
 
 
 def pil_seeds() -> None:
@@ -171,6 +188,14 @@ def pil_seeds() -> None:
     cfg.add("HINF_TABLE", "hinf_regional")
     _write("fuzz_pil_frame", "config", fr.encode(fr.T_CONFIG, 0, cfg.encode()))
     _write("fuzz_pil_frame", "config_payload", cfg.encode())
+    wcfg = fr.ConfigFields()
+    wcfg.add("LAW", 2)
+    wcfg.add("WHEELS_COUNT", 4)
+    wcfg.add("WHEELS_NULL_GAIN", 0.02)
+    for i in range(4):
+        wcfg.add(f"WHEEL{i}_AXIS", [0.57735, 0.8165 if i == 0 else 0.0, 0.0])
+        wcfg.add(f"WHEEL{i}_COULOMB", 2e-3)
+    _write("fuzz_pil_frame", "config_wheels", fr.encode(fr.T_CONFIG, 0, wcfg.encode()))
     _write("fuzz_pil_frame", "hello", fr.encode(fr.T_HELLO, 0, fr.HELLO.pack(1, 4, 7, 1, 10, 10, 3)))
     _write("fuzz_pil_frame", "bye", fr.encode(fr.T_BYE, 9))
     _write("fuzz_pil_frame", "bad_crc", fr.encode(fr.T_STEP, 1, step)[:-1] + b"\0")

@@ -186,6 +186,52 @@ static void test_no_input_holds_through_the_wheels(void **state)
     }
 }
 
+static void test_standby_commands_no_motor_torque_even_with_the_friction_model(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    aocs_exec_input_t in = sample(0u);
+    config(&cfg, 1);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        cfg.wheels.viscous_nms[i] = AOCS_R(1e-5);
+        cfg.wheels.coulomb_nm[i] = AOCS_R(2e-3);
+        cfg.wheels.coulomb_width_radps[i] = AOCS_R(0.5);
+        cfg.wheels.null_speed_radps[i] = AOCS_R(((i % 2u) == 0u) ? 50.0 : -50.0);
+        in.wheel_speed_radps[i] = AOCS_R(10.0);
+    }
+    cfg.wheels.null_gain_per_s = AOCS_R(0.02);
+    cfg.target.qd_DN = aocs_quat_identity(); /* a small command (rate damping only): room for the null space */
+    /* NOMINAL: the motors get the friction feedforward and the null-space torque on top of the law's */
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
+    double fsum = 0.0;
+    double nsum = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        fsum += fabs((double)out.wheels.friction_nm[i]);
+        nsum += fabs((double)out.wheels.null_nm[i]);
+    }
+    assert_true(fsum > 4.0 * 2e-3 * 0.99 && nsum > 0.0);
+    /* STANDBY: nothing at all reaches the motors */
+    cfg.law = AOCS_LAW_NONE;
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_STANDBY);
+    assert_int_equal(out.wheels_status, AOCS_OK);
+    for (int i = 0; i < 6; ++i) {
+        assert_close(out.wheels.u_s_nm[i], 0.0, 0.0);
+    }
+    /* the model's own codes reach aocs_exec_init */
+    config(&cfg, 1);
+    cfg.wheels.coulomb_width_radps[2] = AOCS_R(0.0);
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE);
+    config(&cfg, 1);
+    cfg.wheels.null_gain_per_s = AOCS_R(20.0); /* k_n T = 2 at 0.1 s */
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_ERR_WHEEL_NULL_GAIN_INVALID);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -194,6 +240,7 @@ int main(void)
         cmocka_unit_test(test_bad_tachometer_speeds_give_a_zero_command),
         cmocka_unit_test(test_a_wheel_at_its_speed_limit_is_not_driven_further),
         cmocka_unit_test(test_no_input_holds_through_the_wheels),
+        cmocka_unit_test(test_standby_commands_no_motor_torque_even_with_the_friction_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,15 +16,15 @@
 #include "aocs/pil_frame.h"
 #include "gains/aocs_gains.h"
 
-/* BYE, seq 7, empty payload: "APIL", version 1, type 8, length 0, seq 7, CRC (zlib) */
-static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00,
-                                       0x07, 0x00, 0x00, 0x00, 0xED, 0x4A, 0x36, 0x90};
+/* BYE, seq 7, empty payload: "APIL", version 2, type 8, length 0, seq 7, CRC (zlib) */
+static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x02, 0x08, 0x00, 0x00,
+                                       0x07, 0x00, 0x00, 0x00, 0x0E, 0x4D, 0xB9, 0x1E};
 
 /* HELLO seq 0 of target 2, 8-byte reals, shift 7, calib ok 2000/2000, overhead 47 */
 static const uint8_t golden_hello[44] = {
-    0x41, 0x50, 0x49, 0x4C, 0x01, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    0x41, 0x50, 0x49, 0x4C, 0x02, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
     0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x71, 0xC7, 0x6A, 0x7C};
+    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x8F, 0xBC, 0x8A, 0x18};
 
 /* bit-at-a-time CRC-32/ISO-HDLC, the textbook definition (independent of the table) */
 static uint32_t crc_bitwise(const uint8_t *p, size_t n)
@@ -96,7 +96,7 @@ static void test_frame_check_accepts_and_decodes(void **state)
     aocs_pil_header_t h;
     aocs_pil_hello_t back;
     assert_int_equal(aocs_pil_frame_check(golden_hello, sizeof(golden_hello), &h), AOCS_PIL_OK);
-    assert_int_equal(h.version, 1);
+    assert_int_equal(h.version, AOCS_PIL_VERSION);
     assert_int_equal(h.type, AOCS_PIL_T_HELLO);
     assert_int_equal(h.length, AOCS_PIL_HELLO_BYTES);
     assert_int_equal(h.seq, 0);
@@ -134,7 +134,7 @@ static void test_header_errors_are_named(void **state)
     f[0] = 'X';
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_MAGIC);
     memcpy(f, golden_bye, sizeof(f));
-    f[4] = 2; /* version */
+    f[4] = 1; /* version: the one before the wheel array */
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_VERSION);
     memcpy(f, golden_bye, sizeof(f));
     f[6] = 0x01; /* length 1025 */
@@ -442,6 +442,143 @@ static void test_config_fields_apply(void **state)
     }
 }
 
+/* The wheel array's CONFIG fields: the array-wide ones and the per-wheel ones (id 100 + 8 i + field) reach
+ * their members, wheel by wheel, and the executive accepts the array they describe. */
+static void test_config_wheel_fields_apply(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_PAYLOAD_MAX];
+    uint32_t pos = 0;
+    aocs_exec_config_t cfg;
+    uint64_t budget = 0;
+    uint32_t field = 99;
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    const real_t gain = AOCS_R(0.02);
+    const double beta = acos(1.0 / sqrt(3.0));
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_LAW, (uint64_t)AOCS_LAW_QUAT_PD),
+                     AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_WHEELS_COUNT, 4u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &pos, AOCS_PIL_CFG_WHEELS_FAILED_MASK, 2u), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, AOCS_PIL_CFG_WHEELS_NULL_GAIN, &gain, 1u),
+                     AOCS_PIL_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        const double az = 0.5 * 3.14159265358979323846 * (double)i;
+        const real_t axis[3] = {(real_t)cos(beta), (real_t)(sin(beta) * cos(az)), (real_t)(sin(beta) * sin(az))};
+        /* every per-wheel value distinct: wheel i, field f is 1 + 10 i + f (inside every rule) */
+        const uint32_t id0 = AOCS_PIL_CFG_WHEEL_BASE + (i * AOCS_PIL_WHEEL_STRIDE);
+        assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, (aocs_pil_cfg_field_t)id0, axis, 3u),
+                         AOCS_PIL_OK);
+        for (uint32_t f = 1u; f < AOCS_PIL_WHEEL_STRIDE; ++f) {
+            real_t v = (real_t)(1.0 + 10.0 * (double)i + (double)f);
+            if (f == 4u || f == 5u) {
+                v = (real_t)(1e-5 * (double)v); /* viscous, Coulomb: small against the motor limit */
+            }
+            if (f == 2u) {
+                v = AOCS_R(0.25);
+            }
+            if (f == 3u) {
+                v = AOCS_R(600.0);
+            }
+            assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &pos, (aocs_pil_cfg_field_t)(id0 + f), &v, 1u),
+                             AOCS_PIL_OK);
+        }
+    }
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(aocs_pil_config_decode(p, pos, &cfg, &budget, &field, &st), AOCS_PIL_OK);
+    assert_int_equal(field, 0);
+    assert_int_equal(cfg.wheels.n, 4);
+    assert_int_equal(cfg.wheels.failed_mask, 2);
+    assert_same_real(cfg.wheels.null_gain_per_s, gain);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_same_real(cfg.wheels.axis_B[i].v[0], (real_t)cos(beta));
+        assert_same_real(cfg.wheels.js_kgm2[i], (real_t)(2.0 + 10.0 * (double)i));
+        assert_same_real(cfg.wheels.u_max_nm[i], AOCS_R(0.25));
+        assert_same_real(cfg.wheels.omega_max_radps[i], AOCS_R(600.0));
+        assert_same_real(cfg.wheels.viscous_nms[i], (real_t)(1e-5 * (5.0 + 10.0 * (double)i)));
+        assert_same_real(cfg.wheels.coulomb_nm[i], (real_t)(1e-5 * (6.0 + 10.0 * (double)i)));
+        assert_same_real(cfg.wheels.coulomb_width_radps[i], (real_t)(7.0 + 10.0 * (double)i));
+        assert_same_real(cfg.wheels.null_speed_radps[i], (real_t)(8.0 + 10.0 * (double)i));
+    }
+    /* wheels 4 and 5 untouched (defaults) */
+    assert_same_real(cfg.wheels.js_kgm2[4], AOCS_R(0.0));
+    assert_same_real(cfg.wheels.coulomb_width_radps[5], AOCS_R(0.1));
+    /* the inertia (field 15) also gives the array's momentum, as in fsw_node */
+    assert_memory_equal(&cfg.wheels.inertia_B_kgm2, &cfg.laws.smc.inertia, sizeof(cfg.wheels.inertia_B_kgm2));
+    /* the executive accepts the array (quat_pd gains and a limit added) */
+    cfg.laws.quat_pd.kp = AOCS_R(4000.0);
+    cfg.laws.quat_pd.kd = AOCS_R(8000.0);
+    cfg.u_max_axis = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
+    cfg.laws.smc.inertia = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
+    cfg.wheels.inertia_B_kgm2 = cfg.laws.smc.inertia;
+    {
+        static aocs_exec_t exec;
+        assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+        assert_int_equal(exec.wheels.n_healthy, 3);
+    }
+    /* a per-wheel field with the wrong count, beyond the last wheel, or between the families: refused */
+    {
+        const real_t two[2] = {AOCS_R(1.0), AOCS_R(2.0)};
+        const real_t one = AOCS_R(1.0);
+        uint32_t q = 0;
+        assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &q, (aocs_pil_cfg_field_t)(AOCS_PIL_CFG_WHEEL_BASE + 9u),
+                                                   two, 2u), AOCS_PIL_OK); /* wheel 1's js takes one value */
+        assert_int_equal(aocs_pil_config_decode(p, q, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+        assert_int_equal(field, AOCS_PIL_CFG_WHEEL_BASE + 9u);
+        q = 0;
+        assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &q, (aocs_pil_cfg_field_t)148u, &one, 1u),
+                         AOCS_PIL_OK);
+        assert_int_equal(aocs_pil_config_decode(p, q, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+        assert_int_equal(field, 148);
+        q = 0;
+        assert_int_equal(aocs_pil_config_put_reals(p, sizeof(p), &q, (aocs_pil_cfg_field_t)99u, &one, 1u),
+                         AOCS_PIL_OK);
+        assert_int_equal(aocs_pil_config_decode(p, q, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+        q = 0;
+        assert_int_equal(aocs_pil_config_put_u64(p, sizeof(p), &q, AOCS_PIL_CFG_WHEELS_COUNT, 1ull << 33), AOCS_PIL_OK);
+        assert_int_equal(aocs_pil_config_decode(p, q, &cfg, &budget, &field, &st), AOCS_PIL_ERR_FIELD);
+    }
+}
+
+/* The tachometers ride in the STEP frame, the allocation in the reply, bit for bit. */
+static void test_step_and_reply_carry_the_wheels(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_REPLY_BYTES];
+    aocs_exec_input_t in = sample_input();
+    aocs_exec_input_t back;
+    aocs_pil_step_reply_t r;
+    aocs_pil_step_reply_t rb;
+    for (int i = 0; i < 6; ++i) {
+        in.wheel_speed_radps[i] = (real_t)(-300.5 + 111.25 * (double)i);
+    }
+    in.wheel_speed_radps[5] = (real_t)NAN; /* an unmeasured wheel stays NaN */
+    assert_int_equal(aocs_pil_step_encode(&in, p, AOCS_PIL_STEP_BYTES), AOCS_PIL_OK);
+    assert_int_equal(le64(&p[120]), 0xC072C80000000000ull); /* -300.5: the first tachometer after vel */
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES, &back), AOCS_PIL_OK);
+    assert_memory_equal(back.wheel_speed_radps, in.wheel_speed_radps, 5u * sizeof(real_t));
+    assert_true(isnan(back.wheel_speed_radps[5]));
+
+    memset(&r, 0, sizeof(r));
+    for (int i = 0; i < 6; ++i) {
+        r.u_wheels_nm[i] = (real_t)(0.015625 * (double)(i + 1) * ((i % 2 == 0) ? 1.0 : -1.0));
+    }
+    r.wheel_scale = AOCS_R(0.75);
+    r.wheel_limited = 0x0201u;
+    r.wheels_status = AOCS_ERR_INPUT_NOT_FINITE;
+    r.h_total_B_Nms = aocs_vec3_make(AOCS_R(1.5), AOCS_R(-2.5), AOCS_R(0.125));
+    r.speed_margin = AOCS_R(0.5);
+    assert_int_equal(aocs_pil_step_reply_encode(&r, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p), &rb), AOCS_PIL_OK);
+    assert_memory_equal(rb.u_wheels_nm, r.u_wheels_nm, sizeof(r.u_wheels_nm));
+    assert_same_real(rb.wheel_scale, r.wheel_scale);
+    assert_int_equal(rb.wheel_limited, 0x0201u);
+    assert_int_equal(rb.wheels_status, AOCS_ERR_INPUT_NOT_FINITE);
+    assert_memory_equal(&rb.h_total_B_Nms, &r.h_total_B_Nms, sizeof(r.h_total_B_Nms));
+    assert_same_real(rb.speed_margin, r.speed_margin);
+    /* the wheel part follows the 148 bytes of the version 1 reply */
+    assert_int_equal(le64(&p[148]), 0x3F90000000000000ull); /* u_wheels[0] = 0.015625 */
+}
+
 static void test_config_field_errors(void **state)
 {
     (void)state;
@@ -538,6 +675,8 @@ int main(void)
         cmocka_unit_test(test_negative_int32),
         cmocka_unit_test(test_config_fields_apply),
         cmocka_unit_test(test_config_field_errors),
+        cmocka_unit_test(test_config_wheel_fields_apply),
+        cmocka_unit_test(test_step_and_reply_carry_the_wheels),
         cmocka_unit_test(test_budget_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -55,6 +55,12 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     /* the slew guidance (executive.h), ids from 60 */
     {"GUIDANCE_MODE", 60u}, {"GUIDANCE_PROFILE", 61u}, {"GUIDANCE_MARGIN", 62u}, {"GUIDANCE_RATE_LIMIT", 63u},
     {"GUIDANCE_JERK_TIME", 64u},
+    /* the wheel array (wheel_array.h), ids from 65 */
+    {"WHEELS_COUNT", 65u}, {"WHEELS_FAILED_MASK", 66u}, {"WHEELS_NULL_GAIN", 67u},
+    /* per wheel i: 100 + 8 i + field (pil_frame.h AOCS_PIL_WHEEL_FIELD_ROWS); wheel 0 and the last one here,
+     * the rest by the rule in test_pil_ids_are_the_wire_values_and_unique */
+    {"WHEEL0_AXIS", 100u}, {"WHEEL0_JS", 101u}, {"WHEEL0_U_MAX", 102u}, {"WHEEL0_OMEGA_MAX", 103u},
+    {"WHEEL0_VISCOUS", 104u}, {"WHEEL0_COULOMB", 105u}, {"WHEEL0_COULOMB_WIDTH", 106u}, {"WHEEL0_NULL_SPEED", 107u},
 };
 #define N_WIRE_EXEC_FIELDS ((int)(sizeof(WIRE_EXEC_FIELDS) / sizeof(WIRE_EXEC_FIELDS[0])))
 
@@ -213,11 +219,25 @@ static uint32_t type_count(const char *type, uint32_t count)
 static void test_pil_ids_are_the_wire_values_and_unique(void **state)
 {
     (void)state;
-    assert_int_equal((int)aocs_registry_exec_field_count, N_WIRE_EXEC_FIELDS);
+    /* the listed ones, then wheels 1 .. 5 with wheel 0's fields at +8 each */
+    assert_int_equal((int)aocs_registry_exec_field_count, N_WIRE_EXEC_FIELDS + 5 * 8);
     for (int i = 0; i < N_WIRE_EXEC_FIELDS; ++i) {
         assert_string_equal(aocs_registry_exec_fields[i].name, WIRE_EXEC_FIELDS[i].key);
         assert_int_equal(aocs_registry_exec_fields[i].pil_id, WIRE_EXEC_FIELDS[i].id);
     }
+    for (int w = 1; w < 6; ++w) {
+        for (int f = 0; f < 8; ++f) {
+            const aocs_registry_exec_field_t *x = &aocs_registry_exec_fields[N_WIRE_EXEC_FIELDS + (w - 1) * 8 + f];
+            const aocs_registry_exec_field_t *x0 = &aocs_registry_exec_fields[N_WIRE_EXEC_FIELDS - 8 + f];
+            char name[40];
+            (void)snprintf(name, sizeof(name), "WHEEL%d_%s", w, x0->name + strlen("WHEEL0_"));
+            assert_string_equal(x->name, name);
+            assert_int_equal(x->pil_id, x0->pil_id + 8u * (uint32_t)w);
+        }
+    }
+    assert_int_equal(AOCS_PIL_CFG_WHEELS_COUNT, 65);
+    assert_int_equal(AOCS_PIL_CFG_WHEEL_BASE, 100);
+    assert_int_equal(AOCS_PIL_WHEEL_STRIDE, 8);
     assert_int_equal(AOCS_PIL_CFG_LAW, 1);
     assert_int_equal(AOCS_PIL_CFG_BUDGET_INSTR, 14);
     assert_int_equal(AOCS_PIL_CFG_INERTIA, 15);

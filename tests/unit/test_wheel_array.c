@@ -399,6 +399,307 @@ static void test_bad_inputs_give_a_zero_command(void **state)
     }
 }
 
+/* ---- friction feedforward and null-space management (docs/spec.md 5.3.2) ---- */
+
+#define FB 1.0e-4   /* b, N m s/rad: 0.06 N m at 600 rad/s */
+#define FC 0.02     /* c, N m */
+#define FEPS 0.5    /* Omega_eps, rad/s */
+
+static void with_friction(aocs_wheels_config_t *cfg)
+{
+    for (uint32_t i = 0u; i < cfg->n; ++i) {
+        cfg->viscous_nms[i] = AOCS_R(FB);
+        cfg->coulomb_nm[i] = AOCS_R(FC);
+        cfg->coulomb_width_radps[i] = AOCS_R(FEPS);
+    }
+}
+
+/* the plant's bearing friction, written out (sil/aocs_plant/effectors/reaction_wheels.py) */
+static double friction_d(double omega)
+{
+    double w = fmax(-WMAX, fmin(WMAX, omega));
+    return FB * w + FC * tanh(w / FEPS);
+}
+
+/* the largest s in [0, 1] with |s tau_i + f_i| <= UMAX for every wheel (no speed bound binding) */
+static double scale_d(const double tau[AOCS_WHEELS_MAX], const double f[AOCS_WHEELS_MAX], uint32_t n)
+{
+    double s = 1.0;
+    for (uint32_t i = 0u; i < n; ++i) {
+        if (tau[i] > 0.0) {
+            s = fmin(s, (UMAX - f[i]) / tau[i]);
+        } else if (tau[i] < 0.0) {
+            s = fmin(s, (UMAX + f[i]) / -tau[i]);
+        }
+    }
+    return s;
+}
+
+static void test_the_friction_feedforward_delivers_the_net_torque(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    uint32_t seed = 4242u;
+    int n_scaled = 0;
+    for (int k = 0; k < 400; ++k) {
+        /* speeds across zero (the tanh) and far from it; commands small and far beyond the envelope */
+        double spread = (k % 2 == 0) ? 2.0 : 400.0;
+        double mag = (k % 3 == 0) ? 3.0 : 0.05;
+        real_t om[AOCS_WHEELS_MAX] = {0};
+        double f[AOCS_WHEELS_MAX] = {0};
+        for (int i = 0; i < 4; ++i) {
+            om[i] = (real_t)(spread * rnd(&seed));
+            f[i] = friction_d((double)om[i]);
+        }
+        double uc[3] = {mag * rnd(&seed), mag * rnd(&seed), mag * rnd(&seed)};
+        double tau[AOCS_WHEELS_MAX];
+        min_norm_d(&cfg, uc, tau);
+        double s = scale_d(tau, f, 4u);
+        aocs_wheels_alloc_t al;
+        assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make((real_t)uc[0], (real_t)uc[1], (real_t)uc[2]), om,
+                                              &al), AOCS_OK);
+        assert_close(al.scale, s, TOL_LOOSE);
+        n_scaled += (s < 1.0) ? 1 : 0;
+        for (int i = 0; i < 4; ++i) {
+            /* the motor overcomes the bearing: u_s = s tau + f(Omega), so u_s - f(Omega) = s tau reaches the wheel */
+            assert_close(al.friction_nm[i], f[i], TOL_TIGHT);
+            assert_close(al.u_s_nm[i], s * tau[i] + f[i], TOL_LOOSE * UMAX);
+            assert_close(al.null_nm[i], 0.0, 0.0);
+            /* the compensated command never beyond the motor limit */
+            assert_true(fabs((double)al.u_s_nm[i]) <= UMAX * (1.0 + 8.0 * (double)AOCS_REAL_EPS));
+        }
+        /* the body receives -Gs (u_s - f) = s u_c: the law's direction */
+        double body[3] = {0.0, 0.0, 0.0};
+        for (int i = 0; i < 4; ++i) {
+            for (int r = 0; r < 3; ++r) {
+                body[r] -= (double)cfg.axis_B[i].v[r] * ((double)al.u_s_nm[i] - f[i]);
+            }
+        }
+        for (int r = 0; r < 3; ++r) {
+            assert_close(body[r], s * uc[r], TOL_LOOSE * mag);
+            assert_close(al.u_body_B_nm.v[r], s * uc[r], TOL_LOOSE * mag);
+        }
+        if (s < 1.0) {
+            /* beyond the envelope a wheel sits exactly at its limit with the compensation included */
+            double amax = 0.0;
+            for (int i = 0; i < 4; ++i) {
+                amax = fmax(amax, fabs((double)al.u_s_nm[i]));
+            }
+            assert_close(amax, UMAX, TOL_LOOSE);
+            assert_true(al.torque_limited_mask != 0u);
+        }
+    }
+    assert_true(n_scaled > 50); /* both cases were exercised */
+}
+
+static void test_the_friction_model_is_clamped_at_the_speed_limit(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_close(aocs_wheels_friction(&wa, 1u, AOCS_R(0.25)), FB * 0.25 + FC * tanh(0.5), TOL_TIGHT);
+    assert_close(aocs_wheels_friction(&wa, 1u, AOCS_R(-300.0)), -(FB * 300.0 + FC * tanh(600.0)), TOL_TIGHT);
+    /* a tachometer beyond the limit (one step of overshoot) reads as the limit: |f^| < u_s,max always */
+    assert_close(aocs_wheels_friction(&wa, 2u, AOCS_R(700.0)), FB * WMAX + FC, TOL_TIGHT);
+    assert_close(aocs_wheels_friction(&wa, 2u, AOCS_R(-1e30)), -(FB * WMAX + FC), TOL_TIGHT);
+    /* total */
+    assert_close(aocs_wheels_friction(&wa, 4u, AOCS_R(10.0)), 0.0, 0.0);
+    assert_close(aocs_wheels_friction(&wa, 0u, AOCS_R(NAN)), 0.0, 0.0);
+    assert_close(aocs_wheels_friction(NULL, 0u, AOCS_R(10.0)), 0.0, 0.0);
+    /* a failed wheel gets no motor torque, so no compensation either */
+    cfg.failed_mask = 1u << 1;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(100.0), AOCS_R(100.0), AOCS_R(-50.0), AOCS_R(3.0), 0, 0};
+    aocs_wheels_alloc_t al;
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(AOCS_R(0.01), 0, 0), om, &al), AOCS_OK);
+    assert_close(al.u_s_nm[1], 0.0, 0.0);
+    assert_close(al.friction_nm[1], 0.0, 0.0);
+    assert_close(al.friction_nm[2], friction_d(-50.0), TOL_TIGHT);
+}
+
+static void test_the_speed_headroom_bounds_the_net_torque(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    aocs_vec3_t uc = aocs_vec3_scale(cfg.axis_B[0], AOCS_R(-0.2)); /* speeds wheel 0 up in + */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(599.9), 0, 0, 0, 0, 0};
+    double ucd[3] = {(double)uc.v[0], (double)uc.v[1], (double)uc.v[2]};
+    double tau[AOCS_WHEELS_MAX];
+    min_norm_d(&cfg, ucd, tau);
+    double head = JS * (WMAX - 599.9) / 0.1; /* 0.08 N m of net torque */
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    /* the net torque (motor minus bearing) is what changes the speed: it gets the headroom, the motor the
+     * headroom plus the friction it must overcome */
+    assert_close(al.scale, head / tau[0], TOL_LOOSE);
+    assert_close((double)al.u_s_nm[0] - friction_d(599.9), head, TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+}
+
+/* the pyramid's null space is spanned by n = [1 -1 1 -1] / 2 (its azimuths 0, 90, 180, 270 deg) */
+static const double NULL_N[4] = {0.5, -0.5, 0.5, -0.5};
+
+static void test_the_null_space_management_gives_no_body_torque(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    const double kn = 0.005; /* u_n below 0.06 N m here: within half the room left, so r = 1 */
+    const double target[4] = {50.0, -50.0, 50.0, -50.0};
+    cfg.null_gain_per_s = AOCS_R(kn);
+    for (int i = 0; i < 4; ++i) {
+        cfg.null_speed_radps[i] = AOCS_R(target[i]);
+    }
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    uint32_t seed = 777u;
+    for (int k = 0; k < 200; ++k) {
+        real_t om[AOCS_WHEELS_MAX] = {0};
+        double f[AOCS_WHEELS_MAX] = {0};
+        double e_n = 0.0; /* n . Js (Omega* - Omega) */
+        for (int i = 0; i < 4; ++i) {
+            om[i] = (real_t)(100.0 * rnd(&seed));
+            f[i] = friction_d((double)om[i]);
+            e_n += NULL_N[i] * JS * (target[i] - (double)om[i]);
+        }
+        double uc[3] = {0.01 * rnd(&seed), 0.01 * rnd(&seed), 0.01 * rnd(&seed)};
+        double tau[AOCS_WHEELS_MAX];
+        min_norm_d(&cfg, uc, tau);
+        aocs_wheels_alloc_t al;
+        assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make((real_t)uc[0], (real_t)uc[1], (real_t)uc[2]), om,
+                                              &al), AOCS_OK);
+        /* small command and small null torque: neither is scaled */
+        assert_close(al.scale, 1.0, 0.0);
+        assert_close(al.null_scale, 1.0, 0.0);
+        for (int i = 0; i < 4; ++i) {
+            /* u_n = k_n P_N Js (Omega* - Omega), P_N = n n^T */
+            assert_close(al.null_nm[i], kn * NULL_N[i] * e_n, TOL_LOOSE * 0.01);
+            assert_close(al.u_s_nm[i], tau[i] + kn * NULL_N[i] * e_n + f[i], TOL_LOOSE * 0.01);
+        }
+        /* -Gs u_n = 0: the body torque is the command alone */
+        double body[3] = {0.0, 0.0, 0.0};
+        for (int i = 0; i < 4; ++i) {
+            for (int r = 0; r < 3; ++r) {
+                body[r] -= (double)cfg.axis_B[i].v[r] * ((double)al.u_s_nm[i] - f[i]);
+            }
+        }
+        for (int r = 0; r < 3; ++r) {
+            assert_close(body[r], uc[r], TOL_LOOSE * 0.01);
+        }
+    }
+    /* the null-space part of the momenta relaxes to the targets': one period of u_n, e+ = (1 - k_n T) e */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(3.0), AOCS_R(2.0), AOCS_R(-1.0), AOCS_R(0.5), 0, 0};
+    aocs_wheels_alloc_t al;
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    double e0 = 0.0;
+    double e1 = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        double next = (double)om[i] + (double)al.null_nm[i] * 0.1 / JS; /* the net torque is u_n */
+        e0 += NULL_N[i] * (target[i] - (double)om[i]);
+        e1 += NULL_N[i] * (target[i] - next);
+    }
+    assert_true(e0 > 50.0);
+    assert_close(e1, (1.0 - kn * 0.1) * e0, TOL_LOOSE * 100.0);
+}
+
+static void test_the_null_space_torque_gets_half_the_room_left(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    cfg.null_gain_per_s = AOCS_R(10.0); /* k_n T = 1: asks for far more than the motors have */
+    for (int i = 0; i < 4; ++i) {
+        cfg.null_speed_radps[i] = AOCS_R((i % 2 == 0) ? 500.0 : -500.0);
+    }
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    aocs_vec3_t uc = aocs_vec3_make(AOCS_R(0.05), AOCS_R(-0.1), AOCS_R(0.02));
+    double ucd[3] = {0.05, -0.1, 0.02};
+    double tau[AOCS_WHEELS_MAX];
+    min_norm_d(&cfg, ucd, tau);
+    aocs_wheels_alloc_t al;
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, ZERO_SPEEDS, &al), AOCS_OK);
+    /* the body torque first and whole */
+    assert_close(al.scale, 1.0, 0.0);
+    assert_vec3_close(al.u_body_B_nm, uc, TOL_TIGHT);
+    /* r: the largest scale with every |tau_i + r u_n,i| within tau_i + half of (+-UMAX - tau_i) */
+    double un = 10.0 * JS * 1000.0; /* u_n,i = k_n Js (n . Omega*) n_i with n . Omega* = 1000 rad/s */
+    double r = 1.0;
+    for (int i = 0; i < 4; ++i) {
+        double d = un * NULL_N[i];
+        double bound = (d > 0.0) ? 0.5 * (UMAX - tau[i]) : 0.5 * (-UMAX - tau[i]);
+        r = fmin(r, bound / d);
+    }
+    assert_true(r < 0.1);
+    assert_close(al.null_scale, r, TOL_LOOSE);
+    double amax = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        assert_close(al.null_nm[i], r * un * NULL_N[i], TOL_LOOSE);
+        amax = fmax(amax, fabs((double)al.u_s_nm[i]));
+    }
+    /* no wheel reaches its limit through the momentum management */
+    assert_true(amax < UMAX * 0.99);
+    /* with three healthy wheels there is no null space: nothing */
+    cfg.failed_mask = 1u;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, ZERO_SPEEDS, &al), AOCS_OK);
+    for (int i = 0; i < 4; ++i) {
+        assert_close(al.null_nm[i], 0.0, 0.0);
+    }
+}
+
+static void test_every_friction_and_null_space_error_has_its_code(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    cfg.viscous_nms[2] = AOCS_R(-1e-6);
+    expect_init(&cfg, AOCS_ERR_WHEEL_FRICTION_NEGATIVE);
+    with_friction(&cfg);
+    cfg.coulomb_nm[0] = AOCS_R(NAN);
+    expect_init(&cfg, AOCS_ERR_WHEEL_FRICTION_NEGATIVE);
+    with_friction(&cfg);
+    cfg.coulomb_width_radps[3] = AOCS_R(0.0);
+    expect_init(&cfg, AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE);
+    with_friction(&cfg);
+    cfg.coulomb_width_radps[3] = AOCS_R(INFINITY);
+    expect_init(&cfg, AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE);
+    /* b Omega_max + c = 0.25 = u_s,max: nothing left for the attitude loop at the speed limit */
+    with_friction(&cfg);
+    cfg.viscous_nms[1] = AOCS_R((UMAX - FC) / WMAX);
+    expect_init(&cfg, AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT);
+    with_friction(&cfg);
+    cfg.viscous_nms[1] = AOCS_R(0.99 * (UMAX - FC) / WMAX);
+    aocs_wheels_t wa;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    with_friction(&cfg);
+    cfg.null_gain_per_s = AOCS_R(-0.1);
+    expect_init(&cfg, AOCS_ERR_WHEEL_NULL_GAIN_INVALID);
+    cfg.null_gain_per_s = AOCS_R(10.5); /* k_n T = 1.05 */
+    expect_init(&cfg, AOCS_ERR_WHEEL_NULL_GAIN_INVALID);
+    cfg.null_gain_per_s = AOCS_R(NAN);
+    expect_init(&cfg, AOCS_ERR_WHEEL_NULL_GAIN_INVALID);
+    cfg.null_gain_per_s = AOCS_R(10.0);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    cfg.null_speed_radps[2] = AOCS_R(-WMAX);
+    expect_init(&cfg, AOCS_ERR_WHEEL_NULL_SPEED_INVALID);
+    cfg.null_speed_radps[2] = AOCS_R(INFINITY);
+    expect_init(&cfg, AOCS_ERR_WHEEL_NULL_SPEED_INVALID);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -411,6 +712,12 @@ int main(void)
         cmocka_unit_test(test_the_guidance_envelope_with_the_gyroscopic_allowance),
         cmocka_unit_test(test_every_configuration_error_has_its_code),
         cmocka_unit_test(test_bad_inputs_give_a_zero_command),
+        cmocka_unit_test(test_the_friction_feedforward_delivers_the_net_torque),
+        cmocka_unit_test(test_the_friction_model_is_clamped_at_the_speed_limit),
+        cmocka_unit_test(test_the_speed_headroom_bounds_the_net_torque),
+        cmocka_unit_test(test_the_null_space_management_gives_no_body_torque),
+        cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
+        cmocka_unit_test(test_every_friction_and_null_space_error_has_its_code),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -64,7 +64,27 @@ const size_t aocs_registry_table_count = sizeof(aocs_registry_tables) / sizeof(a
 #define REG_KIND_U64 "u64"
 #define REG_EXEC_ROW(NAME, ID, KIND, COUNT, KEY) {#NAME, (uint32_t)(ID), REG_KIND_##KIND, (uint32_t)(COUNT), KEY},
 
-const aocs_registry_exec_field_t aocs_registry_exec_fields[] = {AOCS_PIL_EXEC_FIELD_ROWS(REG_EXEC_ROW)};
+/* the wheel array's per-wheel fields (AOCS_PIL_WHEEL_FIELD_ROWS), wheel by wheel after the executive's rows:
+ * name WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i * AOCS_PIL_WHEEL_STRIDE + INDEX, key "wheel<i>.<KEY>" */
+#define REG_WHEEL_ROW(W, NAME, INDEX, COUNT, KEY)                                                                 \
+    {"WHEEL" #W "_" #NAME, (uint32_t)(AOCS_PIL_CFG_WHEEL_BASE + ((W) * AOCS_PIL_WHEEL_STRIDE) + (INDEX)), "real", \
+     (uint32_t)(COUNT), "wheel" #W "." KEY},
+#define REG_WHEEL_ROW_0(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(0, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_1(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(1, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_2(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(2, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_3(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(3, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_4(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(4, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_5(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(5, NAME, INDEX, COUNT, KEY)
+#if AOCS_WHEELS_MAX != 6
+#error "one REG_WHEEL_ROW_<i> per wheel of AOCS_WHEELS_MAX"
+#endif
+
+const aocs_registry_exec_field_t aocs_registry_exec_fields[] = {
+    AOCS_PIL_EXEC_FIELD_ROWS(REG_EXEC_ROW)
+    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_0) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_1)
+    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_2) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_3)
+    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_4) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_5)
+};
 const size_t aocs_registry_exec_field_count =
     sizeof(aocs_registry_exec_fields) / sizeof(aocs_registry_exec_fields[0]);
 

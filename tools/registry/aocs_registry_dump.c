@@ -250,8 +250,15 @@ static void dump_enums(FILE *f)
 static void dump_registry(FILE *f)
 {
     (void)fprintf(f, "{\n  \"schema\": %d,\n  \"real_t\": \"%s\",\n", DUMP_SCHEMA, DUMP_REAL_NAME);
-    (void)fprintf(f, "  \"pil\": {\"version\": %u, \"table_name_max\": %u},\n", (unsigned)AOCS_PIL_VERSION,
+    (void)fprintf(f, "  \"pil\": {\"version\": %u, \"table_name_max\": %u, ", (unsigned)AOCS_PIL_VERSION,
                   (unsigned)AOCS_PIL_TABLE_NAME_MAX);
+    /* the allowances added to a step's instruction budget (aocs/budget.h): slew guidance, wheel array */
+    (void)fprintf(f, "\"slew_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
+                  (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
+                  (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
+    (void)fprintf(f, "\"wheels_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}},\n",
+                  (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
+                  (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
     /* the executive's accepted ranges: the scenario loader applies the same ones (aocs_core.registry) */
     (void)fprintf(f, "  \"limits\": {\"u_limit_min\": %.17g, \"u_limit_max\": %.17g, "
                      "\"period_min_s\": %.17g, \"period_max_s\": %.17g},\n",

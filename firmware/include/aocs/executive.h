@@ -42,7 +42,10 @@
  * one uniform scale, speed protection from the tachometer speeds of the
  * sample); u_cmd is then the body torque the wheels deliver (the same
  * direction) and out.wheels holds the wheel torque commands, out.momentum the
- * total momentum and the speed margin. Non-finite tachometer speeds give a
+ * total momentum and the speed margin. The motor commands include the
+ * friction feedforward and the null-space wheel speed management of the
+ * array's configuration (docs/spec.md 5.3.2) in NOMINAL and SAFE; STANDBY
+ * commands no motor torque at all. Non-finite tachometer speeds give a
  * zero wheel command (wheels_status says why). Without an array nothing
  * changes.
  *
@@ -333,6 +336,8 @@ typedef struct {
  * Defaults: period 0.1 s, AOCS_LAW_NONE, identity target, no limits set
  * (the caller must set one), k_safe 1, M = 10, N = 3, stale timeout
  * 2 periods, no budget override, lockstep. Law configs zeroed (invalid).
+ * No wheel array (wheels.n = 0) with the array's own defaults
+ * (aocs_wheels_config_default: no friction model, no null-space management).
  * Total (no-op on NULL).
  */
 void aocs_exec_config_default(aocs_exec_config_t *cfg);

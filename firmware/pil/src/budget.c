@@ -38,3 +38,16 @@ uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target)
     }
     return budget;
 }
+
+uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target)
+{
+    uint32_t budget = 0U;
+    if (target == AOCS_BUDGET_TARGET_CORTEX_M4F) {
+        budget = AOCS_BUDGET_WHEELS_INSTR_M4F;
+    } else if (target == AOCS_BUDGET_TARGET_CORTEX_M7) {
+        budget = AOCS_BUDGET_WHEELS_INSTR_M7;
+    } else {
+        budget = 0U;
+    }
+    return budget;
+}

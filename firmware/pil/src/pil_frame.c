@@ -434,6 +434,9 @@ aocs_pil_err_t aocs_pil_step_encode(const aocs_exec_input_t *in, uint8_t *out, u
         w_vec3(&w, in->w_BN_B);
         w_vec3(&w, in->pos_m);
         w_vec3(&w, in->vel_mps);
+        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
+            w_real(&w, in->wheel_speed_radps[i]);
+        }
         err = w_result(&w, AOCS_PIL_STEP_BYTES);
     }
     return err;
@@ -453,6 +456,9 @@ aocs_pil_err_t aocs_pil_step_decode(const uint8_t *p, uint32_t len, aocs_exec_in
         v.w_BN_B = r_vec3(&r);
         v.pos_m = r_vec3(&r);
         v.vel_mps = r_vec3(&r);
+        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
+            v.wheel_speed_radps[i] = r_real(&r);
+        }
         err = r_result(&r);
         if (err == AOCS_PIL_OK) {
             *in = v;
@@ -517,6 +523,14 @@ aocs_pil_err_t aocs_pil_step_reply_encode(const aocs_pil_step_reply_t *rp, uint8
         w_u32(&w, rp->pil_overruns);
         w_i32(&w, (int32_t)rp->exec_law);
         w_i32(&w, (int32_t)rp->exec_mode);
+        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
+            w_real(&w, rp->u_wheels_nm[i]);
+        }
+        w_real(&w, rp->wheel_scale);
+        w_u32(&w, rp->wheel_limited);
+        w_i32(&w, (int32_t)rp->wheels_status);
+        w_vec3(&w, rp->h_total_B_Nms);
+        w_real(&w, rp->speed_margin);
         err = w_result(&w, AOCS_PIL_STEP_REPLY_BYTES);
     }
     return err;
@@ -547,6 +561,14 @@ aocs_pil_err_t aocs_pil_step_reply_decode(const uint8_t *p, uint32_t len, aocs_p
         v.pil_overruns = r_u32(&r);
         v.exec_law = (aocs_law_id_t)r_i32(&r);
         v.exec_mode = (aocs_exec_mode_t)r_i32(&r);
+        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
+            v.u_wheels_nm[i] = r_real(&r);
+        }
+        v.wheel_scale = r_real(&r);
+        v.wheel_limited = r_u32(&r);
+        v.wheels_status = (aocs_status_t)r_i32(&r);
+        v.h_total_B_Nms = r_vec3(&r);
+        v.speed_margin = r_real(&r);
         err = r_result(&r);
         if (err == AOCS_PIL_OK) {
             *rp = v;
@@ -824,18 +846,66 @@ typedef enum {
         count = PIL_LAW_COUNT_##TYPE(COUNT);                         \
         break;
 
-static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
+/* A per-wheel field's values (AOCS_PIL_WHEEL_FIELD_ROWS), by its INDEX. */
+#define PIL_WHEEL_COUNT_CASE(NAME, INDEX, COUNT, ...) \
+    case (INDEX):                                     \
+        count = (COUNT);                              \
+        break;
+
+/* The id of a per-wheel field: 1 with *wheel and *index when `field` is one (ids of pil_frame.h), else 0. */
+static int cfg_wheel_field(uint32_t field, uint32_t *wheel, uint32_t *index)
+{
+    int is_wheel = 0;
+    if ((field >= AOCS_PIL_CFG_WHEEL_BASE) && (field < (AOCS_PIL_CFG_WHEEL_BASE + (AOCS_WHEELS_MAX * AOCS_PIL_WHEEL_STRIDE)))) {
+        *wheel = (field - AOCS_PIL_CFG_WHEEL_BASE) / AOCS_PIL_WHEEL_STRIDE;
+        *index = (field - AOCS_PIL_CFG_WHEEL_BASE) % AOCS_PIL_WHEEL_STRIDE;
+        is_wheel = 1;
+    }
+    return is_wheel;
+}
+
+static uint32_t cfg_wheel_shape(uint32_t index)
 {
     uint32_t count = 0U;
-    *kind = PIL_VAL_REAL;
-    switch (field) {
-    AOCS_PIL_EXEC_FIELD_ROWS(PIL_EXEC_SHAPE_CASE)
-    AOCS_LAW_FIELD_ROWS(PIL_LAW_SHAPE_CASE)
+    switch (index) {
+    AOCS_PIL_WHEEL_FIELD_ROWS(PIL_WHEEL_COUNT_CASE)
     default:
         count = 0U;
         break;
     }
     return count;
+}
+
+static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
+{
+    uint32_t count = 0U;
+    uint32_t wheel = 0U;
+    uint32_t index = 0U;
+    *kind = PIL_VAL_REAL;
+    switch (field) {
+    AOCS_PIL_EXEC_FIELD_ROWS(PIL_EXEC_SHAPE_CASE)
+    AOCS_LAW_FIELD_ROWS(PIL_LAW_SHAPE_CASE)
+    default:
+        count = (cfg_wheel_field(field, &wheel, &index) != 0) ? cfg_wheel_shape(index) : 0U;
+        break;
+    }
+    return count;
+}
+
+/* A per-wheel real-valued entry into wheel `wheel`'s member (the row's READ: one real or a vec3). */
+#define PIL_WHEEL_READ_CASE(NAME, INDEX, COUNT, KEY, MEMBER, READ) \
+    case (INDEX):                                                   \
+        cfg->wheels.MEMBER[wheel] = r_##READ(r);                    \
+        break;
+
+static void cfg_apply_wheel(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t wheel, uint32_t index)
+{
+    switch (index) {
+    AOCS_PIL_WHEEL_FIELD_ROWS(PIL_WHEEL_READ_CASE)
+    default:
+        /* cfg_field_shape admits no other index */
+        break;
+    }
 }
 
 /* 3 x cols values, row-major, into the rows of a gain (3x6, or 3x9 for lqr_quat_i) */
@@ -923,10 +993,19 @@ static void cfg_apply_reals(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t f
     case (uint32_t)AOCS_PIL_CFG_GUIDANCE_JERK_TIME:
         cfg->guidance.slew.jerk_time_s = r_real(r);
         break;
+    case (uint32_t)AOCS_PIL_CFG_WHEELS_NULL_GAIN:
+        cfg->wheels.null_gain_per_s = r_real(r);
+        break;
     AOCS_LAW_FIELD_ROWS(PIL_READ_CASE)
-    default:
+    default: {
+        uint32_t wheel = 0U;
+        uint32_t index = 0U;
+        if (cfg_wheel_field(field, &wheel, &index) != 0) {
+            cfg_apply_wheel(r, cfg, wheel, index);
+        }
         /* cfg_field_shape admits no other real-valued field */
         break;
+    }
     }
 }
 
@@ -966,6 +1045,10 @@ static int cfg_apply_u64(aocs_exec_config_t *cfg, uint64_t *budget_instr, uint32
         bad = 1;
     } else if (field == (uint32_t)AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES) {
         cfg->recover_good_samples = (uint32_t)value;
+    } else if (field == (uint32_t)AOCS_PIL_CFG_WHEELS_COUNT) {
+        cfg->wheels.n = (uint32_t)value; /* the executive checks 3 .. AOCS_WHEELS_MAX (0: none) */
+    } else if (field == (uint32_t)AOCS_PIL_CFG_WHEELS_FAILED_MASK) {
+        cfg->wheels.failed_mask = (uint32_t)value;
     } else {
         cfg->missing_max_periods = (uint32_t)value;
     }
@@ -1054,8 +1137,10 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
                 }
             }
         }
-        /* one inertia, as in fsw_node: the plant's (the inertia field) also sizes the slew guidance */
+        /* one inertia, as in fsw_node: the plant's (the inertia field) also sizes the slew guidance and gives
+         * the wheel array's total momentum */
         cfg->guidance.slew.inertia_kgm2 = cfg->laws.smc.inertia;
+        cfg->wheels.inertia_B_kgm2 = cfg->laws.smc.inertia;
     }
     return err;
 }

@@ -16,8 +16,10 @@
 #define AOCS_CM_CORE_HZ 25000000UL
 #endif
 
-/* SysTick interrupt rate: the extension of the 24-bit counter to 64 bits. */
-#define AOCS_CM_TICK_HZ 1000UL
+/* SysTick interrupt rate: the extension of the 24-bit counter to 64 bits. 100 Hz: a period of 250000
+ * ticks (78125 instructions under the PIL's -icount), so the PIL image can measure a whole wheel-array
+ * step with its slew planning (about 10000 instructions) between two interrupts (pil_icount.h). */
+#define AOCS_CM_TICK_HZ 100UL
 
 /* Value startup.S writes over the free main stack (high-water mark). */
 #define AOCS_CM_STACK_PAINT 0xA5A5A5A5UL

@@ -9,11 +9,11 @@
  * difference rounds to the exact instruction count (the +-1 tick of reading
  * the counter is 0.31 instruction).
  *
- * Repeatability: the HAL extends SysTick with a 1 kHz interrupt. A step that
+ * Repeatability: the HAL extends SysTick with a 100 Hz interrupt. A step that
  * contained such an interrupt (and the HAL's wrap handling) would count a
  * few instructions more than the same step without, depending on when the
  * step started. aocs_pil_icount_sync() makes sure that at least
- * AOCS_PIL_ICOUNT_WINDOW_TICKS (7187 instructions) of the current SysTick
+ * AOCS_PIL_ICOUNT_WINDOW_TICKS (22500 instructions) of the current SysTick
  * period are left before a window starts, waiting for the next reload when
  * they are not; a window shorter than that contains no wrap, so the count of
  * a step depends only on what the step executes. Whether that held is
@@ -25,8 +25,9 @@
 
 #include <stdint.h>
 
-/* SysTick ticks a measured window may take (23000 ticks = 7187 instructions, of a 25000-tick period). */
-#define AOCS_PIL_ICOUNT_WINDOW_TICKS 23000UL
+/* SysTick ticks a measured window may take (72000 ticks = 22500 instructions, of a 250000-tick period:
+ * the image waits for the reload before less than a third of the steps). */
+#define AOCS_PIL_ICOUNT_WINDOW_TICKS 72000UL
 
 /*
  * Returns when at least AOCS_PIL_ICOUNT_WINDOW_TICKS are left before the next

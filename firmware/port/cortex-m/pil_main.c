@@ -160,6 +160,9 @@ static uint32_t pil_budget(aocs_law_id_t law)
         (aocs_law_is_orbit(law) == 0)) {
         budget += aocs_budget_slew_instructions(PIL_BUDGET_TARGET); /* the slew reference (aocs/budget.h) */
     }
+    if (pil_exec.cfg.wheels.n != 0U) {
+        budget += aocs_budget_wheels_instructions(PIL_BUDGET_TARGET); /* the wheel allocation (aocs/budget.h) */
+    }
     if (pil.budget_override > 0U) {
         budget = (uint32_t)pil.budget_override;
     }
@@ -285,6 +288,14 @@ static void pil_on_step(const aocs_pil_header_t *hdr)
         rp.pil_overruns = pil.overruns;
         rp.exec_law = pil_exec.law;
         rp.exec_mode = pil_exec.mode;
+        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
+            rp.u_wheels_nm[i] = out.wheels.u_s_nm[i];
+        }
+        rp.wheel_scale = out.wheels.scale;
+        rp.wheel_limited = out.wheels.torque_limited_mask | (out.wheels.speed_limited_mask << 8U);
+        rp.wheels_status = out.wheels_status;
+        rp.h_total_B_Nms = out.momentum.h_total_B_Nms;
+        rp.speed_margin = out.momentum.speed_margin;
         if (aocs_pil_step_reply_encode(&rp, pil_payload, AOCS_PIL_PAYLOAD_MAX) == AOCS_PIL_OK) {
             pil_send(AOCS_PIL_T_STEP_REPLY, hdr->seq, AOCS_PIL_STEP_REPLY_BYTES);
         }

@@ -13,6 +13,11 @@
  * gain above ~1e3 per N m, which no real array has. */
 #define WHEEL_SPAN_DET_MIN AOCS_R(1.0e-6)
 
+/* The share of the torque room left by the body torque that the null-space management may use (spec 5.3.2):
+ * half, so it never takes a wheel to its bound on its own and the body torque keeps the other half of any
+ * transient margin. */
+#define WHEEL_NULL_ROOM_SHARE AOCS_R(0.5)
+
 static uint32_t wheel_bit(uint32_t i)
 {
     return (uint32_t)1u << i;
@@ -32,7 +37,12 @@ void aocs_wheels_config_default(aocs_wheels_config_t *cfg)
             cfg->js_kgm2[i] = AOCS_R(0.0);
             cfg->u_max_nm[i] = AOCS_R(0.0);
             cfg->omega_max_radps[i] = AOCS_R(0.0);
+            cfg->viscous_nms[i] = AOCS_R(0.0);
+            cfg->coulomb_nm[i] = AOCS_R(0.0);
+            cfg->coulomb_width_radps[i] = AOCS_R(0.1);
+            cfg->null_speed_radps[i] = AOCS_R(0.0);
         }
+        cfg->null_gain_per_s = AOCS_R(0.0);
         cfg->failed_mask = 0u;
         cfg->period_s = AOCS_R(0.1);
         cfg->inertia_B_kgm2 = aocs_mat3_identity();
@@ -56,6 +66,30 @@ static aocs_status_t wheels_check_wheel(const aocs_wheels_config_t *cfg, uint32_
     return st;
 }
 
+/* The friction model and the null-space target of wheel i (docs/spec.md 5.3.2), after its limits passed. */
+static aocs_status_t wheels_check_model(const aocs_wheels_config_t *cfg, uint32_t i)
+{
+    aocs_status_t st = AOCS_OK;
+    const real_t b = cfg->viscous_nms[i];
+    const real_t c = cfg->coulomb_nm[i];
+    const real_t eps = cfg->coulomb_width_radps[i];
+    const real_t target = cfg->null_speed_radps[i];
+    if (!(AOCS_IS_FINITE(b) && (b >= AOCS_R(0.0)) && AOCS_IS_FINITE(c) && (c >= AOCS_R(0.0)))) {
+        st = AOCS_ERR_WHEEL_FRICTION_NEGATIVE;
+    } else if (!(AOCS_IS_FINITE(eps) && (eps > AOCS_R(0.0)))) {
+        st = AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE;
+    } else if (!(((b * cfg->omega_max_radps[i]) + c) < cfg->u_max_nm[i])) {
+        /* |f^| <= b Omega_max + c (the model's speed is clamped): below u_s,max there is always motor torque
+         * left for the attitude loop after the compensation (and a finite product: b, Omega_max finite) */
+        st = AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT;
+    } else if (!(AOCS_IS_FINITE(target) && (AOCS_FABS(target) < cfg->omega_max_radps[i]))) {
+        st = AOCS_ERR_WHEEL_NULL_SPEED_INVALID;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
 static aocs_status_t wheels_check(const aocs_wheels_config_t *cfg)
 {
     aocs_status_t st = AOCS_OK;
@@ -73,6 +107,23 @@ static aocs_status_t wheels_check(const aocs_wheels_config_t *cfg)
             st = AOCS_ERR_DT_INVALID;
         } else {
             st = aocs_mat3_check_inertia(cfg->inertia_B_kgm2);
+        }
+    }
+    return st;
+}
+
+/* The feedforward's model and the null-space management (checked after the array spans the three axes). */
+static aocs_status_t wheels_check_compensation(const aocs_wheels_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    for (uint32_t i = 0u; (i < cfg->n) && (st == AOCS_OK); ++i) {
+        st = wheels_check_model(cfg, i);
+    }
+    if (st == AOCS_OK) {
+        const real_t k = cfg->null_gain_per_s;
+        /* k_n T <= 1: the discrete null-space momentum error e+ = (1 - k_n T) e decays without overshoot */
+        if (!(AOCS_IS_FINITE(k) && (k >= AOCS_R(0.0)) && ((k * cfg->period_s) <= AOCS_R(1.0)))) {
+            st = AOCS_ERR_WHEEL_NULL_GAIN_INVALID;
         }
     }
     return st;
@@ -103,6 +154,9 @@ aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cf
         } else if (aocs_mat3_inverse(m, &m_inv) != AOCS_OK) {
             st = AOCS_ERR_WHEELS_NOT_SPANNING;
         } else {
+            st = wheels_check_compensation(cfg);
+        }
+        if (st == AOCS_OK) {
             wa->cfg = *cfg;
             wa->n_healthy = healthy;
             for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
@@ -115,6 +169,23 @@ aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cf
                     wa->pinv[i][k] = row.v[k];
                 }
             }
+            /* P_N = D_h - Gs^+ Gs_h (docs/spec.md 5.3.2): D_h the identity on the healthy wheels, Gs_h the
+             * healthy columns; P_N[i][j] = d_ij - g_j . (row i of Gs^+) for healthy i, j, else 0. Symmetric
+             * and idempotent; Gs P_N = 0, so no torque through it reaches the body. */
+            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+                for (uint32_t j = 0u; j < AOCS_WHEELS_MAX; ++j) {
+                    real_t p = AOCS_R(0.0);
+                    /* three healthy wheels spanning three axes have no null space: P_N = 0 exactly, not the
+                     * rounding residue of I - Gs^+ Gs (which k_n would amplify in the float build) */
+                    if ((healthy > AOCS_WHEELS_MIN) && (i < cfg->n) && (j < cfg->n) && (wheel_healthy(cfg, i) != 0) &&
+                        (wheel_healthy(cfg, j) != 0)) {
+                        const aocs_vec3_t g = cfg->axis_B[j];
+                        p = ((i == j) ? AOCS_R(1.0) : AOCS_R(0.0)) -
+                            ((wa->pinv[i][0] * g.v[0]) + (wa->pinv[i][1] * g.v[1]) + (wa->pinv[i][2] * g.v[2]));
+                    }
+                    wa->null_proj[i][j] = p;
+                }
+            }
             wa->initialised = 1;
         }
     }
@@ -125,9 +196,12 @@ static void wheels_zero_alloc(aocs_wheels_alloc_t *out)
 {
     for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
         out->u_s_nm[i] = AOCS_R(0.0);
+        out->friction_nm[i] = AOCS_R(0.0);
+        out->null_nm[i] = AOCS_R(0.0);
     }
     out->u_body_B_nm = aocs_vec3_zero();
     out->scale = AOCS_R(0.0);
+    out->null_scale = AOCS_R(0.0);
     out->torque_limited_mask = 0u;
     out->speed_limited_mask = 0u;
 }
@@ -143,25 +217,80 @@ static int wheels_speeds_finite(const aocs_wheels_t *wa, const real_t *omega_rad
     return ok;
 }
 
-/* The wheel torque u may use this step: u_s,max, and if u speeds the wheel up, also the speed headroom
- * Js (Omega_max - |Omega|) / T (clamped at 0). *by_speed = 1 when the headroom is the smaller. */
-static real_t wheels_usable(const aocs_wheels_config_t *cfg, uint32_t i, real_t u, real_t omega, int *by_speed)
+/* The friction model (docs/spec.md 5.3.2, the plant's f of 5.3.1): b w + c tanh(w / Omega_eps), the speed
+ * clamped to the limit so |f^| <= b Omega_max + c < u_s,max (checked at init). */
+static real_t wheels_friction(const aocs_wheels_config_t *cfg, uint32_t i, real_t omega)
 {
-    real_t lim = cfg->u_max_nm[i];
-    *by_speed = 0;
-    /* the motor torque adds to the wheel's axial momentum: it speeds the wheel up when u Omega > 0,
-     * and from rest (Omega = 0) in either direction */
-    if ((u * omega) >= AOCS_R(0.0)) {
-        real_t head = cfg->js_kgm2[i] * (cfg->omega_max_radps[i] - AOCS_FABS(omega)) / cfg->period_s;
-        if (head < AOCS_R(0.0)) {
-            head = AOCS_R(0.0);
-        }
-        if (head < lim) {
-            lim = head;
-            *by_speed = 1;
-        }
+    real_t w = omega;
+    if (w > cfg->omega_max_radps[i]) {
+        w = cfg->omega_max_radps[i];
+    } else if (w < -cfg->omega_max_radps[i]) {
+        w = -cfg->omega_max_radps[i];
+    } else {
+        /* within the limits: the speed as measured */
     }
-    return lim;
+    return (cfg->viscous_nms[i] * w) + (cfg->coulomb_nm[i] * AOCS_TANH(w / cfg->coulomb_width_radps[i]));
+}
+
+real_t aocs_wheels_friction(const aocs_wheels_t *wa, uint32_t i, real_t omega_radps)
+{
+    real_t f = AOCS_R(0.0);
+    if ((wa != NULL) && (wa->initialised != 0) && (i < wa->cfg.n) && AOCS_IS_FINITE(omega_radps)) {
+        f = wheels_friction(&wa->cfg, i, omega_radps);
+    }
+    return f;
+}
+
+/* The interval [lo, hi] of wheel i's net axial torque this step (docs/spec.md 5.3.2): the motor command
+ * n + f^ within +-u_s,max, and a net torque that speeds the wheel up (n Omega > 0, and from rest either way)
+ * at most the headroom Js (Omega_max - |Omega|) / T (clamped at 0). lo <= 0 <= hi since |f^| < u_s,max. */
+typedef struct {
+    real_t lo;
+    real_t hi;
+    int lo_by_speed;
+    int hi_by_speed;
+} wheel_room_t;
+
+static wheel_room_t wheels_room(const aocs_wheels_config_t *cfg, uint32_t i, real_t omega, real_t f)
+{
+    wheel_room_t room;
+    real_t head = cfg->js_kgm2[i] * (cfg->omega_max_radps[i] - AOCS_FABS(omega)) / cfg->period_s;
+    if (head < AOCS_R(0.0)) {
+        head = AOCS_R(0.0);
+    }
+    room.lo = -cfg->u_max_nm[i] - f;
+    room.hi = cfg->u_max_nm[i] - f;
+    room.lo_by_speed = 0;
+    room.hi_by_speed = 0;
+    if ((omega >= AOCS_R(0.0)) && (head < room.hi)) {
+        room.hi = head;
+        room.hi_by_speed = 1;
+    }
+    if ((omega <= AOCS_R(0.0)) && (-head > room.lo)) {
+        room.lo = -head;
+        room.lo_by_speed = 1;
+    }
+    return room;
+}
+
+/* The largest r in [0, r_in] with base + r d inside [room.lo, room.hi] (base is inside: r = 0 is always
+ * feasible); *bound_by_speed tells which side's reason bounded it. Written without dividing by a tiny d. */
+static real_t wheels_fit(wheel_room_t room, real_t base, real_t d, real_t r_in, int *bound_by_speed)
+{
+    real_t r = r_in;
+    if ((d > AOCS_R(0.0)) && ((base + (r * d)) > room.hi)) {
+        r = (room.hi - base) / d;
+        *bound_by_speed = room.hi_by_speed;
+    } else if ((d < AOCS_R(0.0)) && ((base + (r * d)) < room.lo)) {
+        r = (room.lo - base) / d;
+        *bound_by_speed = room.lo_by_speed;
+    } else {
+        /* fits as it is */
+    }
+    if (r < AOCS_R(0.0)) {
+        r = AOCS_R(0.0); /* rounding of a base exactly at the bound */
+    }
+    return r;
 }
 
 aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, const real_t *omega_radps,
@@ -182,33 +311,71 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
     }
     if (st == AOCS_OK) {
         const aocs_wheels_config_t *cfg = &wa->cfg;
-        real_t u[AOCS_WHEELS_MAX];
+        real_t tau[AOCS_WHEELS_MAX];
+        real_t un[AOCS_WHEELS_MAX];
+        wheel_room_t room[AOCS_WHEELS_MAX];
         real_t s = AOCS_R(1.0);
+        real_t r = AOCS_R(1.0);
         uint32_t limiter = AOCS_WHEELS_MAX;
         int limiter_by_speed = 0;
         for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
-            /* u_s = -Gs^+ u_c: the motors' reaction -Gs u_s on the body is then Gs Gs^+ u_c = u_c */
-            u[i] = -((wa->pinv[i][0] * u_c_B.v[0]) + (wa->pinv[i][1] * u_c_B.v[1]) + (wa->pinv[i][2] * u_c_B.v[2]));
+            /* tau = -Gs^+ u_c: the net axial torques whose reaction -Gs tau on the body is Gs Gs^+ u_c = u_c */
+            tau[i] = -((wa->pinv[i][0] * u_c_B.v[0]) + (wa->pinv[i][1] * u_c_B.v[1]) + (wa->pinv[i][2] * u_c_B.v[2]));
+            un[i] = AOCS_R(0.0);
         }
         for (uint32_t i = 0u; i < cfg->n; ++i) {
+            /* the motor must also overcome the bearing: u_s = tau + f^(Omega) delivers tau (spec 5.3.2) */
+            if (wheel_healthy(cfg, i) != 0) {
+                out->friction_nm[i] = wheels_friction(cfg, i, omega_radps[i]);
+            }
+            room[i] = wheels_room(cfg, i, omega_radps[i], out->friction_nm[i]);
             int by_speed = 0;
-            real_t a = AOCS_FABS(u[i]);
-            real_t lim = wheels_usable(cfg, i, u[i], omega_radps[i], &by_speed);
-            /* a > lim / s, written without a division by a possibly zero a */
-            if ((a * s) > lim) {
-                s = lim / a;
+            const real_t s_i = wheels_fit(room[i], AOCS_R(0.0), tau[i], s, &by_speed);
+            if (s_i < s) {
+                s = s_i;
                 limiter = i;
                 limiter_by_speed = by_speed;
             }
         }
-        /* one scale for every wheel: the delivered torque keeps u_c's direction (docs/spec.md 5.3) */
-        aocs_vec3_t body = aocs_vec3_zero();
-        for (uint32_t i = 0u; i < cfg->n; ++i) {
-            out->u_s_nm[i] = s * u[i];
-            body = aocs_vec3_sub(body, aocs_vec3_scale(cfg->axis_B[i], out->u_s_nm[i]));
+        if (cfg->null_gain_per_s > AOCS_R(0.0)) {
+            /* u_n = k_n P_N Js (Omega* - Omega): the null-space part of the wheel momenta Js Omega relaxes to
+             * that of Js Omega* at the rate k_n, and -Gs u_n = 0 (spec 5.3.2) */
+            real_t e[AOCS_WHEELS_MAX];
+            for (uint32_t j = 0u; j < AOCS_WHEELS_MAX; ++j) {
+                e[j] = (j < cfg->n) ? (cfg->js_kgm2[j] * (cfg->null_speed_radps[j] - omega_radps[j])) : AOCS_R(0.0);
+            }
+            for (uint32_t i = 0u; i < cfg->n; ++i) {
+                real_t acc = AOCS_R(0.0);
+                for (uint32_t j = 0u; j < cfg->n; ++j) {
+                    acc += wa->null_proj[i][j] * e[j];
+                }
+                un[i] = cfg->null_gain_per_s * acc;
+            }
+            /* one scale r for every wheel (a multiple of a null vector is one) within a share of the room
+             * s tau leaves: the momentum management never takes a wheel to its torque or speed bound */
+            for (uint32_t i = 0u; i < cfg->n; ++i) {
+                int unused = 0;
+                const real_t base = s * tau[i];
+                wheel_room_t share = room[i];
+                share.lo = base + (WHEEL_NULL_ROOM_SHARE * (room[i].lo - base));
+                share.hi = base + (WHEEL_NULL_ROOM_SHARE * (room[i].hi - base));
+                r = wheels_fit(share, base, un[i], r, &unused);
+            }
         }
-        out->u_body_B_nm = body;
+        /* one scale for every wheel: the delivered torque keeps u_c's direction (docs/spec.md 5.3) */
+        for (uint32_t i = 0u; i < cfg->n; ++i) {
+            if (wheel_healthy(cfg, i) != 0) {
+                const real_t net = (s * tau[i]) + (r * un[i]);
+                out->null_nm[i] = r * un[i];
+                out->u_s_nm[i] = net + out->friction_nm[i];
+            }
+        }
+        /* -Gs (u_s - f^) = -Gs (s tau + r u_n) = s Gs Gs^+ u_c = s u_c, reported as s u_c itself: the sum over
+         * the wheels equals it only to rounding, which could put a saturated command an ulp beyond its limit
+         * (found by fuzz_exec_step); with 0 <= s <= 1 each component of s u_c is within |u_c| exactly */
+        out->u_body_B_nm = aocs_vec3_scale(u_c_B, s);
         out->scale = s;
+        out->null_scale = r;
         if (limiter < AOCS_WHEELS_MAX) {
             if (limiter_by_speed != 0) {
                 out->speed_limited_mask = wheel_bit(limiter);

@@ -47,6 +47,10 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg)
         cfg->guidance.slew.rate_limit_radps = AOCS_R(0.0);
         cfg->guidance.slew.jerk_time_s = AOCS_R(0.0);
         cfg->guidance.slew.inertia_kgm2 = aocs_mat3_zero();
+        /* no wheel array (n = 0), and the array's own defaults (friction width, no null-space management) for
+         * an adapter that fills only the keys it was given */
+        aocs_wheels_config_default(&cfg->wheels);
+        cfg->wheels.inertia_B_kgm2 = aocs_mat3_zero();
     }
 }
 

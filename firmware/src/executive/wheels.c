@@ -22,6 +22,15 @@ void aocs_exec_wheels_apply(aocs_exec_t *exec, const real_t *omega_radps, aocs_v
 {
     if (exec->wheels.initialised != 0) {
         out->wheels_status = aocs_wheels_allocate(&exec->wheels, out->u_cmd, omega_radps, &out->wheels);
+        if (exec->mode == AOCS_EXEC_MODE_STANDBY) {
+            /* STANDBY commands nothing: no motor torque at all, so neither the friction feedforward nor the
+             * null-space management (they act while a law or the safe damping flies; docs/spec.md 5.3.2) */
+            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+                out->wheels.u_s_nm[i] = AOCS_R(0.0);
+                out->wheels.friction_nm[i] = AOCS_R(0.0);
+                out->wheels.null_nm[i] = AOCS_R(0.0);
+            }
+        }
         /* what the wheels deliver: u_cmd scaled (same direction), zero when the allocation failed */
         out->u_cmd = out->wheels.u_body_B_nm;
         if ((out->wheels_status != AOCS_OK) || (out->wheels.scale < AOCS_R(1.0))) {

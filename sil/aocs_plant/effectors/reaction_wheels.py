@@ -54,6 +54,11 @@ class WheelsConfig:
     tach_noise_rad_s: float       # tachometer white noise std (0 = none)
     tach_quantum_rad_s: float     # tachometer quantisation step (0 = none)
     array: str = "explicit"       # "pyramid" | "explicit" (how the axes were given)
+    # flight software only (the plant has no use for them): the null-space wheel speed management
+    null_gain_per_s: float = 0.0  # k_n, 1/s (0 = none)
+    null_speed_rad_s: tuple = ()  # Omega*_i, target speeds (their null-space part is what counts)
+    fsw_friction_scale: float = 1.0   # the flight software's friction model = this x (b, c): 1 = the plant's
+                                      # own, 0 = no feedforward, else a model error (campaign dispersions)
 
     @property
     def n(self) -> int:
@@ -107,7 +112,8 @@ class ReactionWheels(Effector):
     def read(cls, sec, ctx) -> WheelsConfig:
         sec.only(("array", "count", "pyramid_axis", "cant_deg", "azimuth0_deg", "axes", "spin_inertia_kg_m2",
                   "torque_limit_nm", "speed_limit_rad_s", "viscous_nms", "coulomb_nm", "coulomb_width_rad_s",
-                  "torque_noise_nm", "speed0_rad_s", "failed", "tach_noise_rad_s", "tach_quantum_rad_s"))
+                  "torque_noise_nm", "speed0_rad_s", "failed", "tach_noise_rad_s", "tach_quantum_rad_s",
+                  "null_gain_per_s", "null_speed_rad_s", "fsw_friction_scale"))
         array = sec.string("array", choices=("pyramid", "explicit"))
         if array == "pyramid":
             for k in ("axes",):
@@ -161,7 +167,21 @@ class ReactionWheels(Effector):
             sec.fail(sec.key("failed"), "the healthy wheels left do not span the three body axes")
         tn = sec.number("tach_noise_rad_s", required=False, default=0.0, nonneg=True)
         tq = sec.number("tach_quantum_rad_s", required=False, default=0.0, nonneg=True)
-        return WheelsConfig(axes, js, umax, wmax, b, c, eps, noise, tuple(s0), failed, tn, tq, array)
+        fs = sec.number("fsw_friction_scale", required=False, default=1.0, nonneg=True)
+        for i, (m, jm) in enumerate(zip(wmax, umax)):
+            if not fs * (b * m + c) < jm:
+                sec.fail(sec.key("coulomb_nm"), f"wheel {i}: the flight software's friction model at the speed "
+                         f"limit, {fs!r} x (b Omega_max + c) = {fs * (b * m + c)!r} N m, is not below the torque "
+                         f"limit {jm} (the friction feedforward needs motor torque left)")
+        kn = sec.number("null_gain_per_s", required=False, default=0.0, nonneg=True)
+        if kn * ctx.dt > 1.0:
+            sec.fail(sec.key("null_gain_per_s"), f"{kn} 1/s times the control period {ctx.dt} s is above 1")
+        ns = sec.scalar_or_vector("null_speed_rad_s", n=n, required=False, default=(0.0,) * n)
+        for i, (v, m) in enumerate(zip(ns, wmax)):
+            if not abs(v) < m:
+                sec.fail(sec.key("null_speed_rad_s"), f"wheel {i}: |{v}| rad/s is not below its speed limit {m}")
+        return WheelsConfig(axes, js, umax, wmax, b, c, eps, noise, tuple(s0), failed, tn, tq, array,
+                            kn, tuple(float(v) for v in ns), fs)
 
     def __init__(self, config: WheelsConfig, body):
         super().__init__(config, body)

@@ -9,6 +9,7 @@
 """
 from __future__ import annotations
 
+import math
 import re
 import struct
 import subprocess
@@ -25,11 +26,11 @@ from pil_support import REPO
 
 HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 
-GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00,
-                    0xED, 0x4A, 0x36, 0x90])
-GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x01, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x0E, 0x4D, 0xB9,
+                    0x1E])
+GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
                       0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x71, 0xC7, 0x6A, 0x7C])
+                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x8F, 0xBC, 0x8A, 0x18])
 
 
 def c_define(name: str) -> int:
@@ -88,18 +89,25 @@ def test_golden_frames_byte_for_byte():
 def test_step_payload_layout():
     p = frame.encode_step(0x01020304, 0x1122334455667788, 3, (1.0, -2.0, 0.5, 0.0), (0.25, -0.125, 4.0),
                           (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))
-    assert len(p) == 120
+    assert len(p) == 168
     assert p[:4] == bytes([4, 3, 2, 1])
     assert struct.unpack_from("<Q", p, 4)[0] == 0x1122334455667788
     assert p[12] == 3
     assert struct.unpack_from("<Q", p, 16)[0] == 0x3FF0000000000000
     assert struct.unpack_from("<Q", p, 24)[0] == 0xC000000000000000
     assert struct.unpack_from("<Q", p, 112)[0] == 0xC008000000000000
+    # the six tachometers after vel (tests/unit/test_pil_frame.c: -300.5 at byte 120); unmeasured: NaN
+    assert all(math.isnan(x) for x in struct.unpack_from("<6d", p, 120))
+    p = frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0), (-300.5, 10.0))
+    assert struct.unpack_from("<Q", p, 120)[0] == 0xC072C80000000000
+    assert struct.unpack_from("<d", p, 128)[0] == 10.0 and math.isnan(struct.unpack_from("<d", p, 136)[0])
+    with pytest.raises(ValueError):
+        frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0), (1.0,) * 7)
 
 
 @pytest.mark.parametrize("mutate, fragment", [
     (lambda b: b"X" + b[1:], "bad magic"),
-    (lambda b: b[:4] + b"\x02" + b[5:], "protocol version 2"),
+    (lambda b: b[:4] + b"\x01" + b[5:], "protocol version 1"),
     (lambda b: b[:6] + b"\x01\x04" + b[8:], "payload length 1025"),
     (lambda b: b[:-1] + bytes([b[-1] ^ 0x80]), "CRC mismatch"),
     (lambda b: b[:-1], "frame of 15 bytes"),
@@ -147,6 +155,14 @@ def c_keys():
                       r'\s*AOCS_LAW_\w+\}', body)
     general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
     assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
+    # WHEEL_KEYS: wheel<i>.<field> for i = 0 .. AOCS_WHEELS_MAX - 1, wheel by wheel, after the general rows
+    wbody = NODE_CONFIG_C[NODE_CONFIG_C.index("static const wheel_key_def_t WHEEL_KEYS[] = {"):]
+    wbody = wbody[:wbody.index("\n};")]
+    wrows = re.findall(r'\{"(\w+)",\s*WOFF\([^)]*\),\s*sizeof\(\w+\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+)\}',
+                       wbody)
+    assert len(wrows) >= 8, "node_config.c WHEEL_KEYS not parsed"
+    general += [(f"wheel{i}.{f}", "real", int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h)))
+                for i in range(6) for f, c, r, h in wrows]
     # LAW_KEY_ROW of node_config.c over the field rows of laws.def
     kinds = {"REAL": "real", "VEC3": "real", "GAIN": "real", "MAT3": "inertia", "TABLE": "gain_table"}
     laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"].lower(),

@@ -62,6 +62,43 @@ def test_config_of_the_special_scenarios():
         load("gao_mrp", {"laws.mrp_sat_tanh.m3": 0.04})
 
 
+def test_the_wheels_section_writes_the_friction_model_and_the_null_space_keys():
+    """One [wheels] description: the flight software's friction feedforward gets the plant's own
+    coefficients per wheel, the null-space management its gain and targets (docs/spec.md 5.3.2)."""
+    sc = load("irassi_rw")
+    w = sc.effectors["wheels"]
+    cfg = fsw_config.node_config(sc, "quat_pid")
+    assert cfg["wheels.count"] == "4"
+    for i in range(4):
+        assert float(cfg[f"wheel{i}.viscous"]) == w.viscous_nms == 1.0e-5
+        assert float(cfg[f"wheel{i}.coulomb"]) == w.coulomb_nm == 2.0e-3
+        assert float(cfg[f"wheel{i}.coulomb_width"]) == w.coulomb_width_rad_s == 0.5
+    assert float(cfg["wheels.null_gain"]) == 0.02
+    assert [float(cfg[f"wheel{i}.null_speed"]) for i in range(4)] == [50.0, -50.0, 50.0, -50.0]
+    # a scenario override reaches both sides (the plant's friction is the same object)
+    sc2 = load("irassi_rw", {"wheels.coulomb_nm": 0.0, "wheels.null_gain_per_s": 0.0})
+    cfg2 = fsw_config.node_config(sc2, "quat_pid")
+    assert float(cfg2["wheel3.coulomb"]) == sc2.effectors["wheels"].coulomb_nm == 0.0
+    assert "wheels.null_gain" not in cfg2 and "wheel0.null_speed" not in cfg2
+    # a model error on purpose: the flight software's b and c scaled, the plant's untouched; 0 = no feedforward
+    sc3 = load("irassi_rw", {"wheels.fsw_friction_scale": 0.8})
+    cfg3 = fsw_config.node_config(sc3, "quat_pid")
+    assert sc3.effectors["wheels"].coulomb_nm == 2.0e-3
+    assert float(cfg3["wheel1.coulomb"]) == 0.8 * 2.0e-3 and float(cfg3["wheel2.viscous"]) == 0.8 * 1.0e-5
+    assert float(cfg3["wheel0.coulomb_width"]) == 0.5
+    cfg0 = fsw_config.node_config(load("irassi_rw", {"wheels.fsw_friction_scale": 0.0}), "quat_pid")
+    assert float(cfg0["wheel0.coulomb"]) == 0.0 == float(cfg0["wheel3.viscous"])
+    # the loader refuses what the flight software's init would refuse
+    with pytest.raises(ScenarioError, match="not below the torque"):
+        load("irassi_rw", {"wheels.coulomb_nm": 0.25})
+    with pytest.raises(ScenarioError, match="not below the torque"):
+        load("irassi_rw", {"wheels.fsw_friction_scale": 40.0})   # 40 x 8e-3 N m
+    with pytest.raises(ScenarioError, match="null_gain_per_s"):
+        load("irassi_rw", {"wheels.null_gain_per_s": 20.0})
+    with pytest.raises(ScenarioError, match="null_speed_rad_s"):
+        load("irassi_rw", {"wheels.null_speed_rad_s": [600.0, 0.0, 0.0, 0.0]})
+
+
 def test_config_file_round_trip(tmp_path):
     cfg = fsw_config.node_config(load("rtc_ex1a"), "crp_linear")
     p = fsw_config.write(tmp_path / "a.cfg", cfg, header="hello\nworld")

@@ -53,6 +53,30 @@ typedef enum {
 #define AOCS_BUDGET_SLEW_INSTR_M4F 5200u /* 1.4 x 3657 */
 #define AOCS_BUDGET_SLEW_INSTR_M7 7400u  /* 1.4 x 5285 */
 
+/*
+ * Added to any step's budget when the executive flies a reaction wheel array
+ * (cfg.wheels.n != 0; executive.h "Reaction wheels"): the allocation -Gs^+ u_c,
+ * the friction feedforward (one tanh per wheel), the scale, the null-space
+ * management (P_N, N x N) and the momentum (docs/spec.md 5.3.1, 5.3.2).
+ * Measured (every IRASSI law, guidance SLEW, full 1000 s, `run_direct` of
+ * aocs_pil.harness): irassi_rw (4 wheels, friction feedforward, null-space
+ * management) and irassi_rw_failed (3 healthy) against irassi_large at
+ * 0.5 N m per axis (no wheels). Worst step 8297 against 6149 (M4F), 10602
+ * against 8356 (M7), both quat_pid on irassi_rw and both the planning step
+ * (the wheel envelope of the guidance); the median step adds 1906 / 2021.
+ * The largest array the flight software holds, six wheels (the same pyramid
+ * with count 6, 300 s): worst 9083 (M4F) / 11392 (M7), quat_pid, i.e. 2934 /
+ * 3036 more than without wheels. The allowance is 1.4 x that worst
+ * difference, rounded up to 100. (Measured on 688f188; since the allocation
+ * reports the delivered torque as s u_c, a wheel step is about 130
+ * instructions shorter: irassi_rw quat_pd worst 7633 / 9674 on 1763ef3.)
+ */
+#define AOCS_BUDGET_WHEELS_INSTR_M4F 4200u /* 1.4 x 2934 */
+#define AOCS_BUDGET_WHEELS_INSTR_M7 4300u  /* 1.4 x 3036 */
+
+/* The wheel array allowance of `target` (above); 0 for an out-of-range target. Total. */
+uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target);
+
 /* The SLEW allowance of `target` (above); 0 for an out-of-range target. Total. */
 uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target);
 

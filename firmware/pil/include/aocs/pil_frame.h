@@ -31,7 +31,7 @@
 #include "aocs/executive.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
-#define AOCS_PIL_VERSION 1U
+#define AOCS_PIL_VERSION 2U   /* 2: the wheel array (CONFIG fields 65-67 and 100-147, tachometers, wheel torques) */
 #define AOCS_PIL_HEADER_BYTES 12U
 #define AOCS_PIL_CRC_BYTES 4U
 #define AOCS_PIL_PAYLOAD_MAX 1024U
@@ -55,8 +55,8 @@
 
 /* Payload sizes of the fixed-layout frames. */
 #define AOCS_PIL_HELLO_BYTES 28U
-#define AOCS_PIL_STEP_BYTES 120U
-#define AOCS_PIL_STEP_REPLY_BYTES 148U
+#define AOCS_PIL_STEP_BYTES 168U
+#define AOCS_PIL_STEP_REPLY_BYTES 244U
 #define AOCS_PIL_SELECT_BYTES 64U
 #define AOCS_PIL_ACK_BYTES 36U
 #define AOCS_PIL_BYE_REPLY_BYTES 16U
@@ -129,8 +129,35 @@ typedef enum {
     X(GUIDANCE_PROFILE, 61u, U64, 1u, "guidance.profile")     /* aocs_slew_profile_t */    \
     X(GUIDANCE_MARGIN, 62u, REAL, 1u, "guidance.margin")                                   \
     X(GUIDANCE_RATE_LIMIT, 63u, REAL, 1u, "guidance.rate_limit")                           \
-    X(GUIDANCE_JERK_TIME, 64u, REAL, 1u, "guidance.jerk_time")
+    X(GUIDANCE_JERK_TIME, 64u, REAL, 1u, "guidance.jerk_time")                             \
+    X(WHEELS_COUNT, 65u, U64, 1u, "wheels.count")             /* 0 = no array, else 3 .. 6 */ \
+    X(WHEELS_FAILED_MASK, 66u, U64, 1u, "wheels.failed_mask") /* <= UINT32_MAX */      \
+    X(WHEELS_NULL_GAIN, 67u, REAL, 1u, "wheels.null_gain")
 /* clang-format on */
+
+/*
+ * The wheel array's per-wheel CONFIG fields: the field F of wheel i (i = 0 ..
+ * AOCS_WHEELS_MAX - 1) has the id AOCS_PIL_CFG_WHEEL_BASE + i *
+ * AOCS_PIL_WHEEL_STRIDE + INDEX (ids 100 .. 147) and comes from the fsw_node
+ * key "wheel<i>.<KEY>" (node_config.c WHEEL_KEYS), COUNT binary64 values
+ * into the member MEMBER[i] of aocs_wheels_config_t, read as READ (real or
+ * vec3). One row per field, not per wheel.
+ *
+ * AOCS_PIL_WHEEL_FIELD_ROWS(X): X(NAME, INDEX, COUNT, KEY, MEMBER, READ)
+ */
+/* clang-format off */
+#define AOCS_PIL_WHEEL_FIELD_ROWS(X)                                                       \
+    X(AXIS, 0u, 3u, "axis", axis_B, vec3)                                                  \
+    X(JS, 1u, 1u, "js", js_kgm2, real)                                                     \
+    X(U_MAX, 2u, 1u, "u_max", u_max_nm, real)                                              \
+    X(OMEGA_MAX, 3u, 1u, "omega_max", omega_max_radps, real)                               \
+    X(VISCOUS, 4u, 1u, "viscous", viscous_nms, real)                                       \
+    X(COULOMB, 5u, 1u, "coulomb", coulomb_nm, real)                                        \
+    X(COULOMB_WIDTH, 6u, 1u, "coulomb_width", coulomb_width_radps, real)                   \
+    X(NULL_SPEED, 7u, 1u, "null_speed", null_speed_radps, real)
+/* clang-format on */
+#define AOCS_PIL_CFG_WHEEL_BASE 100u
+#define AOCS_PIL_WHEEL_STRIDE 8u   /* rows of AOCS_PIL_WHEEL_FIELD_ROWS */
 
 #define AOCS_PIL_CFG_EXEC_ENUM(NAME, ID, ...) AOCS_PIL_CFG_##NAME = (ID),
 #define AOCS_PIL_CFG_LAW_ENUM(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, ...) \
@@ -180,6 +207,13 @@ typedef struct {
     uint32_t pil_overruns;    /* steps over the instruction budget so far */
     aocs_law_id_t exec_law;   /* selected law after the step */
     aocs_exec_mode_t exec_mode;
+    /* the wheel array (all zero without one), as fsw_node publishes them in actuator_cmd_t */
+    real_t u_wheels_nm[AOCS_WHEELS_MAX]; /* out.wheels.u_s_nm */
+    real_t wheel_scale;       /* out.wheels.scale */
+    uint32_t wheel_limited;   /* torque_limited_mask | speed_limited_mask << 8 */
+    aocs_status_t wheels_status;
+    aocs_vec3_t h_total_B_Nms;/* out.momentum.h_total_B_Nms */
+    real_t speed_margin;      /* out.momentum.speed_margin */
 } aocs_pil_step_reply_t;
 
 /* SELECT: the run-time command (aocs_exec_select). */
@@ -246,7 +280,8 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
 aocs_pil_err_t aocs_pil_hello_encode(const aocs_pil_hello_t *h, uint8_t *out, uint32_t cap);
 aocs_pil_err_t aocs_pil_hello_decode(const uint8_t *p, uint32_t len, aocs_pil_hello_t *h);
 
-/* STEP <-> executive input (tick, t_sensor_ns, valid flags, q, w, pos, vel). */
+/* STEP <-> executive input (tick, t_sensor_ns, valid flags, q, w, pos, vel, the AOCS_WHEELS_MAX tachometer
+ * speeds: NaN for a wheel the sensor message does not measure, as fsw_node reads them). */
 aocs_pil_err_t aocs_pil_step_encode(const aocs_exec_input_t *in, uint8_t *out, uint32_t cap);
 aocs_pil_err_t aocs_pil_step_decode(const uint8_t *p, uint32_t len, aocs_exec_input_t *in);
 
