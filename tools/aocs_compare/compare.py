@@ -177,6 +177,24 @@ def settle_over_bound(m: dict) -> float | None:
     return m["settle_time_s"] / b
 
 
+#: the wheel columns of a run on a wheel array (SPEC 5.3): the removed (failed) wheels, the largest peak
+#: speed and motor torque over the wheels as a fraction of their limits, the longest time a wheel spent at
+#: a limit, and whether every wheel stayed within its limits
+WHEEL_HEAD = ["removed", "peak speed/max", "peak u_s/max", "at limit s", "wheel limits"]
+
+
+def wheel_cells(w: dict | None) -> list[str]:
+    if not w:
+        return ["-"] * len(WHEEL_HEAD)
+    live = [x for x in w["per_wheel"] if not x["failed"]]
+    speed = max((x["peak_speed_rad_s"] / x["speed_limit_rad_s"] for x in live), default=None)
+    torque = max((x["peak_motor_torque_nm"] / x["torque_limit_nm"] for x in live), default=None)
+    at_limit = max((max(x["time_at_torque_limit_s"], x["time_at_speed_limit_s"]) for x in live), default=None)
+    removed = ",".join(str(i) for i in w["removed"]) or "none"
+    return [removed, _g(speed, ".3f"), _g(torque, ".3f"), _g(at_limit, "g"),
+            "within" if w["within_limits"] else "EXCEEDED"]
+
+
 def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
                timing: bool = True, bound: bool = False) -> tuple[list[str], list[list[str]]]:
     """The comparison table. requirement / goal (arcsec): the scenario's pointing requirement and
@@ -185,12 +203,15 @@ def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
     bound: add the slew bound, settle / bound and profile end columns (--guidance slew)."""
     irassi = kind == "attitude" and requirement is not None
     show_timing = timing
+    wheels = any(r.metrics is not None and r.metrics.get("wheels") for r in rows)
     if kind == "attitude":
         head = ["law", "limit N m", "final max as", "per axis as"]
         if irassi:
             head += ["qe_arcsec max", f"{requirement:g} as"] + ([f"{goal:g} as"] if goal is not None else [])
         head += ["settle s"] + (["bound s", "settle/bound", "profile end s"] if bound else [])
         head += ["max abs u_i N m", "max norm u N m", "effort N m s", "sat s"]
+        if wheels:
+            head += WHEEL_HEAD
     else:
         head = ["law", "limit N", "pos err max m", "per axis m", "vel err max m/s", "settle s",
                 "max abs F_i N", "max norm F N", "effort N s", "sat s"]
@@ -221,6 +242,8 @@ def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
                         _g((m.get("guidance") or {}).get("profile_end_s"), ".1f")]
             row += [_vec(m["max_abs_torque_nm"]), _g(m["max_torque_norm_nm"], ".4g"),
                     _g(m["effort"], ".4g"), sat]
+            if wheels:
+                row += wheel_cells(m.get("wheels"))
         else:
             pe = m["position_error_m"] or {}
             row = [r.name, limit, _g(pe.get("final_max"), ".4g"), _vec(pe.get("per_axis_final_max")),

@@ -50,3 +50,27 @@ def test_no_integral_action_explained_only_for_a_settled_run():
     np.fill_diagonal(k[:, :3], 1414.2135623730951)
     designed = C.Row("lqr_quat", "lqr_quat", None, metrics=_metrics(0.596, 22.8, k))
     assert C.proportional_gain(sc, designed).tolist() == [1414.2135623730951] * 3
+
+
+def _wheel(i, speed, torque, failed=False, at_torque=0.0):
+    return {"wheel": i, "failed": failed, "peak_speed_rad_s": speed, "speed_limit_rad_s": 600.0,
+            "peak_motor_torque_nm": torque, "torque_limit_nm": 0.25, "time_at_torque_limit_s": at_torque,
+            "time_at_speed_limit_s": 0.0}
+
+
+def test_wheel_columns_only_on_a_wheel_array_with_the_worst_wheel_and_the_removed_ones():
+    rw = _metrics(0.21, 215.8)
+    # wheel 0 failed (its figures ignored), wheel 2 the fastest, wheel 1 the hardest pushed
+    rw["wheels"] = {"removed": [0], "within_limits": True,
+                    "per_wheel": [_wheel(0, 599.0, 0.25, failed=True), _wheel(1, 120.0, 0.2, at_torque=1.5),
+                                  _wheel(2, 300.0, 0.1), _wheel(3, 30.0, 0.05)]}
+    over = _metrics(0.21, 215.8)
+    over["wheels"] = {"removed": [], "within_limits": False, "per_wheel": [_wheel(i, 600.0, 0.25) for i in range(4)]}
+    head, body = C.table_rows_for(load("irassi_rw"), [C.Row("a", "quat_pd", None, metrics=rw),
+                                                      C.Row("b", "quat_pd", None, metrics=over)])
+    cells = dict(zip(head, body[0]))
+    assert (cells["removed"], cells["peak speed/max"], cells["peak u_s/max"], cells["at limit s"],
+            cells["wheel limits"]) == ("0", "0.500", "0.800", "1.5", "within")
+    assert dict(zip(head, body[1]))["wheel limits"] == "EXCEEDED" and len(body[1]) == len(head)
+    head, _ = C.table_rows_for(load("irassi_small"), [C.Row("quat_pd", "quat_pd", None, metrics=_metrics(0.2, 20))])
+    assert not set(C.WHEEL_HEAD) & set(head)
