@@ -17,13 +17,13 @@ Per control tick k (time t_k = (start_tick + k) dt):
      late at most, like a sampled actuator interface).
 After the last period, truth_t of tick N (the final state) is published.
 
-With --log PATH the plant is also the run's recorder (aocs campaign): its udpm socket receives every
-message on the group, its own included, and it writes each one to PATH (the lcm-logger format) in the
-order it received them; with --truth log its truth samples go to that log only, not on the bus (no other
-process reads them, and sending them cost the plant, the flight computer and a recorder ~0.3 s of CPU per
-500 s irassi_large run). After the last tick it writes --done-file and records on until the runner's
-"end" marker (the runner stops the flight computer first, so its last status is in the log), at most
-END_MARKER_TIMEOUT_S.
+With --log PATH the plant is also the run's recorder (aocs run in lockstep, aocs campaign): its udpm
+socket receives every message on the group, its own included, and it writes each one to PATH (the
+lcm-logger format) in the order it received them; with --truth log its truth samples go to that log
+only, not on the bus (no other process reads them, and sending them cost the plant, the flight computer
+and a recorder ~0.3 s of CPU per 500 s irassi_large run). After the last tick it writes --done-file and
+records on until the runner's "end" marker (the runner stops the flight computer first, so its last
+status is in the log), at most END_MARKER_TIMEOUT_S.
 
 Before the first tick the node waits (bounded, --ready-timeout) for a
 status_t heartbeat of the flight computer, so no sensor frame is sent before
@@ -213,6 +213,9 @@ def run(args) -> int:
         evs = evmod.schedule(evmod.parse_all(args.event), sc.dt, sc.n_steps, args.start_tick)
     except (ScenarioError, evmod.EventError, ValueError) as exc:
         print(f"plant_node: {exc}", file=sys.stderr)
+        return EXIT_ARGS
+    if args.truth == "log" and args.log is None:
+        print("plant_node: --truth log needs --log PATH (the log the truth samples go to)", file=sys.stderr)
         return EXIT_ARGS
     if args.log is not None and (args.lcm_lib or not (args.lcm_url or netns.LCM_URL).startswith("udpm://")):
         print("plant_node: --log records the udpm socket the plant reads itself: not with --lcm-lib or "
