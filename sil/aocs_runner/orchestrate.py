@@ -16,15 +16,12 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
-import json
 import os
 import signal
 import subprocess
 import threading
 import time
 from pathlib import Path
-
-import lcm
 
 from aocs_wire import netns, wire
 from aocs_wire.recorder import marker_message
@@ -189,48 +186,32 @@ class Processes:
 
 
 class MarkerLink:
-    """The runner's own LCM handle, used only to publish AOCS_RUNNER markers."""
+    """The runner's AOCS_RUNNER markers (aocs_wire.recorder.marker_message), for lcm-logger or the
+    recording plant: a udpm publisher only (no socket of it joins the group)."""
 
-    def __init__(self, url: str | None = None):
-        if url is None:
-            netns.require_netns()
-            url = netns.LCM_URL
-        self.lc = lcm.LCM(url)
+    def __init__(self):
+        netns.require_netns()
+        self.pub = Udpm(netns.LCM_URL, receive=False)
         self.n = 0
 
     def publish(self, what: str, **info) -> bytes:
         self.n += 1
-        data = json.dumps({"marker": what, "n": self.n, "wall_time": time.time(), **info}).encode()
-        self.lc.publish(wire.RUNNER, data)
+        data = marker_message(what, f"{what}-{self.n}", **info)
+        self.pub.publish(wire.RUNNER, data)
         return data
 
+    def close(self) -> None:
+        self.pub.close()
 
-class PlantLogMarkers:
-    """The runner's markers when the plant records the bus (`--recorder plant`, plant_node --log): the
-    start marker once the plant listens, the end marker (repeated until the plant has ended: it stops
-    recording on it) after the flight computer has stopped."""
 
-    def __init__(self, plant: Proc, log_path: Path):
-        netns.require_netns()
-        self.plant, self.log_path = plant, log_path
-        self.pub = Udpm(netns.LCM_URL, receive=False)
-        self.n = 0
-
-    def publish(self, what: str, **info) -> None:
-        self.n += 1
-        self.pub.publish(wire.RUNNER, marker_message(what, f"{what}-{self.n}", **info))
-
-    def end(self, timeout: float = 10.0, **info):
-        """Publish the end marker until the plant ends (bounded); its exit code (None: still running,
-        then stopped)."""
-        try:
-            deadline = time.monotonic() + timeout
-            while self.plant.alive() and time.monotonic() < deadline:
-                self.publish("end", **info)
-                self.plant.wait(0.05)
-            return self.plant.poll() if not self.plant.alive() else self.plant.stop()
-        finally:
-            self.pub.close()
+def end_plant_log(link: MarkerLink, plant: Proc, timeout: float = 10.0, **info):
+    """The end marker for a plant that records the bus (plant_node --log), published until the plant,
+    which stops recording on it, has ended (bounded: then stopped); the plant's exit code."""
+    deadline = time.monotonic() + timeout
+    while plant.alive() and time.monotonic() < deadline:
+        link.publish("end", **info)
+        plant.wait(0.05)
+    return plant.stop()   # the exit code of a plant that has ended; SIGTERM first to one that has not
 
 
 def _file_contains(path: Path, needle: bytes) -> bool:
@@ -300,6 +281,7 @@ def stop_logger(logger: Proc, link: MarkerLink, log_path: Path, **info) -> None:
             wait_marker_logged(link, log_path, logger, "end", **info)
     finally:
         logger.stop(signal.SIGINT, 5.0)
+        link.close()
 
 
 def wait_ready_line(proc: Proc, path: Path, needle: str, timeout: float) -> bool:

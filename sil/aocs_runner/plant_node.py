@@ -43,7 +43,7 @@ from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
 from aocs_plant.scenario import ScenarioError, load
 from aocs_wire import netns, wire
-from aocs_wire.recorder import EventLogWriter, marker_of
+from aocs_wire.recorder import RUNNER_CHANNEL, EventLogWriter, marker_of
 from aocs_wire.udpm import Udpm
 
 from . import events as evmod
@@ -65,7 +65,7 @@ EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
 END_MARKER_TIMEOUT_S = 30.0
 #: --log: events kept in memory before they are written
 LOG_FLUSH_EVENTS = 1024
-_RUNNER, _TRUTH = wire.RUNNER.encode(), b"AOCS_TRUTH"
+_TRUTH = b"AOCS_TRUTH"
 
 _stop = False
 
@@ -124,12 +124,12 @@ class _Link:
         """Record every message the socket receives (all channels) to path; truth_t to the bus or not."""
         self.log = EventLogWriter(path)
         self.truth_on_bus = truth_on_bus
-        self.lc.subscribe_all(self._on_any, raw_channel=True)
+        self.lc.subscribe_all(self._on_any)
 
     def _on_any(self, channel: bytes, data: bytes) -> None:
         log = self.log
         log.add(channel, data)
-        if channel == _RUNNER and (marker_of(wire.RUNNER, data) or {}).get("marker") == "end":
+        if channel == RUNNER_CHANNEL and (marker_of(data) or {}).get("marker") == "end":
             self.end_seen = True
         if log.pending >= LOG_FLUSH_EVENTS:   # in lockstep the loop writes once per tick
             log.flush()
@@ -396,8 +396,10 @@ class _Loop:
               "(its configuration was not written from this scenario's [wheels])", file=sys.stderr, flush=True)
         return "wheels_mismatch", EXIT_NO_REPLY
 
-    def progress(self, k):
+    def progress(self, k, flush_log=None):
         if not self.args.quiet and (k + 1) % self.progress_every == 0:
+            if flush_log is not None:
+                flush_log()   # what a progress line reports is in the log
             n = self.sc.n_steps
             print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s",
                   file=sys.stderr, flush=True)
@@ -448,8 +450,10 @@ class _Loop:
                 box[0] = None
                 t0 = perf()
                 publish("AOCS_SENSORS", data)
-                # the truth of this tick is published while the flight computer computes
+                # the truth of this tick is published, and what the plant recorded written (one write per
+                # tick: a plant killed loses one tick at most), while the flight computer computes
                 self.truth(tick)
+                flush_log()
                 while box[0] is None:
                     left = timeout_ns - (perf() - t0)
                     if left <= 0 or _stop:
@@ -477,8 +481,7 @@ class _Loop:
             plant.advance()
             check.end(plant)
             self.steps += 1
-            flush_log()   # what the plant records, once per tick: a plant killed loses one tick at most
-            self.progress(k)
+            self.progress(k, flush_log)
         self.truth(k0 + n)
         self.handle_calls = waits
         return "done", EXIT_OK

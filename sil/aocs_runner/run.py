@@ -239,20 +239,21 @@ def execute(opts: RunOptions) -> RunResult:
     (out / "run.json").write_text(json.dumps(meta, indent=1) + "\n")
     (out / "metrics.json").unlink(missing_ok=True)  # never leave a previous run's metrics behind
 
-    plant_cmd = [sys.executable, "-m", "aocs_runner.plant_node", sc.path, *scenario_opts.to_args(ov),
-                 "--mode", mode, "--reply-timeout", repr(reply_timeout)]
+    # plant_node's arguments: the same for a fork, the campaign's plant server and a new interpreter
+    plant_args = [sc.path, *scenario_opts.to_args(ov),
+                  "--mode", mode, "--reply-timeout", repr(reply_timeout)]
     for e in opts.events:
-        plant_cmd += ["--event", e]
+        plant_args += ["--event", e]
     if opts.quiet:
-        plant_cmd.append("-q")
+        plant_args.append("-q")
     if opts.plant_lcm_lib:
-        plant_cmd.append("--lcm-lib")
+        plant_args.append("--lcm-lib")
     plant_records = rec_kind == "plant"
     done = out / "plant_node.done"
     if plant_records:
         # the plant records the bus itself, its truth in the log only (plant_node.py, --log)
         done.unlink(missing_ok=True)
-        plant_cmd += ["--log", str(log_path), "--truth", "log", "--done-file", str(done)]
+        plant_args += ["--log", str(log_path), "--truth", "log", "--done-file", str(done)]
     env = paths.python_env()
     if pil_root is not None:
         env["AOCS_PIL_BUILD_ROOT"] = str(pil_root)
@@ -267,21 +268,20 @@ def execute(opts: RunOptions) -> RunResult:
         # (plant_fork.py), else a new interpreter or the campaign's plant server
         ready = out / "plant_node.ready"
         ready.unlink(missing_ok=True)
-        plant_args = plant_cmd[3:] + ["--ready-file", str(ready)]
+        plant_args += ["--ready-file", str(ready)]
         if opts.plant_launcher is not None:
             plant = procs.adopt("plant_node", opts.plant_launcher(plant_args, out / "plant_node.stdout", env))
         elif plant_fork.can_fork():
             plant = procs.adopt("plant_node", plant_fork.fork(plant_args, out / "plant_node.stdout"))
         else:
-            plant = procs.start("plant_node", plant_cmd + ["--ready-file", str(ready)],
+            plant = procs.start("plant_node", [sys.executable, "-m", "aocs_runner.plant_node", *plant_args],
                                 stdout=out / "plant_node.stdout", stderr=None, env=env)
-        markers = None
         if rec_kind == "lcm-logger":
             link = orchestrate.MarkerLink()
             logger = orchestrate.start_logger(procs, paths.lcm_logger_exe(), log_path, link,
                                               out / "lcm-logger.stderr", scenario=sc.id, law=law, mode=mode)
         elif plant_records:
-            markers = orchestrate.PlantLogMarkers(plant, log_path)
+            link = orchestrate.MarkerLink()
         else:
             recorder = Recorder(log_path).start(scenario=sc.id, law=law, mode=mode)
         try:
@@ -294,8 +294,8 @@ def execute(opts: RunOptions) -> RunResult:
                     raise RunFailed("plant_node was not ready within 30 s")
                 time.sleep(0.002)
             ready.unlink()
-            if markers is not None:
-                markers.publish("start", scenario=sc.id, law=law, mode=mode)   # the plant listens: recorded
+            if plant_records:
+                link.publish("start", scenario=sc.id, law=law, mode=mode)   # the plant listens: recorded
             fc = procs.start(fc_name, fc_cmd, stdout=out / "fsw_node.stdout", stderr=out / "fsw_node.stderr",
                              env=env)
             hard_end = (time.monotonic() + sc.duration_s + 60.0) if opts.realtime else None
@@ -322,8 +322,11 @@ def execute(opts: RunOptions) -> RunResult:
         finally:
             if recorder is not None:
                 recorder.stop(scenario=sc.id)
-            elif markers is not None:
-                rc_p = markers.end(scenario=sc.id)   # the plant has recorded everything before it, and ends
+            elif plant_records:
+                try:   # the plant has recorded everything before the end marker, and ends
+                    rc_p = orchestrate.end_plant_log(link, plant, scenario=sc.id)
+                finally:
+                    link.close()
                 done.unlink(missing_ok=True)
                 if failure is None and rc_p not in (None, 0):
                     failure = ("plant_node", rc_p, plant)

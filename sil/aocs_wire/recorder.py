@@ -40,15 +40,17 @@ _HEAD = struct.Struct(">IqqII")
 NAP_S = 0.002
 
 
+#: the marker channel as udpm.Udpm's catch-all gives it
+RUNNER_CHANNEL = wire.RUNNER.encode()
+
+
 def encode_event(n: int, utime: int, channel: str, data: bytes) -> bytes:
     ch = channel.encode()
     return _HEAD.pack(_SYNC, n, utime, len(ch), len(data)) + ch + data
 
 
-def marker_of(channel: str, data: bytes) -> dict | None:
-    """The JSON object of an AOCS_RUNNER marker message, None for any other message or a damaged one."""
-    if channel != wire.RUNNER:
-        return None
+def marker_of(data: bytes) -> dict | None:
+    """The JSON object of an AOCS_RUNNER marker's payload, None for a damaged one."""
     try:
         m = json.loads(data.decode())
     except (UnicodeDecodeError, json.JSONDecodeError):
@@ -72,10 +74,10 @@ class EventLogWriter:
         self._buf: list[bytes] = []     # header, channel, payload of each event: joined when written
         self.count = 0
 
-    def add(self, channel: str | bytes, data: bytes) -> None:
+    def add(self, channel: bytes, data: bytes) -> None:
         """One event (the plant's hot loop: three per tick, no copy of the payload until it is written)."""
-        ch = channel if isinstance(channel, bytes) else channel.encode()
-        self._buf += (_HEAD.pack(_SYNC, self.count, time.time_ns() // 1000, len(ch), len(data)), ch, data)
+        self._buf += (_HEAD.pack(_SYNC, self.count, time.time_ns() // 1000, len(channel), len(data)), channel,
+                      data)
         self.count += 1
 
     @property
@@ -121,7 +123,7 @@ class Recorder:
 
     def _on_message(self, channel, data):
         self._log.add(channel, data)
-        tag = (marker_of(channel, data) or {}).get("tag")
+        tag = (marker_of(data) or {}).get("tag") if channel == RUNNER_CHANNEL else None
         if tag is not None:
             with self._cv:
                 self._seen_markers.add(tag)

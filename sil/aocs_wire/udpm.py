@@ -76,8 +76,7 @@ class Udpm:
         self.garbage = 0       # datagrams that are not LCM at all
         self.incomplete = 0    # fragmented messages abandoned before their last fragment
         self._handlers: dict[bytes, object] = {}
-        self._every = None     # handler(channel, data) of every message, whatever its channel
-        self._every_raw = False
+        self._every = None     # handler(channel bytes, data) of every message, whatever its channel
         self._partial: dict[tuple, list] = {}
 
     def fileno(self) -> int:
@@ -99,16 +98,15 @@ class Udpm:
             self._every = None
         self._handlers.pop(token.encode(), None)
 
-    def subscribe_all(self, handler, raw_channel: bool = False) -> str:
+    def subscribe_all(self, handler) -> str:
         """handler(channel, data) for every message on the group, whatever its channel, called before
-        the channel's own handler; fragmented messages are put together first. raw_channel: the channel
-        as the datagram's bytes (no decoding: the recording plant's hot loop). Token "*"."""
+        the channel's own handler, the channel as the datagram's bytes (no decoding: a recorder writes
+        them as they are); fragmented messages are put together first. Token "*"."""
         self._every = handler
-        self._every_raw = raw_channel
         return "*"
 
     def _fragment(self, d: bytes):
-        """(channel, data) once the last fragment of a message has come, else None."""
+        """(channel bytes, data) once the last fragment of a message has come, else None."""
         if len(d) < _FRAG.size:
             self.garbage += 1
             return None
@@ -122,7 +120,7 @@ class Udpm:
                 self.garbage += 1
                 return None
             part = self._partial.setdefault(key, [None, bytearray(size), 0])
-            part[0] = body[:end].decode(errors="replace")
+            part[0] = body[:end]
             body = body[end + 1:]
         elif part is None:
             part = self._partial.setdefault(key, [None, bytearray(size), 0])
@@ -168,7 +166,7 @@ class Udpm:
                     if self._every is not None:
                         whole = self._fragment(d)
                         if whole is not None:
-                            self._every(whole[0].encode() if self._every_raw else whole[0], whole[1])
+                            self._every(*whole)
                             handled += 1
                 else:
                     self.garbage += 1
@@ -178,12 +176,12 @@ class Udpm:
                 self.garbage += 1
                 continue
             ch = d[8:end]
-            if self._every is not None:
-                self._every(ch if self._every_raw else ch.decode(errors="replace"), d[end + 1:])
-                handled += 1
             h = handlers.get(ch)
+            if self._every is not None:
+                self._every(ch, d[end + 1:])
             if h is not None:
                 h(ch.decode(), d[end + 1:])
+            if h is not None or self._every is not None:
                 handled += 1
 
     def close(self) -> None:

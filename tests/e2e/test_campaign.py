@@ -205,8 +205,8 @@ def test_the_plant_server_forks_each_run_s_plant_and_outlives_a_killed_one(priva
             "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
     rows = []
 
-    def fly(k, timeout_s=None, full=False):
-        s = dict(spec, overrides={} if full else spec["overrides"])
+    def fly(k, timeout_s=None, long=False):
+        s = dict(spec, overrides={"duration_s": 5000.0} if long else spec["overrides"])
         t = threading.Thread(target=lambda: rows.append(W.run_task(s, str(tmp_path / str(k)), keep_logs=True,
                                                                    timeout_s=timeout_s)))
         t.start()
@@ -218,7 +218,7 @@ def test_the_plant_server_forks_each_run_s_plant_and_outlives_a_killed_one(priva
     fds, tasks = len(os.listdir("/proc/self/fd")), len(os.listdir("/proc/self/task"))
     plant = json.loads((tmp_path / "0" / "plant_node.stdout").read_text().strip().splitlines()[-1])
     assert plant["plant_node"]["reason"] == "done"
-    r = fly(1, timeout_s=0.5, full=True)               # 500 s of flight do not fit in 0.5 s
+    r = fly(1, timeout_s=0.5, long=True)               # 5000 s of flight (~3 s here) do not fit in 0.5 s
     assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
     assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
     assert fly(2)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid == server

@@ -414,6 +414,14 @@ static void with_friction(aocs_wheels_config_t *cfg)
     }
 }
 
+/* the reference pyramid with the reference friction, initialised */
+static void friction_array(aocs_wheels_config_t *cfg, aocs_wheels_t *wa)
+{
+    pyramid(cfg);
+    with_friction(cfg);
+    assert_int_equal(aocs_wheels_init(wa, cfg), AOCS_OK);
+}
+
 /* the plant's bearing friction, written out (sil/aocs_plant/effectors/reaction_wheels.py) */
 static double friction_d(double omega)
 {
@@ -440,9 +448,7 @@ static void test_the_friction_feedforward_delivers_the_net_torque(void **state)
     (void)state;
     aocs_wheels_config_t cfg;
     aocs_wheels_t wa;
-    pyramid(&cfg);
-    with_friction(&cfg);
-    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    friction_array(&cfg, &wa);
     uint32_t seed = 4242u;
     int n_scaled = 0;
     for (int k = 0; k < 400; ++k) {
@@ -501,9 +507,7 @@ static void test_the_friction_model_is_clamped_at_the_speed_limit(void **state)
     (void)state;
     aocs_wheels_config_t cfg;
     aocs_wheels_t wa;
-    pyramid(&cfg);
-    with_friction(&cfg);
-    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    friction_array(&cfg, &wa);
     assert_close(aocs_wheels_friction(&wa, 1u, AOCS_R(0.25)), FB * 0.25 + FC * tanh(0.5), TOL_TIGHT);
     assert_close(aocs_wheels_friction(&wa, 1u, AOCS_R(-300.0)), -(FB * 300.0 + FC * tanh(600.0)), TOL_TIGHT);
     /* a tachometer beyond the limit (one step of overshoot) reads as the limit: |f^| < u_s,max always */
@@ -530,9 +534,7 @@ static void test_the_speed_headroom_bounds_the_net_torque(void **state)
     aocs_wheels_config_t cfg;
     aocs_wheels_t wa;
     aocs_wheels_alloc_t al;
-    pyramid(&cfg);
-    with_friction(&cfg);
-    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    friction_array(&cfg, &wa);
     aocs_vec3_t uc = aocs_vec3_scale(cfg.axis_B[0], AOCS_R(-0.2)); /* speeds wheel 0 up in + */
     real_t om[AOCS_WHEELS_MAX] = {AOCS_R(599.9), 0, 0, 0, 0, 0};
     double ucd[3] = {(double)uc.v[0], (double)uc.v[1], (double)uc.v[2]};

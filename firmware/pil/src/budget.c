@@ -26,28 +26,26 @@ uint32_t aocs_budget_instructions(aocs_law_id_t law, aocs_budget_target_t target
     return budget;
 }
 
-uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target)
+/* An allowance given per target (the slew planning, the wheel array): its M4F or M7 figure, 0 for another. */
+static uint32_t budget_per_target(aocs_budget_target_t target, uint32_t m4f, uint32_t m7)
 {
     uint32_t budget = 0U;
     if (target == AOCS_BUDGET_TARGET_CORTEX_M4F) {
-        budget = AOCS_BUDGET_SLEW_INSTR_M4F;
+        budget = m4f;
     } else if (target == AOCS_BUDGET_TARGET_CORTEX_M7) {
-        budget = AOCS_BUDGET_SLEW_INSTR_M7;
+        budget = m7;
     } else {
         budget = 0U;
     }
     return budget;
 }
 
+uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target)
+{
+    return budget_per_target(target, AOCS_BUDGET_SLEW_INSTR_M4F, AOCS_BUDGET_SLEW_INSTR_M7);
+}
+
 uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target)
 {
-    uint32_t budget = 0U;
-    if (target == AOCS_BUDGET_TARGET_CORTEX_M4F) {
-        budget = AOCS_BUDGET_WHEELS_INSTR_M4F;
-    } else if (target == AOCS_BUDGET_TARGET_CORTEX_M7) {
-        budget = AOCS_BUDGET_WHEELS_INSTR_M7;
-    } else {
-        budget = 0U;
-    }
-    return budget;
+    return budget_per_target(target, AOCS_BUDGET_WHEELS_INSTR_M4F, AOCS_BUDGET_WHEELS_INSTR_M7);
 }

@@ -100,7 +100,7 @@ def test_recorder_sockets_are_closed_by_their_reader_thread_not_under_it(private
 
     def held(channel, data):   # the reader thread blocks inside a handle_timeout call
         inner(channel, data)
-        if channel == "PING":
+        if channel == b"PING":
             gate.wait(30)
 
     link = rec._link
