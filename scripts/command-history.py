@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Command histories of the reference scenarios, for checking that a refactoring changes nothing.
+
+    scripts/command-history.py record DIR [--duration S]   # fly every reference case, write DIR/history.json
+    scripts/command-history.py check DIR                    # fly them again, compare with DIR/history.json
+
+A case is a reference scenario (sil/scenarios/*.toml) with one of its laws (its own, every law it defines
+for the IRASSI ones, with and without slew guidance where it has [guidance]). Each is flown with
+`aocs run` in lockstep; the digest of a case is the SHA-256 of every actuator_cmd_t of its log with the
+timing fields (utime, step_ns, overrun, n_overrun) zeroed, and of every sensors_t payload as recorded:
+the flight software's commands and the plant's sensor stream, bit for bit. `check` exits 1 and names
+every case whose digest moved.
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+AOCS = ROOT / ".venv" / "bin" / "aocs"
+
+#: (scenario, law, extra aocs run arguments): the reference cases
+CASES = [
+    ("rtc_ex1a", None, []), ("rtc_ex2a", None, []), ("rtc_ex3b", None, []),
+    ("gao_mrp", None, []), ("gao_mrp", "mrp_sat_tanh", []), ("geo_hinf", None, []),
+    ("landsat8_q1", None, []), ("landsat8_srp", None, []), ("landsat8_debris", None, []),
+    ("irassi_small", "quat_pd", []), ("irassi_small", "quat_nlpd_neg", []), ("irassi_small", "smc", []),
+    ("irassi_small", "lqr_quat", []), ("irassi_small", "quat_pid", []), ("irassi_small", "lqr_quat_i", []),
+    ("irassi_large", "quat_pd", ["--limit", "0.5", "--guidance", "slew"]),
+    ("irassi_large", "quat_pid", ["--limit", "0.5", "--guidance", "slew"]),
+    ("irassi_large", "smc", ["--limit", "0.5"]),
+    ("irassi_rw", "quat_pid", ["--guidance", "slew"]), ("irassi_rw", "lqr_quat_i", []),
+    ("irassi_rw_failed", "quat_pd", ["--guidance", "slew"]),
+]
+
+TIMING = ("utime", "step_ns", "overrun", "n_overrun")
+
+
+def _digest(log_path: Path) -> dict:
+    sys.path[:0] = [str(ROOT / "sil"), str(ROOT / "tools")]
+    from aocs_wire import lcmlog, wire  # noqa: E402  (the venv's packages, after the path is set)
+    log = lcmlog.read(log_path, keep_raw=True)
+    sens_hash = hashlib.sha256()
+    n_sens = 0
+    for channel, data, _utime in log.events or []:
+        if channel == wire.SENSORS:
+            n_sens += 1
+            sens_hash.update(data)
+    # masked command rows: every decoded field but the timing ones, as exact bits
+    masked = hashlib.sha256()
+    for name in sorted(log.cmd):
+        if name in TIMING or name == "log_utime":
+            continue
+        col = log.cmd[name]
+        masked.update(name.encode())
+        masked.update(col.tobytes())
+    return {"commands": masked.hexdigest(), "n_commands": int(len(log.cmd["tick"])), "sensors": sens_hash.hexdigest(),
+            "n_sensors": n_sens}
+
+
+def _fly(scenario: str, law: str | None, extra: list[str], duration: float, out: Path) -> dict:
+    args = [str(AOCS), "run", scenario, "--duration", str(duration), "--out", str(out), "--no-plots", "-q",
+            "--seed", "7"]
+    if law:
+        args += ["--law", law]
+    args += extra
+    proc = subprocess.run(args, capture_output=True, text=True)
+    log = out / "run.lcmlog"
+    if not log.is_file():
+        return {"error": f"exit {proc.returncode}: {proc.stderr.strip()[-300:]}"}
+    d = _digest(log)
+    d["exit"] = proc.returncode
+    return d
+
+
+def _key(scenario, law, extra) -> str:
+    return " ".join([scenario, law or "(default)", *extra])
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("action", choices=("record", "check"))
+    p.add_argument("dir")
+    p.add_argument("--duration", type=float, default=60.0, help="s of each case (default 60)")
+    a = p.parse_args()
+    d = Path(a.dir)
+    d.mkdir(parents=True, exist_ok=True)
+    ref = json.loads((d / "history.json").read_text()) if a.action == "check" else None
+    duration = ref["duration"] if ref else a.duration
+    results, bad = {}, []
+    for scenario, law, extra in CASES:
+        k = _key(scenario, law, extra)
+        r = _fly(scenario, law, extra, duration, d / "runs" / k.replace(" ", "_"))
+        results[k] = r
+        if ref is not None:
+            same = ref["cases"].get(k) == r
+            if not same:
+                bad.append(k)
+            print(f"{'same   ' if same else 'CHANGED'} {k}", flush=True)
+        else:
+            print(f"recorded {k}: {r.get('n_commands', r.get('error'))}", flush=True)
+    if ref is None:
+        (d / "history.json").write_text(json.dumps({"duration": duration, "cases": results}, indent=1))
+        return 0
+    print(f"{len(CASES) - len(bad)} of {len(CASES)} cases bit-identical")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
