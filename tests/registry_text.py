@@ -12,7 +12,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 LAWS_DEF = REPO / "firmware/include/aocs/laws.def"
 GAIN_TABLES_DEF = REPO / "firmware/gains/gain_tables.def"
-PIL_FRAME_H = REPO / "firmware/pil/include/aocs/pil_frame.h"
+CONFIG_FIELDS_DEF = REPO / "firmware/include/aocs/config_fields.def"
+CONFIG_REGISTRY_H = REPO / "firmware/include/aocs/config_registry.h"
 
 
 def _macro_body(text: str, name: str) -> str:
@@ -108,27 +109,32 @@ def _define(text: str, name: str) -> int:
 
 
 def wheel_field_rows() -> list[dict]:
-    """AOCS_PIL_WHEEL_FIELD_ROWS of pil_frame.h: one dict per per-wheel field."""
-    cols = ("name", "index", "count", "key", "member", "read")
+    """AOCS_CONFIG_WHEEL_FIELD_ROWS of config_fields.def: one dict per per-wheel field."""
+    cols = ("name", "key", "member", "count", "rule", "index", "status", "also", "help")
     rows = []
-    for r in _rows(_macro_body(PIL_FRAME_H.read_text(), "AOCS_PIL_WHEEL_FIELD_ROWS")):
+    for r in _rows(_macro_body(CONFIG_FIELDS_DEF.read_text(), "AOCS_CONFIG_WHEEL_FIELD_ROWS")):
         d = dict(zip(cols, r))
         d["index"], d["count"], d["key"] = _num(d["index"]), _num(d["count"]), _str(d["key"])
         rows.append(d)
     return rows
 
 
+#: a general row's KIND -> (its PIL value kind, count)
+_GENERAL_KIND = {"REAL": ("REAL", 1), "VEC3": ("REAL", 3), "QUAT": ("REAL", 4)}
+
+
 def exec_field_rows() -> list[dict]:
-    """AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h, then its per-wheel fields wheel by wheel (0 .. 5) as the
-    registry lists them: WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i * AOCS_PIL_WHEEL_STRIDE + index,
-    key wheel<i>.<key>."""
-    cols = ("name", "pil_id", "kind", "count", "key")
-    text = PIL_FRAME_H.read_text()
+    """AOCS_CONFIG_FIELD_ROWS of config_fields.def (kind REAL with its count, or U64), then its per-wheel
+    fields wheel by wheel (0 .. 5) as the registry lists them: WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE +
+    i * AOCS_PIL_WHEEL_STRIDE + index, key wheel<i>.<key>."""
+    cols = ("name", "key", "member", "kind", "rule", "default", "pil_id", "status", "also", "help")
     rows = []
-    for r in _rows(_macro_body(text, "AOCS_PIL_EXEC_FIELD_ROWS")):
+    for r in _rows(_macro_body(CONFIG_FIELDS_DEF.read_text(), "AOCS_CONFIG_FIELD_ROWS")):
         d = dict(zip(cols, r))
-        d["pil_id"], d["count"], d["key"] = _num(d["pil_id"]), _num(d["count"]), _str(d["key"])
-        rows.append(d)
+        kind, count = _GENERAL_KIND.get(d["kind"], ("U64", 1))
+        rows.append({"name": d["name"], "pil_id": _num(d["pil_id"]), "kind": kind, "count": count,
+                     "key": _str(d["key"])})
+    text = CONFIG_REGISTRY_H.read_text()
     base, stride = _define(text, "AOCS_PIL_CFG_WHEEL_BASE"), _define(text, "AOCS_PIL_WHEEL_STRIDE")
     for i in range(6):
         for w in wheel_field_rows():

@@ -89,6 +89,23 @@ class ExecField:
     key: str | None      # the fsw_node key the bridge takes it from
 
 
+@dataclass(frozen=True)
+class ConfigField:
+    """One row of the configuration registry (aocs/config_registry.h): a general, per-wheel or law field."""
+    key: str              # configuration-file key; per-wheel: the field ("js" of wheel<i>.js); "" = adapter only
+    pil_name: str         # AOCS_PIL_CFG_<pil_name> (per wheel: WHEEL<i>_<pil_name>)
+    pil_id: int           # PIL CONFIG id (per wheel: of wheel 0)
+    per_wheel: bool
+    kind: str             # reals, inertia, u32, u64, ns, budget, law, enum, table
+    count: int            # values on the wire
+    rule: str             # any, pos, nonneg
+    names: tuple[str, ...]  # enum: its value names in order
+    law: str | None       # a law field: the law
+    status: str | None    # the aocs_exec_init status that names it
+    help: str             # unit and meaning
+
+
+
 class Registry:
     """The parsed registry JSON of one build."""
 
@@ -99,6 +116,10 @@ class Registry:
         self.path = path
         self.real_t: str = data["real_t"]
         self.table_name_max: int = data["pil"]["table_name_max"]
+        #: per-wheel PIL ids: wheel i's field of index j is wheel_base + i * wheel_stride + j, i < wheels_max
+        self.wheel_base: int = data["pil"]["wheel_base"]
+        self.wheel_stride: int = data["pil"]["wheel_stride"]
+        self.wheels_max: int = data["pil"]["wheels_max"]
         #: instruction allowances added to a step's budget (aocs/budget.h), per target ("cortex-m4f", "cortex-m7"):
         #: guidance mode SLEW, and a reaction wheel array
         self.slew_instructions: dict[str, int] = dict(data["pil"]["slew_instructions"])
@@ -116,6 +137,10 @@ class Registry:
                                                         for t in data["gain_tables"])
         self.exec_fields: tuple[ExecField, ...] = tuple(
             ExecField(x["name"], x["pil_id"], x["kind"], x["count"], x["key"]) for x in data["pil_exec_fields"])
+        self.config_fields: tuple[ConfigField, ...] = tuple(
+            ConfigField(x["key"], x["pil_name"], x["pil_id"], x["per_wheel"], x["kind"], x["count"], x["rule"],
+                        tuple((x["names"] or "").split(",")) if x["names"] else (), x["law"], x["status"], x["help"])
+            for x in data["config_fields"])
         #: the executive's accepted ranges (executive.h): actuator limits (N m or N), control period (s)
         self.limits: dict[str, float] = {k: float(v) for k, v in data["limits"].items()}
         self.status_names: dict[int, str] = {s["value"]: s["name"] for s in data["status"]}
@@ -177,6 +202,22 @@ class Registry:
         for f in self.fields:
             out[f.name] = (f.pil_id, "s", 0) if f.type == "table" else (f.pil_id, "f", f.count)
         return out
+
+    def config_field(self, key: str) -> ConfigField | None:
+        """The configuration registry's row of a file key ("k_safe", "wheel2.js", "quat_pd.kp"); None if none."""
+        if key.startswith("wheel") and len(key) > 7 and key[5].isdigit() and key[6] == ".":
+            return next((f for f in self.config_fields if f.per_wheel and f.key == key[7:]), None)
+        return next((f for f in self.config_fields if not f.per_wheel and f.key == key and key), None)
+
+    def config_key_of_pil_id(self, pil_id: int) -> str | None:
+        """The file key of a PIL CONFIG id (wheel<i>.<field> for a per-wheel one); None if none."""
+        base, stride = self.wheel_base, self.wheel_stride
+        if base <= pil_id < base + self.wheels_max * stride:
+            i, j = divmod(pil_id - base, stride)
+            f = next((f for f in self.config_fields if f.per_wheel and f.pil_id == base + j), None)
+            return f"wheel{i}.{f.key}" if f is not None else None
+        f = next((f for f in self.config_fields if not f.per_wheel and f.pil_id == pil_id), None)
+        return (f.key or None) if f is not None else None
 
     def exec_field_of_key(self, key: str) -> ExecField | None:
         return next((x for x in self.exec_fields if x.key == key), None)

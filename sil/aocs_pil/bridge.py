@@ -121,7 +121,7 @@ class Bridge:
         self.pil_overruns = 0
         self.budget = 0
         # the wheel array of the configuration (wheels.count; 0 = none), as fsw_node's cfg.exec.wheels.n
-        self.n_wheels = int(dict(cfg.values).get("wheels.count", 0))
+        self.n_wheels = cfg.n_wheels
         # wire bookkeeping (fsw_node's node_t)
         self.frame_cmd = 0
         self.frame_status = 0
@@ -147,12 +147,11 @@ class Bridge:
     # ---------------------------------------------------------------- target
     def start_target(self) -> None:
         hello = self.q.start()
-        payload = self.cfg.pil_fields(self.target.clock_hz).encode()
+        payload = self.cfg.pil_payload(self.target.clock_hz)
         _, p = self.q.request(frame.T_CONFIG, payload, frame.T_CONFIG_ACK)
         ack = frame.Ack.decode(p)
         if ack.pil_err != 0:
-            name = frame.cfg_name_by_id().get(ack.field, str(ack.field))
-            key = next((k.name for k in nodecfg.keys() if k.pil == name), name)
+            key = nodecfg.key_of_pil_id(ack.field)
             detail = f": {registry.status_name(ack.status)}" if ack.status else ""
             raise nodecfg.ConfigError(f"{self.cfg.path}:{self.cfg.lines.get(key, 0)}: key '{key}': the image "
                                       f"refused the value ({frame.err_name(ack.pil_err)}{detail})")
@@ -447,7 +446,7 @@ class Bridge:
             "cmd_accepted": self.n_cmd_accepted, "cmd_rejected": self.n_cmd_rejected,
             # fsw_node's key; the image does not report its slew plan, so its times are unknown here
             "guidance": ({"mode": "slew", "slew_start_s": None, "profile_end_s": None}
-                         if dict(self.cfg.values).get("guidance.mode") == "slew" else {"mode": "step"}),
+                         if self.cfg.guidance_mode == "slew" else {"mode": "step"}),
             "target": self.target.name,
             "precision": "float" if self.target.real_bytes == 4 else "double",
             "clock_hz": self.target.clock_hz,

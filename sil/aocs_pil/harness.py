@@ -286,7 +286,7 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
     res = DirectResult(scenario=sc.id, law=law, target=target, dt=sc.dt)
     with Qemu(tgt, image) as q:
         res.hello = q.start()
-        _, p = q.request(frame.T_CONFIG, cfg.pil_fields(tgt.clock_hz).encode(), frame.T_CONFIG_ACK)
+        _, p = q.request(frame.T_CONFIG, cfg.pil_payload(tgt.clock_hz), frame.T_CONFIG_ACK)
         ack = frame.Ack.decode(p)
         if ack.pil_err or ack.status:
             raise RuntimeError(f"image refused the configuration: {ack}")

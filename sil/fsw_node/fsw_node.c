@@ -269,64 +269,10 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 }
 
 /* ---- configuration ------------------------------------------------------ */
-static const char *status_keys(aocs_status_t st, aocs_law_id_t law)
-{
-    static char gain_keys[128]; /* the gain keys of a law whose gain is a 3x6 table */
-    switch (st) {
-    case AOCS_ERR_RATE_INVALID:
-        return "control_period_s";
-    case AOCS_ERR_TARGET_INVALID:
-        return "target_q / target_w / target_w_dot / target_rotation_rate (a rotating target needs target_w = "
-               "target_w_dot = 0)";
-    case AOCS_ERR_SAT_LIMIT_NOT_POSITIVE:
-        return "u_max_axis / u_max_norm (set at least one limit; per-axis all > 0)";
-    case AOCS_ERR_GAIN_NOT_POSITIVE:
-        return "the gains of the selected law, k_safe, recover_good_samples, missing_max_periods, stale_timeout_s";
-    case AOCS_ERR_INERTIA_NOT_SYMMETRIC:
-    case AOCS_ERR_INERTIA_NOT_POS_DEF:
-    case AOCS_ERR_INERTIA_SINGULAR:
-        return "inertia";
-    case AOCS_ERR_GAIN_TABLE_INVALID:
-        return aocs_node_config_gain_keys(law, gain_keys, sizeof(gain_keys));
-    case AOCS_ERR_PARAM_NOT_FINITE:
-        return "u_max_*, k_safe or a gain of the selected law";
-    case AOCS_ERR_GUIDANCE_MODE_INVALID:
-        return "guidance.mode";
-    case AOCS_ERR_GUIDANCE_PROFILE_INVALID:
-        return "guidance.profile";
-    case AOCS_ERR_GUIDANCE_MARGIN_INVALID:
-        return "guidance.margin (in (0, 1])";
-    case AOCS_ERR_GUIDANCE_RATE_LIMIT_INVALID:
-        return "guidance.rate_limit";
-    case AOCS_ERR_GUIDANCE_JERK_TIME_INVALID:
-        return "guidance.jerk_time (> 0 and <= 1000 s with jerk_limited, 0 with bang_coast_bang)";
-    case AOCS_ERR_GUIDANCE_TARGET_MOVING:
-        return "guidance.mode = slew needs target_w = target_w_dot = target_rotation_rate = 0";
-    case AOCS_ERR_GUIDANCE_ENVELOPE_INVALID:
-        return "u_max_axis / u_max_norm";
-    case AOCS_ERR_WHEEL_COUNT:
-    case AOCS_ERR_WHEEL_FAILED_MASK:
-    case AOCS_ERR_WHEEL_AXIS_NOT_UNIT:
-    case AOCS_ERR_WHEEL_INERTIA_NOT_POSITIVE:
-    case AOCS_ERR_WHEEL_LIMIT_NOT_POSITIVE:
-    case AOCS_ERR_WHEELS_NOT_SPANNING:
-        return "wheels.count / wheels.failed_mask / wheel<i>.axis, .js, .u_max, .omega_max";
-    case AOCS_ERR_WHEEL_FRICTION_NEGATIVE:
-    case AOCS_ERR_WHEEL_FRICTION_WIDTH_NOT_POSITIVE:
-    case AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT:
-        return "wheel<i>.viscous, .coulomb, .coulomb_width (b omega_max + c < u_max)";
-    case AOCS_ERR_WHEEL_NULL_GAIN_INVALID:
-        return "wheels.null_gain (>= 0, null_gain * control_period_s <= 1)";
-    case AOCS_ERR_WHEEL_NULL_SPEED_INVALID:
-        return "wheel<i>.null_speed (|null_speed| < omega_max)";
-    default:
-        return "the keys of the selected law";
-    }
-}
-
 static int load_config(node_t *n, const char *path)
 {
     char err[AOCS_NODE_ERR_MAX];
+    char hint[AOCS_NODE_ERR_MAX];
     aocs_status_t st;
     if (aocs_node_config_load(path, &n->cfg, err, sizeof(err)) != 0) {
         (void)fprintf(stderr, "fsw_node: config error: %s\n", err);
@@ -341,7 +287,8 @@ static int load_config(node_t *n, const char *path)
     st = aocs_exec_init(&n->exec, &n->cfg.exec);
     if (st != AOCS_OK) {
         (void)fprintf(stderr, "fsw_node: config error: %s: the executive rejected the configuration of law '%s': %s (check %s)\n",
-                      path, aocs_law_name(n->cfg.exec.law), aocs_status_name(st), status_keys(st, n->cfg.exec.law));
+                      path, aocs_law_name(n->cfg.exec.law), aocs_status_name(st),
+                      aocs_node_config_status_hint(st, n->cfg.exec.law, hint, sizeof(hint)));
         return 1;
     }
     n->nominal_law = n->cfg.exec.law;

@@ -1,15 +1,16 @@
 /*
- * fsw_node configuration parser (docs/wire-contract.md). Table driven: each
- * key names a field of aocs_node_config_t, how many numbers it takes and the
- * sign rule checked here, so an error message can always name the key. The
- * executive's own init still validates everything (ordering rules, inertia).
- * The node's and the executive's general keys are listed here; the keys of
- * the laws are the config field rows of the law registry
- * (AOCS_LAW_FIELD_ROWS, firmware/include/aocs/laws.def), expanded below.
+ * fsw_node configuration parser (docs/wire-contract.md). The flight
+ * software's keys are the configuration registry's fields
+ * (aocs/config_registry.h: config_fields.def and the laws' rows of laws.def),
+ * set through its setters, so the file, the PIL CONFIG frame and the
+ * registry's JSON cannot disagree on a key, a count or a rule. Only the
+ * node's own transport settings (NODE_KEYS) are listed here. Every error
+ * names the key; the executive's own init still validates the whole
+ * (ordering rules, inertia, a spanning wheel array).
  */
 #include "node_config.h"
 
-#include "aocs/control/gain_matrix.h"
+#include "aocs/config_registry.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -19,136 +20,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The node's own settings: not flight software configuration, so not registry rows. */
 typedef enum {
-    KIND_REAL,     /* n real_t values at offset */
-    KIND_DOUBLE,   /* one double at offset (node settings) */
-    KIND_U32,      /* one uint32_t */
-    KIND_U64,      /* one uint64_t */
-    KIND_SECONDS_NS, /* seconds given, uint64_t ns stored */
-    KIND_LAW,      /* law name -> aocs_law_id_t */
-    KIND_RUN_MODE, /* lockstep | realtime */
-    KIND_STRING,   /* char[AOCS_NODE_URL_MAX] */
-    KIND_INERTIA,  /* 3 (diagonal) or 9 (row-major) values */
-    KIND_GAIN_TABLE, /* design name of a compiled gain table (TABLE_KEYS) */
-    KIND_GUIDANCE_MODE, /* step | slew */
-    KIND_SLEW_PROFILE   /* bang_coast_bang | jerk_limited */
-} key_kind_t;
-
-typedef enum {
-    RULE_ANY,      /* finite */
-    RULE_POS,      /* finite and > 0 */
-    RULE_NONNEG    /* finite and >= 0 */
-} key_rule_t;
+    NODE_DOUBLE_POS,    /* double > 0 */
+    NODE_DOUBLE_NONNEG, /* double >= 0 */
+    NODE_RUN_MODE,      /* lockstep | realtime */
+    NODE_STRING         /* char[AOCS_NODE_URL_MAX] */
+} node_kind_t;
 
 typedef struct {
     const char *name;
-    key_kind_t kind;
+    node_kind_t kind;
     size_t offset;
-    unsigned count;    /* values for KIND_REAL */
-    key_rule_t rule;
-    const char *help;  /* shown in errors: unit / meaning */
-    aocs_law_id_t law; /* KIND_GAIN_TABLE: the law whose gain tables the key takes */
-} key_def_t;
-
-#define OFF(member) offsetof(aocs_node_config_t, member)
-
-/*
- * A law field's row of laws.def as a key: REAL, VEC3 and GAIN are COUNT
- * real_t values at MEMBER; a MAT3 is an inertia (3 or 9 values); a TABLE is
- * a gain-table design name, copied into MEMBER (the law's gain matrix) for
- * the law LAW.
- */
-#define LAW_KEY_KIND_REAL KIND_REAL
-#define LAW_KEY_KIND_VEC3 KIND_REAL
-#define LAW_KEY_KIND_MAT3 KIND_INERTIA
-#define LAW_KEY_KIND_GAIN KIND_REAL
-#define LAW_KEY_KIND_TABLE KIND_GAIN_TABLE
-#define LAW_KEY_COUNT_REAL(COUNT) (COUNT)
-#define LAW_KEY_COUNT_VEC3(COUNT) (COUNT)
-#define LAW_KEY_COUNT_MAT3(COUNT) 1u
-#define LAW_KEY_COUNT_GAIN(COUNT) (COUNT)
-#define LAW_KEY_COUNT_TABLE(COUNT) 1u
-#define LAW_KEY_ROW(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, ...) \
-    {KEY, LAW_KEY_KIND_##TYPE, OFF(exec.laws.MEMBER), LAW_KEY_COUNT_##TYPE(COUNT), RULE_##RULE, HELP, AOCS_LAW_##LAW},
-
-static const key_def_t KEYS[] = {
-    {"law", KIND_LAW, OFF(exec.law), 1u, RULE_ANY, "law name (executive.h), none = standby", AOCS_LAW_NONE},
-    {"mode", KIND_RUN_MODE, OFF(run_mode), 1u, RULE_ANY, "lockstep | realtime", AOCS_LAW_NONE},
-    {"control_period_s", KIND_REAL, OFF(exec.period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
-    {"target_q", KIND_REAL, OFF(exec.target.qd_DN), 4u, RULE_ANY, "4 numbers, scalar last, unit", AOCS_LAW_NONE},
-    {"target_w", KIND_REAL, OFF(exec.target.wd_B), 3u, RULE_ANY, "rad/s, 3 numbers", AOCS_LAW_NONE},
-    {"target_w_dot", KIND_REAL, OFF(exec.target.wd_dot_B), 3u, RULE_ANY, "rad/s^2, 3 numbers", AOCS_LAW_NONE},
-    {"target_rotation_rate", KIND_REAL, OFF(exec.target_rotation_rate_D), 3u, RULE_ANY,
-     "rad/s, 3 numbers: constant rate of the target frame w.r.t. N, in the target frame", AOCS_LAW_NONE},
-    {"u_max_axis", KIND_REAL, OFF(exec.u_max_axis), 3u, RULE_NONNEG, "N m (N) per axis, 3 numbers", AOCS_LAW_NONE},
-    {"u_max_norm", KIND_REAL, OFF(exec.u_max_norm), 1u, RULE_NONNEG, "N m (N), 0 = unused", AOCS_LAW_NONE},
-    {"k_safe", KIND_REAL, OFF(exec.k_safe), 1u, RULE_POS, "N m s/rad", AOCS_LAW_NONE},
-    {"recover_good_samples", KIND_U32, OFF(exec.recover_good_samples), 1u, RULE_POS, "count >= 1", AOCS_LAW_NONE},
-    {"missing_max_periods", KIND_U32, OFF(exec.missing_max_periods), 1u, RULE_POS, "count >= 1", AOCS_LAW_NONE},
-    {"stale_timeout_s", KIND_SECONDS_NS, OFF(exec.stale_timeout_ns), 1u, RULE_POS, "s", AOCS_LAW_NONE},
-    {"budget_ns", KIND_U64, OFF(exec.budget_ns), 1u, RULE_NONNEG, "ns, 0 = the law's budget", AOCS_LAW_NONE},
-    {"idle_timeout_s", KIND_DOUBLE, OFF(idle_timeout_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
-    {"run_timeout_s", KIND_DOUBLE, OFF(run_timeout_s), 1u, RULE_NONNEG, "s, 0 = none", AOCS_LAW_NONE},
-    {"status_period_s", KIND_DOUBLE, OFF(status_period_s), 1u, RULE_POS, "s", AOCS_LAW_NONE},
-    {"lcm_url", KIND_STRING, OFF(lcm_url), 1u, RULE_ANY, "LCM provider URL", AOCS_LAW_NONE},
-    {"guidance.mode", KIND_GUIDANCE_MODE, OFF(exec.guidance.mode), 1u, RULE_ANY, "step | slew", AOCS_LAW_NONE},
-    {"guidance.profile", KIND_SLEW_PROFILE, OFF(exec.guidance.slew.profile), 1u, RULE_ANY,
-     "bang_coast_bang | jerk_limited", AOCS_LAW_NONE},
-    {"guidance.margin", KIND_REAL, OFF(exec.guidance.slew.margin), 1u, RULE_POS,
-     "fraction of the torque envelope the slew reference may use, in (0, 1]", AOCS_LAW_NONE},
-    {"guidance.rate_limit", KIND_REAL, OFF(exec.guidance.slew.rate_limit_radps), 1u, RULE_NONNEG,
-     "rad/s, 0 = none", AOCS_LAW_NONE},
-    {"guidance.jerk_time", KIND_REAL, OFF(exec.guidance.slew.jerk_time_s), 1u, RULE_NONNEG,
-     "s, ramp time of the jerk_limited profile, 0 with bang_coast_bang", AOCS_LAW_NONE},
-    {"wheels.count", KIND_U32, OFF(exec.wheels.n), 1u, RULE_POS, "reaction wheels, 3 to 6 (absent: none)",
-     AOCS_LAW_NONE},
-    {"wheels.failed_mask", KIND_U32, OFF(exec.wheels.failed_mask), 1u, RULE_NONNEG,
-     "bit i set: wheel i declared failed", AOCS_LAW_NONE},
-    {"wheels.null_gain", KIND_REAL, OFF(exec.wheels.null_gain_per_s), 1u, RULE_NONNEG,
-     "null-space wheel speed management gain k_n, 1/s, 0 = none", AOCS_LAW_NONE},
-    AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)
-};
-
-#define KEY_COUNT (sizeof(KEYS) / sizeof(KEYS[0]))
-
-/*
- * The reaction wheel array's per-wheel keys, `wheel<i>.<field>` with i = 0 ..
- * AOCS_WHEELS_MAX - 1 (docs/wire-contract.md "Reaction wheels"; wheel_array.h):
- * one row per field, the wheel's value at offset + i * stride. wheels.count = 0
- * or absent is none; the executive validates the rest (unit axes, a spanning
- * array, the friction model below the motor limit). The spacecraft inertia for
- * the momentum is the `inertia` key (one source), copied after the file is read.
- */
-typedef struct {
-    const char *field;
-    size_t offset;     /* of wheel 0's value */
-    size_t stride;     /* bytes from one wheel's value to the next */
-    unsigned count;
-    key_rule_t rule;
     const char *help;
-} wheel_key_def_t;
+} node_key_t;
 
-#define WOFF(member) OFF(exec.wheels.member)
-static const wheel_key_def_t WHEEL_KEYS[] = {
-    {"axis", WOFF(axis_B[0]), sizeof(aocs_vec3_t), 3u, RULE_ANY, "unit spin axis g in B, 3 numbers"},
-    {"js", WOFF(js_kgm2[0]), sizeof(real_t), 1u, RULE_POS, "spin inertia Js, kg m^2"},
-    {"u_max", WOFF(u_max_nm[0]), sizeof(real_t), 1u, RULE_POS, "motor torque limit, N m"},
-    {"omega_max", WOFF(omega_max_radps[0]), sizeof(real_t), 1u, RULE_POS, "speed limit, rad/s"},
-    {"viscous", WOFF(viscous_nms[0]), sizeof(real_t), 1u, RULE_NONNEG,
-     "viscous friction b of the friction feedforward, N m s/rad"},
-    {"coulomb", WOFF(coulomb_nm[0]), sizeof(real_t), 1u, RULE_NONNEG,
-     "Coulomb friction c of the friction feedforward, N m"},
-    {"coulomb_width", WOFF(coulomb_width_radps[0]), sizeof(real_t), 1u, RULE_POS,
-     "width of the Coulomb term's tanh, rad/s"},
-    {"null_speed", WOFF(null_speed_radps[0]), sizeof(real_t), 1u, RULE_ANY,
-     "target speed of the null-space management, rad/s"},
+#define NODE_OFF(member) offsetof(aocs_node_config_t, member)
+static const node_key_t NODE_KEYS[] = {
+    {"mode", NODE_RUN_MODE, NODE_OFF(run_mode), "lockstep | realtime"},
+    {"idle_timeout_s", NODE_DOUBLE_POS, NODE_OFF(idle_timeout_s), "s"},
+    {"run_timeout_s", NODE_DOUBLE_NONNEG, NODE_OFF(run_timeout_s), "s, 0 = none"},
+    {"status_period_s", NODE_DOUBLE_POS, NODE_OFF(status_period_s), "s"},
+    {"lcm_url", NODE_STRING, NODE_OFF(lcm_url), "LCM provider URL"},
 };
-
-#define WHEEL_KEY_COUNT (sizeof(WHEEL_KEYS) / sizeof(WHEEL_KEYS[0]))
-#define WHEEL_KEY_PREFIX "wheel"
-/* one slot per key for the loader's duplicate check: KEYS, then wheel i's field f at KEY_COUNT + i * F + f */
-#define KEY_SLOTS (KEY_COUNT + ((size_t)AOCS_WHEELS_MAX * WHEEL_KEY_COUNT))
-
+#define NODE_KEY_COUNT (sizeof(NODE_KEYS) / sizeof(NODE_KEYS[0]))
+typedef char node_own_keys_counted[(NODE_KEY_COUNT == AOCS_NODE_OWN_KEYS) ? 1 : -1];
 
 static void set_err(char *err, size_t err_size, const char *fmt, ...)
 {
@@ -176,31 +72,14 @@ static void table_names(aocs_law_id_t law, char *buf, size_t size)
     }
 }
 
-static int set_gain_table(aocs_node_config_t *cfg, const key_def_t *k, const char *value, char *err,
-                          size_t err_size)
+/* The REALS field a TABLE field fills by name (same offset): the key giving the gain by value; NULL if none. */
+static const aocs_config_field_t *gain_field_of(const aocs_config_field_t *table)
 {
-    aocs_gain_table_id_t table = AOCS_GAIN_TABLE_COUNT;
-    char valid[256];
-    table_names(k->law, valid, sizeof(valid));
-    if (aocs_gain_table_find(value, &table) != AOCS_OK) {
-        set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", k->name, value, valid);
-        return 1;
-    }
-    if (aocs_gain_table_apply(table, k->law, &cfg->exec.laws) != AOCS_OK) {
-        set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)",
-                k->name, value, aocs_law_name(aocs_gain_table_law(table)), aocs_law_name(k->law), valid);
-        return 1;
-    }
-    return 0;
-}
-
-/* The key that gives by value the gain a KIND_GAIN_TABLE key gives by name (same offset); NULL if none. */
-static const key_def_t *gain_key_of(const key_def_t *table_key)
-{
-    size_t i;
-    for (i = 0u; i < KEY_COUNT; ++i) {
-        if ((KEYS[i].kind == KIND_REAL) && (KEYS[i].offset == table_key->offset)) {
-            return &KEYS[i];
+    uint32_t i;
+    for (i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *f = aocs_config_field_at(i);
+        if ((f->kind == AOCS_CONFIG_KIND_REALS) && (f->offset == table->offset)) {
+            return f;
         }
     }
     return NULL;
@@ -208,60 +87,74 @@ static const key_def_t *gain_key_of(const key_def_t *table_key)
 
 const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size)
 {
-    size_t i;
-    for (i = 0u; i < KEY_COUNT; ++i) {
-        const key_def_t *kk = (KEYS[i].kind == KIND_GAIN_TABLE) ? gain_key_of(&KEYS[i]) : NULL;
-        if ((kk != NULL) && (KEYS[i].law == law) && (size > 0u)) {
-            (void)snprintf(buf, size, "%s / %s", kk->name, KEYS[i].name);
+    uint32_t i;
+    for (i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *t = aocs_config_field_at(i);
+        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
+        if ((k != NULL) && (t->law == law) && (size > 0u)) {
+            (void)snprintf(buf, size, "%s / %s", k->key, t->key);
             return buf;
         }
     }
     return "the gains of the selected law";
 }
 
-static const key_def_t *find_key(const char *key)
+/* appends text to buf (size bytes), keeping it NUL-terminated; *used grows */
+static void append(char *buf, size_t size, size_t *used, const char *text)
 {
-    size_t i;
-    for (i = 0u; i < KEY_COUNT; ++i) {
-        if (strcmp(KEYS[i].name, key) == 0) {
-            return &KEYS[i];
-        }
+    if (*used < size) {
+        int n = snprintf(buf + *used, size - *used, "%s", text);
+        *used += (n > 0) ? (size_t)n : 0u;
     }
-    return NULL;
 }
 
-/*
- * The key definition of `key` in *out and its duplicate-check slot: a KEYS row
- * as it is, or a `wheel<i>.<field>` key (one digit i below AOCS_WHEELS_MAX, a
- * field of WHEEL_KEYS) as a row at wheel i's offset, named by `key` itself
- * (which must outlive *out). 0 when known, 1 otherwise.
- */
-static int resolve_key(const char *key, key_def_t *out, size_t *slot)
+const char *aocs_node_config_status_hint(aocs_status_t st, aocs_law_id_t law, char *buf, size_t size)
 {
-    const key_def_t *k = find_key(key);
-    const size_t plen = strlen(WHEEL_KEY_PREFIX);
-    if (k != NULL) {
-        *out = *k;
-        *slot = (size_t)(k - KEYS);
-        return 0;
+    size_t used = 0u;
+    uint32_t i;
+    if ((buf == NULL) || (size == 0u)) {
+        return "";
     }
-    if ((strncmp(key, WHEEL_KEY_PREFIX, plen) == 0) && isdigit((unsigned char)key[plen]) && (key[plen + 1u] == '.')) {
-        unsigned wheel = (unsigned)(key[plen] - '0');
-        size_t f;
-        for (f = 0u; (wheel < AOCS_WHEELS_MAX) && (f < WHEEL_KEY_COUNT); ++f) {
-            if (strcmp(&key[plen + 2u], WHEEL_KEYS[f].field) == 0) {
-                const wheel_key_def_t *w = &WHEEL_KEYS[f];
-                out->name = key;
-                out->kind = KIND_REAL;
-                out->offset = w->offset + ((size_t)wheel * w->stride);
-                out->count = w->count;
-                out->rule = w->rule;
-                out->help = w->help;
-                out->law = AOCS_LAW_NONE;
-                *slot = KEY_COUNT + ((size_t)wheel * WHEEL_KEY_COUNT) + f;
-                return 0;
-            }
+    buf[0] = '\0';
+    if (st == AOCS_ERR_GAIN_TABLE_INVALID) {
+        return aocs_node_config_gain_keys(law, buf, size);
+    }
+    if ((st == AOCS_ERR_GAIN_NOT_POSITIVE) || (st == AOCS_ERR_PARAM_NOT_FINITE)) {
+        append(buf, size, &used, "the gains of the selected law");
+    }
+    for (i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *f = aocs_config_field_at(i);
+        const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) &&
+                            ((st == AOCS_ERR_INERTIA_NOT_SYMMETRIC) || (st == AOCS_ERR_INERTIA_NOT_POS_DEF) ||
+                             (st == AOCS_ERR_INERTIA_SINGULAR));
+        if ((st != AOCS_OK) && ((f->status == st) || (f->also == st) || inertia)) {
+            append(buf, size, &used, (used > 0u) ? ", " : "");
+            append(buf, size, &used, (aocs_config_field_is_per_wheel(f) != 0) ? "wheel<i>." : "");
+            append(buf, size, &used, f->key);
+            append(buf, size, &used, (f->help[0] != '\0') ? " (" : "");
+            append(buf, size, &used, f->help);
+            append(buf, size, &used, (f->help[0] != '\0') ? ")" : "");
         }
+    }
+    return (used > 0u) ? buf : "the keys of the selected law";
+}
+
+/* A key: a node setting (*node) or a registry field (*ref), and its duplicate-check slot. 0 when known. */
+static int resolve_key(const char *key, const node_key_t **node, aocs_config_ref_t *ref, size_t *slot)
+{
+    size_t i;
+    *node = NULL;
+    for (i = 0u; i < NODE_KEY_COUNT; ++i) {
+        if (strcmp(NODE_KEYS[i].name, key) == 0) {
+            *node = &NODE_KEYS[i];
+            *slot = i;
+            return 0;
+        }
+    }
+    if (aocs_config_find_key(key, ref) != 0) {
+        size_t row = (size_t)(ref->field - aocs_config_field_at(0u));
+        *slot = NODE_KEY_COUNT + (row * (size_t)AOCS_WHEELS_MAX) + (size_t)ref->wheel;
+        return (row < AOCS_NODE_CONFIG_ROWS_MAX) ? 0 : 1;
     }
     return 1;
 }
@@ -298,144 +191,126 @@ static int parse_numbers(const char *value, double *out, unsigned max, const cha
     return n;
 }
 
-static int check_rule(const key_def_t *k, double x, char *err, size_t err_size)
+/* The rule's words for an error message. */
+static const char *rule_words(aocs_config_rule_t rule)
 {
-    if ((k->rule == RULE_POS) && !(x > 0.0)) {
-        set_err(err, err_size, "key '%s': value %g must be > 0 (%s)", k->name, x, k->help);
-        return 1;
-    }
-    if ((k->rule == RULE_NONNEG) && !(x >= 0.0)) {
-        set_err(err, err_size, "key '%s': value %g must be >= 0 (%s)", k->name, x, k->help);
-        return 1;
-    }
-    return 0;
+    return (rule == AOCS_CONFIG_RULE_POS) ? "must be > 0" : "must be >= 0";
 }
 
-/* The longest list a key takes: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27 numbers). */
-#define NODE_VALUES_MAX (3u * AOCS_GAIN_COLS_MAX)
-
-static int set_numeric(aocs_node_config_t *cfg, const key_def_t *k, const char *value, char *err,
-                       size_t err_size)
+/* want values of key into vals (an inertia: 3 = the diagonal, or 9); the count or -1 with err set. */
+static int read_numbers(const char *key, const char *help, const char *value, unsigned want, int inertia,
+                        double *vals, char *err, size_t err_size)
 {
-    double vals[NODE_VALUES_MAX];
     const char *bad = NULL;
-    unsigned want = (k->kind == KIND_REAL) ? k->count : ((k->kind == KIND_INERTIA) ? 9u : 1u);
-    int n;
-    unsigned i;
-    unsigned char *base = (unsigned char *)cfg + k->offset;
-
-    if (want > NODE_VALUES_MAX) { /* a key table row beyond the buffer: refused, never written past it */
-        set_err(err, err_size, "key '%s': takes %u values, more than this build reads (%u)", k->name, want,
-                NODE_VALUES_MAX);
-        return 1;
-    }
-    n = parse_numbers(value, vals, want, &bad);
+    int n = parse_numbers(value, vals, want, &bad);
     if (n == -1) {
-        set_err(err, err_size, "key '%s': '%s' is not a finite number (%s)", k->name, bad, k->help);
-        return 1;
+        set_err(err, err_size, "key '%s': '%s' is not a finite number (%s)", key, bad, help);
+        return -1;
     }
     if (n == -2) {
-        set_err(err, err_size, "key '%s': too many values (%s)", k->name, k->help);
-        return 1;
+        set_err(err, err_size, "key '%s': too many values (%s)", key, help);
+        return -1;
     }
-    if (k->kind == KIND_INERTIA) {
-        aocs_mat3_t j = aocs_mat3_zero();
-        if (n == 3) {
-            for (i = 0u; i < 3u; ++i) {
-                j.m[i][i] = (real_t)vals[i];
-            }
-        } else if (n == 9) {
-            for (i = 0u; i < 9u; ++i) {
-                j.m[i / 3u][i % 3u] = (real_t)vals[i];
-            }
-        } else {
-            set_err(err, err_size, "key '%s': %d values given (%s)", k->name, n, k->help);
-            return 1;
+    if ((inertia != 0) && (n == 3)) {
+        double d[3] = {vals[0], vals[1], vals[2]};
+        unsigned i;
+        for (i = 0u; i < 9u; ++i) {
+            vals[i] = ((i % 4u) == 0u) ? d[i / 4u] : 0.0;
         }
-        memcpy(base, &j, sizeof(j));
-        return 0;
+        n = 9;
+    }
+    if ((inertia != 0) && (n != 9)) {
+        set_err(err, err_size, "key '%s': %d values given (%s)", key, n, help);
+        return -1;
     }
     if ((unsigned)n != want) {
-        set_err(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", k->name, n, want, k->help);
-        return 1;
+        set_err(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", key, n, want, help);
+        return -1;
     }
-    for (i = 0u; i < want; ++i) {
-        if (check_rule(k, vals[i], err, err_size) != 0) {
+    return n;
+}
+
+/* A registry field from its text: numbers, a whole number, a name of the row's enum or a gain table. */
+static int set_field(aocs_node_config_t *cfg, const char *key, aocs_config_ref_t ref, const char *value, char *err,
+                     size_t err_size)
+{
+    const aocs_config_field_t *f = ref.field;
+    double vals[AOCS_CONFIG_VALUES_MAX];
+    aocs_status_t st = AOCS_OK;
+    uint64_t u = 0u;
+    if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        char valid[256];
+        table_names(f->law, valid, sizeof(valid));
+        st = aocs_config_set_table(&cfg->exec, ref, value);
+        if (st == AOCS_OK) {
+            size_t row = (size_t)(f - aocs_config_field_at(0u));
+            (void)aocs_gain_table_find(value, &cfg->table_of[(row < AOCS_NODE_CONFIG_ROWS_MAX) ? row : 0u]);
+        }
+        if (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW) {
+            aocs_gain_table_id_t t = AOCS_GAIN_TABLE_COUNT;
+            (void)aocs_gain_table_find(value, &t);
+            set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)", key,
+                    value, aocs_law_name(aocs_gain_table_law(t)), aocs_law_name(f->law), valid);
+        } else if (st != AOCS_OK) {
+            set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", key, value, valid);
+        }
+        return (st == AOCS_OK) ? 0 : 1;
+    }
+    if ((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM)) {
+        if (aocs_config_enum_value(f, value, &u) == 0) {
+            if (f->kind == AOCS_CONFIG_KIND_LAW) {
+                set_err(err, err_size, "key '%s': unknown law '%s'", key, value);
+            } else {
+                set_err(err, err_size, "key '%s': '%s' is not one of %s", key, value, f->names);
+            }
             return 1;
         }
+        (void)aocs_config_set_uint(&cfg->exec, ref, u);
+        return 0;
     }
-    switch (k->kind) {
-    case KIND_REAL:
+    {
+        const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) ? 1 : 0;
+        const unsigned want = (f->kind == AOCS_CONFIG_KIND_REALS) || (inertia != 0) ? f->count : 1u;
+        unsigned i;
+        if (read_numbers(key, f->help, value, want, inertia, vals, err, err_size) < 0) {
+            return 1;
+        }
         for (i = 0u; i < want; ++i) {
-            real_t r = (real_t)vals[i];
-            memcpy(base + (size_t)i * sizeof(real_t), &r, sizeof(r));
+            if ((f->rule != AOCS_CONFIG_RULE_ANY) &&
+                !((f->rule == AOCS_CONFIG_RULE_POS) ? (vals[i] > 0.0) : (vals[i] >= 0.0))) {
+                set_err(err, err_size, "key '%s': value %g %s (%s)", key, vals[i], rule_words(f->rule), f->help);
+                return 1;
+            }
         }
-        break;
-    case KIND_DOUBLE:
-        memcpy(base, &vals[0], sizeof(double));
-        break;
-    case KIND_U32: {
-        uint32_t u;
-        if ((vals[0] > 4294967295.0) || (floor(vals[0]) < vals[0])) {
-            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", k->name, vals[0], k->help);
-            return 1;
-        }
-        u = (uint32_t)vals[0];
-        memcpy(base, &u, sizeof(u));
-        break;
     }
-    case KIND_U64: {
-        uint64_t u;
-        if ((vals[0] > 1.8e19) || (floor(vals[0]) < vals[0])) {
-            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", k->name, vals[0], k->help);
-            return 1;
-        }
-        u = (uint64_t)vals[0];
-        memcpy(base, &u, sizeof(u));
-        break;
-    }
-    case KIND_SECONDS_NS: {
-        uint64_t u;
+    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        st = aocs_config_set_reals(&cfg->exec, ref, vals, f->count);
+    } else if (f->kind == AOCS_CONFIG_KIND_NS) {
         if (vals[0] > 1.0e9) {
-            set_err(err, err_size, "key '%s': %g s is out of range (%s)", k->name, vals[0], k->help);
+            set_err(err, err_size, "key '%s': %g s is out of range (%s)", key, vals[0], f->help);
             return 1;
         }
-        u = (uint64_t)(vals[0] * 1.0e9 + 0.5);
-        memcpy(base, &u, sizeof(u));
-        break;
+        st = aocs_config_set_uint(&cfg->exec, ref, (uint64_t)(vals[0] * 1.0e9 + 0.5));
+    } else {
+        const double top = (f->kind == AOCS_CONFIG_KIND_U32) ? 4294967295.0 : 1.8e19;
+        if ((vals[0] > top) || (floor(vals[0]) < vals[0])) {
+            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", key, vals[0], f->help);
+            return 1;
+        }
+        st = aocs_config_set_uint(&cfg->exec, ref, (uint64_t)vals[0]);
     }
-    default:
-        set_err(err, err_size, "key '%s': internal error (kind)", k->name);
+    if (st != AOCS_OK) {
+        set_err(err, err_size, "key '%s': %s (%s)", key, aocs_status_name(st), f->help);
         return 1;
     }
     return 0;
 }
 
-int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
-                         size_t err_size)
+static int set_node_key(aocs_node_config_t *cfg, const node_key_t *k, const char *value, char *err, size_t err_size)
 {
-    key_def_t def;
-    size_t slot = 0u;
-    const key_def_t *k = &def;
-    if (resolve_key(key, &def, &slot) != 0) {
-        set_err(err, err_size, "unknown key '%s'", key);
-        return 1;
-    }
-    if (value[0] == '\0') {
-        set_err(err, err_size, "key '%s': empty value (%s)", key, k->help);
-        return 1;
-    }
-    switch (k->kind) {
-    case KIND_LAW: {
-        aocs_law_id_t law = AOCS_LAW_NONE;
-        if (aocs_law_from_name(value, &law) != AOCS_OK) {
-            set_err(err, err_size, "key 'law': unknown law '%s'", value);
-            return 1;
-        }
-        cfg->exec.law = law;
-        return 0;
-    }
-    case KIND_RUN_MODE:
+    unsigned char *base = (unsigned char *)cfg + k->offset;
+    double x[1];
+    if (k->kind == NODE_RUN_MODE) {
         if (strcmp(value, "lockstep") == 0) {
             cfg->run_mode = AOCS_NODE_RUN_LOCKSTEP;
         } else if (strcmp(value, "realtime") == 0) {
@@ -445,38 +320,43 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
             return 1;
         }
         return 0;
-    case KIND_STRING:
+    }
+    if (k->kind == NODE_STRING) {
         if (strlen(value) >= AOCS_NODE_URL_MAX) {
-            set_err(err, err_size, "key '%s': longer than %u characters", key, AOCS_NODE_URL_MAX - 1u);
+            set_err(err, err_size, "key '%s': longer than %u characters", k->name, AOCS_NODE_URL_MAX - 1u);
             return 1;
         }
         (void)snprintf(cfg->lcm_url, sizeof(cfg->lcm_url), "%s", value);
         return 0;
-    case KIND_GAIN_TABLE:
-        return set_gain_table(cfg, k, value, err, err_size);
-    case KIND_GUIDANCE_MODE:
-        if (strcmp(value, "step") == 0) {
-            cfg->exec.guidance.mode = AOCS_GUIDANCE_MODE_STEP;
-        } else if (strcmp(value, "slew") == 0) {
-            cfg->exec.guidance.mode = AOCS_GUIDANCE_MODE_SLEW;
-        } else {
-            set_err(err, err_size, "key '%s': '%s' is neither step nor slew", key, value);
-            return 1;
-        }
-        return 0;
-    case KIND_SLEW_PROFILE:
-        if (strcmp(value, "bang_coast_bang") == 0) {
-            cfg->exec.guidance.slew.profile = AOCS_SLEW_PROFILE_BANG_COAST_BANG;
-        } else if (strcmp(value, "jerk_limited") == 0) {
-            cfg->exec.guidance.slew.profile = AOCS_SLEW_PROFILE_JERK_LIMITED;
-        } else {
-            set_err(err, err_size, "key '%s': '%s' is neither bang_coast_bang nor jerk_limited", key, value);
-            return 1;
-        }
-        return 0;
-    default:
-        return set_numeric(cfg, k, value, err, err_size);
     }
+    if (read_numbers(k->name, k->help, value, 1u, 0, x, err, err_size) < 0) {
+        return 1;
+    }
+    if ((k->kind == NODE_DOUBLE_POS) ? !(x[0] > 0.0) : !(x[0] >= 0.0)) {
+        set_err(err, err_size, "key '%s': value %g %s (%s)", k->name, x[0],
+                rule_words((k->kind == NODE_DOUBLE_POS) ? AOCS_CONFIG_RULE_POS : AOCS_CONFIG_RULE_NONNEG), k->help);
+        return 1;
+    }
+    memcpy(base, &x[0], sizeof(double));
+    return 0;
+}
+
+int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
+                         size_t err_size)
+{
+    const node_key_t *node = NULL;
+    aocs_config_ref_t ref = {NULL, 0u};
+    size_t slot = 0u;
+    if (resolve_key(key, &node, &ref, &slot) != 0) {
+        set_err(err, err_size, "unknown key '%s'", key);
+        return 1;
+    }
+    if (value[0] == '\0') {
+        set_err(err, err_size, "key '%s': empty value (%s)", key, (node != NULL) ? node->help : ref.field->help);
+        return 1;
+    }
+    return (node != NULL) ? set_node_key(cfg, node, value, err, err_size)
+                          : set_field(cfg, key, ref, value, err, err_size);
 }
 
 static void config_defaults(aocs_node_config_t *cfg)
@@ -505,17 +385,68 @@ static char *trim(char *s)
     return s;
 }
 
+int aocs_node_config_slot(size_t slot, aocs_config_ref_t *ref, const char **own_key)
+{
+    int kind = 0;
+    if (slot < NODE_KEY_COUNT) {
+        *own_key = NODE_KEYS[slot].name;
+        kind = 2;
+    } else if (slot < AOCS_NODE_KEY_SLOTS) {
+        const uint32_t row = (uint32_t)((slot - NODE_KEY_COUNT) / (size_t)AOCS_WHEELS_MAX);
+        const uint32_t wheel = (uint32_t)((slot - NODE_KEY_COUNT) % (size_t)AOCS_WHEELS_MAX);
+        const aocs_config_field_t *f = aocs_config_field_at(row);
+        if ((f != NULL) && ((wheel == 0u) || (aocs_config_field_is_per_wheel(f) != 0))) {
+            ref->field = f;
+            ref->wheel = wheel;
+            kind = 1;
+        }
+    } else {
+        kind = 0;
+    }
+    return kind;
+}
+
+/* The duplicate-check slot of a (non-wheel) registry field by its PIL id. */
+static size_t slot_of_field(uint32_t pil_id)
+{
+    aocs_config_ref_t ref = {NULL, 0u};
+    (void)aocs_config_find_pil(pil_id, &ref);
+    return NODE_KEY_COUNT + ((size_t)(ref.field - aocs_config_field_at(0u)) * (size_t)AOCS_WHEELS_MAX);
+}
+
+/* A gain is given by table name or by value, not both: 0, or 1 with the two lines in err. */
+static int exclusive_gain_keys(const char *path, const unsigned *seen, char *err, size_t err_size)
+{
+    uint32_t i;
+    for (i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *t = aocs_config_field_at(i);
+        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
+        if (k != NULL) {
+            const unsigned line_table = seen[NODE_KEY_COUNT + ((size_t)i * (size_t)AOCS_WHEELS_MAX)];
+            const unsigned line_k =
+                seen[NODE_KEY_COUNT + ((size_t)(k - aocs_config_field_at(0u)) * (size_t)AOCS_WHEELS_MAX)];
+            if ((line_table != 0u) && (line_k != 0u)) {
+                set_err(err, err_size,
+                        "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
+                        "by table name or by value, not both",
+                        path, (line_table > line_k) ? line_table : line_k, t->key, line_table, k->key, line_k);
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
 int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
 {
     FILE *f;
     char line[1024];
     char msg[AOCS_NODE_ERR_MAX];
-    unsigned seen[KEY_SLOTS]; /* line of each key (resolve_key's slot), 0 = not given */
+    unsigned *seen = cfg->line_of; /* line of each key (resolve_key's slot), 0 = not given */
     unsigned lineno = 0u;
     int rc = 0;
 
     config_defaults(cfg);
-    memset(seen, 0, sizeof(seen));
     f = fopen(path, "r");
     if (f == NULL) {
         set_err(err, err_size, "%s: cannot open: %s", path, strerror(errno));
@@ -527,7 +458,8 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         char *key;
         char *value;
         char *hash;
-        key_def_t def;
+        const node_key_t *node = NULL;
+        aocs_config_ref_t ref = {NULL, 0u};
         size_t slot = 0u;
         int known;
         ++lineno;
@@ -554,7 +486,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         *eq = '\0';
         key = trim(s);
         value = trim(eq + 1);
-        known = (resolve_key(key, &def, &slot) == 0);
+        known = (resolve_key(key, &node, &ref, &slot) == 0);
         if (known && (seen[slot] != 0u)) {
             set_err(err, err_size, "%s:%u: key '%s' given twice", path, lineno, key);
             rc = 1;
@@ -573,20 +505,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     }
     (void)fclose(f);
     if (rc == 0) {
-        size_t i;
-        for (i = 0u; (rc == 0) && (i < KEY_COUNT); ++i) {
-            const key_def_t *kk = (KEYS[i].kind == KIND_GAIN_TABLE) ? gain_key_of(&KEYS[i]) : NULL;
-            unsigned line_table = seen[i];
-            unsigned line_k = (kk != NULL) ? seen[kk - KEYS] : 0u;
-            if ((line_table != 0u) && (line_k != 0u)) {
-                set_err(err, err_size,
-                        "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
-                        "by table name or by value, not both",
-                        path, (line_table > line_k) ? line_table : line_k, KEYS[i].name, line_table, kk->name,
-                        line_k);
-                rc = 1;
-            }
-        }
+        rc = exclusive_gain_keys(path, seen, err, err_size);
     }
     if (rc == 0) {
         /* one inertia (the plant's, key 'inertia'): the slew guidance sizes its profile and feedforward with it */
@@ -594,7 +513,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         /* the same inertia gives the wheel array's total momentum H = J w + sum Js g Omega */
         cfg->exec.wheels.inertia_B_kgm2 = cfg->exec.laws.smc.inertia;
     }
-    if ((rc == 0) && (seen[find_key("stale_timeout_s") - KEYS] == 0u)) {
+    if ((rc == 0) && (seen[slot_of_field(AOCS_PIL_CFG_STALE_TIMEOUT_NS)] == 0u)) {
         /* default: a sample older than two control periods is stale */
         double p = (double)cfg->exec.period_s;
         cfg->exec.stale_timeout_ns = (p > 0.0) && (p < 1.0e6) ? (uint64_t)(2.0e9 * p + 0.5) : 0u;

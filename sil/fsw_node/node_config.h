@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "aocs/config_registry.h"
 #include "aocs/executive.h"
 
 typedef enum {
@@ -18,6 +19,12 @@ typedef enum {
 
 #define AOCS_NODE_URL_MAX 256u
 #define AOCS_NODE_ERR_MAX 512u
+/* The node's own keys (mode, timeouts, lcm_url): not flight software configuration. */
+#define AOCS_NODE_OWN_KEYS 5u
+/* Rows of the configuration registry the node can track (a static check in node_config.c). */
+#define AOCS_NODE_CONFIG_ROWS_MAX 128u
+/* One slot per key a file can give: the node's own, then one per registry row and wheel. */
+#define AOCS_NODE_KEY_SLOTS (AOCS_NODE_OWN_KEYS + (AOCS_NODE_CONFIG_ROWS_MAX * (size_t)AOCS_WHEELS_MAX))
 
 typedef struct {
     aocs_exec_config_t exec;      /* executive config (law, gains, limits, period) */
@@ -26,7 +33,15 @@ typedef struct {
     double run_timeout_s;         /* whole run limit, s; 0 = none */
     double status_period_s;       /* heartbeat period on AOCS_STATUS, > 0 */
     char lcm_url[AOCS_NODE_URL_MAX]; /* empty = LCM default (udpm, ttl=0) */
+    unsigned line_of[AOCS_NODE_KEY_SLOTS]; /* the file's line of each key given (0 = not given), by slot */
+    aocs_gain_table_id_t table_of[AOCS_NODE_CONFIG_ROWS_MAX]; /* the gain table a TABLE row was given */
 } aocs_node_config_t;
+
+/*
+ * The key of a slot of line_of: a registry field (*ref, return 1), or one of
+ * the node's own keys (*own_key, return 2); 0 for a slot of no key.
+ */
+int aocs_node_config_slot(size_t slot, aocs_config_ref_t *ref, const char **own_key);
 
 /*
  * Fills defaults (docs/wire-contract.md), then reads `path`. Returns 0 on
@@ -48,5 +63,13 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
  * law without a gain table. Returns the text.
  */
 const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size);
+
+/*
+ * The keys to check when aocs_exec_init refuses a configuration with `st`:
+ * every registry row that names st (STATUS / ALSO columns of
+ * config_fields.def) with its unit, the gains of `law` for a gain status, the
+ * inertia for an inertia status; written into buf. Returns the text.
+ */
+const char *aocs_node_config_status_hint(aocs_status_t st, aocs_law_id_t law, char *buf, size_t size);
 
 #endif /* AOCS_FSW_NODE_CONFIG_H */

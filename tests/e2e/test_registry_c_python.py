@@ -2,8 +2,8 @@
 Python derives from the build's registry JSON (aocs_core.registry).
 
 - every law: fsw_node (the C parser and aocs_exec_init) accepts the configuration made of
-  the law's registry fields with their reference values, and so does the bridge's Python
-  mirror (aocs_pil.config);
+  the law's registry fields with their reference values, and the CONFIG payload the bridge
+  makes of it (aocs_pil.config: the same parser) decodes to those values;
 - every law on its reference scenario: the configuration the runner writes
   (aocs_wire.fsw_config, keys derived from the registry and the scenario schema) is
   accepted by fsw_node;
@@ -74,17 +74,16 @@ def numbers(text: str) -> list[float]:
 
 
 @pytest.mark.parametrize("law", LAWS)
-def test_fsw_node_and_the_mirror_accept_the_reference_configuration(law, fsw_node_bin, dump_bin, tmp_path):
+def test_fsw_node_and_the_bridge_accept_the_reference_configuration(law, fsw_node_bin, dump_bin, tmp_path):
     cfg = reference_config(law)
     path = write(tmp_path / f"{law}.cfg", cfg)
     res = run_node(fsw_node_bin, path)
     assert res.returncode == 0, res.stderr
     assert f"law {law}, period" in res.stderr
-    # the Python mirror reads the same file to the same values, and the image's decoder takes them
+    # the bridge reads the same file (fsw_node's parser), and the image's decoder takes its CONFIG payload
     parsed = nodecfg.load(path)
     assert parsed.law == law
-    fields = parsed.pil_fields(168e6)
-    out = decode(dump_bin, fields.encode(), tmp_path)
+    out = decode(dump_bin, parsed.pil_payload(168e6), tmp_path)
     assert (out["pil_err"], out["status"]) == ("AOCS_PIL_OK", "AOCS_OK"), out
     v = out["values"]
     assert v["LAW"] == [registry.law_ids()[law]] and v["PERIOD_S"] == [0.1] and v["U_MAX_AXIS"] == [1.0] * 3

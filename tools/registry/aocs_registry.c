@@ -1,6 +1,6 @@
 /*
  * Host descriptor tables of the registry (aocs_registry.h), expanded from
- * the rows of aocs/laws.def, aocs/status.def, gains/gain_tables.def and aocs/pil_frame.h,
+ * the rows of aocs/laws.def, aocs/status.def, gains/gain_tables.def and aocs/config_fields.def,
  * and the reference configuration built from the REF column.
  */
 #include "aocs_registry.h"
@@ -59,31 +59,39 @@ const size_t aocs_registry_field_count = sizeof(aocs_registry_fields) / sizeof(a
 const aocs_registry_table_t aocs_registry_tables[] = {AOCS_GAIN_TABLE_ROWS(REG_TABLE_ROW)};
 const size_t aocs_registry_table_count = sizeof(aocs_registry_tables) / sizeof(aocs_registry_tables[0]);
 
-/* ---- the executive's PIL fields ---- */
-#define REG_KIND_REAL "real"
-#define REG_KIND_U64 "u64"
-#define REG_EXEC_ROW(NAME, ID, KIND, COUNT, KEY) {#NAME, (uint32_t)(ID), REG_KIND_##KIND, (uint32_t)(COUNT), KEY},
+/* ---- the PIL fields of the configuration registry's general and per-wheel rows (config_fields.def) ---- */
+#define REG_KIND_REAL "real", 1u
+#define REG_KIND_VEC3 "real", 3u
+#define REG_KIND_QUAT "real", 4u
+#define REG_KIND_U32 "u64", 1u
+#define REG_KIND_U64 "u64", 1u
+#define REG_KIND_NS "u64", 1u
+#define REG_KIND_BUDGET "u64", 1u
+#define REG_KIND_LAW "u64", 1u
+#define REG_KIND_ENUM_GUIDANCE_MODE "u64", 1u
+#define REG_KIND_ENUM_SLEW_PROFILE "u64", 1u
+#define REG_EXEC_ROW(NAME, KEY, MEMBER, KIND, RULE, DEFAULT, PIL_ID, ...) {#NAME, (uint32_t)(PIL_ID), REG_KIND_##KIND, KEY},
 
-/* the wheel array's per-wheel fields (AOCS_PIL_WHEEL_FIELD_ROWS), wheel by wheel after the executive's rows:
- * name WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i * AOCS_PIL_WHEEL_STRIDE + INDEX, key "wheel<i>.<KEY>" */
+/* wheel by wheel after the general rows: name WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i *
+ * AOCS_PIL_WHEEL_STRIDE + INDEX, key "wheel<i>.<FIELD>" */
 #define REG_WHEEL_ROW(W, NAME, INDEX, COUNT, KEY)                                                                 \
     {"WHEEL" #W "_" #NAME, (uint32_t)(AOCS_PIL_CFG_WHEEL_BASE + ((W) * AOCS_PIL_WHEEL_STRIDE) + (INDEX)), "real", \
      (uint32_t)(COUNT), "wheel" #W "." KEY},
-#define REG_WHEEL_ROW_0(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(0, NAME, INDEX, COUNT, KEY)
-#define REG_WHEEL_ROW_1(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(1, NAME, INDEX, COUNT, KEY)
-#define REG_WHEEL_ROW_2(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(2, NAME, INDEX, COUNT, KEY)
-#define REG_WHEEL_ROW_3(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(3, NAME, INDEX, COUNT, KEY)
-#define REG_WHEEL_ROW_4(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(4, NAME, INDEX, COUNT, KEY)
-#define REG_WHEEL_ROW_5(NAME, INDEX, COUNT, KEY, ...) REG_WHEEL_ROW(5, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_0(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(0, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_1(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(1, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_2(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(2, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_3(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(3, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_4(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(4, NAME, INDEX, COUNT, KEY)
+#define REG_WHEEL_ROW_5(NAME, KEY, MEMBER, COUNT, RULE, INDEX, ...) REG_WHEEL_ROW(5, NAME, INDEX, COUNT, KEY)
 #if AOCS_WHEELS_MAX != 6
 #error "one REG_WHEEL_ROW_<i> per wheel of AOCS_WHEELS_MAX"
 #endif
 
 const aocs_registry_exec_field_t aocs_registry_exec_fields[] = {
-    AOCS_PIL_EXEC_FIELD_ROWS(REG_EXEC_ROW)
-    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_0) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_1)
-    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_2) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_3)
-    AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_4) AOCS_PIL_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_5)
+    AOCS_CONFIG_FIELD_ROWS(REG_EXEC_ROW)
+    AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_0) AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_1)
+    AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_2) AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_3)
+    AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_4) AOCS_CONFIG_WHEEL_FIELD_ROWS(REG_WHEEL_ROW_5)
 };
 const size_t aocs_registry_exec_field_count =
     sizeof(aocs_registry_exec_fields) / sizeof(aocs_registry_exec_fields[0]);

@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "aocs/budget.h"
+#include "aocs/config_registry.h"
 #include "aocs/pil_frame.h"
 #include "aocs_registry.h"
 
@@ -247,11 +248,63 @@ static void dump_enums(FILE *f)
     (void)fputs("  ],\n", f);
 }
 
+/* "reals", "inertia", ...: a configuration field's kind (aocs_config_kind_t) as the JSON names it */
+static const char *kind_name(aocs_config_kind_t kind)
+{
+    static const char *const names[] = {"reals", "inertia", "u32", "u64", "ns", "budget", "law", "enum", "table"};
+    return ((unsigned)kind < (sizeof(names) / sizeof(names[0]))) ? names[kind] : "unknown";
+}
+
+static const char *rule_name(aocs_config_rule_t rule)
+{
+    return (rule == AOCS_CONFIG_RULE_POS) ? "pos" : ((rule == AOCS_CONFIG_RULE_NONNEG) ? "nonneg" : "any");
+}
+
+/* Every row of the configuration registry (aocs/config_registry.h), in its order: how Python learns each key,
+ * its kind, count, rule, unit, PIL id, enum names and the status that names it. */
+static void dump_config_fields(FILE *f)
+{
+    const uint32_t n = aocs_config_field_count();
+    (void)fputs("  \"config_fields\": [\n", f);
+    for (uint32_t i = 0u; i < n; ++i) {
+        const aocs_config_field_t *x = aocs_config_field_at(i);
+        (void)fputs("    {", f);
+        put_key(f, "key");
+        put_str(f, x->key);
+        (void)fputs(", ", f);
+        put_key(f, "pil_name");
+        put_str(f, x->pil_name);
+        (void)fprintf(f, ", \"pil_id\": %u, \"per_wheel\": %s, ", (unsigned)x->pil_id,
+                      (aocs_config_field_is_per_wheel(x) != 0) ? "true" : "false");
+        put_key(f, "kind");
+        put_str(f, kind_name(x->kind));
+        (void)fprintf(f, ", \"count\": %u, ", (unsigned)x->count);
+        put_key(f, "rule");
+        put_str(f, rule_name(x->rule));
+        (void)fputs(", ", f);
+        put_key(f, "names");
+        put_str(f, x->names);
+        (void)fputs(", ", f);
+        put_key(f, "law");
+        put_str(f, (x->law != AOCS_LAW_NONE) ? aocs_law_name(x->law) : NULL);
+        (void)fputs(", ", f);
+        put_key(f, "status");
+        put_str(f, (x->status != AOCS_OK) ? aocs_status_name(x->status) : NULL);
+        (void)fputs(", ", f);
+        put_key(f, "help");
+        put_str(f, x->help);
+        (void)fprintf(f, "}%s\n", ((i + 1u) < n) ? "," : "");
+    }
+    (void)fputs("  ],\n", f);
+}
+
 static void dump_registry(FILE *f)
 {
     (void)fprintf(f, "{\n  \"schema\": %d,\n  \"real_t\": \"%s\",\n", DUMP_SCHEMA, DUMP_REAL_NAME);
     (void)fprintf(f, "  \"pil\": {\"version\": %u, \"table_name_max\": %u, ", (unsigned)AOCS_PIL_VERSION,
                   (unsigned)AOCS_PIL_TABLE_NAME_MAX);
+    (void)fprintf(f, "\"wheel_base\": %u, \"wheel_stride\": %u, \"wheels_max\": %u, ", (unsigned)AOCS_PIL_CFG_WHEEL_BASE,
+                  (unsigned)AOCS_PIL_WHEEL_STRIDE, (unsigned)AOCS_WHEELS_MAX);
     /* the allowances added to a step's instruction budget (aocs/budget.h): slew guidance, wheel array */
     (void)fprintf(f, "\"slew_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                   (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
@@ -268,65 +321,67 @@ static void dump_registry(FILE *f)
     dump_fields(f);
     dump_tables(f);
     dump_enums(f);
+    dump_config_fields(f);
     (void)fputs("  \"generated_by\": \"tools/registry/aocs_registry_dump.c from firmware/include/aocs/laws.def, "
-                "firmware/gains/gain_tables.def, firmware/pil/include/aocs/pil_frame.h\"\n}\n",
+                "firmware/include/aocs/config_fields.def, firmware/gains/gain_tables.def\"\n}\n",
                 f);
 }
 
 /* ---- decode mode ---- */
-static void put_reals(FILE *f, const real_t *x, int n)
+/* The REALS row a TABLE row fills by name (same offset): its gain. */
+static aocs_config_ref_t gain_of(aocs_config_ref_t table)
 {
-    (void)fputc('[', f);
-    for (int i = 0; i < n; ++i) {
-        (void)fprintf(f, "%s%.17g", (i > 0) ? ", " : "", (double)x[i]);
+    aocs_config_ref_t ref = table;
+    for (uint32_t i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *x = aocs_config_field_at(i);
+        if ((x->kind == AOCS_CONFIG_KIND_REALS) && (x->offset == table.field->offset)) {
+            ref.field = x;
+        }
     }
-    (void)fputc(']', f);
+    return ref;
 }
 
-static void put_value(FILE *f, int *first, const char *name, const real_t *x, int n)
+/* One field's value as "NAME": [...] (a TABLE field: its gain; the BUDGET field: the image's instruction budget). */
+static void put_decoded(FILE *f, int *first, const char *name, const aocs_exec_config_t *cfg, aocs_config_ref_t ref,
+                        uint64_t budget_instr)
 {
+    double v[AOCS_CONFIG_VALUES_MAX];
+    const aocs_config_kind_t kind = ref.field->kind;
     (void)fputs(*first ? "" : ", ", f);
     put_key(f, name);
-    put_reals(f, x, n);
+    if ((kind == AOCS_CONFIG_KIND_REALS) || (kind == AOCS_CONFIG_KIND_INERTIA) || (kind == AOCS_CONFIG_KIND_TABLE)) {
+        const uint32_t n = aocs_config_get_reals(cfg, (kind == AOCS_CONFIG_KIND_TABLE) ? gain_of(ref) : ref, v,
+                                                 AOCS_CONFIG_VALUES_MAX);
+        (void)fputc('[', f);
+        for (uint32_t i = 0u; i < n; ++i) {
+            (void)fprintf(f, "%s%.17g", (i > 0u) ? ", " : "", v[i]);
+        }
+        (void)fputc(']', f);
+    } else {
+        const uint64_t u = (kind == AOCS_CONFIG_KIND_BUDGET) ? budget_instr : aocs_config_get_uint(cfg, ref);
+        (void)fprintf(f, "[%llu]", (unsigned long long)u);
+    }
     *first = 0;
 }
 
-static void put_u64_value(FILE *f, int *first, const char *name, uint64_t v)
-{
-    (void)fputs(*first ? "" : ", ", f);
-    put_key(f, name);
-    (void)fprintf(f, "[%llu]", (unsigned long long)v);
-    *first = 0;
-}
-
-#define DECODED_REAL(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER, 1);
-#define DECODED_VEC3(NAME, MEMBER) put_value(f, &first, #NAME, cfg->laws.MEMBER.v, 3);
-#define DECODED_MAT3(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER.m[0][0], 9);
-/* a gain, 3x6 or 3x9, as its row-major values */
-#define DECODED_GAIN_COUNT(MEMBER) ((int)(sizeof(cfg->laws.MEMBER) / sizeof(cfg->laws.MEMBER[0][0])))
-#define DECODED_GAIN(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], DECODED_GAIN_COUNT(MEMBER));
-#define DECODED_TABLE(NAME, MEMBER) put_value(f, &first, #NAME, &cfg->laws.MEMBER[0][0], DECODED_GAIN_COUNT(MEMBER));
-#define DECODED_FIELD(NAME, LAW, KEY, MEMBER, TYPE, ...) DECODED_##TYPE(NAME, MEMBER)
-
+/* Every field of the registry by its PIL name (per wheel: WHEEL<i>_<NAME>), as the config holds it. */
 static void dump_decoded(FILE *f, const aocs_exec_config_t *cfg, uint64_t budget_instr)
 {
     int first = 1;
-    /* the executive's fields (AOCS_PIL_EXEC_FIELD_ROWS), by hand: each has its own member and type */
-    put_u64_value(f, &first, "LAW", (uint64_t)cfg->law);
-    put_value(f, &first, "PERIOD_S", &cfg->period_s, 1);
-    put_value(f, &first, "TARGET_Q", cfg->target.qd_DN.q, 4);
-    put_value(f, &first, "TARGET_W", cfg->target.wd_B.v, 3);
-    put_value(f, &first, "TARGET_W_DOT", cfg->target.wd_dot_B.v, 3);
-    put_value(f, &first, "TARGET_ROTATION_RATE", cfg->target_rotation_rate_D.v, 3);
-    put_u64_value(f, &first, "TARGET_T0_NS", cfg->target_t0_ns);
-    put_value(f, &first, "U_MAX_AXIS", cfg->u_max_axis.v, 3);
-    put_value(f, &first, "U_MAX_NORM", &cfg->u_max_norm, 1);
-    put_value(f, &first, "K_SAFE", &cfg->k_safe, 1);
-    put_u64_value(f, &first, "RECOVER_GOOD_SAMPLES", (uint64_t)cfg->recover_good_samples);
-    put_u64_value(f, &first, "MISSING_MAX_PERIODS", (uint64_t)cfg->missing_max_periods);
-    put_u64_value(f, &first, "STALE_TIMEOUT_NS", cfg->stale_timeout_ns);
-    put_u64_value(f, &first, "BUDGET_INSTR", budget_instr);
-    AOCS_LAW_FIELD_ROWS(DECODED_FIELD)
+    for (uint32_t i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *x = aocs_config_field_at(i);
+        const uint32_t units = (aocs_config_field_is_per_wheel(x) != 0) ? (uint32_t)AOCS_WHEELS_MAX : 1u;
+        for (uint32_t w = 0u; w < units; ++w) {
+            char name[64];
+            const aocs_config_ref_t ref = {x, w};
+            if (units > 1u) {
+                (void)snprintf(name, sizeof(name), "WHEEL%u_%s", (unsigned)w, x->pil_name);
+            } else {
+                (void)snprintf(name, sizeof(name), "%s", x->pil_name);
+            }
+            put_decoded(f, &first, name, cfg, ref, budget_instr);
+        }
+    }
 }
 
 static int pil_decode(const char *path)

@@ -730,7 +730,7 @@ aocs_pil_err_t aocs_pil_error_decode(const uint8_t *p, uint32_t len, aocs_pil_er
 
 /* ---- CONFIG field list ---- */
 /* the widest real field: the 3x9 gain of lqr_quat_i (laws.def GAIN) */
-#define PIL_CFG_COUNT_MAX 27U
+#define PIL_CFG_COUNT_MAX AOCS_CONFIG_VALUES_MAX
 
 aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                          const real_t *values, uint32_t count)
@@ -811,289 +811,69 @@ aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *po
     return err;
 }
 
-/* What one CONFIG field holds. */
-typedef enum {
-    PIL_VAL_REAL = 0,   /* count binary64 */
-    PIL_VAL_U64,        /* one uint64 */
-    PIL_VAL_NAME        /* count bytes */
-} pil_val_kind_t;
-
 /*
- * Value kind and count of a field; count 0 = unknown field. The executive's
- * fields by their KIND and COUNT (AOCS_PIL_EXEC_FIELD_ROWS), the law fields
- * of laws.def by their TYPE: real_t, vec3, mat3 and the 3x6 or 3x9 gain are
- * binary64 values, COUNT of them; a TABLE field is a name of up to
- * AOCS_PIL_TABLE_NAME_MAX bytes (the entry gives the length).
+ * One CONFIG entry into *cfg through the configuration registry: its row
+ * (aocs_config_find_pil) gives the value kind and count, its setter applies
+ * the row's rule, so the image refuses what fsw_node refuses. Returns the
+ * registry status (AOCS_ERR_CONFIG_FIELD for a shape the row does not take).
  */
-#define PIL_EXEC_SHAPE_CASE(NAME, ID, KIND, COUNT, ...) \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:                 \
-        *kind = PIL_VAL_##KIND;                         \
-        count = (COUNT);                                \
-        break;
-#define PIL_LAW_KIND_REAL PIL_VAL_REAL
-#define PIL_LAW_KIND_VEC3 PIL_VAL_REAL
-#define PIL_LAW_KIND_MAT3 PIL_VAL_REAL
-#define PIL_LAW_KIND_GAIN PIL_VAL_REAL
-#define PIL_LAW_KIND_TABLE PIL_VAL_NAME
-#define PIL_LAW_COUNT_REAL(COUNT) (COUNT)
-#define PIL_LAW_COUNT_VEC3(COUNT) (COUNT)
-#define PIL_LAW_COUNT_MAT3(COUNT) (COUNT)
-#define PIL_LAW_COUNT_GAIN(COUNT) (COUNT)
-#define PIL_LAW_COUNT_TABLE(COUNT) AOCS_PIL_TABLE_NAME_MAX
-#define PIL_LAW_SHAPE_CASE(NAME, LAW, KEY, MEMBER, TYPE, COUNT, ...) \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:                              \
-        *kind = PIL_LAW_KIND_##TYPE;                                 \
-        count = PIL_LAW_COUNT_##TYPE(COUNT);                         \
-        break;
-
-/* A per-wheel field's values (AOCS_PIL_WHEEL_FIELD_ROWS), by its INDEX. */
-#define PIL_WHEEL_COUNT_CASE(NAME, INDEX, COUNT, ...) \
-    case (INDEX):                                     \
-        count = (COUNT);                              \
-        break;
-
-/* The id of a per-wheel field: 1 with *wheel and *index when `field` is one (ids of pil_frame.h), else 0. */
-static int cfg_wheel_field(uint32_t field, uint32_t *wheel, uint32_t *index)
+static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, uint64_t *budget_instr,
+                                     aocs_config_ref_t ref, uint32_t count)
 {
-    int is_wheel = 0;
-    if ((field >= AOCS_PIL_CFG_WHEEL_BASE) && (field < (AOCS_PIL_CFG_WHEEL_BASE + (AOCS_WHEELS_MAX * AOCS_PIL_WHEEL_STRIDE)))) {
-        *wheel = (field - AOCS_PIL_CFG_WHEEL_BASE) / AOCS_PIL_WHEEL_STRIDE;
-        *index = (field - AOCS_PIL_CFG_WHEEL_BASE) % AOCS_PIL_WHEEL_STRIDE;
-        is_wheel = 1;
-    }
-    return is_wheel;
-}
-
-static uint32_t cfg_wheel_shape(uint32_t index)
-{
-    uint32_t count = 0U;
-    switch (index) {
-    AOCS_PIL_WHEEL_FIELD_ROWS(PIL_WHEEL_COUNT_CASE)
-    default:
-        count = 0U;
-        break;
-    }
-    return count;
-}
-
-static uint32_t cfg_field_shape(uint32_t field, pil_val_kind_t *kind)
-{
-    uint32_t count = 0U;
-    uint32_t wheel = 0U;
-    uint32_t index = 0U;
-    *kind = PIL_VAL_REAL;
-    switch (field) {
-    AOCS_PIL_EXEC_FIELD_ROWS(PIL_EXEC_SHAPE_CASE)
-    AOCS_LAW_FIELD_ROWS(PIL_LAW_SHAPE_CASE)
-    default:
-        count = (cfg_wheel_field(field, &wheel, &index) != 0) ? cfg_wheel_shape(index) : 0U;
-        break;
-    }
-    return count;
-}
-
-/* A per-wheel real-valued entry into wheel `wheel`'s member (the row's READ: one real or a vec3). */
-#define PIL_WHEEL_READ_CASE(NAME, INDEX, COUNT, KEY, MEMBER, READ) \
-    case (INDEX):                                                   \
-        cfg->wheels.MEMBER[wheel] = r_##READ(r);                    \
-        break;
-
-static void cfg_apply_wheel(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t wheel, uint32_t index)
-{
-    switch (index) {
-    AOCS_PIL_WHEEL_FIELD_ROWS(PIL_WHEEL_READ_CASE)
-    default:
-        /* cfg_field_shape admits no other index */
-        break;
-    }
-}
-
-/* 3 x cols values, row-major, into the rows of a gain (3x6, or 3x9 for lqr_quat_i) */
-static void read_gain_row(pil_reader_t *r, real_t *row, uint32_t cols)
-{
-    uint32_t j;
-    for (j = 0U; j < cols; j++) {
-        row[j] = r_real(r);
-    }
-}
-
-static void read_gain(pil_reader_t *r, real_t *k0, real_t *k1, real_t *k2, uint32_t cols)
-{
-    read_gain_row(r, k0, cols);
-    read_gain_row(r, k1, cols);
-    read_gain_row(r, k2, cols);
-}
-
-/* 9 values, row-major */
-static void read_mat3(pil_reader_t *r, aocs_mat3_t *m)
-{
-    uint32_t i;
-    for (i = 0U; i < 3U; i++) {
-        m->m[i][0] = r_real(r);
-        m->m[i][1] = r_real(r);
-        m->m[i][2] = r_real(r);
-    }
-}
-
-/* One case per real-valued law field of laws.def, by TYPE (TABLE fields are names: none here). */
-#define PIL_READ_REAL(NAME, MEMBER)         \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
-        cfg->laws.MEMBER = r_real(r);       \
-        break;
-#define PIL_READ_VEC3(NAME, MEMBER)         \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
-        cfg->laws.MEMBER = r_vec3(r);       \
-        break;
-#define PIL_READ_MAT3(NAME, MEMBER)         \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
-        read_mat3(r, &cfg->laws.MEMBER);    \
-        break;
-#define PIL_READ_GAIN(NAME, MEMBER)                                                          \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:                                                      \
-        read_gain(r, cfg->laws.MEMBER[0], cfg->laws.MEMBER[1], cfg->laws.MEMBER[2],          \
-                  (uint32_t)(sizeof(cfg->laws.MEMBER[0]) / sizeof(cfg->laws.MEMBER[0][0]))); \
-        break;
-#define PIL_READ_TABLE(NAME, MEMBER)
-#define PIL_READ_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) PIL_READ_##TYPE(NAME, MEMBER)
-
-/* Real-valued entry of `count` values (count already matches the field). */
-static void cfg_apply_reals(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t field)
-{
-    switch (field) {
-    case (uint32_t)AOCS_PIL_CFG_PERIOD_S:
-        cfg->period_s = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_Q:
-        cfg->target.qd_DN = r_quat(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W:
-        cfg->target.wd_B = r_vec3(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_W_DOT:
-        cfg->target.wd_dot_B = r_vec3(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_TARGET_ROTATION_RATE:
-        cfg->target_rotation_rate_D = r_vec3(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_AXIS:
-        cfg->u_max_axis = r_vec3(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_U_MAX_NORM:
-        cfg->u_max_norm = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_K_SAFE:
-        cfg->k_safe = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_MARGIN:
-        cfg->guidance.slew.margin = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_RATE_LIMIT:
-        cfg->guidance.slew.rate_limit_radps = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_GUIDANCE_JERK_TIME:
-        cfg->guidance.slew.jerk_time_s = r_real(r);
-        break;
-    case (uint32_t)AOCS_PIL_CFG_WHEELS_NULL_GAIN:
-        cfg->wheels.null_gain_per_s = r_real(r);
-        break;
-    AOCS_LAW_FIELD_ROWS(PIL_READ_CASE)
-    default: {
-        uint32_t wheel = 0U;
-        uint32_t index = 0U;
-        if (cfg_wheel_field(field, &wheel, &index) != 0) {
-            cfg_apply_wheel(r, cfg, wheel, index);
+    const aocs_config_field_t *f = ref.field;
+    aocs_status_t st = AOCS_ERR_CONFIG_FIELD;
+    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        double vals[AOCS_CONFIG_VALUES_MAX];
+        if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
+            for (uint32_t i = 0U; i < count; i++) {
+                vals[i] = f64_from_bits(r_uint(r, 8U));
+            }
+            st = aocs_config_set_reals(cfg, ref, vals, count);
         }
-        /* cfg_field_shape admits no other real-valued field */
-        break;
-    }
-    }
-}
-
-/* Integer entry; 0 when applied, 1 when the value is out of range. */
-static int cfg_apply_u64(aocs_exec_config_t *cfg, uint64_t *budget_instr, uint32_t field, uint64_t value)
-{
-    int bad = 0;
-    if (field == (uint32_t)AOCS_PIL_CFG_LAW) {
-        if (value >= (uint64_t)AOCS_LAW_COUNT) {
-            bad = 1;
+    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
+        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            for (uint32_t i = 0U; i < count; i++) {
+                name[i] = (char)(uint8_t)r_uint(r, 1U);
+            }
+            name[count] = '\0';
+            st = aocs_config_set_table(cfg, ref, name);
+        }
+    } else if (count == 1U) {
+        const uint64_t value = r_uint(r, 8U);
+        if (f->kind == AOCS_CONFIG_KIND_BUDGET) {
+            /* the image's budget is an instruction count (the table's when 0), not the node's ns */
+            st = (value > (uint64_t)UINT32_MAX) ? AOCS_ERR_CONFIG_RULE : AOCS_OK;
+            if (st == AOCS_OK) {
+                *budget_instr = value;
+            }
         } else {
-            cfg->law = (aocs_law_id_t)(int32_t)value;
+            st = aocs_config_set_uint(cfg, ref, value);
         }
-    } else if (field == (uint32_t)AOCS_PIL_CFG_TARGET_T0_NS) {
-        cfg->target_t0_ns = value;
-    } else if (field == (uint32_t)AOCS_PIL_CFG_GUIDANCE_MODE) {
-        if (value >= (uint64_t)AOCS_GUIDANCE_MODE_COUNT) {
-            bad = 1;
-        } else {
-            cfg->guidance.mode = (aocs_guidance_mode_t)(int32_t)value;
-        }
-    } else if (field == (uint32_t)AOCS_PIL_CFG_GUIDANCE_PROFILE) {
-        if (value >= (uint64_t)AOCS_SLEW_PROFILE_COUNT) {
-            bad = 1;
-        } else {
-            cfg->guidance.slew.profile = (aocs_slew_profile_t)(int32_t)value;
-        }
-    } else if (field == (uint32_t)AOCS_PIL_CFG_STALE_TIMEOUT_NS) {
-        cfg->stale_timeout_ns = value;
-    } else if (field == (uint32_t)AOCS_PIL_CFG_BUDGET_INSTR) {
-        if (value > (uint64_t)UINT32_MAX) {
-            bad = 1;
-        } else {
-            *budget_instr = value;
-        }
-    } else if (value > (uint64_t)UINT32_MAX) {
-        bad = 1;
-    } else if (field == (uint32_t)AOCS_PIL_CFG_RECOVER_GOOD_SAMPLES) {
-        cfg->recover_good_samples = (uint32_t)value;
-    } else if (field == (uint32_t)AOCS_PIL_CFG_WHEELS_COUNT) {
-        cfg->wheels.n = (uint32_t)value; /* the executive checks 3 .. AOCS_WHEELS_MAX (0: none) */
-    } else if (field == (uint32_t)AOCS_PIL_CFG_WHEELS_FAILED_MASK) {
-        cfg->wheels.failed_mask = (uint32_t)value;
     } else {
-        cfg->missing_max_periods = (uint32_t)value;
-    }
-    return bad;
-}
-
-/* The law a gain-table field is for (LAW column of its TABLE row in laws.def). */
-#define PIL_TABLE_LAW_REAL(NAME, LAW)
-#define PIL_TABLE_LAW_VEC3(NAME, LAW)
-#define PIL_TABLE_LAW_MAT3(NAME, LAW)
-#define PIL_TABLE_LAW_GAIN(NAME, LAW)
-#define PIL_TABLE_LAW_TABLE(NAME, LAW)      \
-    case (uint32_t)AOCS_PIL_CFG_##NAME:     \
-        law = AOCS_LAW_##LAW;               \
-        break;
-#define PIL_TABLE_LAW_CASE(NAME, LAW, KEY, MEMBER, TYPE, ...) PIL_TABLE_LAW_##TYPE(NAME, LAW)
-
-static aocs_law_id_t cfg_table_law(uint32_t field)
-{
-    aocs_law_id_t law = AOCS_LAW_NONE; /* no table fits NONE: aocs_gain_table_apply refuses */
-    switch (field) {
-    AOCS_LAW_FIELD_ROWS(PIL_TABLE_LAW_CASE)
-    default:
-        law = AOCS_LAW_NONE;
-        break;
-    }
-    return law;
-}
-
-/* Gain-table entry: name -> compiled table -> the law's gain. */
-static aocs_status_t cfg_apply_table(pil_reader_t *r, aocs_exec_config_t *cfg, uint32_t field, uint32_t n)
-{
-    char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
-    aocs_gain_table_id_t table = AOCS_GAIN_TABLE_COUNT;
-    aocs_status_t st;
-    uint32_t i;
-    for (i = 0U; i < n; i++) {
-        name[i] = (char)(uint8_t)r_uint(r, 1U);
-    }
-    name[n] = '\0';
-    st = aocs_gain_table_find(name, &table);
-    if (st == AOCS_OK) {
-        st = aocs_gain_table_apply(table, cfg_table_law(field), &cfg->laws);
+        st = AOCS_ERR_CONFIG_FIELD;
     }
     return st;
+}
+
+/* 1 when an entry of `count` values has the shape of field f: its reals, a name of 1 .. 31 bytes, one integer. */
+static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
+{
+    int ok = 0;
+    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        ok = (count == f->count) ? 1 : 0;
+    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        ok = ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) ? 1 : 0;
+    } else {
+        ok = (count == 1U) ? 1 : 0;
+    }
+    return ok;
+}
+
+/* Bytes an entry of `count` values of field f takes after its two-byte head. */
+static uint32_t cfg_entry_bytes(const aocs_config_field_t *f, uint32_t count)
+{
+    return (f->kind == AOCS_CONFIG_KIND_TABLE) ? count : (count * 8U);
 }
 
 aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_config_t *cfg,
@@ -1108,32 +888,24 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
         *status = AOCS_OK;
         r_init(&r, p, len);
         while ((err == AOCS_PIL_OK) && (r.pos < r.len)) {
-            pil_val_kind_t kind = PIL_VAL_REAL;
+            aocs_config_ref_t ref = {NULL, 0U};
             const uint32_t id = (uint32_t)r_uint(&r, 1U);
             const uint32_t count = (uint32_t)r_uint(&r, 1U);
-            const uint32_t shape = cfg_field_shape(id, &kind);
-            const uint32_t need = (kind == PIL_VAL_NAME) ? count : (count * 8U);
             if (r.underflow != 0) {
                 err = AOCS_PIL_ERR_PAYLOAD;
-            } else if ((shape == 0U) || ((kind != PIL_VAL_NAME) && (count != shape)) ||
-                       ((kind == PIL_VAL_NAME) && ((count == 0U) || (count > shape)))) {
+            } else if ((aocs_config_find_pil(id, &ref) == 0) || (cfg_entry_shape_ok(ref.field, count) == 0)) {
                 err = AOCS_PIL_ERR_FIELD;
                 *field = id;
-            } else if (need > (r.len - r.pos)) {
+            } else if (cfg_entry_bytes(ref.field, count) > (r.len - r.pos)) {
                 err = AOCS_PIL_ERR_PAYLOAD;
                 *field = id;
-            } else if (kind == PIL_VAL_REAL) {
-                cfg_apply_reals(&r, cfg, id);
-            } else if (kind == PIL_VAL_U64) {
-                if (cfg_apply_u64(cfg, budget_instr, id, r_uint(&r, 8U)) != 0) {
-                    err = AOCS_PIL_ERR_FIELD;
-                    *field = id;
-                }
             } else {
-                *status = cfg_apply_table(&r, cfg, id, count);
-                if (*status != AOCS_OK) {
+                const aocs_status_t st = cfg_apply_entry(&r, cfg, budget_instr, ref, count);
+                if (st != AOCS_OK) {
                     err = AOCS_PIL_ERR_FIELD;
                     *field = id;
+                    /* a gain table's own status says which; a value or shape refused is the field's fault */
+                    *status = ((st == AOCS_ERR_GAIN_TABLE_UNKNOWN) || (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW)) ? st : AOCS_OK;
                 }
             }
         }

@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "aocs/config_registry.h"
 #include "aocs/hal.h"
 #include "exec_internal.h"
 
@@ -28,25 +29,10 @@ void aocs_exec_config_default(aocs_exec_config_t *cfg)
 {
     if (cfg != NULL) {
         (void)memset(cfg, 0, sizeof(*cfg));
-        cfg->period_s = AOCS_R(0.1);
-        cfg->law = AOCS_LAW_NONE;
+        /* every one-value field's DEFAULT column (config_fields.def); law NONE, guidance STEP with the
+         * bang-coast-bang profile, no limit, no inertia: the zero of their members */
+        aocs_config_apply_defaults(cfg);
         cfg->target.qd_DN = aocs_quat_identity();
-        cfg->target.wd_B = aocs_vec3_zero();
-        cfg->target.wd_dot_B = aocs_vec3_zero();
-        cfg->u_max_axis = aocs_vec3_zero();
-        cfg->u_max_norm = AOCS_R(0.0);
-        cfg->k_safe = AOCS_R(1.0);
-        cfg->recover_good_samples = 10u;
-        cfg->missing_max_periods = 3u;
-        cfg->stale_timeout_ns = 200000000u; /* 2 periods of 0.1 s */
-        cfg->budget_ns = 0u;
-        cfg->clock = AOCS_EXEC_CLOCK_LOCKSTEP;
-        cfg->guidance.mode = AOCS_GUIDANCE_MODE_STEP;
-        cfg->guidance.slew.profile = AOCS_SLEW_PROFILE_BANG_COAST_BANG;
-        cfg->guidance.slew.margin = AOCS_R(0.8);
-        cfg->guidance.slew.rate_limit_radps = AOCS_R(0.0);
-        cfg->guidance.slew.jerk_time_s = AOCS_R(0.0);
-        cfg->guidance.slew.inertia_kgm2 = aocs_mat3_zero();
         /* no wheel array (n = 0), and the array's own defaults (friction width, no null-space management) for
          * an adapter that fills only the keys it was given */
         aocs_wheels_config_default(&cfg->wheels);

@@ -3,9 +3,10 @@
 - the Python frame codec (sil/aocs_pil/frame.py) against the C header
   (constants, enums, payload sizes) and the golden vectors that
   tests/unit/test_pil_frame.c also checks against the C codec;
-- the configuration parser (sil/aocs_pil/config.py) against fsw_node itself:
-  the same key table as sil/fsw_node/node_config.c, and for a list of
-  broken files the same exit status and the same message as fsw_node.
+- the configuration the bridge flies: read by fsw_node's parser (the
+  aocs_node_config tool behind sil/aocs_pil/config.py), encoded as the
+  CONFIG payload in the file's order, and for a list of broken files the same
+  message as fsw_node; the registry's JSON rows against the C rows.
 """
 from __future__ import annotations
 
@@ -25,6 +26,8 @@ from aocs_wire import netns
 from pil_support import REPO
 
 HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
+#: the configuration registry's header: the CONFIG field ids and limits pil_frame.h takes from it
+CONFIG_HEADER = (REPO / "firmware/include/aocs/config_registry.h").read_text()
 
 GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x0E, 0x4D, 0xB9,
                     0x1E])
@@ -34,8 +37,8 @@ GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x01, 0x1C, 0x00, 0x00, 0x00
 
 
 def c_define(name: str) -> int:
-    m = re.search(rf"^#define {name} \(?(0x[0-9A-Fa-f]+|\d+)U?L?\)?", HEADER, re.M)
-    assert m, f"{name} not found in pil_frame.h"
+    m = re.search(rf"^#define {name} \(?(0x[0-9A-Fa-f]+|\d+)[uU]?L?\)?", HEADER + CONFIG_HEADER, re.M)
+    assert m, f"{name} not found in pil_frame.h or config_registry.h"
     return int(m.group(1), 0)
 
 
@@ -53,7 +56,7 @@ def test_constants_and_enums_match_the_c_header():
     assert frame.CRC_BYTES == c_define("AOCS_PIL_CRC_BYTES")
     assert frame.PAYLOAD_MAX == c_define("AOCS_PIL_PAYLOAD_MAX")
     assert frame.ICOUNT_SHIFT == c_define("AOCS_PIL_ICOUNT_SHIFT")
-    assert frame.TABLE_NAME_MAX == c_define("AOCS_PIL_TABLE_NAME_MAX")
+    assert frame.TABLE_NAME_MAX == c_define("AOCS_CONFIG_TABLE_NAME_MAX")
     assert (frame.TARGET_HOST, frame.TARGET_CORTEX_M4F, frame.TARGET_CORTEX_M7) == (
         c_define("AOCS_PIL_TARGET_HOST"), c_define("AOCS_PIL_TARGET_CORTEX_M4F"), c_define("AOCS_PIL_TARGET_CORTEX_M7"))
     sizes = {"HELLO": frame.HELLO, "STEP": frame.STEP, "STEP_REPLY": frame.STEP_REPLY, "SELECT": frame.SELECT,
@@ -64,7 +67,7 @@ def test_constants_and_enums_match_the_c_header():
     assert {f"AOCS_PIL_T_{v}": k for k, v in frame.TYPE_NAMES.items()} == types
     errs = c_enum("aocs_pil_err_t")
     assert errs == {name: i for i, name in enumerate(frame.ERR_NAMES)}
-    # the CONFIG fields: the executive's rows of pil_frame.h and the law fields of laws.def, as the C
+    # the CONFIG fields: the general and per-wheel rows of config_fields.def and the law fields of laws.def, as the C
     # sources write them, against what the Python codec encodes (read from the build's registry)
     kinds = {"REAL": "f", "U64": "u"}
     want = {x["name"]: (x["pil_id"], kinds[x["kind"]], x["count"]) for x in registry_text.exec_field_rows()}
@@ -140,70 +143,86 @@ def test_config_field_list_encoding():
         frame.ConfigFields([("HINF_TABLE", "x" * 32)]).encode()
 
 
-# ---- the configuration parser mirrors fsw_node -----------------------------------------------
-NODE_CONFIG_C = (REPO / "sil/fsw_node/node_config.c").read_text()
-KIND_MAP = {"REAL": "real", "DOUBLE": "double", "U32": "u32", "U64": "u64", "SECONDS_NS": "seconds_ns",
-            "LAW": "law", "RUN_MODE": "run_mode", "STRING": "string", "INERTIA": "inertia",
-            "GAIN_TABLE": "gain_table", "GUIDANCE_MODE": "guidance_mode", "SLEW_PROFILE": "slew_profile"}
+# ---- the bridge reads a configuration with fsw_node's parser --------------------------------
+def config_entries(payload: bytes) -> dict:
+    """A CONFIG payload's entries, decoded here by hand from the layout of pil_frame.h (an independent
+    reader): field id -> values (a name for a gain-table entry)."""
+    by_id = {v[0]: (k, v[1]) for k, v in frame.cfg_fields().items()}
+    out, i = {}, 0
+    while i < len(payload):
+        fid, count = payload[i], payload[i + 1]
+        i += 2
+        name, kind = by_id[fid]
+        if kind == "s":
+            out[name] = payload[i:i + count].decode()
+            i += count
+        elif kind == "u":
+            out[name] = struct.unpack_from("<Q", payload, i)[0]
+            i += 8
+        else:
+            vals = list(struct.unpack_from(f"<{count}d", payload, i))
+            out[name] = vals if count > 1 else vals[0]
+            i += 8 * count
+    return out
 
 
-def c_keys():
-    """node_config.c KEYS: its general rows, then the law field rows of the registry as node_config.c maps them."""
-    body = NODE_CONFIG_C[NODE_CONFIG_C.index("static const key_def_t KEYS[] = {"):]
-    body = body[:body.index("\n};")]
-    rows = re.findall(r'\{"([\w.]+)",\s*KIND_(\w+),\s*OFF\([^)]*\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+),'
-                      r'\s*AOCS_LAW_\w+\}', body)
-    general = [(n, KIND_MAP[k], int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h))) for n, k, c, r, h in rows]
-    assert "AOCS_LAW_FIELD_ROWS(LAW_KEY_ROW)" in body
-    # WHEEL_KEYS: wheel<i>.<field> for i = 0 .. AOCS_WHEELS_MAX - 1, wheel by wheel, after the general rows
-    wbody = NODE_CONFIG_C[NODE_CONFIG_C.index("static const wheel_key_def_t WHEEL_KEYS[] = {"):]
-    wbody = wbody[:wbody.index("\n};")]
-    wrows = re.findall(r'\{"(\w+)",\s*WOFF\([^)]*\),\s*sizeof\(\w+\),\s*(\d+)u,\s*RULE_(\w+),\s*((?:"[^"]*"\s*)+)\}',
-                       wbody)
-    assert len(wrows) >= 8, "node_config.c WHEEL_KEYS not parsed"
-    general += [(f"wheel{i}.{f}", "real", int(c), r.lower(), "".join(re.findall(r'"([^"]*)"', h)))
-                for i in range(6) for f, c, r, h in wrows]
-    # LAW_KEY_ROW of node_config.c over the field rows of laws.def
-    kinds = {"REAL": "real", "VEC3": "real", "GAIN": "real", "MAT3": "inertia", "TABLE": "gain_table"}
-    laws = [(f["key"], kinds[f["type"]], f["count"] if kinds[f["type"]] == "real" else 1, f["rule"].lower(),
-             f["help"]) for f in registry_text.field_rows()]
-    return general + laws
-
-
-def test_key_table_is_node_config_c():
-    rows = c_keys()
-    assert len(rows) >= 40, "node_config.c KEYS not parsed"
-    ours = [(k.name, k.kind, k.count, k.rule, k.help) for k in nodecfg.keys()]
-    assert ours == rows
+def test_config_fields_of_the_registry_are_the_rows_of_the_def_files():
+    """The build's registry JSON (how Python learns every key) against the rows as the C sources write them."""
+    reg = registry.load()
+    general = [x for x in reg.config_fields if not x.per_wheel and x.law is None]
+    rows = registry_text.exec_field_rows()
+    assert [(x.pil_name, x.pil_id, x.key) for x in general] == [
+        (r["name"], r["pil_id"], r["key"]) for r in rows if not r["name"].startswith("WHEEL") or r["name"].startswith("WHEELS_")]
+    wheel = [x for x in reg.config_fields if x.per_wheel]
+    assert [(x.pil_name, x.key, x.count, x.rule) for x in wheel] == [
+        (w["name"], w["key"], w["count"], w["rule"].lower()) for w in registry_text.wheel_field_rows()]
+    laws = [x for x in reg.config_fields if x.law is not None]
+    assert [(x.key, x.pil_id, x.rule, x.help) for x in laws] == [
+        (f["key"], f["pil_id"], f["rule"].lower(), f["help"]) for f in registry_text.field_rows()]
+    assert {x.pil_name: x.names for x in general if x.kind == "enum"} == {
+        "GUIDANCE_MODE": ("step", "slew"), "GUIDANCE_PROFILE": ("bang_coast_bang", "jerk_limited")}
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
-    """What the mirror accepts as a law and as a gain table of a `<law>.table` key is the C's."""
+    """The laws and, per `<law>.table` key, the gain tables the registry names are the C's."""
     reg = registry.load()
     assert reg.law_names() == ("none",) + tuple(r["name"] for r in registry_text.law_rows())
     tables = registry_text.table_rows()
-    for key in (k for k in nodecfg.keys() if k.kind == "gain_table"):
+    for key in (k for k in reg.config_fields if k.kind == "table"):
         assert reg.tables_for(key.law) == tuple(t["name"] for t in tables if t["law"].lower() == key.law)
-        assert nodecfg.table_names(key.law) == ", ".join(reg.tables_for(key.law))
 
 
 def test_values_reach_the_field_list(tmp_path):
     p = tmp_path / "ok.cfg"
     p.write_text("law = smc  # comment\nmode = lockstep\ncontrol_period_s = 0x1.999999999999ap-4\n"
                  "u_max_axis = 0.5, 0.6 ,0.7\ninertia = 1 2 3\nsmc.lambda = 1 1 1\nbudget_ns = 5000\n"
-                 "lqr_quat.table = lqr_quat_strong\nrecover_good_samples = 4\n")
+                 "lqr_quat.table = lqr_quat_strong\nrecover_good_samples = 4\nwheels.count = 4\n"
+                 "wheel3.js = 0.25\nguidance.mode = slew\n")
     cfg = nodecfg.load(p)
-    assert cfg.law == "smc" and cfg.period_s == 0.1
+    assert cfg.law == "smc" and cfg.period_s == 0.1 and cfg.n_wheels == 4 and cfg.guidance_mode == "slew"
     assert cfg.stale_timeout_ns == 200_000_000           # 2 periods, as node_config.c
-    fields = dict(cfg.pil_fields(168e6).entries)
+    assert cfg.lines["wheel3.js"] == 11 and cfg.lines["law"] == 1
+    payload = cfg.pil_payload(168e6)
+    fields = config_entries(payload)
     assert fields["LAW"] == 5 and fields["PERIOD_S"] == 0.1
     assert fields["U_MAX_AXIS"] == [0.5, 0.6, 0.7]
     assert fields["INERTIA"] == [1.0, 0, 0, 0, 2.0, 0, 0, 0, 3.0]
     assert fields["BUDGET_INSTR"] == 840                   # 5000 ns at 168 MHz
     assert fields["LQR_QUAT_TABLE"] == "lqr_quat_strong"
     assert fields["RECOVER_GOOD_SAMPLES"] == 4
+    assert fields["WHEEL3_JS"] == 0.25 and fields["GUIDANCE_MODE"] == 1
     assert fields["STALE_TIMEOUT_NS"] == 200_000_000
     assert "lcm_url" not in fields and "MODE" not in fields
+    # in the file's order, the stale timeout last
+    assert list(fields)[:3] == ["LAW", "PERIOD_S", "U_MAX_AXIS"] and list(fields)[-1] == "STALE_TIMEOUT_NS"
+
+
+def test_the_hint_names_the_rows_of_the_status():
+    hint = nodecfg.status_hint("AOCS_ERR_GUIDANCE_JERK_TIME_INVALID", "quat_pd")
+    assert hint.startswith("guidance.jerk_time (s, ramp time")
+    assert "wheel<i>.omega_max" in nodecfg.status_hint("AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT", "quat_pd")
+    assert nodecfg.status_hint("AOCS_ERR_GAIN_TABLE_INVALID", "hinf") == "hinf.k / hinf.table"
+    assert nodecfg.status_hint("AOCS_OK", "quat_pd") == "the keys of the selected law"
 
 
 BAD_CONFIGS = {

@@ -46,7 +46,7 @@
 #define AOCS_PIL_ICOUNT_SHIFT 7U
 
 /* Longest gain-table design name in a CONFIG frame (without the NUL). */
-#define AOCS_PIL_TABLE_NAME_MAX 31U
+#define AOCS_PIL_TABLE_NAME_MAX AOCS_CONFIG_TABLE_NAME_MAX
 
 /* Target ids of the HELLO frame. */
 #define AOCS_PIL_TARGET_HOST 0U
@@ -91,82 +91,19 @@ typedef enum {
 } aocs_pil_err_t;
 
 /*
- * CONFIG fields: one per executive key of the fsw_node configuration file
- * (docs/wire-contract.md); the node-only keys (mode, timeouts, lcm_url) stay
- * in the bridge. Entry layout: u8 field, u8 count, then count binary64
- * values (reals), count uint64 values (integers), or count bytes (the design
- * name of a gain table). Fields not given keep aocs_exec_config_default().
- *
- * Two lists, one enum: the executive's own fields below (ids 1 .. 14), and
- * every law field of aocs/laws.def (AOCS_LAW_FIELD_ROWS: id = PIL_ID column,
- * name AOCS_PIL_CFG_<NAME>, shape from the TYPE column: REAL 1, VEC3 3,
- * MAT3 9 row-major, GAIN 18 or 27 row-major 3x6 or 3x9, TABLE a name). The ids are wire
- * values: never renumber (tests/unit/test_registry.c pins them).
- *
- * AOCS_PIL_EXEC_FIELD_ROWS(X): X(NAME, ID, KIND, COUNT, KEY)
- *   KIND  REAL (count binary64) or U64 (one uint64)
- *   KEY   the fsw_node key the bridge takes the value from ("" = none); the
- *         bridge converts stale_timeout_s to ns and budget_ns to
- *         instructions at the target's nominal clock
+ * CONFIG fields: every field of the configuration registry
+ * (aocs/config_registry.h: config_fields.def and the laws' rows of laws.def),
+ * by its PIL id (AOCS_PIL_CFG_<NAME>; per wheel AOCS_PIL_CFG_WHEEL_BASE + i *
+ * AOCS_PIL_WHEEL_STRIDE + index). The node-only keys (mode, timeouts,
+ * lcm_url) stay in the bridge. Entry layout: u8 field, u8 count, then count
+ * binary64 values (a REALS or INERTIA field, 9 row-major for an inertia),
+ * one uint64 (an integer field: U32, U64, NS in ns, LAW / ENUM by value; the
+ * BUDGET field is the instruction budget override of the image), or count
+ * bytes (the design name of a gain table). Fields not given keep
+ * aocs_exec_config_default(). The ids are wire values: never renumber
+ * (tests/unit/test_registry.c pins them).
  */
-/* clang-format off */
-#define AOCS_PIL_EXEC_FIELD_ROWS(X)                                                        \
-    X(LAW, 1u, U64, 1u, "law")                                /* aocs_law_id_t */          \
-    X(PERIOD_S, 2u, REAL, 1u, "control_period_s")                                          \
-    X(TARGET_Q, 3u, REAL, 4u, "target_q")                                                  \
-    X(TARGET_W, 4u, REAL, 3u, "target_w")                                                  \
-    X(TARGET_W_DOT, 5u, REAL, 3u, "target_w_dot")                                          \
-    X(TARGET_ROTATION_RATE, 6u, REAL, 3u, "target_rotation_rate")                          \
-    X(TARGET_T0_NS, 7u, U64, 1u, "")                                                       \
-    X(U_MAX_AXIS, 8u, REAL, 3u, "u_max_axis")                                              \
-    X(U_MAX_NORM, 9u, REAL, 1u, "u_max_norm")                                              \
-    X(K_SAFE, 10u, REAL, 1u, "k_safe")                                                     \
-    X(RECOVER_GOOD_SAMPLES, 11u, U64, 1u, "recover_good_samples") /* <= UINT32_MAX */      \
-    X(MISSING_MAX_PERIODS, 12u, U64, 1u, "missing_max_periods")   /* <= UINT32_MAX */      \
-    X(STALE_TIMEOUT_NS, 13u, U64, 1u, "stale_timeout_s")                                   \
-    X(BUDGET_INSTR, 14u, U64, 1u, "budget_ns") /* instruction budget override, 0 = the table */ \
-    X(GUIDANCE_MODE, 60u, U64, 1u, "guidance.mode")           /* aocs_guidance_mode_t */   \
-    X(GUIDANCE_PROFILE, 61u, U64, 1u, "guidance.profile")     /* aocs_slew_profile_t */    \
-    X(GUIDANCE_MARGIN, 62u, REAL, 1u, "guidance.margin")                                   \
-    X(GUIDANCE_RATE_LIMIT, 63u, REAL, 1u, "guidance.rate_limit")                           \
-    X(GUIDANCE_JERK_TIME, 64u, REAL, 1u, "guidance.jerk_time")                             \
-    X(WHEELS_COUNT, 65u, U64, 1u, "wheels.count")             /* 0 = no array, else 3 .. 6 */ \
-    X(WHEELS_FAILED_MASK, 66u, U64, 1u, "wheels.failed_mask") /* <= UINT32_MAX */      \
-    X(WHEELS_NULL_GAIN, 67u, REAL, 1u, "wheels.null_gain")
-/* clang-format on */
-
-/*
- * The wheel array's per-wheel CONFIG fields: the field F of wheel i (i = 0 ..
- * AOCS_WHEELS_MAX - 1) has the id AOCS_PIL_CFG_WHEEL_BASE + i *
- * AOCS_PIL_WHEEL_STRIDE + INDEX (ids 100 .. 147) and comes from the fsw_node
- * key "wheel<i>.<KEY>" (node_config.c WHEEL_KEYS), COUNT binary64 values
- * into the member MEMBER[i] of aocs_wheels_config_t, read as READ (real or
- * vec3). One row per field, not per wheel.
- *
- * AOCS_PIL_WHEEL_FIELD_ROWS(X): X(NAME, INDEX, COUNT, KEY, MEMBER, READ)
- */
-/* clang-format off */
-#define AOCS_PIL_WHEEL_FIELD_ROWS(X)                                                       \
-    X(AXIS, 0u, 3u, "axis", axis_B, vec3)                                                  \
-    X(JS, 1u, 1u, "js", js_kgm2, real)                                                     \
-    X(U_MAX, 2u, 1u, "u_max", u_max_nm, real)                                              \
-    X(OMEGA_MAX, 3u, 1u, "omega_max", omega_max_radps, real)                               \
-    X(VISCOUS, 4u, 1u, "viscous", viscous_nms, real)                                       \
-    X(COULOMB, 5u, 1u, "coulomb", coulomb_nm, real)                                        \
-    X(COULOMB_WIDTH, 6u, 1u, "coulomb_width", coulomb_width_radps, real)                   \
-    X(NULL_SPEED, 7u, 1u, "null_speed", null_speed_radps, real)
-/* clang-format on */
-#define AOCS_PIL_CFG_WHEEL_BASE 100u
-#define AOCS_PIL_WHEEL_STRIDE 8u   /* rows of AOCS_PIL_WHEEL_FIELD_ROWS */
-
-#define AOCS_PIL_CFG_EXEC_ENUM(NAME, ID, ...) AOCS_PIL_CFG_##NAME = (ID),
-#define AOCS_PIL_CFG_LAW_ENUM(NAME, LAW, KEY, MEMBER, TYPE, COUNT, RULE, HELP, PIL_ID, ...) \
-    AOCS_PIL_CFG_##NAME = (PIL_ID),
-typedef enum {
-    AOCS_PIL_EXEC_FIELD_ROWS(AOCS_PIL_CFG_EXEC_ENUM)
-    AOCS_LAW_FIELD_ROWS(AOCS_PIL_CFG_LAW_ENUM)
-    AOCS_PIL_CFG_FIELD_MAX = 255 /* ids are one byte on the wire */
-} aocs_pil_cfg_field_t;
+#include "aocs/config_registry.h"
 
 /* Decoded header (magic and CRC are checked, not kept). */
 typedef struct {
