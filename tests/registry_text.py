@@ -110,11 +110,11 @@ def _define(text: str, name: str) -> int:
 
 def wheel_field_rows() -> list[dict]:
     """AOCS_CONFIG_WHEEL_FIELD_ROWS of config_fields.def: one dict per per-wheel field."""
-    cols = ("name", "key", "member", "count", "rule", "index", "status", "also", "help")
+    cols = ("name", "member", "count", "rule", "index", "status", "also", "help")
     rows = []
     for r in _rows(_macro_body(CONFIG_FIELDS_DEF.read_text(), "AOCS_CONFIG_WHEEL_FIELD_ROWS")):
         d = dict(zip(cols, r))
-        d["index"], d["count"], d["key"] = _num(d["index"]), _num(d["count"]), _str(d["key"])
+        d["index"], d["count"], d["key"] = _num(d["index"]), _num(d["count"]), d["member"]
         rows.append(d)
     return rows
 

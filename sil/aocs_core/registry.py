@@ -92,7 +92,7 @@ class ExecField:
 @dataclass(frozen=True)
 class ConfigField:
     """One row of the configuration registry (aocs/config_registry.h): a general, per-wheel or law field."""
-    key: str              # configuration-file key; per-wheel: the field ("js" of wheel<i>.js); "" = adapter only
+    key: str              # configuration-file key; per-wheel: the field ("js_kgm2" of wheel<i>.js_kgm2); "" = adapter only
     pil_name: str         # AOCS_PIL_CFG_<pil_name> (per wheel: WHEEL<i>_<pil_name>)
     pil_id: int           # PIL CONFIG id (per wheel: of wheel 0)
     per_wheel: bool
@@ -103,6 +103,8 @@ class ConfigField:
     law: str | None       # a law field: the law
     status: str | None    # the aocs_exec_init status that names it
     help: str             # unit and meaning
+    default: object = None  # aocs_exec_config_default's value: a list of reals, an integer (enum, law: its
+    #                         index; ns), None for a table
 
 
 
@@ -139,7 +141,8 @@ class Registry:
             ExecField(x["name"], x["pil_id"], x["kind"], x["count"], x["key"]) for x in data["pil_exec_fields"])
         self.config_fields: tuple[ConfigField, ...] = tuple(
             ConfigField(x["key"], x["pil_name"], x["pil_id"], x["per_wheel"], x["kind"], x["count"], x["rule"],
-                        tuple((x["names"] or "").split(",")) if x["names"] else (), x["law"], x["status"], x["help"])
+                        tuple((x["names"] or "").split(",")) if x["names"] else (), x["law"], x["status"], x["help"],
+                        x["default"])
             for x in data["config_fields"])
         #: the executive's accepted ranges (executive.h): actuator limits (N m or N), control period (s)
         self.limits: dict[str, float] = {k: float(v) for k, v in data["limits"].items()}
@@ -204,7 +207,7 @@ class Registry:
         return out
 
     def config_field(self, key: str) -> ConfigField | None:
-        """The configuration registry's row of a file key ("k_safe", "wheel2.js", "quat_pd.kp"); None if none."""
+        """The configuration registry's row of a file key ("k_safe", "wheel2.js_kgm2", "quat_pd.kp"); None if none."""
         if key.startswith("wheel") and len(key) > 7 and key[5].isdigit() and key[6] == ".":
             return next((f for f in self.config_fields if f.per_wheel and f.key == key[7:]), None)
         return next((f for f in self.config_fields if not f.per_wheel and f.key == key and key), None)

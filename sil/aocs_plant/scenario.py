@@ -178,8 +178,8 @@ class MetricsConfig:
     goal_arcsec: float | None = None
 
 
-GUIDANCE_MODES = ("step", "slew")
-GUIDANCE_PROFILES = ("bang_coast_bang", "jerk_limited")
+#: [guidance]'s keys are the flight software's guidance.* keys (the configuration registry), without the prefix
+GUIDANCE_PREFIX = "guidance."
 
 
 @dataclass(frozen=True)
@@ -621,16 +621,25 @@ def _read_guidance(root: _Section, kind: str, target) -> GuidanceConfig:
         return GuidanceConfig()
     if kind != "attitude":
         sec.fail(sec.path, "slew guidance applies to attitude scenarios only")
-    mode = sec.string("mode", required=False, default="step", choices=GUIDANCE_MODES)
-    profile = sec.string("profile", required=False, default="bang_coast_bang", choices=GUIDANCE_PROFILES)
-    margin = sec.number("margin", required=False, default=0.8, positive=True)
+    fields = {f.key[len(GUIDANCE_PREFIX):]: f for f in registry.load().config_fields
+              if f.key.startswith(GUIDANCE_PREFIX)}
+    # the enumerated keys take the registry's names, the first the default (the flight software's enum 0)
+    mode = sec.string("mode", required=False, default=fields["mode"].names[0], choices=fields["mode"].names)
+    profile = sec.string("profile", required=False, default=fields["profile"].names[0],
+                         choices=fields["profile"].names)
+    def number(name: str) -> float:   # a real-valued key: the registry's default and sign rule
+        f = fields[name]
+        return sec.number(name, required=False, default=f.default[0], positive=f.rule == "pos",
+                          nonneg=f.rule == "nonneg")
+
+    margin = number("margin")
     if margin > 1.0:
         sec.fail(sec.key("margin"), f"{margin:g} is above 1 (the fraction of the torque envelope, in (0, 1])")
-    rate = sec.number("rate_limit_radps", required=False, default=0.0, nonneg=True)
+    rate = number("rate_limit_radps")
     if rate > GUIDANCE_RATE_LIMIT_MAX_RADPS:
         sec.fail(sec.key("rate_limit_radps"), f"{rate:g} rad/s is above {GUIDANCE_RATE_LIMIT_MAX_RADPS:g} rad/s "
                                               "(0 = no limit)")
-    jerk = sec.number("jerk_time_s", required=False, default=0.0, nonneg=True)
+    jerk = number("jerk_time_s")
     jmax = _jerk_time_max_s()
     if jerk > jmax:
         sec.fail(sec.key("jerk_time_s"), f"{jerk:g} s is above {jmax:g} s")

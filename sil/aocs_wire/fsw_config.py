@@ -18,16 +18,17 @@ What comes from where (docs/sil.md):
 - limits: the scenario's `actuator.axis_limit` / `norm_limit`, or the
   runner's `--limit`; a scenario without a limit (the reference runs) gets
   UNLIMITED per axis, because the executive requires one limit;
-- guidance: the scenario's [guidance] as the guidance.* keys, only in
-  slew mode (step mode, the default, writes none);
+- guidance: the scenario's [guidance] as the registry's guidance.* keys of
+  the same names, only in slew mode (step mode, the default, writes none);
 - the reaction wheel array, when the scenario has a [wheels] section: the
   same description that builds the plant's wheels (aocs_plant.effectors.
   reaction_wheels) gives `wheels.count`, `wheels.failed_mask` and per wheel
-  `wheel<i>.axis / js / u_max / omega_max`, the friction model of the
-  flight software's feedforward `wheel<i>.viscous / coulomb / coulomb_width`
+  `wheel<i>.axis_B / js_kgm2 / u_max_nm / omega_max_radps`, the friction model
+  of the flight software's feedforward `wheel<i>.viscous_nms / coulomb_nm /
+  coulomb_width_radps`
   (the plant's own friction coefficients, b and c times the [wheels] key
   `fsw_friction_scale`, 1 by default) and the null-space management
-  `wheels.null_gain`, `wheel<i>.null_speed`, so the two cannot disagree; the
+  `wheels.null_gain`, `wheel<i>.null_speed_radps`, so the two cannot disagree; the
   spacecraft inertia for the momentum is the `inertia` key;
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
@@ -41,6 +42,10 @@ import numpy as np
 
 from aocs_core import registry
 from aocs_core.limits import UNLIMITED
+
+
+#: the flight software's guidance keys: guidance.<name of the scenario's [guidance] value>
+GUIDANCE_PREFIX = "guidance."
 
 
 class ConfigError(ValueError):
@@ -96,17 +101,18 @@ def wheel_keys(scenario) -> dict[str, str]:
     if w.failed:
         out["wheels.failed_mask"] = str(sum(1 << i for i in w.failed))
     for i in range(w.n):
-        out[f"wheel{i}.axis"] = _vec(w.axes[i])
-        out[f"wheel{i}.js"] = _num(w.spin_inertia_kg_m2[i])
-        out[f"wheel{i}.u_max"] = _num(w.torque_limit_nm[i])
-        out[f"wheel{i}.omega_max"] = _num(w.speed_limit_rad_s[i])
+        # the flight software's model of wheel i: its registry fields (wheel<i>.<member of aocs_wheels_config_t>)
+        out[f"wheel{i}.axis_B"] = _vec(w.axes[i])
+        out[f"wheel{i}.js_kgm2"] = _num(w.spin_inertia_kg_m2[i])
+        out[f"wheel{i}.u_max_nm"] = _num(w.torque_limit_nm[i])
+        out[f"wheel{i}.omega_max_radps"] = _num(w.speed_limit_rad_s[i])
         # the friction feedforward models the plant's bearing friction (docs/spec.md 5.3.2), times
         # fsw_friction_scale (1: exactly the plant's; a model error otherwise)
-        out[f"wheel{i}.viscous"] = _num(w.fsw_friction_scale * w.viscous_nms)
-        out[f"wheel{i}.coulomb"] = _num(w.fsw_friction_scale * w.coulomb_nm)
-        out[f"wheel{i}.coulomb_width"] = _num(w.coulomb_width_rad_s)
+        out[f"wheel{i}.viscous_nms"] = _num(w.fsw_friction_scale * w.viscous_nms)
+        out[f"wheel{i}.coulomb_nm"] = _num(w.fsw_friction_scale * w.coulomb_nm)
+        out[f"wheel{i}.coulomb_width_radps"] = _num(w.coulomb_width_rad_s)
         if w.null_gain_per_s > 0.0:
-            out[f"wheel{i}.null_speed"] = _num(w.null_speed_rad_s[i])
+            out[f"wheel{i}.null_speed_radps"] = _num(w.null_speed_rad_s[i])
     if w.null_gain_per_s > 0.0:
         out["wheels.null_gain"] = _num(w.null_gain_per_s)
     return out
@@ -152,13 +158,12 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
         cfg["u_max_axis"] = _vec((UNLIMITED,) * 3)
     g = getattr(sc, "guidance", None)
     if sc.kind == "attitude" and g is not None and g.mode != "step":
-        # [guidance] (docs/wire-contract.md guidance.*); the inertia is the plant's `inertia` key above.
-        # Step mode writes nothing: the reference runs' configuration stays as it was
-        cfg["guidance.mode"] = g.mode
-        cfg["guidance.profile"] = g.profile
-        cfg["guidance.margin"] = _num(g.margin)
-        cfg["guidance.rate_limit"] = _num(g.rate_limit_radps)
-        cfg["guidance.jerk_time"] = _num(g.jerk_time_s)
+        # [guidance]: the registry's guidance.* keys, each the scenario's value of the same name (one
+        # description). Step mode writes nothing: the reference runs' configuration stays as it was
+        for f in registry.load().config_fields:
+            if f.key.startswith(GUIDANCE_PREFIX):
+                v = getattr(g, f.key[len(GUIDANCE_PREFIX):])
+                cfg[f.key] = v if f.kind == "enum" else _num(v)
     cfg.update(wheel_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)

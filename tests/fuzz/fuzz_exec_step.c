@@ -197,7 +197,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if ((with & 2u) != 0u) {
                 tgt.qd_DN = unit_quat(&r);
             }
-            (void)aocs_exec_select(&exec, (aocs_law_id_t)(law % 12u), ((with & 1u) != 0u) ? &tgt : NULL);
+            (void)aocs_exec_select(&exec, (aocs_law_id_t)(law % (uint8_t)AOCS_LAW_COUNT), ((with & 1u) != 0u) ? &tgt : NULL);
         } else if (op == 8u) {
             g_now_ns += fuzz_u64(&r);
         } else {

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "aocs/executive.h"
+#include "aocs_registry.h"
 #include "../unit/exact_norm.h"
 
 /* ---- byte reader: past the end every read gives zeros ---- */
@@ -80,60 +81,25 @@ static inline double fuzz_mag(fuzz_reader_t *r, double lo, double hi)
     return pow(10.0, lo + (hi - lo) * ((double)fuzz_u16(r) / 65535.0));
 }
 
-/* ---- a valid configuration of every law (values of tests/unit/test_executive_laws.c) ---- */
+/*
+ * ---- a valid configuration of every law: the registry's reference configuration ----
+ * (the REF column of every law field row of laws.def, tools/registry), so a new law is fuzzed
+ * with its own reference values and no list here can miss it. A row whose REF does not parse
+ * aborts with its key.
+ */
 static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
 {
-    memset(laws, 0, sizeof(*laws));
-    laws->crp_linear.k1 = AOCS_R(19.0);
-    laws->crp_linear.k2 = AOCS_R(13.0);
-    laws->quat_pd.kp = AOCS_R(4.0);
-    laws->quat_pd.kd = AOCS_R(8.0);
-    laws->quat_nlpd.kp = AOCS_R(3.0);
-    laws->quat_nlpd.kd = AOCS_R(7.0);
-    laws->smc.inertia = aocs_mat3_diag(aocs_vec3_make(AOCS_R(10.0), AOCS_R(12.0), AOCS_R(15.0)));
-    laws->smc.inertia.m[0][1] = AOCS_R(0.5);
-    laws->smc.inertia.m[1][0] = AOCS_R(0.5);
-    laws->smc.lambda = aocs_vec3_make(AOCS_R(1.0), AOCS_R(1.0), AOCS_R(1.0));
-    laws->smc.g = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
-    laws->smc.eps = aocs_vec3_make(AOCS_R(0.02), AOCS_R(0.02), AOCS_R(0.02));
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 6; ++j) {
-            real_t off = AOCS_R(0.1) * (real_t)(i + 1) - AOCS_R(0.05) * (real_t)j;
-            laws->lqr_quat.k[i][j] = off;
-            laws->hinf.k[i][j] = -off;
-            laws->orbit_lqr.k[i][j] = AOCS_R(0.01) * off;
+    static aocs_exec_law_configs_t reference; /* parsed once: every input starts from the same values */
+    static int parsed = 0;
+    if (parsed == 0) {
+        char err[256];
+        if (aocs_registry_reference_configs(&reference, err, sizeof(err)) != 0) {
+            (void)fprintf(stderr, "fuzz: the registry's reference configuration is not valid: %s\n", err);
+            abort();
         }
-        laws->lqr_quat.k[i][i] = AOCS_R(20.0);
-        laws->lqr_quat.k[i][3 + i] = AOCS_R(30.0);
-        laws->hinf.k[i][i] = AOCS_R(-5.0);
-        laws->hinf.k[i][3 + i] = AOCS_R(-9.0);
-        laws->orbit_lqr.k[i][i] = AOCS_R(2.0);
-        laws->orbit_lqr.k[i][3 + i] = AOCS_R(0.3);
+        parsed = 1;
     }
-    /* SPEC 5.2: kd kp = 32 > lambda_max(J) ki (J = the smc inertia above, copied in by the executive) */
-    laws->quat_pid.kp = AOCS_R(4.0);
-    laws->quat_pid.kd = AOCS_R(8.0);
-    laws->quat_pid.ki = AOCS_R(1.0);
-    laws->quat_pid.z_max = AOCS_R(0.1);
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 9; ++j) {
-            laws->lqr_quat_i.k[i][j] = AOCS_R(0.05) * (real_t)(i + 1) - AOCS_R(0.02) * (real_t)j;
-        }
-        laws->lqr_quat_i.k[i][i] = AOCS_R(2.0);       /* z */
-        laws->lqr_quat_i.k[i][3 + i] = AOCS_R(20.0);  /* qe_vec */
-        laws->lqr_quat_i.k[i][6 + i] = AOCS_R(30.0);  /* we */
-    }
-    laws->lqr_quat_i.z_max = AOCS_R(0.1);
-    laws->mrp_sat.k = AOCS_R(50.0);
-    laws->mrp_sat.lambda = AOCS_R(0.6);
-    laws->mrp_sat.u_max = AOCS_R(0.05);
-    laws->mrp_sat.l1 = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.05), AOCS_R(0.05));
-    laws->mrp_sat.m1 = laws->mrp_sat.l1;
-    {
-        real_t m2 = AOCS_R(2.0) * AOCS_R(0.05) / AOCS_SQRT(AOCS_R(3.0));
-        laws->mrp_sat.l2 = aocs_vec3_make(m2, m2, m2);
-        laws->mrp_sat.m2 = laws->mrp_sat.l2;
-    }
+    *laws = reference;
 }
 
 /* ---- the invariant ---- */

@@ -121,15 +121,15 @@ CONFIGS = {
     # the SPEC 5.3 pyramid about x, wheel 0 failed (docs/wire-contract.md "Reaction wheels")
     "wheels": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 1 1 1\ninertia = 2059.5 5954.2 5974.3\n"
               "wheels.count = 4\nwheels.failed_mask = 1\n" + "".join(
-                  f"wheel{i}.axis = {a}\nwheel{i}.js = 0.08\nwheel{i}.u_max = 0.25\nwheel{i}.omega_max = 600\n"
+                  f"wheel{i}.axis_B = {a}\nwheel{i}.js_kgm2 = 0.08\nwheel{i}.u_max_nm = 0.25\nwheel{i}.omega_max_radps = 600\n"
                   for i, a in enumerate(("0.57735 0.81650 0", "0.57735 0 0.81650", "0.57735 -0.81650 0",
                                          "0.57735 0 -0.81650"))),
     # the same with the friction feedforward model and the null-space management (docs/spec.md 5.3.2)
     "wheels_friction": "law = quat_pd\nquat_pd.kp = 4\nquat_pd.kd = 8\nu_max_axis = 1 1 1\n"
                        "inertia = 2059.5 5954.2 5974.3\nwheels.count = 4\nwheels.null_gain = 0.02\n" + "".join(
-                           f"wheel{i}.axis = {a}\nwheel{i}.js = 0.08\nwheel{i}.u_max = 0.25\nwheel{i}.omega_max = 600\n"
-                           f"wheel{i}.viscous = 1e-5\nwheel{i}.coulomb = 2e-3\nwheel{i}.coulomb_width = 0.5\n"
-                           f"wheel{i}.null_speed = {50 if i % 2 == 0 else -50}\n"
+                           f"wheel{i}.axis_B = {a}\nwheel{i}.js_kgm2 = 0.08\nwheel{i}.u_max_nm = 0.25\nwheel{i}.omega_max_radps = 600\n"
+                           f"wheel{i}.viscous_nms = 1e-5\nwheel{i}.coulomb_nm = 2e-3\nwheel{i}.coulomb_width_radps = 0.5\n"
+                           f"wheel{i}.null_speed_radps = {50 if i % 2 == 0 else -50}\n"
                            for i, a in enumerate(("0.57735 0.81650 0", "0.57735 0 0.81650", "0.57735 -0.81650 0",
                                                   "0.57735 0 -0.81650"))),
 }

@@ -19,6 +19,7 @@ SUBCOMMANDS = {
     "gains": ("aocs.cmd_gains", "regenerate every gain design and the firmware tables"),
     "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
+    "docs": ("aocs.cmd_docs", "regenerate the docs' tables of laws, configuration keys and budgets from the registry"),
     "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
 }
 

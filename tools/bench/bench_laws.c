@@ -336,7 +336,6 @@ static aocs_status_t bench_exec_init(const bench_law_info_t *info, const aocs_ex
     cfg.laws = *c;
     /* a limit that does not bind for these states: the unsaturated path of a nominal step */
     cfg.u_max_axis = aocs_vec3_make(AOCS_R(1.0e4), AOCS_R(1.0e4), AOCS_R(1.0e4));
-    cfg.k_safe = AOCS_R(1.0);
     cfg.clock = AOCS_EXEC_CLOCK_LOCKSTEP;
     st = aocs_exec_init(&bench_exec, &cfg);
     if (st == AOCS_OK) {

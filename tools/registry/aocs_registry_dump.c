@@ -262,6 +262,28 @@ static const char *rule_name(aocs_config_rule_t rule)
 
 /* Every row of the configuration registry (aocs/config_registry.h), in its order: how Python learns each key,
  * its kind, count, rule, unit, PIL id, enum names and the status that names it. */
+/* A field's value in aocs_exec_config_default (a per-wheel field: wheel 0's), as JSON: numbers, or null. */
+static void put_default(FILE *f, const aocs_config_field_t *x)
+{
+    static aocs_exec_config_t cfg;
+    const aocs_config_ref_t ref = {x, 0u};
+    double v[AOCS_CONFIG_VALUES_MAX];
+    aocs_exec_config_default(&cfg);
+    put_key(f, "default");
+    if ((x->kind == AOCS_CONFIG_KIND_REALS) || (x->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        const uint32_t n = aocs_config_get_reals(&cfg, ref, v, AOCS_CONFIG_VALUES_MAX);
+        (void)fputc('[', f);
+        for (uint32_t i = 0u; i < n; ++i) {
+            (void)fprintf(f, "%s%.17g", (i > 0u) ? ", " : "", v[i]);
+        }
+        (void)fputc(']', f);
+    } else if (x->kind == AOCS_CONFIG_KIND_TABLE) {
+        (void)fputs("null", f);
+    } else {
+        (void)fprintf(f, "%llu", (unsigned long long)aocs_config_get_uint(&cfg, ref));
+    }
+}
+
 static void dump_config_fields(FILE *f)
 {
     const uint32_t n = aocs_config_field_count();
@@ -293,6 +315,8 @@ static void dump_config_fields(FILE *f)
         (void)fputs(", ", f);
         put_key(f, "help");
         put_str(f, x->help);
+        (void)fputs(", ", f);
+        put_default(f, x);
         (void)fprintf(f, "}%s\n", ((i + 1u) < n) ? "," : "");
     }
     (void)fputs("  ],\n", f);

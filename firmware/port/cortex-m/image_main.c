@@ -97,7 +97,6 @@ static aocs_status_t img_exec_init(aocs_exec_t *exec, aocs_law_id_t law)
     cfg.period_s = IMG_DT_S;
     cfg.law = law;
     cfg.u_max_axis = aocs_vec3_make(IMG_U_MAX, IMG_U_MAX, IMG_U_MAX);
-    cfg.k_safe = AOCS_R(10.0);
     cfg.laws.quat_pd.kp = AOCS_R(20.0);
     cfg.laws.quat_pd.kd = AOCS_R(25.0);
     cfg.laws.quat_nlpd.kp = AOCS_R(20.0);

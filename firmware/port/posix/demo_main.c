@@ -139,7 +139,6 @@ int main(void)
     cfg.laws.quat_pd.kd = AOCS_R(8000.0);
     /* IRASSI reference torques are hundreds of N m (SPEC 4); this limit does not bind here */
     cfg.u_max_axis = aocs_vec3_make(AOCS_R(1000.0), AOCS_R(1000.0), AOCS_R(1000.0));
-    cfg.k_safe = AOCS_R(8000.0);
 
     st = aocs_mat3_inverse(body.j, &body.j_inv);
     if (st == AOCS_OK) {

@@ -53,8 +53,8 @@
      CFG_ENUMS_##KIND, AOCS_LAW_NONE, AOCS_##STATUS, AOCS_##ALSO, HELP},
 
 /* ---- per-wheel rows: wheel 0's value, one wheel's value to the next ---- */
-#define CFG_WHEEL_ROW(NAME, FIELD, MEMBER, COUNT, RULE, INDEX, STATUS, ALSO, HELP)                             \
-    {FIELD, AOCS_PIL_CFG_WHEEL_BASE + (INDEX), #NAME, AOCS_CONFIG_KIND_REALS, COUNT, AOCS_CONFIG_RULE_##RULE, \
+#define CFG_WHEEL_ROW(NAME, MEMBER, COUNT, RULE, INDEX, STATUS, ALSO, HELP)                                    \
+    {#MEMBER, AOCS_PIL_CFG_WHEEL_BASE + (INDEX), #NAME, AOCS_CONFIG_KIND_REALS, COUNT, AOCS_CONFIG_RULE_##RULE, \
      CFG_OFF(wheels.MEMBER[0]), sizeof(((aocs_wheels_config_t *)NULL)->MEMBER[0]), 0u, NULL, AOCS_LAW_NONE,   \
      AOCS_##STATUS, AOCS_##ALSO, HELP},
 

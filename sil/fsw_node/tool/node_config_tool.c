@@ -44,7 +44,7 @@ static void put_str(const char *s)
     (void)putchar('"');
 }
 
-/* The key of a registry field as the file names it ("wheel2.js" for a per-wheel one). */
+/* The key of a registry field as the file names it ("wheel2.js_kgm2" for a per-wheel one). */
 static void field_key(aocs_config_ref_t ref, char *buf, size_t size)
 {
     if (aocs_config_field_is_per_wheel(ref.field) != 0) {

@@ -79,7 +79,7 @@ def test_exec_fields_are_the_rows_of_pil_frame_h(reg):
     # per-wheel fields 100 .. 147 (8 per wheel, pil_frame.h)
     assert [x.pil_id for x in reg.exec_fields] == (list(range(1, 15)) + list(range(60, 68))
                                                    + list(range(100, 148)))
-    assert reg.exec_field_of_key("wheel3.coulomb").pil_id == 100 + 3 * 8 + 5
+    assert reg.exec_field_of_key("wheel3.coulomb_nm").pil_id == 100 + 3 * 8 + 5
 
 
 def test_gain_tables_are_the_generated_registration(reg):

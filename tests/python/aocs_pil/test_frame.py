@@ -197,11 +197,11 @@ def test_values_reach_the_field_list(tmp_path):
     p.write_text("law = smc  # comment\nmode = lockstep\ncontrol_period_s = 0x1.999999999999ap-4\n"
                  "u_max_axis = 0.5, 0.6 ,0.7\ninertia = 1 2 3\nsmc.lambda = 1 1 1\nbudget_ns = 5000\n"
                  "lqr_quat.table = lqr_quat_strong\nrecover_good_samples = 4\nwheels.count = 4\n"
-                 "wheel3.js = 0.25\nguidance.mode = slew\n")
+                 "wheel3.js_kgm2 = 0.25\nguidance.mode = slew\n")
     cfg = nodecfg.load(p)
     assert cfg.law == "smc" and cfg.period_s == 0.1 and cfg.n_wheels == 4 and cfg.guidance_mode == "slew"
     assert cfg.stale_timeout_ns == 200_000_000           # 2 periods, as node_config.c
-    assert cfg.lines["wheel3.js"] == 11 and cfg.lines["law"] == 1
+    assert cfg.lines["wheel3.js_kgm2"] == 11 and cfg.lines["law"] == 1
     payload = cfg.pil_payload(168e6)
     fields = config_entries(payload)
     assert fields["LAW"] == 5 and fields["PERIOD_S"] == 0.1
@@ -219,8 +219,8 @@ def test_values_reach_the_field_list(tmp_path):
 
 def test_the_hint_names_the_rows_of_the_status():
     hint = nodecfg.status_hint("AOCS_ERR_GUIDANCE_JERK_TIME_INVALID", "quat_pd")
-    assert hint.startswith("guidance.jerk_time (s, ramp time")
-    assert "wheel<i>.omega_max" in nodecfg.status_hint("AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT", "quat_pd")
+    assert hint.startswith("guidance.jerk_time_s (s, ramp time")
+    assert "wheel<i>.omega_max_radps" in nodecfg.status_hint("AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT", "quat_pd")
     assert nodecfg.status_hint("AOCS_ERR_GAIN_TABLE_INVALID", "hinf") == "hinf.k / hinf.table"
     assert nodecfg.status_hint("AOCS_OK", "quat_pd") == "the keys of the selected law"
 

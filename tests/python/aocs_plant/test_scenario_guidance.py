@@ -19,8 +19,8 @@ def test_slew_keys_written_from_the_section():
                                "guidance.rate_limit_radps": 0.01, "actuator.axis_limit": 1.0})
     cfg = fsw_config.node_config(sc, "smc")
     assert cfg["guidance.mode"] == "slew" and cfg["guidance.profile"] == "jerk_limited"
-    assert cfg["guidance.margin"] == "0.9" and cfg["guidance.rate_limit"] == "0.01"
-    assert cfg["guidance.jerk_time"] == "4.0"
+    assert cfg["guidance.margin"] == "0.9" and cfg["guidance.rate_limit_radps"] == "0.01"
+    assert cfg["guidance.jerk_time_s"] == "4.0"
     assert cfg["inertia"] == "2059.5 0.0 0.0 0.0 5954.2 0.0 0.0 0.0 5974.3"  # the one inertia
 
 

@@ -70,24 +70,24 @@ def test_the_wheels_section_writes_the_friction_model_and_the_null_space_keys():
     cfg = fsw_config.node_config(sc, "quat_pid")
     assert cfg["wheels.count"] == "4"
     for i in range(4):
-        assert float(cfg[f"wheel{i}.viscous"]) == w.viscous_nms == 1.0e-5
-        assert float(cfg[f"wheel{i}.coulomb"]) == w.coulomb_nm == 2.0e-3
-        assert float(cfg[f"wheel{i}.coulomb_width"]) == w.coulomb_width_rad_s == 0.5
+        assert float(cfg[f"wheel{i}.viscous_nms"]) == w.viscous_nms == 1.0e-5
+        assert float(cfg[f"wheel{i}.coulomb_nm"]) == w.coulomb_nm == 2.0e-3
+        assert float(cfg[f"wheel{i}.coulomb_width_radps"]) == w.coulomb_width_rad_s == 0.5
     assert float(cfg["wheels.null_gain"]) == 0.02
-    assert [float(cfg[f"wheel{i}.null_speed"]) for i in range(4)] == [50.0, -50.0, 50.0, -50.0]
+    assert [float(cfg[f"wheel{i}.null_speed_radps"]) for i in range(4)] == [50.0, -50.0, 50.0, -50.0]
     # a scenario override reaches both sides (the plant's friction is the same object)
     sc2 = load("irassi_rw", {"wheels.coulomb_nm": 0.0, "wheels.null_gain_per_s": 0.0})
     cfg2 = fsw_config.node_config(sc2, "quat_pid")
-    assert float(cfg2["wheel3.coulomb"]) == sc2.effectors["wheels"].coulomb_nm == 0.0
-    assert "wheels.null_gain" not in cfg2 and "wheel0.null_speed" not in cfg2
+    assert float(cfg2["wheel3.coulomb_nm"]) == sc2.effectors["wheels"].coulomb_nm == 0.0
+    assert "wheels.null_gain" not in cfg2 and "wheel0.null_speed_radps" not in cfg2
     # a model error on purpose: the flight software's b and c scaled, the plant's untouched; 0 = no feedforward
     sc3 = load("irassi_rw", {"wheels.fsw_friction_scale": 0.8})
     cfg3 = fsw_config.node_config(sc3, "quat_pid")
     assert sc3.effectors["wheels"].coulomb_nm == 2.0e-3
-    assert float(cfg3["wheel1.coulomb"]) == 0.8 * 2.0e-3 and float(cfg3["wheel2.viscous"]) == 0.8 * 1.0e-5
-    assert float(cfg3["wheel0.coulomb_width"]) == 0.5
+    assert float(cfg3["wheel1.coulomb_nm"]) == 0.8 * 2.0e-3 and float(cfg3["wheel2.viscous_nms"]) == 0.8 * 1.0e-5
+    assert float(cfg3["wheel0.coulomb_width_radps"]) == 0.5
     cfg0 = fsw_config.node_config(load("irassi_rw", {"wheels.fsw_friction_scale": 0.0}), "quat_pid")
-    assert float(cfg0["wheel0.coulomb"]) == 0.0 == float(cfg0["wheel3.viscous"])
+    assert float(cfg0["wheel0.coulomb_nm"]) == 0.0 == float(cfg0["wheel3.viscous_nms"])
     # the loader refuses what the flight software's init would refuse
     with pytest.raises(ScenarioError, match="not below the torque"):
         load("irassi_rw", {"wheels.coulomb_nm": 0.25})
