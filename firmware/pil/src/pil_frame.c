@@ -823,16 +823,16 @@ static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, u
     const aocs_config_field_t *f = ref.field;
     aocs_status_t st = AOCS_ERR_CONFIG_FIELD;
     if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        double vals[AOCS_CONFIG_VALUES_MAX];
         if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
+            double vals[AOCS_CONFIG_VALUES_MAX];
             for (uint32_t i = 0U; i < count; i++) {
                 vals[i] = f64_from_bits(r_uint(r, 8U));
             }
             st = aocs_config_set_reals(cfg, ref, vals, count);
         }
     } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
         if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
             for (uint32_t i = 0U; i < count; i++) {
                 name[i] = (char)(uint8_t)r_uint(r, 1U);
             }
@@ -861,11 +861,17 @@ static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
 {
     int ok = 0;
     if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        ok = (count == f->count) ? 1 : 0;
+        if (count == f->count) {
+            ok = 1;
+        }
     } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        ok = ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) ? 1 : 0;
+        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            ok = 1;
+        }
+    } else if (count == 1U) {
+        ok = 1;
     } else {
-        ok = (count == 1U) ? 1 : 0;
+        ok = 0;
     }
     return ok;
 }

@@ -93,7 +93,11 @@ const aocs_config_field_t *aocs_config_field_at(uint32_t i)
 
 int aocs_config_field_is_per_wheel(const aocs_config_field_t *field)
 {
-    return ((field != NULL) && (field->stride > 0u)) ? 1 : 0;
+    int per_wheel = 0;
+    if ((field != NULL) && (field->stride > 0u)) {
+        per_wheel = 1;
+    }
+    return per_wheel;
 }
 
 /* "wheel<i>.<field>" with one digit i: 1 with *wheel and *rest (the field name) set. */
@@ -103,9 +107,12 @@ static int split_wheel_key(const char *key, uint32_t *wheel, const char **rest)
     int ok = 0;
     if ((strncmp(key, AOCS_CONFIG_WHEEL_KEY_PREFIX, plen) == 0) && (key[plen] >= '0') && (key[plen] <= '9') &&
         (key[plen + 1u] == '.')) {
-        *wheel = (uint32_t)(key[plen] - '0');
+        const uint32_t digit = (uint32_t)(unsigned char)key[plen];
+        *wheel = digit - (uint32_t)(unsigned char)'0';
         *rest = &key[plen + 2u];
-        ok = (*wheel < AOCS_WHEELS_MAX) ? 1 : 0;
+        if (*wheel < AOCS_WHEELS_MAX) {
+            ok = 1;
+        }
     }
     return ok;
 }
@@ -162,25 +169,32 @@ uint32_t aocs_config_pil_id(aocs_config_ref_t ref)
     return id;
 }
 
-/* Where the value of ref lives in *cfg. */
+/* Where the value of ref lives in *cfg: its byte offset (the row's, plus the wheel's stride). */
+static size_t value_offset(aocs_config_ref_t ref)
+{
+    return ref.field->offset + ((size_t)ref.wheel * ref.field->stride);
+}
+
 static unsigned char *value_at(aocs_exec_config_t *cfg, aocs_config_ref_t ref)
 {
-    return ((unsigned char *)cfg) + ref.field->offset + ((size_t)ref.wheel * ref.field->stride);
+    unsigned char *bytes = (unsigned char *)cfg;
+    return &bytes[value_offset(ref)];
 }
 
 static const unsigned char *value_at_const(const aocs_exec_config_t *cfg, aocs_config_ref_t ref)
 {
-    return ((const unsigned char *)cfg) + ref.field->offset + ((size_t)ref.wheel * ref.field->stride);
+    const unsigned char *bytes = (const unsigned char *)cfg;
+    return &bytes[value_offset(ref)];
 }
 
 /* The row's sign rule on one finite value. */
 static int rule_holds(aocs_config_rule_t rule, double x)
 {
     int ok = 1;
-    if (rule == AOCS_CONFIG_RULE_POS) {
-        ok = (x > 0.0) ? 1 : 0;
-    } else if (rule == AOCS_CONFIG_RULE_NONNEG) {
-        ok = (x >= 0.0) ? 1 : 0;
+    if ((rule == AOCS_CONFIG_RULE_POS) && !(x > 0.0)) {
+        ok = 0;
+    } else if ((rule == AOCS_CONFIG_RULE_NONNEG) && !(x >= 0.0)) {
+        ok = 0;
     } else {
         ok = 1;
     }
@@ -332,18 +346,29 @@ int aocs_config_enum_value(const aocs_config_field_t *field, const char *name, u
                 found = 1;
             }
         } else if ((field->kind == AOCS_CONFIG_KIND_ENUM) && (field->names != NULL)) {
+            /* the names are comma-separated in enum order: compare name with each, by index */
+            const char *names = field->names;
             const size_t len = strlen(name);
-            const char *p = field->names;
+            size_t start = 0u;
+            size_t i = 0u;
             uint64_t index = 0u;
-            while ((found == 0) && (*p != '\0')) {
-                const char *comma = strchr(p, ',');
-                const size_t wlen = (comma != NULL) ? (size_t)(comma - p) : strlen(p);
-                if ((wlen == len) && (len > 0u) && (strncmp(p, name, len) == 0)) {
-                    *value = index;
-                    found = 1;
+            int more = 0;
+            if (len > 0u) {
+                more = 1;
+            }
+            while (more != 0) {
+                if ((names[i] == ',') || (names[i] == '\0')) {
+                    if (((i - start) == len) && (strncmp(&names[start], name, len) == 0)) {
+                        *value = index;
+                        found = 1;
+                    }
+                    if ((names[i] == '\0') || (found != 0)) {
+                        more = 0;
+                    }
+                    start = i + 1u;
+                    ++index;
                 }
-                p = (comma != NULL) ? (comma + 1) : (p + wlen);
-                ++index;
+                ++i;
             }
         } else {
             found = 0;

@@ -28,6 +28,7 @@
 #include <stdint.h>
 
 #include "aocs/types.h"
+#include "aocs/config_registry.h"
 #include "aocs/executive.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
@@ -103,8 +104,6 @@ typedef enum {
  * aocs_exec_config_default(). The ids are wire values: never renumber
  * (tests/unit/test_registry.c pins them).
  */
-#include "aocs/config_registry.h"
-
 /* Decoded header (magic and CRC are checked, not kept). */
 typedef struct {
     uint8_t version;

@@ -1,0 +1,243 @@
+/*
+ * The configuration registry's table and setters (aocs/config_registry.h),
+ * checked against the typed struct written out here: a value set through a
+ * row lands in the member the row names (and nowhere else), every rule is
+ * applied whoever calls, an error leaves the config untouched, lookups by
+ * key and by PIL id agree, and aocs_exec_config_default holds the DEFAULT
+ * column. Both precisions.
+ */
+#include <string.h>
+
+#include "test_support.h"
+
+#include "aocs/config_registry.h"
+#include "aocs/executive.h"
+
+/* bit-for-bit equality (the registry must not change a single bit of a value) */
+static int same_r(real_t a, real_t b)
+{
+    return (memcmp(&a, &b, sizeof(a)) == 0) ? 1 : 0;
+}
+
+static int same_d(double a, double b)
+{
+    return (memcmp(&a, &b, sizeof(a)) == 0) ? 1 : 0;
+}
+
+static aocs_config_ref_t ref_of(const char *key)
+{
+    aocs_config_ref_t ref = {NULL, 0u};
+    if (aocs_config_find_key(key, &ref) == 0) {
+        fail_msg("no registry row for key '%s'", key);
+    }
+    return ref;
+}
+
+static void test_a_value_lands_in_the_member_its_row_names(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    const double ks = 12.5;
+    const double axis[3] = {0.0, 0.6, 0.8};
+    const double lim[3] = {0.25, 0.5, 0.75};
+    const double j[9] = {10.0, 0.5, 0.0, 0.5, 12.0, 0.0, 0.0, 0.0, 15.0};
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("k_safe"), &ks, 1u), AOCS_OK);
+    assert_true(same_r(cfg.k_safe, (real_t)12.5));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("u_max_axis"), lim, 3u), AOCS_OK);
+    assert_true((same_r(cfg.u_max_axis.v[0], (real_t)0.25)) && (same_r(cfg.u_max_axis.v[2], (real_t)0.75)));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("wheel4.axis_B"), axis, 3u), AOCS_OK);
+    assert_true((same_r(cfg.wheels.axis_B[4].v[1], (real_t)0.6)) && (same_r(cfg.wheels.axis_B[4].v[2], (real_t)0.8)));
+    assert_true(same_r(cfg.wheels.axis_B[3].v[1], (real_t)0.0)); /* not another wheel's */
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("inertia"), j, 9u), AOCS_OK);
+    assert_true((same_r(cfg.laws.smc.inertia.m[0][1], (real_t)0.5)) && (same_r(cfg.laws.smc.inertia.m[2][2], (real_t)15.0)));
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("recover_good_samples"), 7u), AOCS_OK);
+    assert_int_equal(cfg.recover_good_samples, 7u);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("stale_timeout_s"), 123456789u), AOCS_OK);
+    assert_true(cfg.stale_timeout_ns == 123456789u);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("guidance.mode"), 1u), AOCS_OK);
+    assert_int_equal(cfg.guidance.mode, AOCS_GUIDANCE_MODE_SLEW);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("guidance.profile"), 1u), AOCS_OK);
+    assert_int_equal(cfg.guidance.slew.profile, AOCS_SLEW_PROFILE_JERK_LIMITED);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("law"), (uint64_t)AOCS_LAW_SMC), AOCS_OK);
+    assert_int_equal(cfg.law, AOCS_LAW_SMC);
+    assert_int_equal(aocs_config_set_table(&cfg, ref_of("hinf.table"), "hinf_min"), AOCS_OK);
+    assert_true(!same_r(cfg.laws.hinf.k[0][0], (real_t)0.0));
+}
+
+/* Every value of every field through the table, and back: each row reaches only its own bytes. */
+static void test_every_row_round_trips_and_touches_only_its_member(void **state)
+{
+    (void)state;
+    for (uint32_t i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *f = aocs_config_field_at(i);
+        const uint32_t units = (aocs_config_field_is_per_wheel(f) != 0) ? (uint32_t)AOCS_WHEELS_MAX : 1u;
+        for (uint32_t w = 0u; w < units; ++w) {
+            const aocs_config_ref_t ref = {f, w};
+            aocs_exec_config_t before;
+            aocs_exec_config_t after;
+            double v[AOCS_CONFIG_VALUES_MAX];
+            double back[AOCS_CONFIG_VALUES_MAX];
+            size_t changed = 0u;
+            aocs_exec_config_default(&before);
+            after = before;
+            if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+                for (uint32_t k = 0u; k < f->count; ++k) {
+                    v[k] = 0.5 + (double)k + (double)i;
+                }
+                assert_int_equal(aocs_config_set_reals(&after, ref, v, f->count), AOCS_OK);
+                assert_int_equal(aocs_config_get_reals(&after, ref, back, AOCS_CONFIG_VALUES_MAX), f->count);
+                for (uint32_t k = 0u; k < f->count; ++k) {
+                    assert_true(same_d(back[k], (double)(real_t)v[k]));
+                }
+            } else if (f->kind != AOCS_CONFIG_KIND_TABLE) {
+                const uint64_t u = ((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM))
+                                       ? (uint64_t)(f->enum_count - 1u) : 7u; /* 7: no row's default */
+                assert_int_equal(aocs_config_set_uint(&after, ref, u), AOCS_OK);
+                assert_true(aocs_config_get_uint(&after, ref) == u);
+            } else {
+                continue;
+            }
+            /* the bytes that changed all lie inside this field's value */
+            for (size_t b = 0u; b < sizeof(after); ++b) {
+                if (((const unsigned char *)&after)[b] != ((const unsigned char *)&before)[b]) {
+                    const size_t lo = f->offset + ((size_t)w * f->stride);
+                    size_t width = sizeof(uint64_t); /* U64, NS, BUDGET; an enum is at most that wide */
+                    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+                        width = (size_t)f->count * sizeof(real_t);
+                    } else if (f->kind == AOCS_CONFIG_KIND_U32) {
+                        width = sizeof(uint32_t);
+                    }
+                    if ((b < lo) || (b >= (lo + width))) {
+                        fail_msg("row %s (wheel %u): byte %zu changed, outside [%zu, %zu)", f->pil_name, (unsigned)w,
+                                 b, lo, lo + width);
+                    }
+                    ++changed;
+                }
+            }
+            assert_true(changed > 0u);
+        }
+    }
+}
+
+static void test_every_reader_gets_the_rows_rules(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_config_t kept;
+    const double zero = 0.0;
+    const double neg = -1.0;
+    const double inf = (double)INFINITY;
+    const double two[2] = {1.0, 2.0};
+    aocs_exec_config_default(&cfg);
+    kept = cfg;
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("k_safe"), &zero, 1u), AOCS_ERR_CONFIG_RULE);   /* POS */
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("u_max_norm"), &neg, 1u), AOCS_ERR_CONFIG_RULE); /* NONNEG */
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("u_max_norm"), &zero, 1u), AOCS_OK);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("target_w"), &inf, 1u), AOCS_ERR_CONFIG_FIELD); /* count */
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("k_safe"), &inf, 1u), AOCS_ERR_PARAM_NOT_FINITE);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("u_max_axis"), two, 2u), AOCS_ERR_CONFIG_FIELD);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("law"), &zero, 1u), AOCS_ERR_CONFIG_FIELD);    /* kind */
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("recover_good_samples"), 0u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("missing_max_periods"), 0x100000000ull), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("law"), (uint64_t)AOCS_LAW_COUNT), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("guidance.mode"), 2u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("k_safe"), 1u), AOCS_ERR_CONFIG_FIELD);
+    assert_int_equal(aocs_config_set_table(&cfg, ref_of("hinf.table"), "lqr_quat_ref"), AOCS_ERR_GAIN_TABLE_WRONG_LAW);
+    assert_int_equal(aocs_config_set_table(&cfg, ref_of("hinf.table"), "nope"), AOCS_ERR_GAIN_TABLE_UNKNOWN);
+    /* nothing of it reached the config but the one accepted zero */
+    kept.u_max_norm = AOCS_R(0.0);
+    assert_memory_equal(&cfg, &kept, sizeof(cfg));
+}
+
+static void test_keys_and_pil_ids_name_the_same_rows(void **state)
+{
+    (void)state;
+    aocs_config_ref_t a = {NULL, 0u};
+    aocs_config_ref_t b = {NULL, 0u};
+    const char *bad[] = {"", "k_safe2", "wheel6.js_kgm2", "wheel0.", "wheel.js_kgm2", "wheel00.js_kgm2", "js_kgm2",
+                         "wheel1.k_safe", "guidance."};
+    for (size_t i = 0u; i < (sizeof(bad) / sizeof(bad[0])); ++i) {
+        if (aocs_config_find_key(bad[i], &a) != 0) {
+            fail_msg("key '%s' should not be found", bad[i]);
+        }
+    }
+    assert_int_equal(aocs_config_find_key("wheel3.coulomb_nm", &a), 1);
+    assert_int_equal(a.wheel, 3u);
+    assert_int_equal(aocs_config_pil_id(a), AOCS_PIL_CFG_WHEEL_BASE + (3u * AOCS_PIL_WHEEL_STRIDE) + 5u);
+    assert_int_equal(aocs_config_find_pil(aocs_config_pil_id(a), &b), 1);
+    assert_ptr_equal(a.field, b.field);
+    assert_int_equal(b.wheel, 3u);
+    assert_int_equal(aocs_config_find_pil(99u, &b), 0);
+    assert_int_equal(aocs_config_find_pil(AOCS_PIL_CFG_WHEEL_BASE + (6u * AOCS_PIL_WHEEL_STRIDE), &b), 0);
+    /* every row: unique key and PIL id, found by both */
+    for (uint32_t i = 0u; i < aocs_config_field_count(); ++i) {
+        const aocs_config_field_t *f = aocs_config_field_at(i);
+        const aocs_config_ref_t r = {f, 0u};
+        assert_int_equal(aocs_config_find_pil(aocs_config_pil_id(r), &b), 1);
+        assert_ptr_equal(b.field, f);
+        for (uint32_t k = i + 1u; k < aocs_config_field_count(); ++k) {
+            const aocs_config_field_t *g = aocs_config_field_at(k);
+            assert_int_not_equal(f->pil_id, g->pil_id);
+            if (f->key[0] != '\0') {
+                assert_true((strcmp(f->key, g->key) != 0) ||
+                            (aocs_config_field_is_per_wheel(f) != aocs_config_field_is_per_wheel(g)));
+            }
+        }
+    }
+    assert_null(aocs_config_field_at(aocs_config_field_count()));
+}
+
+static void test_enum_names_are_the_enums_values(void **state)
+{
+    (void)state;
+    uint64_t v = 99u;
+    const aocs_config_field_t *mode = ref_of("guidance.mode").field;
+    const aocs_config_field_t *profile = ref_of("guidance.profile").field;
+    assert_int_equal(aocs_config_enum_value(mode, "step", &v), 1);
+    assert_int_equal(v, AOCS_GUIDANCE_MODE_STEP);
+    assert_int_equal(aocs_config_enum_value(mode, "slew", &v), 1);
+    assert_int_equal(v, AOCS_GUIDANCE_MODE_SLEW);
+    assert_int_equal(aocs_config_enum_value(profile, "jerk_limited", &v), 1);
+    assert_int_equal(v, AOCS_SLEW_PROFILE_JERK_LIMITED);
+    v = 99u;
+    assert_int_equal(aocs_config_enum_value(mode, "sle", &v), 0);
+    assert_int_equal(aocs_config_enum_value(mode, "slewx", &v), 0);
+    assert_int_equal(aocs_config_enum_value(mode, "", &v), 0);
+    assert_int_equal(aocs_config_enum_value(mode, "step,slew", &v), 0);
+    assert_int_equal(v, 99u);
+    assert_int_equal(aocs_config_enum_value(ref_of("law").field, "quat_pid", &v), 1);
+    assert_int_equal(v, AOCS_LAW_QUAT_PID);
+    assert_int_equal(aocs_config_enum_value(ref_of("k_safe").field, "1", &v), 0);
+}
+
+static void test_the_default_config_holds_the_default_column(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_config_default(&cfg);
+    assert_true(same_r(cfg.period_s, AOCS_R(0.1)));
+    assert_true(same_r(cfg.k_safe, AOCS_R(1.0)));
+    assert_true(same_r(cfg.guidance.slew.margin, AOCS_R(0.8)));
+    assert_int_equal(cfg.recover_good_samples, 10u);
+    assert_int_equal(cfg.missing_max_periods, 3u);
+    assert_true(cfg.stale_timeout_ns == 200000000u);
+    assert_int_equal(cfg.law, AOCS_LAW_NONE);
+    assert_int_equal(cfg.guidance.mode, AOCS_GUIDANCE_MODE_STEP);
+    assert_true(same_r(cfg.target.qd_DN.q[3], AOCS_R(1.0)));
+    assert_int_equal(cfg.wheels.n, 0u);
+    assert_true(same_r(cfg.wheels.coulomb_width_radps[5], AOCS_R(0.1)));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_a_value_lands_in_the_member_its_row_names),
+        cmocka_unit_test(test_every_row_round_trips_and_touches_only_its_member),
+        cmocka_unit_test(test_every_reader_gets_the_rows_rules),
+        cmocka_unit_test(test_keys_and_pil_ids_name_the_same_rows),
+        cmocka_unit_test(test_enum_names_are_the_enums_values),
+        cmocka_unit_test(test_the_default_config_holds_the_default_column),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
