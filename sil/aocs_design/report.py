@@ -24,7 +24,7 @@ def write_plots(designs, out: Path) -> list[str]:
     files = []
     families = [("lqr_quat", "lqr_quat (SPEC 2.5)"), ("orbit_lqr", "orbit_lqr (SPEC 2.8)"),
                 ("hinf", "hinf (SPEC 2.6)"), ("lqr_quat_i", "lqr_quat_i (SPEC 5.2)")]
-    # house style (tools/aocs_analysis/plots.py): >= 150 dpi, >= 1200 px wide, legends >= 8 pt
+    # house style (sil/aocs_analysis/plots.py): >= 150 dpi, >= 1200 px wide, legends >= 8 pt
     fig, axes = plt.subplots(1, 4, figsize=(14, 4.0), dpi=150)
     for ax, (kind, title) in zip(axes, families):
         for d in designs:
