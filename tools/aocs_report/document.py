@@ -34,6 +34,11 @@ class Column:
     title: str
     unit: str = ""
 
+    @property
+    def label(self) -> str:
+        """Title and unit as one header in the reports' style: "settle s", "max norm u N m"."""
+        return f"{self.title} {self.unit}" if self.unit else self.title
+
 
 def column(c: Column | str) -> Column:
     return c if isinstance(c, Column) else Column(c)

@@ -6,20 +6,15 @@ Markdown already (document.py), so it is written as it is.
 """
 from __future__ import annotations
 
-from .document import BulletList, CodeBlock, Column, Document, Figure, Figures, Paragraph, Section, Table
+from .document import BulletList, CodeBlock, Document, Figure, Figures, Paragraph, Section, Table
 
 
 def render(doc: Document) -> str:
     return "\n\n".join([f"# {doc.title}", *(_block(b, 2) for b in doc.blocks)]) + "\n"
 
 
-def header_cell(c: Column) -> str:
-    """A column's title with its unit after it ("settle s", "max norm u N m"), the reports' style."""
-    return f"{c.title} {c.unit}" if c.unit else c.title
-
-
 def table(t: Table) -> str:
-    lines = ["| " + " | ".join(header_cell(c) for c in t.columns) + " |", "|" + "---|" * len(t.columns)]
+    lines = ["| " + " | ".join(c.label for c in t.columns) + " |", "|" + "---|" * len(t.columns)]
     lines += ["| " + " | ".join(r) + " |" for r in t.rows]
     return "\n".join(lines)
 
