@@ -26,6 +26,7 @@ from aocs_report.document import BulletList, Document, Figure, Paragraph, Sectio
 from aocs_wire import lcmlog
 
 from . import compare as C
+from . import results_notes as notes
 from . import sweep as S
 from .compare import IRASSI_DIST_NM, designed_gamma, gain_matrix, steady_error_arcsec
 
@@ -229,31 +230,29 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) 
     rtc_rows = []
     for sid in RTC:
         rtc_rows += R.rows(sid)[1]
-    doc.add(Section("rtc_ex1a ... rtc_ex3b: crp_linear (Rotea, Tsiotras, Corless)").add(
-        Paragraph("J = I3, no disturbance, 100 Hz; settled when |rho| < 1e-3 and |w| < 1e-3 rad/s."),
+    doc.add(notes.section("rtc").add(
         R.table(rtc_rows, "attitude"), *R.plots(rtc_rows, "attitude", "rtc examples, crp_linear", "rtc_", torque=False)))
 
     # ---- landsat
     lq_rows = []
     for sid in LANDSAT_Q:
         lq_rows += R.rows(sid)[1]
-    doc.add(Section("landsat8_q10, landsat8_q1, landsat8_q01: orbit LQR, R = I, Q = 10 I / I / 0.1 I").add(
-        Paragraph("Settled when every position error < 0.1 m and every velocity error < 0.01 m/s."),
+    doc.add(notes.section("landsat8_q").add(
         R.table(lq_rows, "orbit"),
         *R.plots(lq_rows, "orbit", "landsat8, Q = 10 I / I / 0.1 I", "landsat8_q_", torque=False)))
     ld_rows = []
     for sid in LANDSAT_DIST:
         ld_rows += R.rows(sid, [("orbit_lqr", "orbit_lqr_q1"), ("none", None)])[1]
-    doc.add(Section("landsat8_srp, landsat8_debris: with and without control (Q = R = I)").add(
+    doc.add(notes.section("landsat8_dist").add(
         R.table(ld_rows, "orbit"), *R.plots(ld_rows, "orbit", "landsat8 SRP / debris", "landsat8_dist_", torque=False)))
 
     # ---- geo_hinf
     sc_g, g_rows = R.rows("geo_hinf", prefix=False)
-    sec = Section("geo_hinf: H-infinity state feedback (Duan and Yu)").add(
+    sec = notes.section("geo_hinf").add(
         Paragraph(sc_g.description), R.table(g_rows, "attitude", sc_g),
         *R.plots(g_rows, "attitude", "geo_hinf", "geo_hinf_", torque=False))
     _, g0_rows = R.rows("geo_hinf", sets=HINF_ZERO_IC, prefix=False, tag="zero_ic")
-    hinf, table = measured_hinf_gains(g0_rows, sc_g)
+    table = measured_hinf_gains(g0_rows, sc_g)
     sec.add(Paragraph(HINF_MEASURED), table)
     sweep_pts, sweep_sum = S.sweep(runs / "geo_hinf-sweep", progress=R.progress.start, quiet=quiet)
     R.failed += sweep_sum["failed"]
@@ -261,12 +260,12 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) 
 
     # ---- gao_mrp
     sc_m, m_rows = R.rows("gao_mrp", prefix=False)
-    doc.add(Section("gao_mrp: saturated MRP regulator (Gao, Lu, Wang), uM = 0.05 N m").add(
+    doc.add(notes.section("gao_mrp").add(
         Paragraph(sc_m.description), R.table(m_rows, "attitude", sc_m),
         *R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_", sc=sc_m)))
 
     # ---- discussion
-    doc.add(discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows).add(
+    doc.add(discussion(irassi, limited, lim_dur, [r for r in g0_rows if not r.error], m_rows).add(
         Paragraph(f"Run logs in the `--runs` folder (default `out/results`, not committed)"
                   f"{' (--quick)' if quick else ''}; regenerate with `make results`.")))
     return markdown.render(doc), R.failed
@@ -299,18 +298,17 @@ HINF_MEASURED = (
     "(firmware/gains/aocs_gains.c).")
 
 
-def measured_hinf_gains(rows, sc) -> tuple[dict, Table]:
-    """table -> (designed gamma, measured gain) of the runs started on LVLH, and their table."""
-    hinf, body = {}, []
+def measured_hinf_gains(rows, sc) -> Table:
+    """Designed gamma against the measured gain of the runs started on LVLH."""
+    body = []
     for r in rows:
         if r.error:
             continue
         g = designed_gamma(r.table)
         mg = hinf_measured_gain(lcmlog.read(r.out_dir / "run.lcmlog"), sc)
-        hinf[r.table] = (g, mg)
         body.append([r.table, f"{g:.6g}", f"{mg['gain']:.4g}", f"{mg['z_l2']:.4g}", f"{mg['d_l2']:.4g}",
                      f"{mg['z_peak']:.3g}", "yes" if mg["gain"] < g else "NO"])
-    return hinf, Table(["table", "designed gamma", "measured L2(z) / L2(d)", "L2(z)", "L2(d)", "peak norm z",
+    return Table(["table", "designed gamma", "measured L2(z) / L2(d)", "L2(z)", "L2(d)", "peak norm z",
                         "below gamma"], body)
 
 
@@ -412,7 +410,7 @@ def _final(rows, name):
     return None if r is None else r.metrics["pointing_error_arcsec"]["final_max"]
 
 
-def discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows) -> Section:
+def discussion(irassi, limited, lim_dur, hinf_rows, m_rows) -> Section:
     sec = Section("Discussion: where a law differs from its reference, and why")
     sc, rows = irassi["irassi_small"]
     k_ref = np.diag(gain_matrix("lqr_quat_ref")[:, :3])
@@ -477,19 +475,8 @@ def discussion(irassi, limited, lim_dur, hinf, lq_rows, m_rows) -> Section:
                   "arcsec for good (never = not within the run).")))
     if 0.5 in limited:
         sec.add(half_newton_metre(limited[0.5][1], lim_dur))
-    if hinf:
-        sec.add(Section("H-infinity (geo_hinf)").add(Paragraph(
-            "The three tables (docs/gains/report.md) reach the design's gamma* ~ 1.0e-3 = |D2| (with D2 != 0 "
-            "no K does better), so the figure the reference minimises is the same for all; they differ in "
-            "the poles (hinf_min and hinf_bounded: slowest pole -0.01 1/s, hinf_regional: -0.05 1/s) and "
-            "therefore in settle time, and hinf_bounded (the LMI bounded below by -I) in the size of K. The measured "
-            "gain for a constant disturbance is far below gamma because a constant d is rejected at steady "
-            "state (z -> 0); gamma bounds the worst-case input, which is at the frequency where the "
-            "feedthrough D2 dominates.")))
-    sat = [r for r in m_rows if r.metrics]
-    if sat:
-        sec.add(Section("gao_mrp").add(Paragraph(
-            "The saturated MRP regulator keeps the torque norm within uM = 0.05 N m by construction "
-            f"(measured max norms: {', '.join(r.name + ' ' + format(r.metrics['max_torque_norm_nm'], '.4g') for r in sat)} "
-            "N m) without relying on the actuator's clipping.")))
+    for key, rows in (("geo_hinf", hinf_rows), ("gao_mrp", m_rows)):
+        law_notes = notes.discussion(key, rows)
+        if law_notes is not None:
+            sec.add(law_notes)
     return sec
