@@ -14,9 +14,14 @@ def render(doc: Document) -> str:
 
 
 def table(t: Table) -> str:
-    lines = ["| " + " | ".join(c.label for c in t.columns) + " |", "|" + "---|" * len(t.columns)]
-    lines += ["| " + " | ".join(r) + " |" for r in t.rows]
+    lines = [_row(c.label for c in t.columns), "|" + "---|" * len(t.columns)]
+    lines += [_row(r) for r in t.rows]
     return "\n".join(lines)
+
+
+def _row(cells) -> str:
+    """| a | b |, an empty cell as one blank (| | b |)."""
+    return "|" + "|".join(f" {c} " if c else " " for c in cells) + "|"
 
 
 def _item(text: str) -> str:

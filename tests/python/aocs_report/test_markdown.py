@@ -18,6 +18,10 @@ def test_table_header_carries_the_units_after_the_titles():
     assert markdown.table(t) == ("| law | settle s | max norm u N m |\n|---|---|---|\n| smc | 12.5 | 3 |")
 
 
+def test_an_empty_cell_is_one_blank():
+    assert markdown.table(Table(["", "`a`"], [["form", ""]])) == "| | `a` |\n|---|---|\n| form | |"
+
+
 def test_lists_tight_loose_and_continued_items():
     assert markdown.render(Document("T").add(BulletList(["a", "b\nmore of b"]))) == "# T\n\n- a\n- b\n  more of b\n"
     assert markdown.render(Document("T").add(BulletList(["a", "b"], loose=True))) == "# T\n\n- a\n\n- b\n"
