@@ -40,7 +40,8 @@ def inline(text: str) -> str:
             out.append(f"<code>{html.escape(part)}</code>")
             continue
         s = html.escape(part, quote=False)
-        s = _LINK.sub(lambda m: f'<a href="{html.escape(m.group(2))}">{m.group(1)}</a>', s)
+        # the text is escaped already: the link's target is unescaped once so that it is escaped once
+        s = _LINK.sub(lambda m: f'<a href="{html.escape(html.unescape(m.group(2)))}">{m.group(1)}</a>', s)
         s = _STRONG.sub(r"<strong>\1</strong>", s)
         out.append(_EM.sub(r"<em>\1</em>", s))
     return "".join(out)

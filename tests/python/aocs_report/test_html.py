@@ -40,6 +40,7 @@ def _parse(page: str) -> _Tags:
 def test_inline_markdown_forms_and_escaping():
     assert html.inline("a < b & `x<y>` **bold** *em* [docs](docs/sil.md)") == (
         'a &lt; b &amp; <code>x&lt;y&gt;</code> <strong>bold</strong> <em>em</em> <a href="docs/sil.md">docs</a>')
+    assert html.inline("[q](a.html?x=1&y=2)") == '<a href="a.html?x=1&amp;y=2">q</a>'   # escaped once
     assert html.inline("2 * 3 * 4") == "2 * 3 * 4"   # a lone asterisk between spaces is not emphasis
     assert html.inline("`**not bold**`") == "<code>**not bold**</code>"
 
