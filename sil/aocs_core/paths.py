@@ -1,7 +1,7 @@
 """Where the runner finds things: the repository, the build tree, the binaries,
 the generated LCM bindings. The firmware's facts (law ids and names, their
 fields, budgets, gain tables, status and mode names) come from the build's law
-registry: aocs_core.registry, never a copy.
+registry: aocs_core.registry (mode values by name: aocs_core.modes), never a copy.
 
 The build directory is AOCS_BUILD_DIR (default <repo>/build/host), the same
 variable the SIL tests use.
@@ -18,10 +18,6 @@ from pathlib import Path
 import lcm
 
 REPO = Path(__file__).resolve().parents[2]
-
-#: actuator_cmd_t.mode values (aocs_exec_mode_t; tests/python/aocs_core check them against the registry)
-MODE_STANDBY, MODE_NOMINAL, MODE_SAFE = 0, 1, 2
-
 
 class SetupError(RuntimeError):
     """Something the run needs is not built or not installed (message says how to fix it)."""

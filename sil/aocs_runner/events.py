@@ -24,10 +24,9 @@ import math
 from dataclasses import dataclass
 
 from aocs_core import registry
-from aocs_core.paths import MODE_NOMINAL, MODE_SAFE, MODE_STANDBY
+from aocs_core.modes import mode_value, mode_values
 
 KINDS = ("law", "mode", "target", "malformed", "foreign", "drop", "duplicate", "stale")
-_MODES = {"standby": MODE_STANDBY, "nominal": MODE_NOMINAL, "safe": MODE_SAFE}
 #: law id sent for a law name the flight software does not know
 UNKNOWN_LAW_ID = 99
 
@@ -75,10 +74,10 @@ def parse(spec: str) -> Event:
         v = val.strip()
         if v.lstrip("-").isdigit():
             mode = int(v)
-        elif v in _MODES:
-            mode = _MODES[v]
+        elif v in mode_values():
+            mode = mode_value(v)
         else:
-            raise EventError(f"--event {spec!r}: mode must be standby, nominal, safe or a number")
+            raise EventError(f"--event {spec!r}: mode must be {', '.join(mode_values())} or a number")
         return Event(t, key, mode=mode, text=spec)
     if key == "target":
         try:

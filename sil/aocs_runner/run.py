@@ -2,11 +2,12 @@
 flight software as separate processes talking LCM inside a private network
 namespace.
 
-Three children: lcm-logger (records every channel to OUT/run.lcmlog),
-the flight computer (fsw_node, or the PIL bridge with --target pil-*) and
-plant_node. The runner supervises them with bounded waits, then computes
-the metrics from the log, writes OUT/metrics.json (and --json), the plots
-and prints the metrics table. How a run works: docs/sil.md.
+execute runs three steps, one function each: plan_run (options and scenario
+checked, gains chosen, fsw_node.cfg and run.json written, before anything
+starts), flight.fly (plant_node, the recorder and the flight computer, fsw_node
+or the PIL bridge with --target pil-*, supervised with bounded waits until the
+log is ended) and judge (metrics from the log, verdict, plots, OUT/metrics.json
+and --json). How a run works: docs/sil.md.
 """
 from __future__ import annotations
 
@@ -25,19 +26,15 @@ from aocs_analysis import verdict
 from aocs_core import paths
 from aocs_plant.scenario import load
 from aocs_wire import fsw_config, lcmlog, netns
-from aocs_wire.recorder import Recorder
 
 from . import events as evmod
-from . import orchestrate, plant_fork, scenario_gains, scenario_opts
+from . import orchestrate, scenario_gains, scenario_opts
+from .flight import Failure, Flight, RunFailed, fly
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
                4: "the flight computer stopped answering", 5: "interrupted by a signal"}
 TARGETS = ("host", "pil-m4f", "pil-m7")
-
-
-class RunFailed(RuntimeError):
-    """A process died or stopped answering; the message names it, its exit and the last tick."""
 
 
 @dataclass
@@ -206,178 +203,180 @@ def prepare(opts: RunOptions):
     return sc, ov, law, out
 
 
+@dataclass
+class RunPlan:
+    """Everything decided before any process starts (plan_run), and written to the run folder."""
+    sc: object                    # the scenario with the run's overrides (aocs_plant.scenario.Scenario)
+    overrides: dict
+    law: str
+    out: Path
+    mode: str                     # lockstep | realtime
+    recorder: str                 # builtin | plant | lcm-logger (recorder_of)
+    gains: dict                   # law -> scenario_gains.GainChoice
+    fsw_config: dict
+    fc_cmd: list
+    pil_root: Path | None
+    meta: dict                    # run.json
+
+    @property
+    def log_path(self) -> Path:
+        return self.out / "run.lcmlog"
+
+
 def execute(opts: RunOptions) -> RunResult:
     """One run; raises RunFailed (process failure) or ValueError / SetupError (bad input)."""
     netns.require_netns()
     t_wall0 = time.monotonic()
+    plan = plan_run(opts)
+    failure = fly(flight_of(opts, plan))
+    wall = time.monotonic() - t_wall0
+    plant_sum = _last_json(plan.out / "plant_node.stdout", "plant_node")
+    fsw_sum = _last_json(plan.out / "fsw_node.stdout", "fsw_node")
+    if failure is not None:
+        raise RunFailed(failure_message(failure, plan))
+    return judge(opts, plan, wall, plant_sum, fsw_sum)
+
+
+def plan_run(opts: RunOptions) -> RunPlan:
+    """Checks the options and the scenario, chooses the gains, writes fsw_node.cfg and run.json (before
+    anything starts: a bad input is refused here)."""
     sc, ov, law, out = prepare(opts)
     rec_kind = recorder_of(opts)
     evmod.schedule(evmod.parse_all(opts.events), sc.dt, sc.n_steps)  # validate before starting anything
     paths.import_bindings()
     out.mkdir(parents=True, exist_ok=True)
     mode = "realtime" if opts.realtime else "lockstep"
-    reply_timeout = opts.reply_timeout or (2.0 if opts.target == "host" else 10.0)
-    # the gain each table law flies: its compiled table, or K designed for this scenario (item 6)
+    gains = flying_gains(sc)
+    cfg, cfg_path = write_fsw_config(opts, sc, law, mode, gains, out)
+    fc_cmd = fc_command(opts.target, cfg_path)
+    pil_root = pil_build_root(opts.target) if opts.target in PIL_PRESETS else None
+    plan = RunPlan(sc, ov, law, out, mode, rec_kind, gains, cfg, fc_cmd, pil_root, meta={})
+    plan.meta = run_record(opts, plan, cfg_path)
+    (out / "run.json").write_text(json.dumps(plan.meta, indent=1) + "\n")
+    (out / "metrics.json").unlink(missing_ok=True)  # never leave a previous run's metrics behind
+    return plan
+
+
+def flying_gains(sc) -> dict:
+    """The gain each table law flies: its compiled table, or K designed for this scenario (issue 10
+    item 6); the choices' warnings printed."""
     gains = scenario_gains.resolve(sc)
     for choice in gains.values():
         for w in choice.warnings:
             print(f"aocs run: warning: {w}", file=sys.stderr, flush=True)
+    return gains
+
+
+def write_fsw_config(opts: RunOptions, sc, law: str, mode: str, gains: dict, out: Path) -> tuple[dict, Path]:
+    """The flight computer's configuration, and the file it was written to (OUT/fsw_node.cfg)."""
     cfg = fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
                                  run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0,
                                  gains={n: c.k for n, c in gains.items() if c.k is not None})
     cfg_path = fsw_config.write(out / "fsw_node.cfg", cfg, header=f"scenario {sc.id}, law {law}, {mode}")
-    fc_cmd = fc_command(opts.target, cfg_path)
-    pil_root = pil_build_root(opts.target) if opts.target in PIL_PRESETS else None
-    log_path = out / "run.lcmlog"
-    meta = {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": ov, "law": law,
-            "mode": mode, "recorder": rec_kind, "plant_lcm_lib": opts.plant_lcm_lib, "target": opts.target, "events": list(opts.events), "label": opts.label,
-            "fsw_config": cfg, "fsw_config_file": cfg_path.name, "fc_command": fc_cmd,
-            "gains": {n: c.to_json() for n, c in gains.items()},
-            "pil_image": str(pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if pil_root else None,
-            "log": log_path.name,
+    return cfg, cfg_path
+
+
+def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
+    """run.json: what was flown, how and with what (the metrics carry it on)."""
+    sc = plan.sc
+    return {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": plan.overrides,
+            "law": plan.law, "mode": plan.mode, "recorder": plan.recorder, "plant_lcm_lib": opts.plant_lcm_lib,
+            "target": opts.target, "events": list(opts.events), "label": opts.label,
+            "fsw_config": plan.fsw_config, "fsw_config_file": cfg_path.name, "fc_command": plan.fc_cmd,
+            "gains": {n: c.to_json() for n, c in plan.gains.items()},
+            "pil_image": (str(plan.pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if plan.pil_root
+                          else None),
+            "log": plan.log_path.name,
             "n_steps": sc.n_steps, "dt": sc.dt, "created": time.strftime("%Y-%m-%dT%H:%M:%S")}
-    (out / "run.json").write_text(json.dumps(meta, indent=1) + "\n")
-    (out / "metrics.json").unlink(missing_ok=True)  # never leave a previous run's metrics behind
 
-    # plant_node's arguments: the same for a fork, the campaign's plant server and a new interpreter
-    plant_args = [sc.path, *scenario_opts.to_args(ov),
-                  "--mode", mode, "--reply-timeout", repr(reply_timeout)]
+
+def plant_arguments(opts: RunOptions, plan: RunPlan) -> list[str]:
+    """plant_node's arguments: the same for a fork, the campaign's plant server and a new interpreter."""
+    reply_timeout = opts.reply_timeout or (2.0 if opts.target == "host" else 10.0)
+    args = [plan.sc.path, *scenario_opts.to_args(plan.overrides),
+            "--mode", plan.mode, "--reply-timeout", repr(reply_timeout)]
     for e in opts.events:
-        plant_args += ["--event", e]
+        args += ["--event", e]
     if opts.quiet:
-        plant_args.append("-q")
+        args.append("-q")
     if opts.plant_lcm_lib:
-        plant_args.append("--lcm-lib")
-    plant_records = rec_kind == "plant"
-    done = out / "plant_node.done"
-    if plant_records:
+        args.append("--lcm-lib")
+    if plan.recorder == "plant":
         # the plant records the bus itself, its truth in the log only (plant_node.py, --log)
-        done.unlink(missing_ok=True)
-        plant_args += ["--log", str(log_path), "--truth", "log", "--done-file", str(done)]
+        args += ["--log", str(plan.log_path), "--truth", "log", "--done-file", str(plan.out / "plant_node.done")]
+    return args + ["--ready-file", str(plan.out / "plant_node.ready")]
+
+
+def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
+    """The processes to start for the plan (flight.py), announced on stderr."""
     env = paths.python_env()
-    if pil_root is not None:
-        env["AOCS_PIL_BUILD_ROOT"] = str(pil_root)
-    _say(opts, f"{sc.id} with {law}, {mode}, {sc.n_steps} steps of {sc.dt:g} s, flight computer "
-               f"{opts.target}; output in {out}/")
-    failure = None
-    recorder = None
-    with orchestrate.Processes() as procs:
-        # the plant first: once it listens for the flight computer's heartbeat, the recorder and then the
-        # flight computer start (so in real time no period of the node passes before the plant runs; the
-        # plant publishes nothing before that heartbeat). Forked while this process has no other thread
-        # (plant_fork.py), else a new interpreter or the campaign's plant server
-        ready = out / "plant_node.ready"
-        ready.unlink(missing_ok=True)
-        plant_args += ["--ready-file", str(ready)]
-        if opts.plant_launcher is not None:
-            plant = procs.adopt("plant_node", opts.plant_launcher(plant_args, out / "plant_node.stdout", env))
-        elif plant_fork.can_fork():
-            plant = procs.adopt("plant_node", plant_fork.fork(plant_args, out / "plant_node.stdout"))
-        else:
-            plant = procs.start("plant_node", [sys.executable, "-m", "aocs_runner.plant_node", *plant_args],
-                                stdout=out / "plant_node.stdout", stderr=None, env=env)
-        if rec_kind == "lcm-logger":
-            link = orchestrate.MarkerLink()
-            logger = orchestrate.start_logger(procs, paths.lcm_logger_exe(), log_path, link,
-                                              out / "lcm-logger.stderr", scenario=sc.id, law=law, mode=mode)
-        elif plant_records:
-            link = orchestrate.MarkerLink()
-        else:
-            recorder = Recorder(log_path).start(scenario=sc.id, law=law, mode=mode)
-        try:
-            fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
-            end = time.monotonic() + 30.0
-            while not ready.is_file():
-                if not plant.alive():
-                    raise RunFailed(f"plant_node {orchestrate.describe_exit(plant.poll())} before it was ready")
-                if time.monotonic() > end:
-                    raise RunFailed("plant_node was not ready within 30 s")
-                time.sleep(0.002)
-            ready.unlink()
-            if plant_records:
-                link.publish("start", scenario=sc.id, law=law, mode=mode)   # the plant listens: recorded
-            fc = procs.start(fc_name, fc_cmd, stdout=out / "fsw_node.stdout", stderr=out / "fsw_node.stderr",
-                             env=env)
-            hard_end = (time.monotonic() + sc.duration_s + 60.0) if opts.realtime else None
-            while True:
-                rc_p, rc_f = plant.poll(), fc.poll()
-                if rc_p is not None:
-                    if rc_p != 0:
-                        failure = ("plant_node", rc_p, plant)
-                    break
-                if plant_records and done.is_file():
-                    break   # the last tick is flown; the plant records on until the end marker
-                if rc_f is not None:
-                    failure = (fc_name, rc_f, fc)
-                    plant.stop()
-                    break
-                if hard_end is not None and time.monotonic() > hard_end:
-                    failure = ("plant_node", None, plant)
-                    plant.stop()
-                    break
-                time.sleep(0.005)
-            rc_fc = fc.stop()  # SIGTERM: the node publishes its last status and reports
-            if failure is None and rc_fc != 0:
-                failure = (fc_name, rc_fc, fc)
-        finally:
-            if recorder is not None:
-                recorder.stop(scenario=sc.id)
-            elif plant_records:
-                try:   # the plant has recorded everything before the end marker, and ends
-                    rc_p = orchestrate.end_plant_log(link, plant, scenario=sc.id)
-                finally:
-                    link.close()
-                done.unlink(missing_ok=True)
-                if failure is None and rc_p not in (None, 0):
-                    failure = ("plant_node", rc_p, plant)
-            else:
-                orchestrate.stop_logger(logger, link, log_path, scenario=sc.id)
-    wall = time.monotonic() - t_wall0
+    if plan.pil_root is not None:
+        env["AOCS_PIL_BUILD_ROOT"] = str(plan.pil_root)
+    sc = plan.sc
+    _say(opts, f"{sc.id} with {plan.law}, {plan.mode}, {sc.n_steps} steps of {sc.dt:g} s, flight computer "
+               f"{opts.target}; output in {plan.out}/")
+    fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
+    return Flight(sc.id, plan.law, plan.mode, sc.duration_s, plan.out, plan.log_path, plan.recorder,
+                  plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher)
 
-    plant_sum = _last_json(out / "plant_node.stdout", "plant_node")
-    fsw_sum = _last_json(out / "fsw_node.stdout", "fsw_node")
-    if failure is not None:
-        name, rc, proc = failure
-        last = _last_ticks(log_path)
-        why = orchestrate.describe_exit(rc) if rc is not None else "did not finish in time"
-        if name == "plant_node" and rc in PLANT_EXITS:
-            why += f" ({PLANT_EXITS[rc]})"
-        tail = proc.stderr_tail()
-        raise RunFailed(f"{name} {why}; last tick sent {last[0]}, last tick answered {last[1]} "
-                        f"(of {sc.n_steps}); log kept in {log_path}" + (f"\n{name} said: {tail}" if tail else ""))
 
-    log = lcmlog.read(log_path)
-    metrics, series = results.compute(log, sc, meta, wall_s=wall, plant=plant_sum, fsw=fsw_sum)
+def failure_message(failure: Failure, plan: RunPlan) -> str:
+    """Which process failed and how, the log's last ticks, and what it said last."""
+    last = _last_ticks(plan.log_path)
+    why = orchestrate.describe_exit(failure.rc) if failure.rc is not None else "did not finish in time"
+    if failure.name == "plant_node" and failure.rc in PLANT_EXITS:
+        why += f" ({PLANT_EXITS[failure.rc]})"
+    tail = failure.proc.stderr_tail()
+    return (f"{failure.name} {why}; last tick sent {last[0]}, last tick answered {last[1]} "
+            f"(of {plan.sc.n_steps}); log kept in {plan.log_path}" + (f"\n{failure.name} said: {tail}" if tail else ""))
+
+
+def judge(opts: RunOptions, plan: RunPlan, wall: float, plant_sum: dict | None, fsw_sum: dict | None) -> RunResult:
+    """The run's metrics from its log, its verdict and plots; OUT/metrics.json (and --json) written."""
+    log = lcmlog.read(plan.log_path)
+    metrics, series = results.compute(log, plan.sc, plan.meta, wall_s=wall, plant=plant_sum, fsw=fsw_sum)
     if opts.label:
         metrics["label"] = opts.label
-    if law in gains:
-        metrics["gain"] = gains[law].to_json()
+    if plan.law in plan.gains:
+        metrics["gain"] = plan.gains[plan.law].to_json()
+    log_problems = log_completeness(opts, plan, log)
+    metrics["log_complete"] = not log_problems
+    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow)
+    plots = draw_plots(opts, plan, metrics, series) if opts.plots else []
+    text = json.dumps(metrics, indent=1) + "\n"
+    (plan.out / "metrics.json").write_text(text)
+    if opts.json_path:
+        Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
+    return RunResult(metrics, plan.out, plots, results.table(metrics), series)
+
+
+def log_completeness(opts: RunOptions, plan: RunPlan, log) -> list[str]:
+    """What the log misses (empty: every tick recorded), with the likely reason."""
+    sc = plan.sc
     dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps)
     try:
-        lcmlog.scan(log_path)
-        log_problems = lcmlog.completeness_problems(
+        lcmlog.scan(plan.log_path)
+        problems = lcmlog.completeness_problems(
             log, sc.n_steps, replies_expected=None if opts.realtime else sc.n_steps - len(dropped),
             dropped_ticks=dropped)
     except lcmlog.LogIntegrityError as exc:
-        log_problems = [str(exc)]
-    if log_problems and rec_kind == "lcm-logger":
-        log_problems.append("lcm-logger drops messages under load (docs/sil.md); the builtin recorder does not")
-    elif log_problems:
-        log_problems.append("the recorder could not keep up: was the runner paused or the machine overloaded?")
-    metrics["log_complete"] = not log_problems
-    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow)
-    plots = []
-    if opts.plots:
-        title = f"{sc.id} / {law}" + (f" ({opts.label})" if opts.label else "")
-        plots = plotmod.run_plots(series, out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
-                                  settle=metrics["settle_criterion"]["criteria"],
-                                  settle_time_s=metrics["settle_time_s"])
-        metrics["plots"] = [p.name for p in plots]
-    text = json.dumps(metrics, indent=1) + "\n"
-    (out / "metrics.json").write_text(text)
-    if opts.json_path:
-        Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
-    return RunResult(metrics, out, plots, results.table(metrics), series)
+        problems = [str(exc)]
+    if problems and plan.recorder == "lcm-logger":
+        problems.append("lcm-logger drops messages under load (docs/sil.md); the builtin recorder does not")
+    elif problems:
+        problems.append("the recorder could not keep up: was the runner paused or the machine overloaded?")
+    return problems
+
+
+def draw_plots(opts: RunOptions, plan: RunPlan, metrics: dict, series: dict) -> list[Path]:
+    """The run's plots in OUT/, named in the metrics."""
+    sc = plan.sc
+    title = f"{sc.id} / {plan.law}" + (f" ({opts.label})" if opts.label else "")
+    plots = plotmod.run_plots(series, plan.out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
+                              settle=metrics["settle_criterion"]["criteria"],
+                              settle_time_s=metrics["settle_time_s"])
+    metrics["plots"] = [p.name for p in plots]
+    return plots
 
 
 def _last_ticks(log_path: Path):

@@ -8,9 +8,10 @@ import sys
 from pathlib import Path
 
 from aocs_compare import sweep as sweep_mod
-from aocs_compare.compare import compare, table_rows_for, text_table
+from aocs_compare.compare import compare, comparison_table_for
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
+from aocs_report import text
 from aocs_runner import orchestrate
 from aocs_wire import fsw_config, netns
 
@@ -90,14 +91,14 @@ def run(args) -> int:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text((out / "compare.json").read_text())
     slew = args.guidance == "slew"
-    head, body = table_rows_for(sc, rows, bound=slew)
+    table = comparison_table_for(sc, rows, bound=slew)
     print(f"{sc.id}: {len(rows)} laws" + ("" if args.limit is None else f", limit {args.limit:g} per axis")
           + (", guidance slew" if slew else ""))
     bounds = {r.metrics.get("slew_bound_s") for r in rows if r.metrics}
     if slew and bounds - {None}:
         print(f"eigenaxis bang-bang bound (SPEC 5.1, margin 1, no rate limit): "
               f"{', '.join(f'{b:.1f} s' for b in sorted(bounds - {None}))}")
-    print(text_table(head, body))
+    print(text.table(table))
     print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}")
     return EXIT_FAILED if any(r.error for r in rows) else EXIT_OK
 

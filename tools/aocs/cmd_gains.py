@@ -14,8 +14,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-from aocs_design import designs, models, report, tables
+from aocs_design import designs, models
 from aocs_design.checks import DesignError
+from aocs_gains import report, tables
 
 REPO = Path(__file__).resolve().parents[2]
 DEFAULT_CONFIG = REPO / "tools" / "gains.toml"

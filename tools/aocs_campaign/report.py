@@ -23,6 +23,8 @@ import time
 from pathlib import Path
 
 from aocs_plant.scenario import load
+from aocs_report import markdown
+from aocs_report.document import BulletList, CodeBlock, Document, Figure, Figures, Paragraph, Section, Table
 
 from . import plots as plotmod
 from . import stats
@@ -169,57 +171,81 @@ def _fmt(v) -> str:
 
 
 def report_md(doc: dict, sc) -> str:
+    return markdown.render(report_document(doc, sc))
+
+
+def report_document(doc: dict, sc) -> Document:
+    """report.md's content, from the campaign JSON and the scenario."""
     c = doc["campaign"]
-    lines = [f"# Monte Carlo campaign: {c['scenario']} with {c['law']}", "",
-             f"{doc['rows']} of {c['runs']} runs recorded ({doc['status']['passed']} passed, "
-             f"{doc['status']['failed']} failed their verdict, {doc['status']['error']} did not complete)"
-             + ("" if doc["complete"] else "; the campaign is INCOMPLETE (interrupted: rerun the same command "
-                                            "to finish it)") + ".", ""]
+    rep = Document(f"Monte Carlo campaign: {c['scenario']} with {c['law']}")
+    rep.add(Paragraph(f"{doc['rows']} of {c['runs']} runs recorded ({doc['status']['passed']} passed, "
+                      f"{doc['status']['failed']} failed their verdict, {doc['status']['error']} did not complete)"
+                      + ("" if doc["complete"] else "; the campaign is INCOMPLETE (interrupted: rerun the same "
+                                                    "command to finish it)") + "."))
     if c.get("command"):
-        lines += ["Command" + (f" (commit {c['commit']})" if c.get("commit") else "") + ":", "",
-                  "```", c["command"], "```", ""]
-    lines += [f"Scenario: {sc.description}", "", f"Seed {c['seed']}; fixed overrides: "
-              + (", ".join(f"`{s}`" for s in c["sets"]) or "none") + "; dispersions:", ""]
-    lines += [f"- `{d}`" for d in c["disperse"]] or ["- none"]
-    lines += ["", "Each run's values are a function of (seed, run index) alone; `results.csv` / "
-              "`results.parquet` hold, per run, the drawn values (`in.*`), every metric (`m.*`), the status, "
-              "the error and the `aocs run` command that repeats that run bit for bit.", ""]
+        rep.add(Paragraph("Command" + (f" (commit {c['commit']})" if c.get("commit") else "") + ":"),
+                CodeBlock(c["command"]))
+    rep.add(Paragraph(f"Scenario: {sc.description}"),
+            Paragraph(f"Seed {c['seed']}; fixed overrides: " + (", ".join(f"`{s}`" for s in c["sets"]) or "none")
+                      + "; dispersions:"),
+            BulletList([f"`{d}`" for d in c["disperse"]] or ["none"]),
+            Paragraph("Each run's values are a function of (seed, run index) alone; `results.csv` / "
+                      "`results.parquet` hold, per run, the drawn values (`in.*`), every metric (`m.*`), the status, "
+                      "the error and the `aocs run` command that repeats that run bit for bit."))
     t = doc.get("throughput")
     if t and t.get("runs_per_minute"):
-        lines += [f"Throughput of this call: {t['runs_this_call']} runs in {t['wall_s']:.1f} s on {t['workers']} "
-                  f"workers = {t['runs_per_minute']:.1f} runs per minute.", ""]
-    lines += ["## Requirements", "", "Pass fraction over all recorded runs (a run that did not complete does not "
-              "pass), with its 95 % Wilson score interval.", "",
-              "| requirement | passed | fraction | 95 % interval |", "|---|---|---|---|"]
+        rep.add(Paragraph(f"Throughput of this call: {t['runs_this_call']} runs in {t['wall_s']:.1f} s on "
+                          f"{t['workers']} workers = {t['runs_per_minute']:.1f} runs per minute."))
+    rep.add(_requirements_section(doc), _metrics_section(doc))
+    if doc["failed_runs"]:
+        rep.add(_failed_runs_section(doc["failed_runs"]))
+    if doc["plots"]:
+        rep.add(Section("Plots").add(Figures([Figure(p, p) for p in doc["plots"]])))
+    return rep
+
+
+def _requirements_section(doc: dict) -> Section:
+    rows = []
     for r in doc["requirements"].values():
         w = r["wilson95"]
-        lines.append(f"| {r['what']} | {r['passed']} / {r['n']} | {_fmt(r['fraction'])} | "
-                     + (f"[{w[0]:.4f}, {w[1]:.4f}]" if w else "-") + " |")
-    lines += ["", "## Metrics", "", "Over the runs that produced metrics (percentiles by linear interpolation); "
-              "`campaign.json` has every metric.", "",
-              "| metric | n | min | median | p95 | p99 | max |", "|---|---|---|---|---|---|---|"]
+        rows.append([r["what"], f"{r['passed']} / {r['n']}", _fmt(r["fraction"]),
+                     f"[{w[0]:.4f}, {w[1]:.4f}]" if w else "-"])
+    return Section("Requirements").add(
+        Paragraph("Pass fraction over all recorded runs (a run that did not complete does not pass), with its "
+                  "95 % Wilson score interval."),
+        Table(["requirement", "passed", "fraction", "95 % interval"], rows))
+
+
+def _metrics_section(doc: dict) -> Section:
+    sec = Section("Metrics").add(Paragraph("Over the runs that produced metrics (percentiles by linear "
+                                           "interpolation); `campaign.json` has every metric."))
+    rows = []
     for k, label in KEY_METRICS:
         s = doc["metrics"].get(k)
         if s:
-            lines.append(f"| {label} | {s['n']} | " + " | ".join(_fmt(s[x]) for x in
-                                                                  ("min", "median", "p95", "p99", "max")) + " |")
+            rows.append([label, str(s["n"]), *(_fmt(s[x]) for x in ("min", "median", "p95", "p99", "max"))])
+    sec.add(Table(["metric", "n", "min", "median", "p95", "p99", "max"], rows))
     ins = [k for k in doc["metrics"] if k.startswith("in.")]
     if ins:
-        lines += ["", "Dispersed inputs:", "", "| input | min | median | max |", "|---|---|---|---|"]
-        for k in ins:
-            s = doc["metrics"][k]
-            lines.append(f"| `{k[3:]}` | {_fmt(s['min'])} | {_fmt(s['median'])} | {_fmt(s['max'])} |")
-    if doc["failed_runs"]:
-        lines += ["", "## Runs that did not pass", "", f"{len(doc['failed_runs'])} runs (logs kept in "
-                  "`runs/NNNNNN/`; the first 20 listed):", ""]
-        for f in doc["failed_runs"][:20]:
-            err = str(f["error"]).splitlines()[0] if f["error"] else ""
-            lines.append(f"- run {f['index']} ({f['status']}): {err}")
-            lines.append(f"  repeat: `{f['repeat_command']}`")
-    if doc["plots"]:
-        lines += ["", "## Plots", ""]
-        lines += [f"![{p}]({p})" for p in doc["plots"]]
-    return "\n".join(lines) + "\n"
+        s = doc["metrics"]
+        sec.add(Paragraph("Dispersed inputs:"),
+                Table(["input", "min", "median", "max"],
+                      [[f"`{k[3:]}`", _fmt(s[k]["min"]), _fmt(s[k]["median"]), _fmt(s[k]["max"])] for k in ins]))
+    return sec
+
+
+#: failed runs listed in report.md (campaign.json lists them all)
+FAILED_LISTED = 20
+
+
+def _failed_runs_section(failed: list[dict]) -> Section:
+    items = []
+    for f in failed[:FAILED_LISTED]:
+        err = str(f["error"]).splitlines()[0] if f["error"] else ""
+        items.append(f"run {f['index']} ({f['status']}): {err}\nrepeat: `{f['repeat_command']}`")
+    return Section("Runs that did not pass").add(
+        Paragraph(f"{len(failed)} runs (logs kept in `runs/NNNNNN/`; the first {FAILED_LISTED} listed):"),
+        BulletList(items))
 
 
 def finite(v) -> bool:

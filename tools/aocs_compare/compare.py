@@ -28,6 +28,8 @@ from aocs_analysis import verdict
 from aocs_analysis.gain_tables import GAINS_C, designed_gamma, gain_matrix  # noqa: F401 (re-exported)
 from aocs_core.conventions import ARCSEC_PER_RAD
 from aocs_plant.scenario import load
+from aocs_report import markdown
+from aocs_report.document import Column, Document, Figure, Paragraph, Section, Table
 from aocs_runner import scenario_opts
 from aocs_runner.run import RunFailed, RunOptions, execute
 from aocs_wire import lcmlog
@@ -180,12 +182,13 @@ def settle_over_bound(m: dict) -> float | None:
 #: the wheel columns of a run on a wheel array (SPEC 5.3): the removed (failed) wheels, the largest peak
 #: speed and motor torque over the wheels as a fraction of their limits, the longest time a wheel spent at
 #: a limit, and whether every wheel stayed within its limits
-WHEEL_HEAD = ["removed", "peak speed/max", "peak u_s/max", "at limit s", "wheel limits"]
+WHEEL_COLUMNS = (Column("removed"), Column("peak speed/max"), Column("peak u_s/max"), Column("at limit", "s"),
+                 Column("wheel limits"))
 
 
 def wheel_cells(w: dict | None) -> list[str]:
     if not w:
-        return ["-"] * len(WHEEL_HEAD)
+        return ["-"] * len(WHEEL_COLUMNS)
     live = [x for x in w["per_wheel"] if not x["failed"]]
     speed = max((x["peak_speed_rad_s"] / x["speed_limit_rad_s"] for x in live), default=None)
     torque = max((x["peak_motor_torque_nm"] / x["torque_limit_nm"] for x in live), default=None)
@@ -195,8 +198,8 @@ def wheel_cells(w: dict | None) -> list[str]:
             "within" if w["within_limits"] else "EXCEEDED"]
 
 
-def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
-               timing: bool = True, bound: bool = False) -> tuple[list[str], list[list[str]]]:
+def comparison_table(rows: list[Row], kind: str, *, requirement=None, goal=None,
+                     timing: bool = True, bound: bool = False) -> Table:
     """The comparison table. requirement / goal (arcsec): the scenario's pointing requirement and
     goal (IRASSI); without them the IRASSI columns (qe_arcsec, met requirement / goal) are left out.
     timing=False leaves out the host step-time columns (docs/results.md: they change at every run).
@@ -205,18 +208,22 @@ def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
     show_timing = timing
     wheels = any(r.metrics is not None and r.metrics.get("wheels") for r in rows)
     if kind == "attitude":
-        head = ["law", "limit N m", "final max as", "per axis as"]
+        head = [Column("law"), Column("limit", "N m"), Column("final max", "as"), Column("per axis", "as")]
         if irassi:
-            head += ["qe_arcsec max", f"{requirement:g} as"] + ([f"{goal:g} as"] if goal is not None else [])
-        head += ["settle s"] + (["bound s", "settle/bound", "profile end s"] if bound else [])
-        head += ["max abs u_i N m", "max norm u N m", "effort N m s", "sat s"]
+            head += [Column("qe_arcsec max"), Column(f"{requirement:g}", "as")]
+            head += [Column(f"{goal:g}", "as")] if goal is not None else []
+        head += [Column("settle", "s")]
+        head += [Column("bound", "s"), Column("settle/bound"), Column("profile end", "s")] if bound else []
+        head += [Column("max abs u_i", "N m"), Column("max norm u", "N m"), Column("effort", "N m s"),
+                 Column("sat", "s")]
         if wheels:
-            head += WHEEL_HEAD
+            head += WHEEL_COLUMNS
     else:
-        head = ["law", "limit N", "pos err max m", "per axis m", "vel err max m/s", "settle s",
-                "max abs F_i N", "max norm F N", "effort N s", "sat s"]
+        head = [Column("law"), Column("limit", "N"), Column("pos err max", "m"), Column("per axis", "m"),
+                Column("vel err max", "m/s"), Column("settle", "s"), Column("max abs F_i", "N"),
+                Column("max norm F", "N"), Column("effort", "N s"), Column("sat", "s")]
     if timing:
-        head += ["step ns med/p99/budget", "overruns"]
+        head += [Column("step ns med/p99/budget"), Column("overruns")]
     body = []
     for r in rows:
         m = r.metrics
@@ -250,26 +257,14 @@ def table_rows(rows: list[Row], kind: str, *, requirement=None, goal=None,
                    _g(pe.get("velocity_final_max_m_s"), ".3g"), settle, _vec(m["max_abs_force_n"]),
                    _g(m["max_force_norm_n"], ".4g"), _g(m["effort"], ".4g"), sat]
         body.append(row + ([timing, str(tm["overruns"])] if show_timing else []))
-    return head, body
+    return Table(head, body)
 
 
-def table_rows_for(sc, rows: list[Row], *, timing: bool = True, bound: bool = False):
-    """table_rows with the scenario's own requirement and goal (IRASSI columns only where they exist)."""
+def comparison_table_for(sc, rows: list[Row], *, timing: bool = True, bound: bool = False) -> Table:
+    """comparison_table with the scenario's own requirement and goal (IRASSI columns only where they exist)."""
     req = sc.metrics.requirement_arcsec if sc.kind == "attitude" else None
     goal = sc.metrics.goal_arcsec if sc.kind == "attitude" else None
-    return table_rows(rows, sc.kind, requirement=req, goal=goal, timing=timing, bound=bound)
-
-
-def text_table(head, body) -> str:
-    widths = [max(len(h), *(len(b[i]) for b in body)) if body else len(h) for i, h in enumerate(head)]
-    fmt = lambda r: "  ".join(f"{c:<{w}}" for c, w in zip(r, widths)).rstrip()  # noqa: E731
-    return "\n".join([fmt(head), fmt(["-" * w for w in widths])] + [fmt(b) for b in body])
-
-
-def md_table(head, body) -> str:
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    lines += ["| " + " | ".join(b) + " |" for b in body]
-    return "\n".join(lines)
+    return comparison_table(rows, sc.kind, requirement=req, goal=goal, timing=timing, bound=bound)
 
 
 # --------------------------------------------------------------------------- plots
@@ -338,38 +333,42 @@ def settle_line(sc) -> tuple[float, str] | None:
 
 # --------------------------------------------------------------------------- report
 def report_md(sc, rows: list[Row], plots: list[Path], limit=None, duration=None, bound=False) -> str:
-    head, body = table_rows_for(sc, rows, bound=bound)
+    return markdown.render(report_document(sc, rows, plots, limit, duration, bound))
+
+
+def report_document(sc, rows: list[Row], plots: list[Path], limit=None, duration=None, bound=False) -> Document:
+    """report.md's content: the runs' table, what its columns mean, the steady state, failures, plots."""
     lim = "reference actuator (no limit)" if limit is None else f"actuator limit {limit:g} per axis"
     dur = f"{duration:g} s" if duration else f"{sc.duration_s:g} s"
-    parts = [f"# aocs compare: {sc.id}", "",
-             f"{sc.description}", "", f"Reference: {sc.reference}", "",
-             f"{len(rows)} SIL runs (each its own plant_node + fsw_node processes, lockstep), {lim}, {dur}, "
-             f"{sc.control_rate_hz:g} Hz. Metrics from each run's LCM log (docs/sil.md).", "",
-             md_table(head, body), ""]
-    if sc.kind == "attitude":
-        w = sc.metrics.window_s
-        req, goal = sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec
-        irassi = ("qe_arcsec = max |qe_i| (the IRASSI report's figure, half the per-axis angle); "
-                  f"{req:g} as / {goal:g} as: final max within the requirement / goal (true angle); "
-                  if req is not None and goal is not None else "")
-        parts += [f"final max = max of the true pointing angle 2 asin|qe_vec| over the last {w:g} s; per axis = "
-                  f"max |2 qe_i|; {irassi}"
-                  "sat s = time the command was saturated; step time of the executive against the law's budget.",
-                  ""]
-    else:
-        parts += [f"pos err max = max position error component over the last {sc.metrics.window_s:g} s.", ""]
+    doc = Document(f"aocs compare: {sc.id}").add(
+        Paragraph(f"{sc.description}"), Paragraph(f"Reference: {sc.reference}"),
+        Paragraph(f"{len(rows)} SIL runs (each its own plant_node + fsw_node processes, lockstep), {lim}, {dur}, "
+                  f"{sc.control_rate_hz:g} Hz. Metrics from each run's LCM log (docs/sil.md)."),
+        comparison_table_for(sc, rows, bound=bound), Paragraph(columns_explained(sc)))
     if sc.settle:
         crit = {k: v for k, v in vars(sc.settle).items() if v is not None} if hasattr(sc.settle, "__dict__") else {}
         if crit:
-            parts += ["settled when " + ", ".join(f"{k} = {v:g}" for k, v in crit.items())
-                      + " from then to the end of the run.", ""]
-    parts += steady_state_section(sc, rows)
-    for r in rows:
-        if r.error:
-            parts += [f"**{r.name} FAILED**: {r.error}", ""]
-    for p in plots:
-        parts += [f"![{p.stem}]({p.name})", ""]
-    return "\n".join(parts)
+            doc.add(Paragraph("settled when " + ", ".join(f"{k} = {v:g}" for k, v in crit.items())
+                              + " from then to the end of the run."))
+    steady = steady_state_section(sc, rows)
+    if steady is not None:
+        doc.add(steady)
+    doc.add(*(Paragraph(f"**{r.name} FAILED**: {r.error}") for r in rows if r.error))
+    doc.add(*(Figure(p.name, p.stem) for p in plots))
+    return doc
+
+
+def columns_explained(sc) -> str:
+    """What the comparison table's columns mean, for this scenario's kind."""
+    if sc.kind != "attitude":
+        return f"pos err max = max position error component over the last {sc.metrics.window_s:g} s."
+    req, goal = sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec
+    irassi = ("qe_arcsec = max |qe_i| (the IRASSI report's figure, half the per-axis angle); "
+              f"{req:g} as / {goal:g} as: final max within the requirement / goal (true angle); "
+              if req is not None and goal is not None else "")
+    return (f"final max = max of the true pointing angle 2 asin|qe_vec| over the last {sc.metrics.window_s:g} s; "
+            f"per axis = max |2 qe_i|; {irassi}"
+            "sat s = time the command was saturated; step time of the executive against the law's budget.")
 
 
 def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, sets=(), run_plots=False,
@@ -398,26 +397,16 @@ def steady_error_arcsec(kp_diag, d=IRASSI_DIST_NM) -> tuple[np.ndarray, float]:
     return 2.0 * qe * as_, 2.0 * math.asin(float(np.linalg.norm(qe))) * as_
 
 
-def steady_state_section(sc, rows) -> list[str]:
+def steady_state_section(sc, rows) -> Section | None:
     """For `aocs compare` reports: the no-integral-action steady-state estimate d / kp of every
-    proportional law (quat_pd, quat_nlpd_*, lqr_quat tables) under the scenario's constant torque."""
+    proportional law (quat_pd, quat_nlpd_*, lqr_quat tables) under the scenario's constant torque
+    (None when the scenario has no constant torque or no such law ran)."""
     ct = sc.disturbances.constant_torque
     if sc.kind != "attitude" or ct is None or not ct.enabled:
-        return []
+        return None
     d = np.abs(np.asarray(ct.torque_nm, float)) * ct.scale
-    lines = ["## Steady-state error of the laws without integral action", "",
-             "quat_pd, quat_nlpd and lqr_quat have no integral action: under the constant disturbance torque "
-             f"d = [{' '.join(f'{x:g}' for x in d)}] N m they come to rest where the proportional term cancels "
-             "it, kp_i qe_i = d_i, so the steady error is the constant disturbance over the proportional gain: "
-             "qe_i = d_i / kp_i, true angle 2 asin|qe_vec|. kp from the scenario (PD laws) or the attitude block "
-             "of the K that flew (the compiled table, firmware/gains/aocs_gains.c, or the K designed for the "
-             "scenario). Only a run that has settled has a steady state to compare. Agreement is stated as measured / "
-             "estimate (the gravity gradient and the metric window's residual transient make up the rest).", "",
-             "| law | kp per axis | estimate (true angle, arcsec) | measured final max (arcsec) | measured / estimate |"
-             f" meets {sc.metrics.requirement_arcsec:g} |" if sc.metrics.requirement_arcsec is not None else
-             "| law | kp per axis | estimate (true angle, arcsec) | measured final max (arcsec) | measured / estimate |"
-             " meets requirement |", "|---|---|---|---|---|---|"]
     req = sc.metrics.requirement_arcsec
+    body = []
     n = unsettled = 0
     miss = []
     for r in rows:
@@ -430,25 +419,35 @@ def steady_state_section(sc, rows) -> list[str]:
         meets = "-" if req is None else ("yes" if meas <= req else "NO")
         if r.metrics["settle_time_s"] is None:
             # still slewing (or never settled): there is no steady state to explain yet
-            lines.append(f"| {r.name} | {' '.join(f'{k:.6g}' for k in kp)} | - | {meas:.4g} | not settled: the "
-                         f"slew has not finished, no steady state | {meets} |")
+            body.append([r.name, " ".join(f"{k:.6g}" for k in kp), "-", f"{meas:.4g}",
+                         "not settled: the slew has not finished, no steady state", meets])
             unsettled += 1
             continue
         _, est = steady_error_arcsec(kp, d)
-        lines.append(f"| {r.name} | {' '.join(f'{k:.6g}' for k in kp)} | {est:.4g} | {meas:.4g} | "
-                     f"{meas / est:.3f} | {meets} |")
+        body.append([r.name, " ".join(f"{k:.6g}" for k in kp), f"{est:.4g}", f"{meas:.4g}", f"{meas / est:.3f}",
+                     meets])
         n += 1
         # the explanation holds where the steady error is the estimate (a settled run, ratio near 1)
         if r.law == "lqr_quat" and req is not None and meas > req and 0.5 <= meas / est <= 2.0:
             miss.append((r, kp))
     if not n and not unsettled:
-        return []
-    lines.append("")
+        return None
+    sec = Section("Steady-state error of the laws without integral action").add(
+        Paragraph("quat_pd, quat_nlpd and lqr_quat have no integral action: under the constant disturbance torque "
+                  f"d = [{' '.join(f'{x:g}' for x in d)}] N m they come to rest where the proportional term cancels "
+                  "it, kp_i qe_i = d_i, so the steady error is the constant disturbance over the proportional gain: "
+                  "qe_i = d_i / kp_i, true angle 2 asin|qe_vec|. kp from the scenario (PD laws) or the attitude "
+                  "block of the K that flew (the compiled table, firmware/gains/aocs_gains.c, or the K designed "
+                  "for the scenario). Only a run that has settled has a steady state to compare. Agreement is "
+                  "stated as measured / estimate (the gravity gradient and the metric window's residual transient "
+                  "make up the rest)."),
+        Table(["law", "kp per axis", "estimate (true angle, arcsec)", "measured final max (arcsec)",
+               "measured / estimate", f"meets {req:g}" if req is not None else "meets requirement"], body))
     for r, kp in miss:
-        lines += [f"{r.name} misses {req:g} arcsec because it has no integral action and its proportional gain "
-                  f"K[i][i] = {kp[0]:.6g} N m is too small for the disturbance: steady error = constant "
-                  f"disturbance / proportional gain = {d[0]:g} / {kp[0]:.6g} per axis.", ""]
-    return lines
+        sec.add(Paragraph(f"{r.name} misses {req:g} arcsec because it has no integral action and its proportional "
+                          f"gain K[i][i] = {kp[0]:.6g} N m is too small for the disturbance: steady error = constant "
+                          f"disturbance / proportional gain = {d[0]:g} / {kp[0]:.6g} per axis."))
+    return sec
 
 
 def proportional_gain(sc, r: Row):

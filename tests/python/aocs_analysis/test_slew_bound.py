@@ -1,4 +1,4 @@
-"""The eigenaxis bang-bang bound (tools/aocs_analysis/slew_bound.py, SPEC 5.1): the IRASSI figures of
+"""The eigenaxis bang-bang bound (sil/aocs_analysis/slew_bound.py, SPEC 5.1): the IRASSI figures of
 SPEC 5.1 and an independent check of the formula (a numerically integrated bang-bang slew about e,
 torque J alpha e on the binding axis at the limit)."""
 import math

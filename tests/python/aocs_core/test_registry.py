@@ -110,7 +110,7 @@ def test_status_codes_are_the_rows_of_status_def(reg):
 def test_budgets_and_modes(reg):
     assert registry.law_budget_ns("quat_nlpd_neg") == registry.law_budget_ns("quat_nlpd_pos")
     assert registry.law_budget_ns("none") == reg.none.budget_ns
-    assert registry.mode_name(paths.MODE_SAFE) == "safe" and registry.mode_name(7) == "7"
+    assert registry.mode_name(paths.import_bindings().actuator_cmd_t.MODE_SAFE) == "safe" and registry.mode_name(7) == "7"
 
 
 def test_pil_fields_for_the_codec(reg):

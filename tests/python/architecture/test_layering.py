@@ -1,6 +1,7 @@
 """The Python packages' structure (docs/architecture.md): folders named as imported, the
-layering contract of pyproject.toml kept, no import cycle, and no import hidden inside a
-function without its reason written beside it."""
+layering contracts of pyproject.toml kept, no package under sil/ importing a package under
+tools/, no import cycle, and no import hidden inside a function without its reason written
+beside it."""
 from __future__ import annotations
 
 import ast
@@ -33,6 +34,50 @@ def test_no_package_dir_renames_and_every_folder_is_named_as_imported():
         assert folder.name == name and folder.parent.name in ("sil", "tools"), f"{name} lives in {folder}"
 
 
+def package_folders(top: str) -> list[str]:
+    """The packages whose folder is directly under `top` (sil or tools)."""
+    return sorted(p.parent.name for p in (REPO / top).glob("aocs*/__init__.py"))
+
+
+def imported_packages(text: str) -> list[tuple[int, str]]:
+    """(line, top-level package) of every absolute import of a module's text, inside functions too,
+    and of every importlib.import_module("...") with a literal name."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, a.name.split(".")[0]) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            found.append((node.lineno, node.module.split(".")[0]))
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "import_module"
+              and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
+            found.append((node.lineno, node.args[0].value.split(".")[0]))
+    return found
+
+
+def test_imported_packages_finds_every_kind_of_import():
+    src = ("import os.path\nfrom aocs_core import paths\nfrom . import sibling\n"
+           "def f():\n    from aocs_compare.compare import run  # deferred: test\n"
+           "    return importlib.import_module('aocs_campaign.plan')\n")
+    assert imported_packages(src) == [(1, "os"), (2, "aocs_core"), (5, "aocs_compare"), (6, "aocs_campaign")]
+
+
+def test_folder_contract_names_the_folders():
+    """The forbidden contract's two lists are exactly the package folders under sil/ and tools/."""
+    contracts = [c for c in PYPROJECT["tool"]["importlinter"]["contracts"] if c["type"] == "forbidden"]
+    assert len(contracts) == 1, "one contract: no package under sil/ imports a package under tools/"
+    assert sorted(contracts[0]["source_modules"]) == package_folders("sil")
+    assert sorted(contracts[0]["forbidden_modules"]) == package_folders("tools")
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "sil").glob("aocs*/**/*.py")), ids=lambda p: str(p.relative_to(REPO)))
+def test_no_sil_package_imports_a_tools_package(path):
+    """Folders show the layers (issue 19 item 6): what a run needs lives in sil/, the tools build on it."""
+    tools = set(package_folders("tools"))
+    bad = [(line, name) for line, name in imported_packages(path.read_text()) if name in tools]
+    assert not bad, (f"{path.relative_to(REPO)} imports packages under tools/ at (line, package) {bad}: "
+                     "move what it needs down to sil/")
+
+
 def test_layering_contract_is_kept():
     """The real checker (import-linter) over the installed packages."""
     exe = Path(sys.executable).with_name("lint-imports")
@@ -40,6 +85,7 @@ def test_layering_contract_is_kept():
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stdout + res.stderr
     assert "0 broken" in res.stdout
+    assert "no package under sil/ imports a package under tools/ KEPT" in res.stdout
 
 
 def find_cycles(edges: dict[str, set[str]]) -> list[list[str]]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .checks import pole_stats
+from aocs_design.checks import pole_stats
 
 HEADER_NAME = "aocs_gains.h"
 SOURCE_NAME = "aocs_gains.c"

@@ -16,7 +16,7 @@ import numpy as np
 from aocs_core import paths, registry
 from aocs_core.conventions import quat_from_rotvec_rows as quat_from_rotvec
 from aocs_core.limits import UNLIMITED
-from aocs_core.paths import MODE_NOMINAL, MODE_SAFE
+from aocs_core.modes import mode_value
 
 from . import metrics as M
 from . import wheels
@@ -317,8 +317,9 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
         # one registry look-up per distinct (law, mode) pair, not per step (it reads the build's registry)
         pairs, inverse = np.unique(np.stack([cmd["law_id"], cmd["mode"]], axis=1).astype(np.int64), axis=0,
                                    return_inverse=True)
+        nominal_mode = mode_value("nominal")
         per_pair = np.array([override or (nominal(_law_or_none(int(lid)))
-                                          if int(m) == MODE_NOMINAL else registry.law_budget_ns("none"))
+                                          if int(m) == nominal_mode else registry.law_budget_ns("none"))
                              for lid, m in pairs], dtype=float)
         budgets = per_pair[inverse.reshape(-1)]
     else:
@@ -347,7 +348,7 @@ def _counters(out: dict, log, dt: float) -> None:
             last[key] = max(last[key], int(np.max(stt[key])))
     modes = cmd["mode"]
     transitions = int(np.count_nonzero(np.diff(modes))) if modes.size > 1 else 0
-    in_safe = modes == MODE_SAFE
+    in_safe = modes == mode_value("safe")
     safe_entries = int(np.count_nonzero(in_safe[1:] & ~in_safe[:-1]) + (1 if in_safe.size and in_safe[0] else 0))
     status_counts: dict[str, int] = {}
     for code, n in zip(*np.unique(cmd["status"], return_counts=True)):
