@@ -49,12 +49,12 @@ def test_norm_saturation_keeps_direction():
     np.testing.assert_allclose(b.command((3.0, 0.0, 0.0)), (1.0, 0.0, 0.0))
 
 
-def test_rate_limit_per_control_period():
-    a = actuator(rate_limit=1.0)  # 1 N m/s -> 0.1 N m per period
+def test_slew_rate_limit_per_control_period():
+    a = actuator(slew_rate_limit_per_s=1.0)  # 1 N m/s -> 0.1 N m per period
     outs = [a.command((10.0, -10.0, 0.05))[0] for _ in range(3)]
     np.testing.assert_allclose(outs, (0.1, 0.2, 0.3), rtol=1e-14)
     assert a.held[1] == pytest.approx(-0.3) and a.held[2] == 0.05
-    assert a.rate_limited_count == 3
+    assert a.slew_rate_limited_count == 3
 
 
 # ----------------------------------------------------------------- zero-order hold through the plant
