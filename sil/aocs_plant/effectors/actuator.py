@@ -1,6 +1,8 @@
 """The body-torque (or force) actuator (SPEC 3.4): `[actuator]`, present in every scenario.
 
-Once per control period, on the command (zero-order hold):
+Its command field is `u_body` (torque, N m, B) on the attitude plant and `u_orbit` (force, N, Bryson's
+rotating frame, SPEC 2.8) on the orbit plant: the flight software's u (actuator_cmd_t.u). Once per
+control period, on the command (zero-order hold):
   1. per-axis saturation |c_i| <= axis_limit;
   2. norm saturation |c| <= norm_limit (scales the vector, keeps its direction);
   3. slew-rate limit |c_i(k) - c_i(k-1)| <= slew_rate_limit_per_s * dt on the held value.
@@ -24,6 +26,10 @@ from dataclasses import dataclass
 from aocs_core import registry
 
 from .base import ATTITUDE, ORBIT, ZERO3, Effector, Form, register
+
+#: the command fields (Plant.apply): body torque on the attitude plant, force on the orbit plant
+U_BODY = "u_body"
+U_ORBIT = "u_orbit"
 
 LIMIT_KEYS = ("axis_limit", "norm_limit", "slew_rate_limit_per_s", "lag_tau_s", "realistic_axis_limit")
 
@@ -81,10 +87,17 @@ class Actuator(Effector):
             self.form = Form.GENERAL
             self.state_size = 3
         self.period_hooks = self.state_size > 0   # the period mean of the lag output
+        self.field = U_BODY if body.kind == ATTITUDE else U_ORBIT
+        self.command_fields = {self.field: 3}
 
     # ---------------------------------------------------------------- the command
-    def command(self, c) -> tuple[float, float, float]:
-        """Take a new command at the start of a control period; returns the held value."""
+    def command(self, cmd) -> None:
+        c = cmd.get(self.field)
+        if c is not None:
+            self.hold(c)
+
+    def hold(self, c) -> tuple[float, float, float]:
+        """Limit a new command (3 floats) at the start of a control period; returns the held value."""
         c = (float(c[0]), float(c[1]), float(c[2]))
         clipped = False
         if self.axis_limit is not None:
