@@ -1,4 +1,4 @@
-"""The spacecraft's environment at time t (docs/scenarios.md `[environment]`, docs/spec.md "Environment").
+"""The spacecraft's environment at time t (SPEC 5.5; docs/scenarios.md `[environment]`).
 
 One Environment per run, built from the scenario's `[environment]` table; effectors get it through
 their BodyContext, sensors through their SensorContext, and Plant.environment_state() reports it.

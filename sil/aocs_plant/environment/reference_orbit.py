@@ -1,5 +1,5 @@
 """The spacecraft's orbit in the Earth-centred inertial frame: a circular reference orbit, and the
-relative state of the orbit plant about it (SPEC 2.8).
+relative state of the orbit plant about it (SPEC 5.5, 2.8).
 
 Reference (the chief of the orbit plant; the spacecraft itself in an attitude scenario): radius R,
 mu, inclination i, right ascension of the ascending node Omega, argument of latitude u(t) = u0 + n t,

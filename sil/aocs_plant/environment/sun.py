@@ -1,6 +1,6 @@
-"""The Sun's geocentric position, low precision (The Astronomical Almanac, section C, "Low-precision
-formulas for the Sun's coordinates"; the same formula in Meeus, Astronomical Algorithms, ch. 25 note,
-and docs/spec.md "Environment: Sun direction"). Precision 0.01 deg in direction between 1950 and 2050.
+"""The Sun's geocentric position, low precision (SPEC 5.5; The Astronomical Almanac, section C,
+"Low-precision formulas for the Sun"; in Julian centuries, Vallado, Fundamentals of Astrodynamics and
+Applications, 4th ed., algorithm 29). Precision 0.01 deg in direction between 1950 and 2050.
 
 With n = JD - 2451545.0 (days from J2000.0, TT):
 
