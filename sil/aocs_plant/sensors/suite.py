@@ -17,14 +17,19 @@ class SensorSuite:
         self.latency = int(latency_periods)
         self.faults = tuple(faults)
         self._delayed = [s for s in self.sensors if s.delayed]
-        self._sources = [s.source(plant) for s in self._delayed]
+        sources = tuple(s.source(plant) for s in self._delayed)
+        if len(sources) == 2:   # the usual pair (q, w or pos, vel): one closure, no generator on the hot path
+            a, b = sources
+            self._snapshot = lambda: (a(), b())
+        else:
+            self._snapshot = lambda: tuple([f() for f in sources])
         self._now = [(s, s.source(plant)) for s in self.sensors if not s.delayed]
         self.history: list = []          # the delayed sensors' true values per period, latency + 1 kept
         self.last = {s.name: s.initial_last for s in self.sensors}
 
     def record(self) -> None:
         """Store the true values of the current period (after the plant's state is set)."""
-        self.history.append(tuple(src() for src in self._sources))
+        self.history.append(self._snapshot())
         if len(self.history) > self.latency + 1:
             del self.history[0]
 
@@ -39,14 +44,27 @@ class SensorSuite:
         out: dict = {}
         ok = True
         truth = self.history[0]  # period k - latency, or period 0 early in the run
+        faulty = bool(self.faults)
         for i, s in enumerate(self._delayed):
-            ok = self._one(s, truth[i], t, out) and ok
+            value = s.measure(truth[i])
+            if faulty:
+                ok = self._fault(s, value, t, out) and ok
+            else:
+                out[s.value_field] = value
+                if s.valid_field is not None:
+                    out[s.valid_field] = True
         for s, src in self._now:
-            ok = self._one(s, src(), t, out) and ok
+            value = s.measure(src())
+            if faulty:
+                ok = self._fault(s, value, t, out) and ok
+            else:
+                out[s.value_field] = value
+                if s.valid_field is not None:
+                    out[s.valid_field] = True
         return out, ok
 
-    def _one(self, s, value, t, out) -> bool:
-        value = s.measure(value)
+    def _fault(self, s, value, t, out) -> bool:
+        """Put sensor s's measured value into out through the faults active at t; its validity."""
         valid = True
         if s.fault_kinds:
             f = self._active(s.name, t)
