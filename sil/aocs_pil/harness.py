@@ -66,7 +66,7 @@ class RunResult:
     overrun: list = field(default_factory=list)
     pointing_arcsec: list = field(default_factory=list)  # true angle at t_k, k = 0 .. n (after the last period)
     qe_arcsec: list = field(default_factory=list)
-    sensors: list = field(default_factory=list)        # (t_s, valid, q, w, pos, vel) per tick
+    sensors: list = field(default_factory=list)        # (t_s, valid, q, w, pos, vel[, wheel speeds]) per tick
     stats: dict = field(default_factory=dict)          # the flight computer's final JSON ("fsw_node")
     returncode: int | None = None
     stderr: str = ""
