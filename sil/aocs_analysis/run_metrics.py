@@ -287,7 +287,7 @@ def _limits(out: dict, series: dict, u: np.ndarray, cfg: dict, sc) -> None:
     nonfinite = int(np.count_nonzero(~np.all(np.isfinite(u), axis=1))) if u.shape[0] else 0
     out["limits"] = {"axis": None if unlimited else axis_lim, "norm": norm_lim, "unlimited": unlimited,
                      "plant_axis": sc.actuator.axis_limit, "plant_norm": sc.actuator.norm_limit,
-                     "plant_rate_limit": sc.actuator.rate_limit, "plant_lag_tau_s": sc.actuator.lag_tau_s,
+                     "plant_slew_rate_limit_per_s": sc.actuator.slew_rate_limit_per_s, "plant_lag_tau_s": sc.actuator.lag_tau_s,
                      "commands_over_limit": viol, "commands_not_finite": nonfinite}
     series["axis_limit"] = None if unlimited else axis_lim
     series["norm_limit"] = norm_lim
@@ -510,8 +510,8 @@ def limit_text(m: dict) -> str:
         text = " and ".join(parts) + (f"; {n} command{'s' if n != 1 else ''} beyond it" if n
                                       else "; no command beyond it")
     extra = []
-    if lim.get("plant_rate_limit") is not None:
-        extra.append(f"rate limit {lim['plant_rate_limit']:g} {unit}/s")
+    if lim.get("plant_slew_rate_limit_per_s") is not None:
+        extra.append(f"slew-rate limit {lim['plant_slew_rate_limit_per_s']:g} {unit}/s")
     if lim.get("plant_lag_tau_s") is not None:
         extra.append(f"first-order lag {lim['plant_lag_tau_s']:g} s")
     if extra:

@@ -66,7 +66,7 @@ class RunResult:
     overrun: list = field(default_factory=list)
     pointing_arcsec: list = field(default_factory=list)  # true angle at t_k, k = 0 .. n (after the last period)
     qe_arcsec: list = field(default_factory=list)
-    sensors: list = field(default_factory=list)        # (t_s, valid, q, w, pos, vel) per tick
+    sensors: list = field(default_factory=list)        # (t_s, valid, q, w, pos, vel[, wheel speeds]) per tick
     stats: dict = field(default_factory=dict)          # the flight computer's final JSON ("fsw_node")
     returncode: int | None = None
     stderr: str = ""
@@ -144,7 +144,9 @@ class Wire:
             self.lc.handle_timeout(50)
         self.status.clear()
 
-    def send_sensors(self, tick: int, t_s: float, valid: int, q, w, pos, vel, frame_no: int | None = None):
+    def send_sensors(self, tick: int, t_s: float, valid: int, q, w, pos, vel, frame_no: int | None = None,
+                     wheel_speed=()):
+        """wheel_speed: the tachometers of a wheel array (sensors_t.n_wheels of them; none without one)."""
         st = self.t.sensors_t
         m = st()
         m.protocol_version = st.PROTOCOL_VERSION
@@ -154,6 +156,8 @@ class Wire:
         m.t_s = t_s
         m.valid = valid
         m.q, m.w, m.pos, m.vel = list(q), list(w), list(pos), list(vel)
+        m.n_wheels = len(wheel_speed)
+        m.wheel_speed = list(wheel_speed) + [0.0] * (st.MAX_WHEELS - len(wheel_speed))
         self.lc.publish("AOCS_SENSORS", m.encode())
 
     def wait_cmd(self, tick: int, fc: FlightComputer, timeout: float):
@@ -210,13 +214,15 @@ def run(scenario_id: str, law: str | None, target: str, *, duration_s: float | N
                 if sc.kind == "attitude":
                     valid = (st.VALID_ATTITUDE if s["q_valid"] else 0) | (st.VALID_RATE if s["w_valid"] else 0)
                     sample = (s["t"], valid, s["q"], s["w"], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+                    if "wheel_speed" in s:   # a wheel array: its tachometers, as plant_node sends them
+                        sample = (s["t"], valid | st.VALID_WHEELS, *sample[2:], s["wheel_speed"])
                 else:
                     valid = (st.VALID_POSITION if s["pos_valid"] else 0) | (st.VALID_VELOCITY if s["vel_valid"] else 0)
                     sample = (s["t"], valid, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0), s["pos"], s["vel"])
             else:
                 sample = sensors[k]
             res.sensors.append(sample)
-            wire.send_sensors(k, *sample)
+            wire.send_sensors(k, *sample[:6], wheel_speed=sample[6] if len(sample) > 6 else ())
             m = wire.wait_cmd(k, fc, reply_timeout)
             res.u_sat.append(tuple(m.u_sat))
             res.u_unsat.append(tuple(m.u_unsat))
@@ -226,7 +232,7 @@ def run(scenario_id: str, law: str | None, target: str, *, duration_s: float | N
             res.step_ns.append(m.step_ns)
             res.overrun.append(m.overrun)
             if sensors is None:
-                plant.apply(m.u_sat)
+                plant.apply(_command(sc, m.u_sat, m.u_wheels, plant.wheel_array))
                 plant.advance()
         if sensors is None:
             tr = plant.truth()
@@ -240,6 +246,15 @@ def run(scenario_id: str, law: str | None, target: str, *, duration_s: float | N
         if own_tmp is not None:
             own_tmp.cleanup()
     return res
+
+
+def _command(sc, u, u_wheels, wheel_array) -> dict:
+    """The plant's command (Plant.apply) from the flight software's u (body torque, or force on the orbit
+    plant) and, when the plant has a wheel array, the first N of its wheel torques."""
+    cmd = {"u_body" if sc.kind == "attitude" else "u_orbit": tuple(u)}
+    if wheel_array is not None:
+        cmd["u_wheels"] = tuple(u_wheels)[:wheel_array.n]
+    return cmd
 
 
 @dataclass
@@ -306,7 +321,7 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
             _, p = q.request(frame.T_STEP, payload, frame.T_STEP_REPLY)
             r = frame.StepReply.decode(p)
             res.replies.append(r)
-            plant.apply(r.u_cmd, None if wheels is None else r.u_wheels[:len(wheels)])
+            plant.apply(_command(sc, r.u_cmd, r.u_wheels, plant.wheel_array))
             plant.advance()
         res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if sc.kind == "attitude" else 0.0)
         res.bye = q.stop()

@@ -61,9 +61,9 @@ class StepDoubling:
         self.worst_t = 0.0
         self._start = None
 
-    def apply(self, command, wheel_torques=None) -> None:
-        """The command the main plant was given for this period (and its wheel torques, if any)."""
-        self.shadow.apply(command, wheel_torques)
+    def apply(self, command) -> None:
+        """The command the main plant was given for this period (the same mapping, Plant.apply)."""
+        self.shadow.apply(command)
 
     def begin(self, main: Plant) -> None:
         due = main.k % self.every == 0 or self._last[0] > self.threshold

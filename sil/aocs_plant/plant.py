@@ -2,8 +2,8 @@
 
     plant = Plant(load("irassi_large"))
     for k in range(sc.n_steps):
-        sample = plant.sense()        # measurement at t_k (dict)
-        plant.apply(command)          # torque (N m, B) or force (N, Bryson frame)
+        sample = plant.sense()        # measurement at t_k (dict: every sensor's fields)
+        plant.apply({"u_body": u})    # the command: each actuator reads its own fields
         plant.advance()               # integrate [t_k, t_k + dt] with the command held (ZOH)
     plant.truth()                     # true state, disturbance and applied torque/force
 
@@ -11,6 +11,15 @@ Time is t_k = k * dt from the integer period counter (no accumulated
 rounding). If apply() is not called in a period the actuator keeps the
 previous held command (zero before the first one). A non-finite command is
 refused: the previous held command stays and counters["bad_commands"] counts it.
+
+The command is a mapping of named fields; every actuator declares the fields it
+reads (`command_fields`): "u_body" (torque, N m, B) or "u_orbit" (force, N,
+Bryson's frame) for the body actuator, "u_wheels" (N m, one per wheel) for a
+wheel array. A field no actuator reads is an error (a misspelt name).
+
+Every measurement comes from a sensor module (aocs_plant.sensors), sampled once
+per period by a SensorSuite; the environment (aocs_plant.environment: orbit,
+Sun, Earth, magnetic field) is one object that effectors and sensors query.
 
 Everything that acts on the body is an effector (aocs_plant.effectors), built
 from the scenario through the registry; the plant composes them by form, once:
@@ -26,17 +35,18 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 
 import numpy as np
 
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec, quat_from_rotvec, quat_mul
 
-from . import effectors
+from . import effectors, sensors
 from .effectors import FORMS, BodyContext, Effector, Form
+from .environment import Environment
 from .integrator import rk4
 from .orbit import LinearOrbit, NonlinearOrbit
 from .rigid_body import RigidBody, _mat9, body_derivative, rk4_coupled_stepper, rk4_stepper, sum_terms
-from .sensors import Sensors
 
 __all__ = ["Plant", "integrate_open_loop", "pointing_error_rad", "pointing_error_arcsec", "qe_arcsec"]
 
@@ -57,16 +67,17 @@ class Plant:
         self.counters = {"steps": 0, "commands": 0, "bad_commands": 0, "samples": 0,
                          "invalid_samples": 0}
         attitude = self.kind == "attitude"
+        self.environment = env = Environment(sc.environment)
         if attitude:
             J = _mat9(sc.attitude.inertia)
-            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, inertia=J, w0=tuple(sc.attitude.w0))
+            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, inertia=J, w0=tuple(sc.attitude.w0),
+                              environment=env)
         else:
-            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, mass_kg=sc.orbit.mass_kg)
+            ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, mass_kg=sc.orbit.mass_kg, environment=env)
         self.effectors = effs = effectors.build(sc.effectors, ctx)
         self.actuators = [e for e in effs if e.role == "actuator"]
         self.actuator = self.actuators[0] if self.actuators else None
-        self._sampled = [e for e in effs if type(e).sample is not Effector.sample]
-        self._wheeled = [e for e in self.actuators if hasattr(e, "command_wheels")]
+        self._command_sizes = self._command_fields(self.actuators)
         self._compose(effs)
         if attitude:
             p = sc.attitude
@@ -92,9 +103,22 @@ class Plant:
             else:
                 self.orbit = NonlinearOrbit(p.mu, p.orbit_radius_m, p.mass_kg, p.x0)
         self._applied = _Z3
-        self.sensors = Sensors(sc)
-        self.sensors.record(self._truth_pair())
+        self.sensors = sensors.build(sc.sensors, sensors.SensorContext(self.kind, self.dt, sc.seed, env))
+        self._suite = sensors.SensorSuite(self.sensors, sc.sensors.latency_periods, sc.sensors.faults, self)
+        self._suite.record()
         self._sample = None
+
+    @staticmethod
+    def _command_fields(actuators) -> dict:
+        """{field: number of floats} over every actuator; two actuators reading one field must agree on
+        its size."""
+        sizes: dict = {}
+        for a in actuators:
+            for name, n in a.command_fields.items():
+                if sizes.setdefault(name, int(n)) != int(n):
+                    raise ValueError(f"command field {name!r}: actuator {a.kind!r} reads {n} values, "
+                                     f"another {sizes[name]}")
+        return sizes
 
     def _compose(self, effs) -> None:
         """Sort the effectors by form, once (the hot path then never asks)."""
@@ -155,8 +179,13 @@ class Plant:
 
     @property
     def wheel_array(self):
-        """The actuator that takes wheel torque commands (the [wheels] array), or None."""
-        return self._wheeled[0] if self._wheeled else None
+        """The actuator that takes wheel torque commands ("u_wheels": the [wheels] array), or None."""
+        return next((a for a in self.actuators if "u_wheels" in a.command_fields), None)
+
+    @property
+    def command_fields(self) -> dict:
+        """The command fields this plant's actuators read: {name: number of floats}."""
+        return dict(self._command_sizes)
 
     # ------------------------------------------------------------------ time
     @property
@@ -182,12 +211,6 @@ class Plant:
         return quat_mul(quat_from_rotvec((wd[0] * t, wd[1] * t, wd[2] * t)), self._qd0), wd
 
     # ------------------------------------------------------------------ state
-    def _truth_pair(self):
-        if self.kind == "attitude":
-            return (self.body.q, self.body.w)
-        x = self.orbit.x
-        return ((x[3], x[4], x[5]), (x[0], x[1], x[2]))
-
     def body_state(self) -> tuple:
         """The body state as effectors see it: q + w (attitude) or [u v w x y z] (orbit)."""
         if self.kind == "attitude":
@@ -206,16 +229,9 @@ class Plant:
             raise ValueError(f"sense({t}) but the plant is at t = {self.t}")
         if self._sample is not None and self._sample["seq"] == self.k:
             return self._sample
-        m = self.sensors.sample(self.t)
+        m, ok = self._suite.sample(self.t)
         s: dict = {"t": self.t, "seq": self.k}
-        if self.kind == "attitude":
-            (s["q"], s["q_valid"]), (s["w"], s["w_valid"]) = m["attitude"], m["rate"]
-            ok = s["q_valid"] and s["w_valid"]
-        else:
-            (s["pos"], s["pos_valid"]), (s["vel"], s["vel_valid"]) = m["position"], m["velocity"]
-            ok = s["pos_valid"] and s["vel_valid"]
-        for e in self._sampled:
-            s.update(e.sample(self.t, self.body_state(), self.effector_state(e)))
+        s.update(m)
         self.counters["samples"] += 1
         if not ok:
             self.counters["invalid_samples"] += 1
@@ -223,30 +239,36 @@ class Plant:
         return s
 
     # ------------------------------------------------------------------ actuation
-    def apply(self, command, wheel_torques=None) -> bool:
-        """Take the command for the current period; False (and ignored) if not finite.
-
-        wheel_torques: the flight software's motor torque commands (N m, one per wheel) when the
-        plant has a wheel array; the body-torque command is then only recorded as "commanded"."""
-        c = tuple(map(float, command))
-        if len(c) != 3:
-            raise ValueError("command must have 3 components")
-        self.counters["commands"] += 1
+    def apply(self, command) -> bool:
+        """Take the command for the current period: a mapping {field: values} (command_fields), e.g.
+        {"u_body": (tx, ty, tz)} or, with a wheel array, {"u_body": ..., "u_wheels": (u1, ..., un)}.
+        False (and the whole command ignored) if any value is not finite. Each actuator reads its own
+        fields; one the command does not carry keeps its held value."""
+        if not isinstance(command, Mapping):
+            raise ValueError(f"the command must be a mapping of fields ({', '.join(self._command_sizes)}), "
+                             f"got {type(command).__name__}")
+        sizes = self._command_sizes
+        cmd = {}
+        bad = False
         isfinite = math.isfinite
-        if not (isfinite(c[0]) and isfinite(c[1]) and isfinite(c[2])):
+        for name, values in command.items():
+            n = sizes.get(name)
+            if n is None:
+                raise ValueError(f"command field {name!r}: no actuator of this plant reads it "
+                                 f"(fields: {', '.join(sizes) or 'none'})")
+            v = tuple(map(float, values))
+            if len(v) != n:
+                raise ValueError(f"command field {name!r}: {len(v)} values, its actuator takes {n}")
+            for x in v:
+                if not isfinite(x):
+                    bad = True
+            cmd[name] = v
+        self.counters["commands"] += 1
+        if bad:
             self.counters["bad_commands"] += 1
             return False
-        if wheel_torques is not None:
-            u = tuple(map(float, wheel_torques))
-            if not self._wheeled:
-                raise ValueError("wheel torques given but the plant has no wheel array")
-            if not all(isfinite(v) for v in u):
-                self.counters["bad_commands"] += 1
-                return False
-            for a in self._wheeled:
-                a.command_wheels(u)
         for a in self.actuators:
-            a.command(c)
+            a.command(cmd)
         return True
 
     # ------------------------------------------------------------------ integration
@@ -298,7 +320,7 @@ class Plant:
         self._applied = applied
         self.k += 1
         self.counters["steps"] = self.k
-        self.sensors.record(self._truth_pair())
+        self._suite.record()
 
     def _segment(self, t: float, length: float, T) -> None:
         if self.kind == "orbit":
@@ -424,10 +446,20 @@ class Plant:
                 out[f"{e.kind}.{name}"] = v
         return out
 
+    def sensor_truth(self) -> dict:
+        """Every sensor's truth fields (of its last sample), as {"<name>.<field>": value}."""
+        return {f"{s.name}.{k}": v for s in self.sensors for k, v in s.truth().items()}
+
+    def environment_state(self) -> dict:
+        """The environment now (Environment.at): the spacecraft's orbit in N (the orbit plant's relative
+        state added), the Sun and Earth directions, the magnetic field."""
+        return self.environment.at(self.t, self.orbit.x if self.kind == "orbit" else None)
+
     def truth(self) -> dict:
         act = self.actuator
         out = {"t": self.t, "seq": self.k, "commanded": act.commanded if act is not None else _Z3,
-               "applied": self._applied, "disturbance": self.disturbance(), "effectors": self.effector_truth()}
+               "applied": self._applied, "disturbance": self.disturbance(), "effectors": self.effector_truth(),
+               "sensors": self.sensor_truth()}
         if self.kind == "attitude":
             q, w = self.body.q, self.body.w
             qd, wd = self.target()
@@ -449,7 +481,7 @@ def integrate_open_loop(scenario, steps: int | None = None) -> float:
     """
     plant = Plant(scenario)
     steps = scenario.n_steps if steps is None else int(steps)
-    zero = (0.0, 0.0, 0.0)
+    zero = {f: (0.0,) * n for f, n in plant.command_fields.items()}
     t0 = time.perf_counter()
     for _ in range(steps):
         plant.sense()

@@ -21,6 +21,20 @@ CHANNELS = {
 }
 
 
+def claim(channel: str, index: int) -> None:
+    """Reserve a fixed stream index for a channel (a sensor module's, at import). The existing channels
+    keep their indices above; a new one takes an index no other channel has, never to be renumbered."""
+    index = int(index)
+    if channel in CHANNELS:
+        if CHANNELS[channel] != index:
+            raise ValueError(f"noise channel {channel!r} has index {CHANNELS[channel]}, not {index}")
+        return
+    taken = {i: c for c, i in CHANNELS.items()}
+    if index in taken or index < 0:
+        raise ValueError(f"noise channel {channel!r}: index {index} is negative or taken by {taken.get(index)!r}")
+    CHANNELS[channel] = index
+
+
 def generator(seed: int, channel: str) -> np.random.Generator:
     """Independent Generator for one named channel of a seeded run."""
     ss = np.random.SeedSequence(entropy=int(seed), spawn_key=(CHANNELS[channel],))

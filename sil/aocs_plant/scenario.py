@@ -5,9 +5,10 @@ vectors). Anything unexpected raises ScenarioError("<file>: <dotted.key>:
 <what is wrong>"): unknown or missing keys, wrong types, non-finite numbers,
 non-positive or non-symmetric inertia, unknown law names and inconsistent
 content. The file format, every key, unit and default: docs/scenarios.md.
-The effector sections ([disturbances.<kind>], [actuator]) are read and
-validated by their own modules (aocs_plant.effectors) through the same
-section reader.
+The effector sections ([disturbances.<kind>], [actuator]), the sensors' keys
+([sensors]) and [environment] are read and validated by their own modules
+(aocs_plant.effectors, aocs_plant.sensors, aocs_plant.environment) through
+the same section reader.
 """
 from __future__ import annotations
 
@@ -25,17 +26,16 @@ import numpy as np
 from aocs_core import limits, paths, registry
 from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
 
-from . import effectors
+from . import effectors, environment, sensors
 from .effectors.actuator import ActuatorConfig
+from .environment import EnvironmentConfig
 from .orbit import MU_EARTH, mean_motion
+from .sensors import SensorsConfig
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 
 KINDS = ("attitude", "orbit")
 ATTITUDE_INPUTS = ("euler321_deg", "rho", "sigma", "quaternion")
-SENSOR_CHANNELS = {"attitude": ("attitude", "rate", "all"),
-                   "orbit": ("position", "velocity", "all")}
-FAULT_KINDS = ("dropout", "nan", "nonunit")
 
 
 #: integration error above which a run warns (aocs_plant.integration_error): 1e-3 arcsec is 1/50 of
@@ -129,37 +129,6 @@ class Disturbances(Mapping):
 
 
 @dataclass(frozen=True)
-class SensorFault:
-    channel: str
-    kind: str
-    start_s: float
-    end_s: float
-    factor: float
-
-
-@dataclass(frozen=True)
-class SensorConfig:
-    attitude_noise_rad: float = 0.0
-    attitude_bias_rad: tuple = (0.0, 0.0, 0.0)
-    rate_noise_rad_s: float = 0.0
-    rate_bias_rad_s: tuple = (0.0, 0.0, 0.0)
-    position_noise_m: float = 0.0
-    position_bias_m: tuple = (0.0, 0.0, 0.0)
-    velocity_noise_m_s: float = 0.0
-    velocity_bias_m_s: tuple = (0.0, 0.0, 0.0)
-    latency_periods: int = 0
-    faults: tuple = ()
-
-    @property
-    def ideal(self) -> bool:
-        return (self.attitude_noise_rad == 0.0 and self.rate_noise_rad_s == 0.0
-                and self.position_noise_m == 0.0 and self.velocity_noise_m_s == 0.0
-                and not any(self.attitude_bias_rad) and not any(self.rate_bias_rad_s)
-                and not any(self.position_bias_m) and not any(self.velocity_bias_m_s)
-                and self.latency_periods == 0 and not self.faults)
-
-
-@dataclass(frozen=True)
 class SettleConfig:
     rho_norm_max: float | None = None
     w_norm_max_rad_s: float | None = None
@@ -210,7 +179,7 @@ class Scenario:
     target: TargetConfig | None
     disturbances: Disturbances
     actuator: ActuatorConfig
-    sensors: SensorConfig
+    sensors: SensorsConfig
     settle: SettleConfig
     metrics: MetricsConfig
     path: str
@@ -219,6 +188,8 @@ class Scenario:
     # integration error above which a run warns: arcsec (attitude) or m (orbit); aocs_plant.integration_error
     integrator_tolerance: float | None = None
     guidance: GuidanceConfig = GuidanceConfig()
+    # [environment]: epoch, the spacecraft's orbit (attitude scenarios too), magnetic field model
+    environment: EnvironmentConfig = EnvironmentConfig()
 
     @property
     def dt(self) -> float:
@@ -659,45 +630,9 @@ def _read_effectors(root: _Section, kind: str, duration: float, rate: float, sub
     return effectors.read(root, ctx)
 
 
-def _read_sensors(root: _Section, kind: str, duration: float) -> SensorConfig:
-    sec = root.table("sensors", required=False)
-    if sec is None:
-        return SensorConfig()
-    if kind == "attitude":
-        names = (("attitude_noise_rad", "attitude_bias_rad"), ("rate_noise_rad_s", "rate_bias_rad_s"))
-        other = ("position_noise_m", "position_bias_m", "velocity_noise_m_s", "velocity_bias_m_s")
-    else:
-        names = (("position_noise_m", "position_bias_m"), ("velocity_noise_m_s", "velocity_bias_m_s"))
-        other = ("attitude_noise_rad", "attitude_bias_rad", "rate_noise_rad_s", "rate_bias_rad_s")
-    for k in other:
-        if sec.has(k):
-            sec.fail(sec.key(k), f"does not apply to a {kind} scenario")
-    kw: dict[str, Any] = {}
-    for noise, bias in names:
-        kw[noise] = sec.number(noise, required=False, default=0.0, nonneg=True)
-        kw[bias] = sec.vector(bias, required=False, default=(0.0, 0.0, 0.0))
-    kw["latency_periods"] = sec.integer("latency_periods", required=False, default=0, minimum=0)
-    faults = []
-    for f in sec.table_list("faults"):
-        ch = f.string("channel", choices=SENSOR_CHANNELS[kind])
-        fk = f.string("kind", choices=FAULT_KINDS)
-        t0 = f.number("start_s", nonneg=True)
-        t1 = f.number("end_s", positive=True)
-        if not t1 > t0:
-            f.fail(f.key("end_s"), f"must be after start_s ({t1} <= {t0})")
-        if t0 >= duration:
-            f.fail(f.key("start_s"), f"{t0} s is not inside the run (duration_s = {duration})")
-        factor = f.number("factor", required=False, default=1.5, positive=True)
-        if fk == "nonunit":
-            if ch not in ("attitude", "all") or kind != "attitude":
-                f.fail(f.key("kind"), "nonunit applies to the attitude channel only")
-            if abs(factor - 1.0) < 1e-6:
-                f.fail(f.key("factor"), "a nonunit fault needs factor != 1")
-        f.done()
-        faults.append(SensorFault(ch, fk, t0, t1, factor))
-    kw["faults"] = tuple(faults)
-    sec.done()
-    return SensorConfig(**kw)
+def _read_sensors(root: _Section, kind: str, duration: float, rate: float, configs: dict) -> SensorsConfig:
+    """[sensors]: each sensor module reads its own keys (aocs_plant.sensors)."""
+    return sensors.read(root, sensors.SensorReadContext(root.file, kind, duration, 1.0 / rate, configs))
 
 
 SETTLE_KEYS = {
@@ -783,14 +718,16 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     disturbances = Disturbances({k: c for k, c in configs.items()
                                  if effectors.REGISTRY[k].group == "disturbances"})
     actuator = configs["actuator"]
-    sensors = _read_sensors(root, kind, duration)
+    sensor_config = _read_sensors(root, kind, duration, rate, configs)
+    env = environment.read(root, kind, orb)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
-                    att, orb, target, disturbances, actuator, sensors, settle, metrics, file,
-                    effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance)
+                    att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
+                    effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
+                    environment=env)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

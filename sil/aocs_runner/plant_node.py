@@ -288,6 +288,8 @@ class _Loop:
         self.i_uw = act.index("u_wheels")
         self.i_nw = act.index("n_wheels")
         self.attitude = sc.kind == "attitude"
+        # the plant's command field of actuator_cmd_t.u_sat: body torque (attitude) or force (orbit), Plant.apply
+        self.u_field = "u_body" if self.attitude else "u_orbit"
         # the wheel array (SPEC 5.3), when the scenario has one: tachometers in sensors_t, its state in
         # truth_t, the flight computer's wheel torques (actuator_cmd_t.u_wheels) applied to it
         self.wheels = plant.wheel_array
@@ -412,7 +414,7 @@ class _Loop:
         k0 = self.args.start_tick
         timeout = self.args.reply_timeout
         unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
-        i_uw, nw = self.i_uw, self.nw
+        i_uw, nw, u_field = self.i_uw, self.nw, self.u_field
         box = [None]
         want = [k0]
         rt = self.rt_ns
@@ -472,9 +474,9 @@ class _Loop:
                 self.last_answered = tick
                 if v[self.i_nw] != nw:
                     return self.wheels_disagree(v[self.i_nw])
-                uw = v[i_uw:i_uw + nw] if nw else None
-                plant.apply(v[i_u:i_u + 3], uw)
-                check.apply(v[i_u:i_u + 3], uw)
+                cmd = {u_field: v[i_u:i_u + 3], "u_wheels": v[i_uw:i_uw + nw]} if nw else {u_field: v[i_u:i_u + 3]}
+                plant.apply(cmd)
+                check.apply(cmd)
                 if dup:
                     publish("AOCS_SENSORS", data)
             check.begin(plant)
@@ -494,7 +496,7 @@ class _Loop:
         k0 = self.args.start_tick
         dt = self.sc.dt
         unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
-        i_uw, nw = self.i_uw, self.nw
+        i_uw, nw, u_field = self.i_uw, self.nw, self.u_field
         latest = [None]
 
         def on_cmd(ch, data):  # noqa: ARG001
@@ -524,9 +526,9 @@ class _Loop:
                 if v is not None:
                     if v[self.i_nw] != nw:
                         return self.wheels_disagree(v[self.i_nw])
-                    uw = v[i_uw:i_uw + nw] if nw else None
-                    plant.apply(v[i_u:i_u + 3], uw)
-                    check.apply(v[i_u:i_u + 3], uw)
+                    cmd = {u_field: v[i_u:i_u + 3], "u_wheels": v[i_uw:i_uw + nw]} if nw else {u_field: v[i_u:i_u + 3]}
+                    plant.apply(cmd)
+                    check.apply(cmd)
                     self.last_answered = v[i_tick]
                 check.begin(plant)
                 plant.advance()

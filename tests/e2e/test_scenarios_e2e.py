@@ -447,7 +447,7 @@ def test_plant_applied_is_the_period_mean_of_the_actuator_output():
     plant = Plant(sc)
     assert plant.applied == (0.0, 0.0, 0.0) == plant.truth()["applied"]
     u = (0.125, -0.25, 0.0625)                              # exact binary fractions, no lag, unlimited
-    plant.apply(u)
+    plant.apply({"u_body": u})
     plant.advance()
     assert plant.applied == u and plant.truth()["applied"] == u
 

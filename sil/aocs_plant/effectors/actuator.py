@@ -1,9 +1,11 @@
 """The body-torque (or force) actuator (SPEC 3.4): `[actuator]`, present in every scenario.
 
-Once per control period, on the command (zero-order hold):
+Its command field is `u_body` (torque, N m, B) on the attitude plant and `u_orbit` (force, N, Bryson's
+rotating frame, SPEC 2.8) on the orbit plant: the flight software's u (actuator_cmd_t.u). Once per
+control period, on the command (zero-order hold):
   1. per-axis saturation |c_i| <= axis_limit;
   2. norm saturation |c| <= norm_limit (scales the vector, keeps its direction);
-  3. rate limit |c_i(k) - c_i(k-1)| <= rate_limit * dt on the held value.
+  3. slew-rate limit |c_i(k) - c_i(k-1)| <= slew_rate_limit_per_s * dt on the held value.
 Every limit is None when absent (unlimited). Without a lag the held value is
 what the body receives over the period (a HELD effector). With `lag_tau_s`
 the delivered value y is the effector's state (3 floats), a first-order lag
@@ -25,14 +27,18 @@ from aocs_core import registry
 
 from .base import ATTITUDE, ORBIT, ZERO3, Effector, Form, register
 
-LIMIT_KEYS = ("axis_limit", "norm_limit", "rate_limit", "lag_tau_s", "realistic_axis_limit")
+#: the command fields (Plant.apply): body torque on the attitude plant, force on the orbit plant
+U_BODY = "u_body"
+U_ORBIT = "u_orbit"
+
+LIMIT_KEYS = ("axis_limit", "norm_limit", "slew_rate_limit_per_s", "lag_tau_s", "realistic_axis_limit")
 
 
 @dataclass(frozen=True)
 class ActuatorConfig:
     axis_limit: float | None = None
     norm_limit: float | None = None
-    rate_limit: float | None = None
+    slew_rate_limit_per_s: float | None = None
     lag_tau_s: float | None = None
     realistic_axis_limit: float | None = None
 
@@ -68,11 +74,11 @@ class Actuator(Effector):
         self.dt = float(body.dt)
         self.axis_limit = config.axis_limit
         self.norm_limit = config.norm_limit
-        self.rate_limit = config.rate_limit
+        self.slew_rate_limit_per_s = config.slew_rate_limit_per_s
         self.lag_tau_s = config.lag_tau_s
-        self.held = ZERO3                  # value after saturation and rate limit
+        self.held = ZERO3                  # value after saturation and slew-rate limit
         self.saturated_count = 0           # periods where 1. or 2. clipped
-        self.rate_limited_count = 0
+        self.slew_rate_limited_count = 0
         self._applied = ZERO3
         self._y0 = ZERO3
         if self.lag_tau_s is None:
@@ -81,10 +87,17 @@ class Actuator(Effector):
             self.form = Form.GENERAL
             self.state_size = 3
         self.period_hooks = self.state_size > 0   # the period mean of the lag output
+        self.field = U_BODY if body.kind == ATTITUDE else U_ORBIT
+        self.command_fields = {self.field: 3}
 
     # ---------------------------------------------------------------- the command
-    def command(self, c) -> tuple[float, float, float]:
-        """Take a new command at the start of a control period; returns the held value."""
+    def command(self, cmd) -> None:
+        c = cmd.get(self.field)
+        if c is not None:
+            self.hold(c)
+
+    def hold(self, c) -> tuple[float, float, float]:
+        """Limit a new command (3 floats) at the start of a control period; returns the held value."""
         c = (float(c[0]), float(c[1]), float(c[2]))
         clipped = False
         if self.axis_limit is not None:
@@ -100,12 +113,12 @@ class Actuator(Effector):
                 clipped = True
         if clipped:
             self.saturated_count += 1
-        if self.rate_limit is not None:
-            step = self.rate_limit * self.dt
+        if self.slew_rate_limit_per_s is not None:
+            step = self.slew_rate_limit_per_s * self.dt
             p = self.held
             r = tuple(p[i] + min(step, max(-step, c[i] - p[i])) for i in range(3))
             if r != c:
-                self.rate_limited_count += 1
+                self.slew_rate_limited_count += 1
             c = r
         self.held = c
         return c

@@ -21,7 +21,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar
+from types import MappingProxyType
+from typing import Any, Callable, ClassVar, Mapping
 
 ATTITUDE = "attitude"
 ORBIT = "orbit"
@@ -64,6 +65,7 @@ class BodyContext:
     inertia: tuple | None = None  # row-major 9-tuple of the scenario's (total) inertia, kg m^2 (attitude)
     mass_kg: float | None = None  # orbit
     w0: tuple | None = None       # initial body rate w_BN_B, rad/s (attitude: effector states relative to it)
+    environment: Any = None       # aocs_plant.environment.Environment: orbit, Sun, Earth, magnetic field at t
 
 
 class Effector:
@@ -79,6 +81,9 @@ class Effector:
     applies_to: ClassVar[tuple] = (ATTITUDE,)  # plant kinds the section is valid for
     role: ClassVar[str] = "disturbance"        # "disturbance": sums into truth()["disturbance"];
     #                                            "actuator": receives the command (command())
+    command_fields: Mapping[str, int] = MappingProxyType({})   # actuators: the command fields it reads,
+    #                                            {name: number of floats} (may be set per instance: the wheel
+    #                                            array's "u_wheels" has one value per wheel)
     conflicts: ClassVar[tuple] = ()            # kinds that must not be enabled together with this one
     replaces: ClassVar[tuple] = ()             # kinds not built when this one is (a wheel array stands in
     #                                            for the plain body-torque actuator)
@@ -134,8 +139,10 @@ class Effector:
         raise NotImplementedError
 
     # ---------------------------------------------------------------- control period, events
-    def command(self, c) -> None:
-        """Actuators: the new command (Plant.apply), held over the period."""
+    def command(self, cmd: Mapping[str, tuple]) -> None:
+        """Actuators: the command of the period (Plant.apply), held over it. cmd maps field names to
+        tuples of finite floats, checked against every actuator's command_fields; an actuator reads its
+        own fields and keeps its held value for a field the command does not carry."""
 
     def begin_period(self, t: float, x: tuple) -> None:
         """Before a control period is integrated (called only when overridden)."""
@@ -150,11 +157,6 @@ class Effector:
     def jump(self, t: float, body: tuple) -> tuple:
         """The body state just after the event at t."""
         return body
-
-    def sample(self, t: float, body: tuple, x: tuple) -> dict:
-        """Measurements of the effector's own state, merged into Plant.sense() (wheel tachometers);
-        called once per period when the class overrides it."""
-        return {}
 
     # ---------------------------------------------------------------- truth
     def contribution(self, t: float, body: tuple, x: tuple) -> tuple:

@@ -10,8 +10,9 @@ so that J_b wdot = -w x (J_b w + Gs h) - Gs tau + L (Schaub & Junkins, ch. 4, re
 docs/spec.md 5.3). The total momentum H = J_b w + Gs h = J w + sum Js_i g_i Omega_i changes only by
 the external torque L: friction and the motors are internal.
 
-Motor torque u_i, held over the control period (zero-order hold) from the flight software's wheel
-torque command: clipped to |u_i| <= torque_limit_nm, plus an optional white torque noise (one draw
+Command fields (Plant.apply): `u_wheels`, the flight software's motor torque commands (N m, one per
+wheel), and `u_body`, the body torque it asked for (recorded as `commanded`, not applied). Motor
+torque u_i, held over the control period (zero-order hold) from the wheel torque command: clipped to |u_i| <= torque_limit_nm, plus an optional white torque noise (one draw
 per wheel and period, seeded channel "wheel_torque"); a failed wheel's motor gives no torque (the
 wheel coasts down under friction). Speed limit: at every RK4 stage a motor torque that would drive
 |Omega_i| beyond speed_limit_rad_s (|Omega_i| >= limit and u_i Omega_i > 0) is cut to zero.
@@ -31,9 +32,11 @@ import math
 from dataclasses import dataclass
 
 from ..rng import NormalStream
-from ..sensors import Tachometer
+from .actuator import U_BODY
 from .base import ATTITUDE, ZERO3, Effector, Form, register
 
+#: the command field of the motor torques (N m, one per wheel)
+U_WHEELS = "u_wheels"
 MAX_WHEELS = 6                        # the flight software's fixed array size (wheel_array.h)
 PYRAMID_CANT_DEG = math.degrees(math.acos(1.0 / math.sqrt(3.0)))   # 54.7356 deg (SPEC 5.3)
 _AXES = {"x": 0, "y": 1, "z": 2}
@@ -208,7 +211,7 @@ class ReactionWheels(Effector):
         self.at_speed_limit = [False] * n   # set when a stage of the last period cut the motor
         self._h0 = (0.0,) * n
         self._applied = ZERO3
-        self.tachometer = Tachometer(body.seed, n, config.tach_noise_rad_s, config.tach_quantum_rad_s)
+        self.command_fields = {U_BODY: 3, U_WHEELS: n}
 
     def initial_state(self) -> tuple:
         """h_i = Js_i (g_i . w0 + Omega_i(0)): the wheel speeds are given relative to the body."""
@@ -217,8 +220,13 @@ class ReactionWheels(Effector):
                                    + self.config.speed0_rad_s[i]) for i in range(self.n))
 
     # ---------------------------------------------------------------- command (zero-order hold)
-    def command(self, c) -> None:
-        self.c_body = (float(c[0]), float(c[1]), float(c[2]))
+    def command(self, cmd) -> None:
+        u_s = cmd.get(U_WHEELS)
+        if u_s is not None:
+            self.command_wheels(u_s)
+        c = cmd.get(U_BODY)
+        if c is not None:
+            self.c_body = (float(c[0]), float(c[1]), float(c[2]))
 
     def command_wheels(self, u_s) -> None:
         """The flight software's wheel torque commands (N m, one per wheel) for this period."""
@@ -290,10 +298,6 @@ class ReactionWheels(Effector):
             ay -= g[i][1] * m
             az -= g[i][2] * m
         self._applied = (ax, ay, az)
-
-    def sample(self, t, body, x) -> dict:
-        """Measurements of this effector's state for the sensor message: the tachometer readings."""
-        return {"wheel_speed": self.tachometer.read(self.speeds(body, x))}
 
     # ---------------------------------------------------------------- truth
     def total_momentum(self, body, x) -> tuple:

@@ -57,7 +57,7 @@ def test_settle_mask_uses_every_criterion():
 
 
 def _summary_metrics(**kw):
-    lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_rate_limit": None,
+    lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_slew_rate_limit_per_s": None,
            "plant_lag_tau_s": None}
     lim.update(kw.pop("limits", {}))
     m = {"scenario": "x", "law": "quat_pd", "kind": "attitude", "run_mode": "lockstep", "target": "host",
@@ -73,9 +73,9 @@ def test_limit_line_reads_as_english():
     m = _summary_metrics(limits={"axis": 0.5, "unlimited": False, "commands_over_limit": 0})
     assert results.limit_text(m) == "|u_i| <= 0.5 N m per axis; no command beyond it"
     m = _summary_metrics(limits={"axis": 0.5, "norm": 0.6, "unlimited": False, "commands_over_limit": 2,
-                                 "plant_rate_limit": 0.1, "plant_lag_tau_s": 0.4})
+                                 "plant_slew_rate_limit_per_s": 0.1, "plant_lag_tau_s": 0.4})
     assert results.limit_text(m) == ("|u_i| <= 0.5 N m per axis and |u| <= 0.6 N m; 2 commands beyond it; the "
-                                     "plant's actuator adds a rate limit 0.1 N m/s and a first-order lag 0.4 s")
+                                     "plant's actuator adds a slew-rate limit 0.1 N m/s and a first-order lag 0.4 s")
     m = _summary_metrics(kind="orbit", limits={"axis": 2.0, "unlimited": False, "commands_over_limit": 1})
     assert results.limit_text(m) == "|u_i| <= 2 N per axis; 1 command beyond it"
 

@@ -29,32 +29,32 @@ JY = 5954.2  # IRASSI principal inertia about y, kg m^2
 
 def test_unlimited_by_default_and_a_held_effector():
     a = actuator()
-    assert a.command((5e3, -7e3, 1.0)) == (5e3, -7e3, 1.0)
+    assert a.hold((5e3, -7e3, 1.0)) == (5e3, -7e3, 1.0)
     assert a.saturated_count == 0
     assert a.form == Form.HELD and a.state_size == 0 and a.value() == (5e3, -7e3, 1.0)
 
 
 def test_axis_saturation_clips_each_component():
     a = actuator(axis_limit=1.0)
-    assert a.command((5.0, -5.0, 0.1)) == (1.0, -1.0, 0.1)
+    assert a.hold((5.0, -5.0, 0.1)) == (1.0, -1.0, 0.1)
     assert a.saturated_count == 1
-    assert a.command((0.5, -0.5, 0.1)) == (0.5, -0.5, 0.1)
+    assert a.hold((0.5, -0.5, 0.1)) == (0.5, -0.5, 0.1)
     assert a.saturated_count == 1
 
 
 def test_norm_saturation_keeps_direction():
     a = actuator(norm_limit=1.0)
-    np.testing.assert_allclose(a.command((3.0, 4.0, 0.0)), (0.6, 0.8, 0.0), rtol=1e-15)
+    np.testing.assert_allclose(a.hold((3.0, 4.0, 0.0)), (0.6, 0.8, 0.0), rtol=1e-15)
     b = actuator(axis_limit=2.0, norm_limit=1.0)  # axis clip first, then the norm
-    np.testing.assert_allclose(b.command((3.0, 0.0, 0.0)), (1.0, 0.0, 0.0))
+    np.testing.assert_allclose(b.hold((3.0, 0.0, 0.0)), (1.0, 0.0, 0.0))
 
 
-def test_rate_limit_per_control_period():
-    a = actuator(rate_limit=1.0)  # 1 N m/s -> 0.1 N m per period
-    outs = [a.command((10.0, -10.0, 0.05))[0] for _ in range(3)]
+def test_slew_rate_limit_per_control_period():
+    a = actuator(slew_rate_limit_per_s=1.0)  # 1 N m/s -> 0.1 N m per period
+    outs = [a.hold((10.0, -10.0, 0.05))[0] for _ in range(3)]
     np.testing.assert_allclose(outs, (0.1, 0.2, 0.3), rtol=1e-14)
     assert a.held[1] == pytest.approx(-0.3) and a.held[2] == 0.05
-    assert a.rate_limited_count == 3
+    assert a.slew_rate_limited_count == 3
 
 
 # ----------------------------------------------------------------- zero-order hold through the plant
@@ -62,12 +62,12 @@ def test_rate_limit_per_control_period():
 
 def test_plant_holds_the_command_over_the_period_and_refuses_nan():
     plant = bare_irassi()
-    assert plant.apply((0.0, 2.0, 0.0))
+    assert plant.apply({"u_body": (0.0, 2.0, 0.0)})
     plant.advance()
     # principal axis: w = u dt / Jy exactly (no gyroscopic coupling)
     assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.1 / JY, rel=1e-13)
     assert plant.truth()["applied"] == (0.0, 2.0, 0.0)
-    assert not plant.apply((math.nan, 0.0, 0.0))
+    assert not plant.apply({"u_body": (math.nan, 0.0, 0.0)})
     plant.advance()  # previous command still held (ZOH)
     assert plant.truth()["w"][1] == pytest.approx(2.0 * 0.2 / JY, rel=1e-13)
     assert plant.counters["bad_commands"] == 1 and plant.counters["commands"] == 2
@@ -76,7 +76,7 @@ def test_plant_holds_the_command_over_the_period_and_refuses_nan():
 
 def test_applied_changes_only_when_the_period_is_integrated():
     plant = bare_irassi()
-    plant.apply((1.0, 0.0, 0.0))
+    plant.apply({"u_body": (1.0, 0.0, 0.0)})
     assert plant.applied == (0.0, 0.0, 0.0) and plant.truth()["commanded"] == (1.0, 0.0, 0.0)
     plant.advance()
     assert plant.applied == (1.0, 0.0, 0.0)
@@ -85,7 +85,7 @@ def test_applied_changes_only_when_the_period_is_integrated():
 def test_realistic_limit_override_saturates_plant_torque():
     sc = load("irassi_large")
     plant = Plant(load("irassi_large", {"actuator.axis_limit": sc.actuator.realistic_axis_limit}))
-    plant.apply((100.0, -100.0, 0.1))
+    plant.apply({"u_body": (100.0, -100.0, 0.1)})
     plant.advance()
     assert plant.truth()["applied"] == (0.5, -0.5, 0.1)
 
@@ -98,7 +98,7 @@ def test_lag_is_a_general_effector_with_three_states():
     a = plant.actuator
     assert a.form == Form.GENERAL and a.state_size == 3 and plant.effector_state(a) == (0.0, 0.0, 0.0)
     # its derivative: ydot = (c - y) / tau, and the body feels y
-    a.command((1.0, -2.0, 4.0))
+    a.hold((1.0, -2.0, 4.0))
     torque, ydot = a.derivative(0.0, plant.body_state(), (0.5, 0.0, 0.0))
     assert torque == (0.5, 0.0, 0.0) and ydot == pytest.approx((1.0, -4.0, 8.0), rel=1e-15)
 
@@ -106,7 +106,7 @@ def test_lag_is_a_general_effector_with_three_states():
 def test_lag_step_response_and_delivered_impulse():
     tau, dt, n = 0.5, 0.1, 10
     plant = bare_irassi(**{"actuator.lag_tau_s": tau, "integrator.substeps": n})
-    plant.apply((0.0, 1.0, -2.0))
+    plant.apply({"u_body": (0.0, 1.0, -2.0)})
     applied = []
     for _ in range(5):  # 0.5 s = one time constant
         plant.advance()
@@ -127,7 +127,7 @@ def test_lag_is_fourth_order_in_the_substep():
     def final_w(n):
         plant = bare_irassi(**{"actuator.lag_tau_s": 0.3, "integrator.substeps": n})
         for k in range(30):
-            plant.apply((0.0, 50.0 if k % 10 < 5 else -50.0, 0.0))
+            plant.apply({"u_body": (0.0, 50.0 if k % 10 < 5 else -50.0, 0.0)})
             plant.advance()
         return plant.truth()["w"][1]
     ref = final_w(128)
@@ -140,7 +140,7 @@ def test_lag_on_the_orbit_plant():
     sc = load("landsat8_q1", {"actuator.lag_tau_s": 1.0, "integrator.substeps": 4})
     lag, ref = Plant(sc), Plant(load("landsat8_q1"))
     for p in (lag, ref):
-        p.apply((0.1, 0.0, 0.0))
+        p.apply({"u_orbit": (0.1, 0.0, 0.0)})
         for _ in range(600):
             p.advance()
     # 60 s = 60 tau: the lag cost tau * F of impulse, so dv = -tau F / m (to first order in n t)

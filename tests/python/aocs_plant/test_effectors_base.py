@@ -36,6 +36,7 @@ class ToyRotor(Effector):
     applies_to = (ATTITUDE,)
     role = "actuator"                # takes the command ...
     replaces = ("actuator",)         # ... instead of the plain body-torque actuator
+    command_fields = {"u_body": 3}   # the field it reads: the body torque command (N m, B)
     form = Form.GENERAL
     state_size = 1
     gyroscopic = True
@@ -56,8 +57,8 @@ class ToyRotor(Effector):
     def initial_state(self):
         return (self.config.h0,)
 
-    def command(self, c):
-        self.c = tuple(c)
+    def command(self, cmd):
+        self.c = cmd.get("u_body", self.c)
 
     def motor_torque(self, body, h):
         g = self.g
@@ -121,7 +122,7 @@ def _run(plant, periods):
     worst = swing = 0.0
     for k in range(periods):
         t = plant.t
-        plant.apply((0.3 * math.sin(0.05 * t), -0.2 * math.cos(0.031 * t), 0.25 * math.sin(0.017 * t + 1.0)))
+        plant.apply({"u_body": (0.3 * math.sin(0.05 * t), -0.2 * math.cos(0.031 * t), 0.25 * math.sin(0.017 * t + 1.0))})
         plant.advance()
         if k % 100 == 0:
             worst = max(worst, np.linalg.norm(_momentum(plant) - H0) / np.linalg.norm(H0))
@@ -169,7 +170,7 @@ def test_rk4_order_of_the_concatenated_state(rotor):
         plant = Plant(load("gao_mrp", {"toy_rotor": {"axis": list(AXIS), "spin_inertia_kg_m2": 0.5, "h0_nms": 20.0},
                                        "plant.w0": [0.3, -0.4, 0.5], "integrator.substeps": n}))
         for _ in range(100):
-            plant.apply((3.0, -2.0, 2.5))
+            plant.apply({"u_body": (3.0, -2.0, 2.5)})
             plant.advance()
         return np.array(plant.body.w + plant.effector_state(plant.actuator))
     ref = final(64)
@@ -214,7 +215,7 @@ def test_the_concatenated_state_path_equals_the_fast_path_bit_for_bit(monkeypatc
     assert general._general and not fast._general
     for k in range(300):
         for p in (fast, general):
-            p.apply((0.01 * math.sin(0.1 * k), 0.02, -0.01))
+            p.apply({"u_body": (0.01 * math.sin(0.1 * k), 0.02, -0.01)})
             p.advance()
         assert fast.body.q == general.body.q and fast.body.w == general.body.w
 

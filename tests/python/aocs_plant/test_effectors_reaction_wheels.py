@@ -85,8 +85,8 @@ def _drive(p, periods, every=100):
     drift = 0.0
     for k in range(periods):
         t = p.t
-        p.apply((0.0, 0.0, 0.0), (0.2 * math.sin(0.05 * t), -0.15 * math.cos(0.031 * t),
-                                  0.1 * math.sin(0.017 * t + 1.0), 0.05))
+        p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.2 * math.sin(0.05 * t), -0.15 * math.cos(0.031 * t),
+                                                         0.1 * math.sin(0.017 * t + 1.0), 0.05)})
         p.advance()
         if k % every == 0 or k == periods - 1:
             drift = max(drift, abs(np.linalg.norm(_H_N(p)) - np.linalg.norm(H0)) / np.linalg.norm(H0))
@@ -112,7 +112,7 @@ def test_energy_is_conserved_with_the_motors_off_and_friction_dissipates_it():
     p = _plant(speed0_rad_s=[300.0, -200.0, 150.0, 50.0])
     T0, H0 = _energy(p), _H_N(p)
     for _ in range(5000):
-        p.apply((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0))
+        p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.0, 0.0, 0.0, 0.0)})
         p.advance()
     assert abs(_energy(p) - T0) / T0 < 1e-9
     # friction on: the energy falls, the momentum stays (friction is internal)
@@ -142,7 +142,7 @@ def test_applied_torque_is_the_reaction_of_the_motors():
     """Motors only (no friction, body at rest): over a period the body receives -Gs u exactly."""
     p = _plant(w0=(0.0, 0.0, 0.0))
     u = np.array([0.1, -0.2, 0.05, 0.3])             # the last one beyond the 0.25 N m limit
-    p.apply((1.0, 2.0, 3.0), tuple(u))
+    p.apply({"u_body": (1.0, 2.0, 3.0), "u_wheels": tuple(u)})
     p.advance()
     clipped = np.array([0.1, -0.2, 0.05, 0.25])
     np.testing.assert_allclose(p.applied, -_gs(p) @ clipped, rtol=1e-12, atol=1e-15)
@@ -154,7 +154,7 @@ def test_applied_torque_is_the_reaction_of_the_motors():
 
 def test_a_failed_wheel_gives_no_torque():
     p = _plant(w0=(0.0, 0.0, 0.0), failed=[1])
-    p.apply((0.0, 0.0, 0.0), (0.1, 0.2, 0.1, 0.1))
+    p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.1, 0.2, 0.1, 0.1)})
     p.advance()
     np.testing.assert_allclose(p.applied, -_gs(p) @ np.array([0.1, 0.0, 0.1, 0.1]), rtol=1e-12, atol=1e-15)
 
@@ -164,14 +164,14 @@ def test_no_motor_torque_drives_a_wheel_beyond_its_speed_limit():
     h = 0.1 / 4
     peak = 0.0
     for _ in range(300):                              # 0.25 N m on a 0.08 kg m^2 wheel: 3 rad/s^2
-        p.apply((0.0, 0.0, 0.0), (UMAX, 0.0, 0.0, 0.0))
+        p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": (UMAX, 0.0, 0.0, 0.0)})
         p.advance()
         peak = max(peak, abs(p.truth()["effectors"]["wheels.speed_rad_s"][0]))
     # the motor is cut at the stage where |Omega| reaches the limit: at most one step's increment past it
     assert WMAX - 1.0 < peak <= WMAX + UMAX / JS * h, peak
     assert p.truth()["effectors"]["wheels.at_speed_limit"][0]
     # braking is still allowed
-    p.apply((0.0, 0.0, 0.0), (-UMAX, 0.0, 0.0, 0.0))
+    p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": (-UMAX, 0.0, 0.0, 0.0)})
     p.advance()
     assert p.truth()["effectors"]["wheels.speed_rad_s"][0] < peak - 0.2
 

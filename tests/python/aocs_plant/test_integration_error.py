@@ -53,8 +53,8 @@ def _pd_run(sid, substeps, every=None):
         e = e if e[3] >= 0 else tuple(-x for x in e)
         rho = [e[i] / e[3] for i in range(3)]
         u = tuple(-k1 * s["w"][i] - k2 * rho[i] for i in range(3))   # SPEC 2.1
-        p.apply(u)
-        chk.apply(u)
+        p.apply({"u_body": u})
+        chk.apply({"u_body": u})
         chk.begin(p)
         p.advance()
         chk.end(p)

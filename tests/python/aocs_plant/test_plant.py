@@ -58,7 +58,7 @@ def _run(sc, law, settled):
     last_out = 0.0
     for _ in range(sc.n_steps):
         s = plant.sense()
-        plant.apply(law(s, plant))
+        plant.apply({"u_body" if sc.kind == "attitude" else "u_orbit": law(s, plant)})
         plant.advance()
         if not settled(plant.truth()):
             last_out = plant.t

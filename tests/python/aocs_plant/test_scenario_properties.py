@@ -18,7 +18,7 @@ VALUES = st.one_of(NUMBERS, st.booleans(), st.text(max_size=8), st.lists(NUMBERS
 KEYS = {
     "irassi_small": ["control_rate_hz", "duration_s", "seed", "integrator.substeps", "integrator.tolerance_arcsec",
                      "plant.w0", "plant.euler321_deg", "plant.inertia", "laws.quat_pd.kp", "laws.smc.eps",
-                     "actuator.axis_limit", "actuator.norm_limit", "actuator.rate_limit", "actuator.lag_tau_s",
+                     "actuator.axis_limit", "actuator.norm_limit", "actuator.slew_rate_limit_per_s", "actuator.lag_tau_s",
                      "disturbances.constant_torque.torque_nm", "disturbances.constant_torque.scale",
                      "disturbances.sinusoidal_torque.frequency_rad_s", "metrics.window_s", "settle.pointing_arcsec_max",
                      "target.wd", "laws.lqr_quat.table", "laws.quat_pd.kq"],

@@ -65,7 +65,7 @@ def test_noise_statistics_and_bias():
 def test_latency_delays_the_measurement_by_whole_periods():
     plant = Plant(load("irassi_large", {"sensors.latency_periods": 3}))
     truths, samples = [], []
-    plant.apply((1.0, 2.0, 3.0))  # something that moves
+    plant.apply({"u_body": (1.0, 2.0, 3.0)})  # something that moves
     for _ in range(10):
         truths.append(plant.truth()["w"])
         samples.append(plant.sense()["w"])
@@ -81,7 +81,7 @@ def test_faults_dropout_nan_nonunit():
         {"channel": "attitude", "kind": "nonunit", "start_s": 3.0, "end_s": 3.1, "factor": 1.2},
     ]}
     plant = Plant(load("irassi_large", ov))
-    plant.apply((1.0, 1.0, 1.0))
+    plant.apply({"u_body": (1.0, 1.0, 1.0)})
     by_t = {}
     for _ in range(40):
         by_t[round(plant.t, 6)] = (plant.sense(), plant.truth())
