@@ -207,7 +207,7 @@ class Registry:
         return out
 
     def config_field(self, key: str) -> ConfigField | None:
-        """The configuration registry's row of a file key ("k_safe", "wheel2.js_kgm2", "quat_pd.kp"); None if none."""
+        """The configuration registry's row of a file key ("control_period_s", "wheel2.js_kgm2", "quat_pd.kp"); None if none."""
         if key.startswith("wheel") and len(key) > 7 and key[5].isdigit() and key[6] == ".":
             return next((f for f in self.config_fields if f.per_wheel and f.key == key[7:]), None)
         return next((f for f in self.config_fields if not f.per_wheel and f.key == key and key), None)

@@ -297,11 +297,11 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
     tgt = TARGETS[target]
     with tempfile.TemporaryDirectory(prefix="aocs-pil-") as tmp:
         path = fsw_config.write(Path(tmp) / "node.cfg", node_config_for(sc, law))
-        cfg = nodecfg.load(path)
+        payload = nodecfg.load(path).pil_payload(tgt.clock_hz)   # while the file exists
     res = DirectResult(scenario=sc.id, law=law, target=target, dt=sc.dt)
     with Qemu(tgt, image) as q:
         res.hello = q.start()
-        _, p = q.request(frame.T_CONFIG, cfg.pil_payload(tgt.clock_hz), frame.T_CONFIG_ACK)
+        _, p = q.request(frame.T_CONFIG, payload, frame.T_CONFIG_ACK)
         ack = frame.Ack.decode(p)
         if ack.pil_err or ack.status:
             raise RuntimeError(f"image refused the configuration: {ack}")

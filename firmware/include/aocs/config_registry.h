@@ -8,7 +8,7 @@
  * breaks its rule is refused here, with the same status whoever read it.
  *
  * A field is named by a reference (aocs_config_ref_t): its row, and for a
- * per-wheel row the wheel. Lookups by configuration key ("k_safe",
+ * per-wheel row the wheel. Lookups by configuration key ("control_period_s",
  * "wheel2.js", "quat_pd.kp") and by PIL CONFIG id.
  */
 #ifndef AOCS_CONFIG_REGISTRY_H

@@ -16,7 +16,7 @@ aocs_status_t aocs_exec_input_check(aocs_law_id_t law, const aocs_exec_input_t *
 /* Target check: finite, unit qd (AOCS_ERR_TARGET_INVALID). */
 aocs_status_t aocs_exec_target_check(const aocs_exec_target_t *target);
 
-/* Safe-mode command before saturation: -k_safe w (attitude, valid rate), else zero. */
+/* Safe-mode command before saturation: the rate damping of mode.c (attitude, valid rate), else zero. */
 aocs_vec3_t aocs_exec_safe_command(const aocs_exec_config_t *cfg, aocs_law_id_t law,
                                    const aocs_exec_input_t *in);
 
