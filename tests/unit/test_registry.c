@@ -82,7 +82,11 @@ static void test_law_ids_are_the_wire_values(void **state)
     assert_int_equal(AOCS_LAW_QUAT_PID, 11);
     assert_int_equal(AOCS_LAW_LQR_QUAT_I, 12);
     /* new laws are appended: the historical ones keep their ids and names */
-    assert_true((int)AOCS_LAW_COUNT >= N_WIRE_LAWS);
+    /* exact on purpose (docs/extending.md): a new row of laws.def must be appended here too */
+    if ((int)AOCS_LAW_COUNT != N_WIRE_LAWS) {
+        fail_msg("laws.def has %d laws (with none), WIRE_LAWS lists %d: append the new law's wire name",
+                 (int)AOCS_LAW_COUNT, N_WIRE_LAWS);
+    }
     for (int i = 0; i < N_WIRE_LAWS; ++i) {
         aocs_law_id_t id = AOCS_LAW_COUNT;
         assert_string_equal(aocs_law_name((aocs_law_id_t)i), WIRE_LAWS[i]);
