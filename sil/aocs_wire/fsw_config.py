@@ -43,7 +43,6 @@ import numpy as np
 from aocs_core import registry
 from aocs_core.limits import UNLIMITED
 
-
 #: the flight software's guidance keys: guidance.<name of the scenario's [guidance] value>
 GUIDANCE_PREFIX = "guidance."
 
