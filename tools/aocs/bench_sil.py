@@ -76,7 +76,7 @@ def bench_transport(sc, steps: int) -> dict:
             perf = time.perf_counter_ns
             t0 = time.perf_counter()
             for k in range(steps):
-                data = pack(1, k, k, k, k * sc.dt, 3, *q, *w, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                data = pack(codecs.version, k, k, k, k * sc.dt, 3, *q, *w, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, *(0.0,) * 6)
                 box.clear()
                 a = perf()
                 lc.publish(wire.SENSORS, data)
