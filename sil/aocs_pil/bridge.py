@@ -35,10 +35,12 @@ import time
 import lcm
 
 from aocs_core import paths, registry
+from aocs_loop.frames import SensorFrame
 from aocs_wire import netns, wire
 
 from . import config as nodecfg
 from . import frame
+from .adapter import step_payload, step_status
 from .qemu import TARGETS, ImageError, Qemu, QemuError, describe_exit
 from .sequence import FrameSequence
 
@@ -58,15 +60,6 @@ class Fatal(Exception):
 
 
 # --------------------------------------------------------------------------- helpers
-def seconds_to_ns(t_s: float) -> int:
-    """node_wire.c aocs_node_seconds_to_ns: llround(t_s * 1e9) for 0 < t_s < 1.8e10, else 0."""
-    if not (math.isfinite(t_s) and 0.0 < t_s < 1.8e10):
-        return 0
-    x = t_s * 1.0e9
-    r = math.floor(x)
-    return int(r + 1 if x - r >= 0.5 else r)   # round half away from zero, as llround
-
-
 class Stats:
     """node_stats.c: nearest-rank median / p99 over the last STATS_WINDOW values, max over all."""
 
@@ -226,19 +219,11 @@ class Bridge:
         self.step(msg)
 
     def step(self, msg) -> None:
-        st = self.t.sensors_t
-        valid = 0
-        if msg.valid & st.VALID_ATTITUDE:
-            valid |= 1
-        if msg.valid & st.VALID_RATE:
-            valid |= 2
-        if (msg.valid & st.VALID_POSITION) and (msg.valid & st.VALID_VELOCITY):
-            valid |= 4
-        # tachometers as fsw_node reads them (node_wire.c): a wheel the message does not measure reads NaN
-        wheels = [msg.wheel_speed[i] if (msg.valid & st.VALID_WHEELS) and i < msg.n_wheels else math.nan
-                  for i in range(min(frame.WHEELS_MAX, len(msg.wheel_speed)))]
-        payload = frame.encode_step(msg.tick, seconds_to_ns(msg.t_s), valid, msg.q, msg.w, msg.pos, msg.vel,
-                                    wheels)
+        # the message as the loop's SensorFrame (the wheels it says it measures), then the one STEP payload
+        # of a frame (aocs_pil.adapter.step_payload, which the direct path uses too)
+        n = max(0, min(msg.n_wheels, frame.WHEELS_MAX, len(msg.wheel_speed)))
+        payload = step_payload(SensorFrame(msg.tick, msg.t_s, msg.valid, msg.q, msg.w, msg.pos, msg.vel,
+                                           tuple(msg.wheel_speed[:n])))
         try:
             seq = self.q.next_seq()
             raw = frame.encode(frame.T_STEP, seq, payload)
@@ -293,7 +278,7 @@ class Bridge:
         m.step_ns = step_ns
         m.overrun = bool(r.overrun)
         # fsw_node step_status(): the step's return code, else the input status, else the law status
-        m.status = r.step_status or r.input_status or r.law_status
+        m.status = step_status(r)
         c = r.counters
         m.n_invalid, m.n_stale, m.n_missing, m.n_law_error = c["invalid"], c["stale"], c["missing"], c["law_error"]
         m.n_overrun = r.pil_overruns

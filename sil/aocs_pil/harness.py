@@ -5,8 +5,11 @@ is a separate process on LCM: fsw_node (target "host") or the PIL bridge
 (targets "pil-m4f", "pil-m7") started with the same configuration file
 (aocs_wire.fsw_config.node_config). Each period: sense, publish
 sensors_t, wait (bounded) for the actuator_cmd_t of that tick, apply its
-u_sat, integrate. Every command and the true pointing error are recorded,
-so runs on different targets can be compared step by step.
+u_sat (and wheel torques), integrate: the closed loop of aocs_loop.core with its
+LCM adapter, as plant_node packs and applies. Every command and the true pointing
+error are recorded, so runs on different targets can be compared step by step.
+run_direct flies the same loop with the PIL adapter (aocs_pil.adapter): frames
+straight to the image under QEMU, no LCM, no bridge.
 
     from aocs_pil import harness
     netns.enter_netns()                      # LCM only inside a private namespace
@@ -34,13 +37,16 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths, registry
+from aocs_loop import core
+from aocs_loop.frames import PlantPort, SensorFrame
+from aocs_loop.lcm_adapter import LcmCodec, LcmFlightComputer
 from aocs_plant.plant import Plant
 from aocs_plant.scenario import load
-from aocs_wire import fsw_config, netns
+from aocs_wire import fsw_config, netns, wire
 
 from . import config as nodecfg
 from . import frame
-from .bridge import seconds_to_ns
+from .adapter import PilFlightComputer
 from .qemu import TARGETS, Qemu
 
 
@@ -58,6 +64,7 @@ class RunResult:
     target: str
     dt: float
     u_sat: list = field(default_factory=list)          # per tick, 3-tuples
+    u_wheels: list = field(default_factory=list)       # per tick, the wheel torques (() without a wheel array)
     u_unsat: list = field(default_factory=list)
     mode: list = field(default_factory=list)
     status: list = field(default_factory=list)
@@ -66,7 +73,7 @@ class RunResult:
     overrun: list = field(default_factory=list)
     pointing_arcsec: list = field(default_factory=list)  # true angle at t_k, k = 0 .. n (after the last period)
     qe_arcsec: list = field(default_factory=list)
-    sensors: list = field(default_factory=list)        # (t_s, valid, q, w, pos, vel[, wheel speeds]) per tick
+    sensors: list = field(default_factory=list)        # aocs_loop.frames.SensorFrame per tick
     stats: dict = field(default_factory=dict)          # the flight computer's final JSON ("fsw_node")
     returncode: int | None = None
     stderr: str = ""
@@ -121,7 +128,8 @@ class Wire:
         self.lc = lcm.LCM(netns.LCM_URL)
         self.cmds: dict[int, object] = {}
         self.status: list = []
-        self.lc.subscribe("AOCS_ACTUATOR_CMD", self._on_cmd)
+        self.codec = LcmCodec(wire.Codecs(aocs_lcm), aocs_lcm)
+        self._cmd_sub = self.lc.subscribe("AOCS_ACTUATOR_CMD", self._on_cmd)
         self.lc.subscribe("AOCS_STATUS", lambda c, d: self.status.append(aocs_lcm.status_t.decode(d)))
 
     def _on_cmd(self, channel, data):
@@ -147,18 +155,18 @@ class Wire:
     def send_sensors(self, tick: int, t_s: float, valid: int, q, w, pos, vel, frame_no: int | None = None,
                      wheel_speed=()):
         """wheel_speed: the tachometers of a wheel array (sensors_t.n_wheels of them; none without one)."""
-        st = self.t.sensors_t
-        m = st()
-        m.protocol_version = st.PROTOCOL_VERSION
-        m.frame = tick if frame_no is None else frame_no
-        m.utime = int(round(t_s * 1e6))
-        m.tick = tick
-        m.t_s = t_s
-        m.valid = valid
-        m.q, m.w, m.pos, m.vel = list(q), list(w), list(pos), list(vel)
-        m.n_wheels = len(wheel_speed)
-        m.wheel_speed = list(wheel_speed) + [0.0] * (st.MAX_WHEELS - len(wheel_speed))
-        self.lc.publish("AOCS_SENSORS", m.encode())
+        f = SensorFrame(tick, t_s, valid, tuple(q), tuple(w), tuple(pos), tuple(vel), tuple(wheel_speed))
+        self.lc.publish("AOCS_SENSORS", self.codec.pack_sensors(f, frame_no))
+
+    def loop_adapter(self, fc: FlightComputer, reply_timeout: float) -> LcmFlightComputer:
+        """The closed loop's LCM adapter on this handle (this Wire then stops collecting commands)."""
+        self.lc.unsubscribe(self._cmd_sub)
+
+        def alive(tick):
+            if fc.proc.poll() is not None:
+                raise RuntimeError(f"{fc.target} exited at tick {tick} (status {fc.proc.returncode}): "
+                                   f"{fc.stderr()[-2000:]}")
+        return LcmFlightComputer(self.lc, self.codec, reply_timeout=reply_timeout, alive=alive, name=fc.target)
 
     def wait_cmd(self, tick: int, fc: FlightComputer, timeout: float):
         end = time.monotonic() + timeout
@@ -203,41 +211,12 @@ def run(scenario_id: str, law: str | None, target: str, *, duration_s: float | N
     t0 = time.monotonic()
     try:
         wire.wait_ready(fc)
-        plant = Plant(sc)
-        st = t_lcm.sensors_t
-        for k in range(sc.n_steps):
-            if sensors is None:
-                tr = plant.truth()
-                res.pointing_arcsec.append(tr.get("pointing_arcsec", 0.0))
-                res.qe_arcsec.append(tuple(tr.get("qe_arcsec", (0.0, 0.0, 0.0))))
-                s = plant.sense()
-                if sc.kind == "attitude":
-                    valid = (st.VALID_ATTITUDE if s["q_valid"] else 0) | (st.VALID_RATE if s["w_valid"] else 0)
-                    sample = (s["t"], valid, s["q"], s["w"], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-                    if "wheel_speed" in s:   # a wheel array: its tachometers, as plant_node sends them
-                        sample = (s["t"], valid | st.VALID_WHEELS, *sample[2:], s["wheel_speed"])
-                else:
-                    valid = (st.VALID_POSITION if s["pos_valid"] else 0) | (st.VALID_VELOCITY if s["vel_valid"] else 0)
-                    sample = (s["t"], valid, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0), s["pos"], s["vel"])
-            else:
-                sample = sensors[k]
-            res.sensors.append(sample)
-            wire.send_sensors(k, *sample[:6], wheel_speed=sample[6] if len(sample) > 6 else ())
-            m = wire.wait_cmd(k, fc, reply_timeout)
-            res.u_sat.append(tuple(m.u_sat))
-            res.u_unsat.append(tuple(m.u_unsat))
-            res.mode.append(m.mode)
-            res.status.append(m.status)
-            res.law_id.append(m.law_id)
-            res.step_ns.append(m.step_ns)
-            res.overrun.append(m.overrun)
-            if sensors is None:
-                plant.apply(_command(sc, m.u_sat, m.u_wheels, plant.wheel_array))
-                plant.advance()
+        link = wire.loop_adapter(fc, reply_timeout)
+        rec = _Record(res)
         if sensors is None:
-            tr = plant.truth()
-            res.pointing_arcsec.append(tr.get("pointing_arcsec", 0.0))
-            res.qe_arcsec.append(tuple(tr.get("qe_arcsec", (0.0, 0.0, 0.0))))
+            core.fly(PlantPort(Plant(sc)), link, sc.n_steps, hooks=[rec])
+        else:
+            core.replay(link, sensors, hooks=[rec])
     finally:
         res.wall_s = time.monotonic() - t0
         res.returncode = fc.stop()
@@ -248,13 +227,33 @@ def run(scenario_id: str, law: str | None, target: str, *, duration_s: float | N
     return res
 
 
-def _command(sc, u, u_wheels, wheel_array) -> dict:
-    """The plant's command (Plant.apply) from the flight software's u (body torque, or force on the orbit
-    plant) and, when the plant has a wheel array, the first N of its wheel torques."""
-    cmd = {"u_body" if sc.kind == "attitude" else "u_orbit": tuple(u)}
-    if wheel_array is not None:
-        cmd["u_wheels"] = tuple(u_wheels)[:wheel_array.n]
-    return cmd
+class _Record(core.Hook):
+    """RunResult's record of each period: the frame, the reply's command and telemetry, the true pointing."""
+
+    def __init__(self, res: RunResult):
+        self.res = res
+
+    def period(self, frame, reply, plant) -> None:
+        res = self.res
+        if plant is not None:
+            self.truth(plant)
+        res.sensors.append(frame)
+        res.u_sat.append(tuple(reply.command.u))
+        res.u_wheels.append(tuple(reply.command.u_wheels))
+        res.u_unsat.append(tuple(reply.u_unsat))
+        res.mode.append(reply.mode)
+        res.status.append(reply.status)
+        res.law_id.append(reply.law_id)
+        res.step_ns.append(reply.step_ns)
+        res.overrun.append(reply.overrun)
+
+    def truth(self, plant) -> None:
+        tr = plant.truth()
+        self.res.pointing_arcsec.append(tr.get("pointing_arcsec", 0.0))
+        self.res.qe_arcsec.append(tuple(tr.get("qe_arcsec", (0.0, 0.0, 0.0))))
+
+    def end(self, plant) -> None:
+        self.truth(plant)
 
 
 @dataclass
@@ -265,6 +264,9 @@ class DirectResult:
     target: str
     dt: float
     replies: list = field(default_factory=list)       # frame.StepReply per tick
+    sensors: list = field(default_factory=list)       # aocs_loop.frames.SensorFrame per tick
+    u_sat: list = field(default_factory=list)         # per tick, the body torque (force) the plant took
+    u_wheels: list = field(default_factory=list)      # per tick, the wheel torques the plant took
     pointing_arcsec: list = field(default_factory=list)
     hello: object = None
     bye: object = None
@@ -279,11 +281,14 @@ class DirectResult:
 
 
 def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: float | None = None,
-               limit: float | None = None, overrides: dict | None = None, image=None) -> DirectResult:
-    """Plant in process, image under QEMU, frames straight over the pipes (no LCM, no bridge).
+               limit: float | None = None, overrides: dict | None = None, image=None, wrap=None) -> DirectResult:
+    """Plant in process, image under QEMU, frames straight over the pipes (no LCM, no bridge): the closed
+    loop of aocs_loop.core with the PIL adapter (aocs_pil.adapter.PilFlightComputer).
 
     The configuration goes the bridge's way (fsw_config -> config file -> aocs_pil.config -> CONFIG frame),
     so the image sees exactly what it would see behind the bridge; used for the per-law budget sweep.
+    wrap: a function of the PIL adapter returning the adapter the loop flies instead (a test's fault
+    injection between the plant and the image).
     """
     ov = dict(overrides or {})
     if duration_s is not None:
@@ -297,7 +302,8 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
     tgt = TARGETS[target]
     with tempfile.TemporaryDirectory(prefix="aocs-pil-") as tmp:
         path = fsw_config.write(Path(tmp) / "node.cfg", node_config_for(sc, law))
-        payload = nodecfg.load(path).pil_payload(tgt.clock_hz)   # while the file exists
+        cfg = nodecfg.load(path)
+        payload = cfg.pil_payload(tgt.clock_hz)   # while the file exists
     res = DirectResult(scenario=sc.id, law=law, target=target, dt=sc.dt)
     with Qemu(tgt, image) as q:
         res.hello = q.start()
@@ -305,27 +311,32 @@ def run_direct(scenario_id: str, law: str | None, target: str, *, duration_s: fl
         ack = frame.Ack.decode(p)
         if ack.pil_err or ack.status:
             raise RuntimeError(f"image refused the configuration: {ack}")
-        plant = Plant(sc)
-        for k in range(sc.n_steps):
-            res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if sc.kind == "attitude" else 0.0)
-            s = plant.sense()
-            wheels = s.get("wheel_speed")   # the tachometers of a [wheels] array (None without one)
-            if sc.kind == "attitude":
-                valid = (1 if s["q_valid"] else 0) | (2 if s["w_valid"] else 0)
-                payload = frame.encode_step(k, seconds_to_ns(s["t"]), valid, s["q"], s["w"], (0, 0, 0), (0, 0, 0),
-                                            wheels)
-            else:
-                valid = 4 if (s["pos_valid"] and s["vel_valid"]) else 0
-                payload = frame.encode_step(k, seconds_to_ns(s["t"]), valid, (0, 0, 0, 1), (0, 0, 0),
-                                            s["pos"], s["vel"])
-            _, p = q.request(frame.T_STEP, payload, frame.T_STEP_REPLY)
-            r = frame.StepReply.decode(p)
-            res.replies.append(r)
-            plant.apply(_command(sc, r.u_cmd, r.u_wheels, plant.wheel_array))
-            plant.advance()
-        res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if sc.kind == "attitude" else 0.0)
+        fc = PilFlightComputer(q, cfg.n_wheels)
+        core.fly(PlantPort(Plant(sc)), fc if wrap is None else wrap(fc), sc.n_steps,
+                 hooks=[_DirectRecord(res, sc.kind == "attitude")])
         res.bye = q.stop()
     return res
+
+
+class _DirectRecord(core.Hook):
+    """DirectResult's record of each period: the image's reply, the frame, the command, the true pointing."""
+
+    def __init__(self, res: DirectResult, attitude: bool):
+        self.res, self.attitude = res, attitude
+
+    def period(self, frame, reply, plant) -> None:
+        res = self.res
+        self.truth(plant)
+        res.replies.append(reply.raw)
+        res.sensors.append(frame)
+        res.u_sat.append(tuple(reply.command.u))
+        res.u_wheels.append(tuple(reply.command.u_wheels))
+
+    def truth(self, plant) -> None:
+        self.res.pointing_arcsec.append(plant.truth().get("pointing_arcsec", 0.0) if self.attitude else 0.0)
+
+    def end(self, plant) -> None:
+        self.truth(plant)
 
 
 def compare(a: RunResult, b: RunResult) -> dict:

@@ -39,6 +39,8 @@ import time
 import lcm
 
 from aocs_core import paths
+from aocs_loop.frames import PlantPort, SensorFrame, WheelMismatch
+from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
 from aocs_plant.scenario import ScenarioError, load
@@ -109,6 +111,7 @@ class _Link:
             url = netns.LCM_URL
         self.t = paths.import_bindings()
         self.codecs = wire.Codecs(self.t)
+        self.codec = LcmCodec(self.codecs, self.t)   # the loop's sensors_t packing, actuator_cmd_t reading
         if lcm_lib or not url.startswith("udpm://"):
             self.lc = lcm.LCM(url)
         else:
@@ -279,25 +282,19 @@ class _Loop:
         self.frame_truth = 0
         c = link.codecs
         self.v = link.t.sensors_t.PROTOCOL_VERSION
-        self.pack_s = c.sensors.pack
         self.pack_t = c.truth.pack
-        act = c.actuator
-        self.unpack_a = act.unpack
-        self.i_tick = act.index("tick")
-        self.i_u = act.index("u_sat")
-        self.i_uw = act.index("u_wheels")
-        self.i_nw = act.index("n_wheels")
+        # the closed loop's one definition of the sensor frame and of the command (aocs_loop.frames): the
+        # frame made from the plant and the command applied to it by the PlantPort, the frame packed into
+        # sensors_t and the command read from actuator_cmd_t by the LcmCodec; this loop is hand-tuned around
+        # them (truth, recording, events) instead of aocs_loop.core.fly
+        self.port = PlantPort(plant)
+        self.codec = link.codec
         self.attitude = sc.kind == "attitude"
-        # the plant's command field of actuator_cmd_t.u_sat: body torque (attitude) or force (orbit), Plant.apply
-        self.u_field = "u_body" if self.attitude else "u_orbit"
         # the wheel array (SPEC 5.3), when the scenario has one: tachometers in sensors_t, its state in
         # truth_t, the flight computer's wheel torques (actuator_cmd_t.u_wheels) applied to it
         self.wheels = plant.wheel_array
         self.nw = self.wheels.n if self.wheels is not None else 0
         self.wmax = link.t.sensors_t.MAX_WHEELS
-        self.valid_wheels = link.t.sensors_t.VALID_WHEELS
-        s = link.t.sensors_t
-        self.bits = (s.VALID_ATTITUDE, s.VALID_RATE) if self.attitude else (s.VALID_POSITION, s.VALID_VELOCITY)
         self.progress_every = max(1, sc.n_steps // 10)
         self._zero_wheel_truth = (0,) + (0.0,) * (3 * self.wmax) + (0,) + (0.0,) * 6
         if self.attitude:
@@ -353,21 +350,9 @@ class _Loop:
                 *self._pad(tr["motor_torque_nm"]), bits, *H, *HN)
 
     def sensors(self, tick, stale=False):
-        s = self.plant.sense()
-        t_s = (tick - 1 if stale else tick) * self.sc.dt
-        b1, b2 = self.bits
-        if self.attitude:
-            valid = (b1 if s["q_valid"] else 0) | (b2 if s["w_valid"] else 0)
-            if self.nw:
-                valid |= self.valid_wheels
-                tach = self._pad(s["wheel_speed"])
-            else:
-                tach = (0.0,) * self.wmax
-            return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
-                               *s["q"], *s["w"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.nw, *tach)
-        valid = (b1 if s["pos_valid"] else 0) | (b2 if s["vel_valid"] else 0)
-        return self.pack_s(self.v, tick, int(round(t_s * 1e6)), tick, t_s, valid,
-                           0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, *s["pos"], *s["vel"], 0, *(0.0,) * self.wmax)
+        """sensors_t of tick k (stale: with the sensor time of tick k - 1)."""
+        f = self.port.sense(tick, (tick - 1) * self.sc.dt if stale else None)
+        return self.codec.pack_sensors(f)
 
     def fire(self, tick, evs):
         """Events before this tick's sensors; returns (drop, duplicate, stale)."""
@@ -380,9 +365,8 @@ class _Loop:
             elif e.kind == "malformed":
                 lc.publish("AOCS_SENSORS", b"\x00\x01garbage-not-a-sensors_t")
             elif e.kind == "foreign":
-                t_s = tick * self.sc.dt
-                lc.publish("AOCS_SENSORS", self.pack_s(99, tick, utime, tick, t_s, 0, 0.0, 0.0, 0.0, 1.0,
-                                                       *(0.0,) * 9, 0, *(0.0,) * self.wmax))
+                lc.publish("AOCS_SENSORS", self.codec.pack_sensors(
+                    SensorFrame(tick, tick * self.sc.dt, 0, (0.0, 0.0, 0.0, 1.0), *((0.0, 0.0, 0.0),) * 3), version=99))
             elif e.kind == "drop":
                 drop = True
             elif e.kind == "duplicate":
@@ -391,11 +375,11 @@ class _Loop:
                 stale = True
         return drop, dup, stale
 
-    def wheels_disagree(self, n_fsw):
+    def wheels_disagree(self, exc: WheelMismatch):
         """The flight computer allocates to another number of wheels than the plant has: no command
         of it can be applied (the scenario's [wheels] builds both, so this is a setup error)."""
-        print(f"plant_node: the flight computer commands {n_fsw} wheel(s), the plant has {self.nw} "
-              "(its configuration was not written from this scenario's [wheels])", file=sys.stderr, flush=True)
+        print(f"plant_node: {exc} (its configuration was not written from this scenario's [wheels])",
+              file=sys.stderr, flush=True)
         return "wheels_mismatch", EXIT_NO_REPLY
 
     def progress(self, k, flush_log=None):
@@ -413,8 +397,8 @@ class _Loop:
         n = self.sc.n_steps
         k0 = self.args.start_tick
         timeout = self.args.reply_timeout
-        unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
-        i_uw, nw, u_field = self.i_uw, self.nw, self.u_field
+        unpack, i_tick = self.codec.unpack, self.codec.i_tick
+        command, apply = self.codec.command, self.port.apply
         box = [None]
         want = [k0]
         rt = self.rt_ns
@@ -472,10 +456,10 @@ class _Loop:
                     return "no_reply", EXIT_NO_REPLY
                 rt.append(perf() - t0)
                 self.last_answered = tick
-                if v[self.i_nw] != nw:
-                    return self.wheels_disagree(v[self.i_nw])
-                cmd = {u_field: v[i_u:i_u + 3], "u_wheels": v[i_uw:i_uw + nw]} if nw else {u_field: v[i_u:i_u + 3]}
-                plant.apply(cmd)
+                try:
+                    cmd = apply(command(v))   # Plant.apply's mapping, applied
+                except WheelMismatch as exc:
+                    return self.wheels_disagree(exc)
                 check.apply(cmd)
                 if dup:
                     publish("AOCS_SENSORS", data)
@@ -495,8 +479,8 @@ class _Loop:
         n = self.sc.n_steps
         k0 = self.args.start_tick
         dt = self.sc.dt
-        unpack, i_tick, i_u = self.unpack_a, self.i_tick, self.i_u
-        i_uw, nw, u_field = self.i_uw, self.nw, self.u_field
+        unpack, i_tick = self.codec.unpack, self.codec.i_tick
+        command, apply = self.codec.command, self.port.apply
         latest = [None]
 
         def on_cmd(ch, data):  # noqa: ARG001
@@ -524,10 +508,10 @@ class _Loop:
             if k > 0:
                 v = latest[0]
                 if v is not None:
-                    if v[self.i_nw] != nw:
-                        return self.wheels_disagree(v[self.i_nw])
-                    cmd = {u_field: v[i_u:i_u + 3], "u_wheels": v[i_uw:i_uw + nw]} if nw else {u_field: v[i_u:i_u + 3]}
-                    plant.apply(cmd)
+                    try:
+                        cmd = apply(command(v))
+                    except WheelMismatch as exc:
+                        return self.wheels_disagree(exc)
                     check.apply(cmd)
                     self.last_answered = v[i_tick]
                 check.begin(plant)

@@ -33,6 +33,8 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths
+from aocs_loop.frames import SensorFrame, valid_bits
+from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import integrate_open_loop
 from aocs_plant.scenario import load
 from aocs_runner.run import RunOptions, execute
@@ -53,7 +55,8 @@ def bench_in_process(sc, repeats: int) -> dict:
 
 def bench_transport(sc, steps: int) -> dict:
     """Ping-pong of sensors_t / actuator_cmd_t with fsw_node, nothing else on the bus."""
-    codecs = wire.Codecs(paths.import_bindings())
+    bindings = paths.import_bindings()
+    codec = LcmCodec(wire.Codecs(bindings), bindings)   # the loop's own sensors_t packing
     with tempfile.TemporaryDirectory() as d:
         cfg = fsw_config.write(Path(d) / "b.cfg", fsw_config.node_config(sc, sc.control.law))
         node = subprocess.Popen([str(paths.fsw_node_exe()), str(cfg)], stdout=subprocess.DEVNULL,
@@ -71,12 +74,14 @@ def bench_transport(sc, steps: int) -> dict:
             box = []
             lc.subscribe(wire.ACTUATOR, lambda c, data: box.append(data))
             q, w = sc.attitude.q0, sc.attitude.w0
-            pack = codecs.sensors.pack
+            valid = valid_bits().attitude | valid_bits().rate
+            z = (0.0, 0.0, 0.0)
+            pack = codec.pack_sensors
             rt = []
             perf = time.perf_counter_ns
             t0 = time.perf_counter()
             for k in range(steps):
-                data = pack(1, k, k, k, k * sc.dt, 3, *q, *w, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                data = pack(SensorFrame(k, k * sc.dt, valid, q, w, z, z))
                 box.clear()
                 a = perf()
                 lc.publish(wire.SENSORS, data)

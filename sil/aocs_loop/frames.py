@@ -1,0 +1,160 @@
+"""What crosses the closed loop once per control period, defined once for every transport.
+
+    port = PlantPort(plant)
+    frame = port.sense(tick)           # from the plant side: the SensorFrame of tick k
+    reply = flight_computer.step(frame)   # a transport adapter (core.FlightComputer)
+    port.apply(reply.command)          # to the plant side: Plant.apply's command mapping
+    plant.advance()
+
+SensorFrame is what the flight software is given: the fields of the wire contract's sensors_t
+(docs/wire-contract.md) without the transport's own (protocol version, frame counter, publication time).
+Its `valid` bits are sensors_t's VALID_* bits, read from the generated bindings (valid_bits()); the
+flight computer's node logic reads them (fsw_node's aocs_node_sensors_to_input, the PIL bridge's and
+adapter's STEP payload). Command is what the plant takes back: the body torque (attitude) or force
+(orbit) and the wheel torques, one per wheel of the flight computer's array. Reply is the Command with
+the step's telemetry (law, mode, status, timing) and the transport's own reply.
+
+Every adapter packs a SensorFrame and unpacks its reply into a Command; only PlantPort makes a frame from
+the plant and applies a command to it, so no path can pack a sensor or drop an actuator field on its own.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import NamedTuple
+
+from aocs_core import paths
+
+_Z3 = (0.0, 0.0, 0.0)
+_Q1 = (0.0, 0.0, 0.0, 1.0)
+
+
+class ValidBits(NamedTuple):
+    """sensors_t's VALID_* bits (sil/lcmtypes/sensors_t.lcm), the meaning of SensorFrame.valid."""
+    attitude: int
+    rate: int
+    position: int
+    velocity: int
+    wheels: int
+
+
+@lru_cache(maxsize=1)
+def valid_bits() -> ValidBits:
+    """The bits of SensorFrame.valid, from the build's generated bindings (their one definition)."""
+    s = paths.import_bindings().sensors_t
+    return ValidBits(s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS)
+
+
+def seconds_to_ns(t_s: float) -> int:
+    """node_wire.c aocs_node_seconds_to_ns: llround(t_s * 1e9) for 0 < t_s < 1.8e10, else 0 (the flight
+    software's sensor time, which fsw_node derives from sensors_t.t_s and the PIL STEP frame carries)."""
+    if not (math.isfinite(t_s) and 0.0 < t_s < 1.8e10):
+        return 0
+    x = t_s * 1.0e9
+    r = math.floor(x)
+    return int(r + 1 if x - r >= 0.5 else r)   # round half away from zero, as llround
+
+
+@dataclass(slots=True)
+class SensorFrame:
+    """The measurement of one control period, as the flight software gets it."""
+    tick: int                 # control tick (echoed by the flight computer's reply)
+    t_s: float                # sensor time, s (tick * dt; a stale-frame fault repeats the previous one)
+    valid: int                # VALID_* bits (valid_bits())
+    q: tuple                  # q_BN, scalar last ((0, 0, 0, 1) on an orbit plant)
+    w: tuple                  # w_BN_B, rad/s (zeros on an orbit plant)
+    pos: tuple                # orbit position error, m (zeros on an attitude plant)
+    vel: tuple                # orbit velocity, m/s (zeros on an attitude plant)
+    wheel_speed: tuple = ()   # tachometers, one per wheel of the array, rad/s (none without one)
+
+    @property
+    def t_ns(self) -> int:
+        """The sensor time the flight software uses, ns (seconds_to_ns)."""
+        return seconds_to_ns(self.t_s)
+
+    @property
+    def n_wheels(self) -> int:
+        return len(self.wheel_speed)
+
+
+@dataclass(slots=True)
+class Command:
+    """What the plant takes back from one flight computer step."""
+    tick: int                 # the tick of the frame it answers
+    u: tuple                  # body torque, N m, B (attitude) or force, N (orbit): actuator_cmd_t.u_sat
+    u_wheels: tuple = ()      # wheel motor torques, N m, one per wheel of the flight computer's array
+
+
+@dataclass(slots=True)
+class Reply:
+    """A flight computer's answer to one SensorFrame: the Command and the step's telemetry."""
+    command: Command
+    u_unsat: tuple = _Z3      # the law's output before saturation
+    law_id: int = 0
+    mode: int = 0
+    status: int = 0           # aocs_status_t of the step (0 = AOCS_OK)
+    step_ns: int = 0          # the executive step's time (the PIL images: instructions over the clock)
+    overrun: bool = False
+    raw: object = None        # the transport's own reply (actuator_cmd_t values, frame.StepReply, ...)
+
+
+class WheelMismatch(ValueError):
+    """The flight computer commands another number of wheels than the plant has (a setup error: both are
+    built from the scenario's [wheels])."""
+
+    def __init__(self, commanded: int, plant: int):
+        super().__init__(f"the flight computer commands {commanded} wheel(s), the plant has {plant}")
+        self.commanded, self.plant = commanded, plant
+
+
+class PlantPort:
+    """The plant's end of the loop: the one place a SensorFrame is made from the plant (sense) and a
+    Command applied to it (apply). Built once per run (the plant's kind and wheel count are fixed)."""
+
+    def __init__(self, plant):
+        self.plant = plant
+        self.dt = plant.dt
+        self.attitude = plant.kind == "attitude"
+        wheels = plant.wheel_array
+        self.n_wheels = wheels.n if wheels is not None else 0
+        #: the command field of the body actuator (Plant.apply): torque in B, or force on the orbit plant
+        self.u_field = "u_body" if self.attitude else "u_orbit"
+        b = valid_bits()
+        self.bits = b
+        # the bits as plain ints, and the wheel bit of every frame of a plant with a wheel array (its
+        # tachometers have no validity flag of their own): sense() is on every run's hot path
+        self._att, self._rate, self._pos, self._vel = b.attitude, b.rate, b.position, b.velocity
+        self._wheels = b.wheels if self.n_wheels else 0
+
+    def sense(self, tick: int, t_s: float | None = None) -> SensorFrame:
+        """The plant's measurement of this period (Plant.sense) as the frame of `tick`; t_s defaults to
+        tick * dt (a stale-frame fault gives the previous tick's)."""
+        s = self.plant.sense()
+        if t_s is None:
+            t_s = tick * self.dt
+        if self.attitude:
+            return SensorFrame(tick, t_s,
+                               (self._att if s["q_valid"] else 0) | (self._rate if s["w_valid"] else 0) | self._wheels,
+                               s["q"], s["w"], _Z3, _Z3, s["wheel_speed"] if self._wheels else ())
+        return SensorFrame(tick, t_s, (self._pos if s["pos_valid"] else 0) | (self._vel if s["vel_valid"] else 0),
+                           _Q1, _Z3, s["pos"], s["vel"])
+
+    def command(self, cmd: Command) -> dict:
+        """Plant.apply's mapping of a Command: the body field, and the wheel torques when the plant has a
+        wheel array (WheelMismatch when the flight computer's array is another size)."""
+        nw = self.n_wheels
+        if len(cmd.u_wheels) != nw:
+            raise WheelMismatch(len(cmd.u_wheels), nw)
+        if nw:
+            return {self.u_field: cmd.u, "u_wheels": cmd.u_wheels}
+        return {self.u_field: cmd.u}
+
+    def apply(self, cmd: Command) -> dict:
+        """Apply a Command to the plant for this period (the mapping of command()); returns the mapping."""
+        uw = cmd.u_wheels
+        if len(uw) != self.n_wheels:
+            raise WheelMismatch(len(uw), self.n_wheels)
+        m = {self.u_field: cmd.u, "u_wheels": uw} if uw else {self.u_field: cmd.u}
+        self.plant.apply(m)
+        return m

@@ -1,0 +1,62 @@
+"""The PIL adapter of the closed loop (aocs_loop.core): a SensorFrame as one STEP frame to the flight image
+under QEMU, its STEP_REPLY as a Reply.
+
+step_payload is the one translation of a SensorFrame into the image's executive input, shared with the
+bridge (aocs_pil.bridge turns each sensors_t into a SensorFrame, then into this payload), so the bridge path
+and the direct path (harness.run_direct) feed the image the same bytes. It reads the frame as fsw_node reads
+a sensors_t (node_wire.c aocs_node_sensors_to_input): attitude and rate bits as they are, the orbit bit when
+both position and velocity are valid, a wheel the frame does not measure as NaN.
+"""
+from __future__ import annotations
+
+import math
+
+from aocs_loop.frames import Command, Reply, SensorFrame, valid_bits
+
+from . import frame
+from .qemu import Qemu
+
+#: the executive input's validity bits of the STEP frame (aocs_exec_input_t.valid: ATT, RATE, ORBIT)
+EXEC_VALID_ATT, EXEC_VALID_RATE, EXEC_VALID_ORBIT = 1, 2, 4
+
+
+def step_payload(f: SensorFrame) -> bytes:
+    """The STEP payload of a SensorFrame."""
+    b = valid_bits()
+    v = f.valid
+    valid = ((EXEC_VALID_ATT if v & b.attitude else 0) | (EXEC_VALID_RATE if v & b.rate else 0)
+             | (EXEC_VALID_ORBIT if (v & b.position) and (v & b.velocity) else 0))
+    ws = f.wheel_speed if v & b.wheels else ()
+    wheels = [ws[i] if i < len(ws) else math.nan for i in range(frame.WHEELS_MAX)]
+    return frame.encode_step(f.tick, f.t_ns, valid, f.q, f.w, f.pos, f.vel, wheels)
+
+
+def step_status(r: frame.StepReply) -> int:
+    """The status of a step as fsw_node reports it (step_status()): the step's return code, else the input
+    status, else the law status."""
+    return r.step_status or r.input_status or r.law_status
+
+
+def reply_of(r: frame.StepReply, tick: int, n_wheels: int, clock_hz: float) -> Reply:
+    """The Reply of a STEP_REPLY: u_cmd and the first n_wheels wheel torques (the configuration's array;
+    the frame carries WHEELS_MAX), step_ns = the step's instructions at the target's nominal clock."""
+    cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels])
+    return Reply(cmd, r.u_unsat, r.law, r.mode, step_status(r), int(round(r.instructions * 1e9 / clock_hz)),
+                 bool(r.overrun), r)
+
+
+class PilFlightComputer:
+    """aocs_loop.core.FlightComputer over the PIL frames: one STEP / STEP_REPLY exchange per period with
+    a started and configured image (q: a Qemu after start() and CONFIG); n_wheels: the configuration's
+    wheel count (wheels.count)."""
+
+    def __init__(self, q: Qemu, n_wheels: int):
+        self.q, self.n_wheels = q, int(n_wheels)
+        self.clock_hz = q.target.clock_hz
+
+    def step(self, f: SensorFrame) -> Reply:
+        _, p = self.q.request(frame.T_STEP, step_payload(f), frame.T_STEP_REPLY)
+        r = frame.StepReply.decode(p)
+        if r.tick != (f.tick & 0xFFFFFFFF):
+            raise frame.FrameError(f"reply for tick {r.tick}, request was tick {f.tick}")
+        return reply_of(r, f.tick, self.n_wheels, self.clock_hz)

@@ -1,0 +1,69 @@
+"""aocs_loop.frames: the sensor frame made from the plant and the command applied to it, once for every path."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from aocs_loop.frames import Command, PlantPort, SensorFrame, WheelMismatch, seconds_to_ns, valid_bits
+from aocs_plant import Plant
+from aocs_plant.scenario import load
+
+
+def test_valid_bits_are_the_wire_contract_s(aocs_lcm):
+    s = aocs_lcm.sensors_t
+    assert valid_bits() == (s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS)
+
+
+def test_seconds_to_ns_rounds_like_llround_and_refuses_what_fsw_node_refuses():
+    assert seconds_to_ns(0.1) == 100_000_000 and seconds_to_ns(2.5e-9) == 3 and seconds_to_ns(1.5e-9) == 2
+    for bad in (0.0, -1.0, math.nan, math.inf, 1.8e10):
+        assert seconds_to_ns(bad) == 0
+    assert SensorFrame(1, 0.1, 0, (0, 0, 0, 1), (0, 0, 0), (0, 0, 0), (0, 0, 0)).t_ns == 100_000_000
+
+
+def test_an_attitude_frame_carries_the_sample_and_the_tachometers(aocs_lcm):
+    plant = Plant(load("irassi_rw"))
+    port = PlantPort(plant)
+    s = plant.sense()
+    b = valid_bits()
+    f = port.sense(7)
+    assert (f.tick, f.t_s) == (7, 7 * plant.dt)
+    assert f.valid == b.attitude | b.rate | b.wheels
+    assert f.q is s["q"] and f.w is s["w"] and f.wheel_speed is s["wheel_speed"] and f.n_wheels == 4
+    assert f.pos == f.vel == (0.0, 0.0, 0.0)
+    assert port.sense(7, t_s=0.6).t_s == 0.6          # a stale frame's time
+
+
+def test_an_attitude_frame_without_wheels_has_no_wheel_bit(aocs_lcm):
+    f = PlantPort(Plant(load("irassi_small"))).sense(0)
+    assert f.valid == valid_bits().attitude | valid_bits().rate and f.wheel_speed == ()
+
+
+def test_an_orbit_frame(aocs_lcm):
+    plant = Plant(load("landsat8_q1"))
+    f = PlantPort(plant).sense(0)
+    s = plant.sense()
+    assert f.valid == valid_bits().position | valid_bits().velocity
+    assert (f.pos, f.vel, f.q, f.w) == (s["pos"], s["vel"], (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0))
+
+
+def test_a_command_reaches_every_actuator_field(aocs_lcm):
+    plant = Plant(load("irassi_rw"))
+    port = PlantPort(plant)
+    m = port.apply(Command(0, (0.0, 0.0, 0.0), (0.01, -0.02, 0.03, -0.04)))
+    assert m == {"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.01, -0.02, 0.03, -0.04)}
+    assert port.command(Command(0, (0.0, 0.0, 0.0), (0.01, -0.02, 0.03, -0.04))) == m
+    plant.apply(m)
+    assert plant.counters["commands"] == 2 and plant.wheel_array.u_cmd == m["u_wheels"]   # the wheels got them
+    orbit = PlantPort(Plant(load("landsat8_q1")))
+    assert orbit.apply(Command(0, (1.0, 2.0, 3.0))) == {"u_orbit": (1.0, 2.0, 3.0)}
+
+
+@pytest.mark.parametrize("scenario, wheels", [("irassi_rw", (0.1, 0.2, 0.3)), ("irassi_rw", ()),
+                                              ("irassi_small", (0.1,))])
+def test_a_wheel_count_mismatch_is_refused(aocs_lcm, scenario, wheels):
+    plant = Plant(load(scenario))
+    with pytest.raises(WheelMismatch, match=f"commands {len(wheels)} wheel"):
+        PlantPort(plant).apply(Command(0, (0.0, 0.0, 0.0), wheels))
+    assert plant.counters["commands"] == 0
