@@ -1,4 +1,4 @@
-"""Star tracker (issue 20; docs/spec.md "Star tracker and gyro models"): the attitude of its own frame S.
+"""Star tracker (issue 20; docs/spec.md 5.6): the attitude of its own frame S.
 
 Its section [sensors.star_tracker] builds it (absent: no star tracker). It measures the quaternion of S
 with respect to N at the time of measurement t_meas = t - latency_s:
@@ -112,6 +112,8 @@ def _read(sec, ctx) -> StarTrackerConfig:
             sec.fail(key, f"starts before the run ({t0:g} s)")
         if not t1 > t0:
             sec.fail(key, f"ends before it starts ({t1:g} <= {t0:g} s)")
+        if t0 >= ctx.duration_s:
+            sec.fail(key, f"starts at {t0:g} s, not inside the run (duration_s = {ctx.duration_s:g})")
         outages.append((t0, t1))
     sec.done()
     return StarTrackerConfig(tuple(q), rate, latency, cross, about, bias, lf, tuple(amp), tuple(time_s),

@@ -259,6 +259,7 @@ def test_faults_reach_it():
     ({"mounting_q": [0.0, 0.0, 0.1, 1.0]}, "sensors.star_tracker.mounting_q: must be a unit quaternion"),
     ({"outages": [[5.0, 4.0]]}, r"sensors.star_tracker.outages\[0\]: ends before it starts \(4 <= 5 s\)"),
     ({"outages": [[-1.0, 4.0]]}, r"sensors.star_tracker.outages\[0\]: starts before the run"),
+    ({"outages": [[600.0, 700.0]]}, r"sensors.star_tracker.outages\[0\]: starts at 600 s, not inside the run"),
     ({"outages": [5.0]}, r"sensors.star_tracker.outages\[0\]: expected an array of 2 numbers"),
     ({"sun_exclusion_deg": 180.0}, "sensors.star_tracker.sun_exclusion_deg: 180 deg must be below 180 deg"),
     ({"latency_s": -0.1}, "sensors.star_tracker.latency_s: must be >= 0"),
