@@ -1,10 +1,9 @@
-"""The steady-state attitude knowledge a gyro + star-tracker filter can reach (issue 20; docs/spec.md
-"Steady-state accuracy of a gyro + star-tracker filter").
+"""The steady-state attitude knowledge a gyro + star-tracker filter can reach (issue 20; docs/spec.md 5.6).
 
 Per axis, the attitude filter is the two-state (angle, gyro bias) Kalman filter of Farrenkopf (1978),
 "Analytic Steady-State Accuracy Solutions for Two Common Spacecraft Attitude Estimators", J. Guidance
 and Control 1(4), 282-284; also Markley & Crassidis 2014, "Fundamentals of Spacecraft Attitude
-Determination and Control", sec. 6.4 (their Farrenkopf expressions). Continuous gyro model
+Determination and Control", ch. 6 (their Farrenkopf expressions); docs/spec.md 5.6. Continuous gyro model
 w_meas = w + beta + eta_v, beta' = eta_u (spectral densities sigma_v^2, sigma_u^2); an angle measurement
 of white noise sigma_n every dt. Over dt the state transition and process noise are exact:
 

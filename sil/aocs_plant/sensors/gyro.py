@@ -1,6 +1,6 @@
-"""Gyro (issue 20; docs/spec.md "Star tracker and gyro models"): a three-axis rate-integrating gyro
+"""Gyro (issue 20): a three-axis rate-integrating gyro
 sampled once per control period, with the angle random walk / rate random walk model of Farrenkopf
-(1978) and its exact discretisation (Markley & Crassidis 2014, sec. 6.4.2 / eq. 6.93-6.94 style).
+(1978) and its exact discretisation (Markley & Crassidis 2014, ch. 4 and 6; docs/spec.md 5.6).
 
 Its section [sensors.gyro] builds it (absent: no gyro). Over the sample interval h = t_k - t_(k-1):
 

@@ -33,7 +33,8 @@ def test_the_continuous_time_limit():
     continuous-time steady state of the same two-state filter, P_aa = r^(1/2) (sigma_v^2 + 2 sigma_u r^(1/2))^(1/2)
     (the continuous Riccati equation solved by hand: 0 = -2 p12 + sigma_v^2 - p11^2 / r, 0 = -p22 - p11 p12 / r,
     0 = sigma_u^2 - p12^2 / r; the published continuous-time result of this model, e.g. Crassidis & Junkins,
-    Optimal Estimation of Dynamic Systems, 2nd ed., ch. 7, and Markley & Crassidis 2014 sec. 6.4)."""
+    Optimal Estimation of Dynamic Systems, 2nd ed., 2012, and Markley & Crassidis 2014, ch. 6: the
+    steady state of the continuous-time filter; see docs/spec.md 5.6)."""
     sv, su = GYROS["crassidis_junkins"]
     r = (1.0 / ARCSEC) ** 2 * 1.0          # 1 arcsec at 1 Hz
     p_cont = math.sqrt(r) * math.sqrt(sv * sv + 2 * su * math.sqrt(r))
