@@ -86,17 +86,22 @@ def farrenkopf(sigma_n: float, sigma_v: float, sigma_u: float, dt: float) -> Ste
                        math.sqrt(max(pb_post, 0.0)), s_v, s_u)
 
 
+def _predicted(sigma_n, sigma_v, sigma_u, dt) -> np.ndarray:
+    """The steady predicted (pre-update) covariance: the DARE with Phi^T, H^T, Q, R."""
+    phi = np.array([[1.0, -dt], [0.0, 1.0]])
+    h = np.array([[1.0, 0.0]])
+    return solve_discrete_are(phi.T, h.T, process_noise(sigma_v, sigma_u, dt), np.array([[sigma_n * sigma_n]]))
+
+
 def riccati(sigma_n: float, sigma_v: float, sigma_u: float, dt: float) -> SteadyState:
     """The same from the discrete algebraic Riccati equation of the filter (sigma_u > 0: with no rate
     random walk the bias becomes known exactly, and the equation has no stabilising solution)."""
     _check(sigma_n, sigma_v, sigma_u, dt)
     if not sigma_u > 0.0:
         raise ValueError("riccati needs sigma_u > 0 (use farrenkopf for sigma_u = 0)")
-    phi = np.array([[1.0, -dt], [0.0, 1.0]])
+    pre = _predicted(sigma_n, sigma_v, sigma_u, dt)
     h = np.array([[1.0, 0.0]])
-    r = np.array([[sigma_n * sigma_n]])
-    pre = solve_discrete_are(phi.T, h.T, process_noise(sigma_v, sigma_u, dt), r)   # the predicted covariance
-    k = pre @ h.T / (h @ pre @ h.T + r)
+    k = pre @ h.T / (h @ pre @ h.T + sigma_n * sigma_n)
     post = (np.eye(2) - k @ h) @ pre
     return SteadyState(math.sqrt(pre[0, 0]), math.sqrt(post[0, 0]), math.sqrt(pre[1, 1]), math.sqrt(post[1, 1]),
                        sigma_v * math.sqrt(dt) / sigma_n, sigma_u * dt ** 1.5 / sigma_n)
@@ -108,15 +113,11 @@ def between_updates(sigma_n: float, sigma_v: float, sigma_u: float, dt: float, n
     if n < 1:
         raise ValueError("n must be >= 1")
     _check(sigma_n, sigma_v, sigma_u, dt)
-    ss = riccati(sigma_n, sigma_v, sigma_u, dt) if sigma_u > 0.0 else None
-    if ss is None:   # sigma_u = 0: the bias known, the post-update covariance diagonal
+    if sigma_u > 0.0:
+        pre = _predicted(sigma_n, sigma_v, sigma_u, dt)
+        p = pre - pre[:, :1] @ pre[:1, :] / (pre[0, 0] + sigma_n * sigma_n)
+    else:   # sigma_u = 0: the bias known, the post-update covariance diagonal
         p = np.diag([farrenkopf(sigma_n, sigma_v, 0.0, dt).attitude_post ** 2, 0.0])
-    else:
-        phi = np.array([[1.0, -dt], [0.0, 1.0]])
-        h = np.array([[1.0, 0.0]])
-        r = np.array([[sigma_n * sigma_n]])
-        pre = solve_discrete_are(phi.T, h.T, process_noise(sigma_v, sigma_u, dt), r)
-        p = pre - pre @ h.T @ h @ pre / (pre[0, 0] + r[0, 0])
     total = 0.0
     for j in range(n):
         tau = j * dt / n
