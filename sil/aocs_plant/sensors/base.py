@@ -65,6 +65,9 @@ class Sensor:
     delayed: ClassVar[bool] = True           # True: the sample of period k measures period k - latency_periods
     fault_kinds: ClassVar[tuple] = ()        # [[sensors.faults]] kinds it takes (dropout, nan, nonunit); () none
     initial_last: ClassVar[tuple] = ZERO3    # what a dropout repeats before the first unfaulted sample
+    extra_fields: ClassVar[tuple] = ()       # further sample fields it writes (extra()), reserved like value_field
+    own_validity: ClassVar[bool] = False     # True: it sets its own flags after measure() (valid, available)
+    records: ClassVar[bool] = False          # True: record(value) gets its true value after every period
 
     @classmethod
     def read(cls, sec, ctx: SensorReadContext):
@@ -88,6 +91,17 @@ class Sensor:
         """Its truth fields {name: value} (default none)."""
         return {}
 
+    # only for sensors with their own timing (own_validity / records / extra_fields: the star tracker)
+    valid: bool = True        # own_validity: its valid flag of the last sample (ANDed with the faults')
+    available: bool = True    # own_validity: False when unusable (outage, exclusion): counted as invalid
+
+    def record(self, value: tuple) -> None:
+        """records: the true value (source()) after every period, and once at the start."""
+
+    def extra(self) -> dict:
+        """extra_fields: their values for the last sample."""
+        return {}
+
 
 REGISTRY: dict[str, type[Sensor]] = {}
 
@@ -96,9 +110,9 @@ def register(cls: type[Sensor]) -> type[Sensor]:
     """Class decorator: make a sensor known to the scenario loader and the plant, and reserve its stream."""
     if not cls.name or cls.name in REGISTRY and REGISTRY[cls.name] is not cls:
         raise ValueError(f"sensor {cls.name!r} is empty or registered twice")
-    fields = {cls.value_field, cls.valid_field} - {None}
+    fields = {cls.value_field, cls.valid_field, *cls.extra_fields} - {None}
     for other in REGISTRY.values():
-        if other is not cls and fields & {other.value_field, other.valid_field}:
+        if other is not cls and fields & {other.value_field, other.valid_field, *other.extra_fields}:
             raise ValueError(f"sensor {cls.name!r}: sample field taken by sensor {other.name!r}")
     rng.claim(cls.name, cls.stream_index)
     REGISTRY[cls.name] = cls

@@ -24,6 +24,9 @@ class SensorSuite:
         else:
             self._snapshot = lambda: tuple([f() for f in sources])
         self._now = [(s, s.source(plant)) for s in self.sensors if not s.delayed]
+        # sensors with their own timing (the star tracker): their own record, flags and extra fields
+        self._recorders = [(s, s.source(plant)) for s in self.sensors if s.records]
+        self._flagged = [s for s in self.sensors if s.own_validity or s.extra_fields]
         self.history: list = []          # the delayed sensors' true values per period, latency + 1 kept
         self.last = {s.name: s.initial_last for s in self.sensors}
 
@@ -32,6 +35,8 @@ class SensorSuite:
         self.history.append(self._snapshot())
         if len(self.history) > self.latency + 1:
             del self.history[0]
+        for s, src in self._recorders:
+            s.record(src())
 
     def _active(self, channel, t):
         for f in self.faults:
@@ -61,6 +66,12 @@ class SensorSuite:
                 out[s.value_field] = value
                 if s.valid_field is not None:
                     out[s.valid_field] = True
+        for s in self._flagged:   # own validity (ANDed with the faults'), and the extra fields
+            if s.own_validity:
+                if s.valid_field is not None:
+                    out[s.valid_field] = out[s.valid_field] and s.valid
+                ok = ok and s.available
+            out.update(s.extra())
         return out, ok
 
     def _fault(self, s, value, t, out) -> bool:

@@ -37,11 +37,11 @@ def test_the_channels_are_the_sensors_of_the_plant_kind():
     assert "unknown value 'tachometer'" in _error("irassi_rw", _fault(channel="tachometer"))
 
 
-def test_nonunit_goes_only_to_the_attitude_sensor():
+def test_nonunit_goes_only_to_the_quaternion_sensors():
     assert _error("irassi_large", _fault(kind="nonunit")) == (
-        "sensors.faults[0].kind: nonunit applies to the attitude channel only")
+        "sensors.faults[0].kind: nonunit applies to the attitude and star_tracker channel only")
     assert _error("landsat8_q1", _fault(channel="all", kind="nonunit")) == (
-        "sensors.faults[0].kind: nonunit applies to the attitude channel only")
+        "sensors.faults[0].kind: nonunit applies to the attitude and star_tracker channel only")
     load("irassi_large", _fault(channel="all", kind="nonunit"))     # all: the attitude sensor takes it
     assert _error("irassi_large", _fault(channel="attitude", kind="nonunit", factor=1.0)) == (
         "sensors.faults[0].factor: a nonunit fault needs factor != 1")
