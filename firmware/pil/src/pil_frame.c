@@ -491,16 +491,16 @@ static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, u
     const aocs_config_field_t *f = ref.field;
     aocs_status_t st = AOCS_ERR_CONFIG_FIELD;
     if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        double vals[AOCS_CONFIG_VALUES_MAX];
         if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
+            double vals[AOCS_CONFIG_VALUES_MAX];
             for (uint32_t i = 0U; i < count; i++) {
                 vals[i] = f64_from_bits(r_uint(r, 8U));
             }
             st = aocs_config_set_reals(cfg, ref, vals, count);
         }
     } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
         if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
             for (uint32_t i = 0U; i < count; i++) {
                 name[i] = (char)(uint8_t)r_uint(r, 1U);
             }
@@ -527,13 +527,19 @@ static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, u
 /* 1 when an entry of `count` values has the shape of field f: its reals, a name of 1 .. 31 bytes, one integer. */
 static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
 {
+    uint32_t lo = 1U;
+    uint32_t hi = 1U;
     int ok = 0;
     if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        ok = (count == f->count) ? 1 : 0;
+        lo = f->count;
+        hi = f->count;
     } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        ok = ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) ? 1 : 0;
+        hi = AOCS_PIL_TABLE_NAME_MAX;
     } else {
-        ok = (count == 1U) ? 1 : 0;
+        /* one integer */
+    }
+    if ((count >= lo) && (count <= hi)) {
+        ok = 1;
     }
     return ok;
 }

@@ -27,8 +27,9 @@
 
 #include <stdint.h>
 
-#include "aocs/types.h"
+#include "aocs/config_registry.h"
 #include "aocs/executive.h"
+#include "aocs/types.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
 #define AOCS_PIL_VERSION 2U   /* 2: the wheel array (CONFIG fields 65-67 and 100-147, tachometers, wheel torques) */
@@ -103,7 +104,6 @@ typedef enum {
  * aocs_exec_config_default(). The ids are wire values: never renumber
  * (tests/unit/test_registry.c pins them).
  */
-#include "aocs/config_registry.h"
 
 /* Decoded header (magic and CRC are checked, not kept). */
 typedef struct {
