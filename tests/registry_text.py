@@ -1,7 +1,8 @@
 """The registry rows as written in the C sources, read as text (no tests here).
 
-An independent reading of firmware/include/aocs/laws.def, firmware/gains/gain_tables.def
-and the executive rows of firmware/pil/include/aocs/pil_frame.h, for the tests that check
+An independent reading of firmware/include/aocs/laws.def, firmware/gains/gain_tables.def,
+firmware/include/aocs/config_fields.def and the payload rows of
+firmware/pil/include/aocs/pil_frame.h, for the tests that check
 the build's registry JSON (aocs_core.registry) and the Python consumers against the C.
 """
 from __future__ import annotations
@@ -14,6 +15,7 @@ LAWS_DEF = REPO / "firmware/include/aocs/laws.def"
 GAIN_TABLES_DEF = REPO / "firmware/gains/gain_tables.def"
 CONFIG_FIELDS_DEF = REPO / "firmware/include/aocs/config_fields.def"
 CONFIG_REGISTRY_H = REPO / "firmware/include/aocs/config_registry.h"
+PIL_FRAME_H = REPO / "firmware/pil/include/aocs/pil_frame.h"
 
 
 def _macro_body(text: str, name: str) -> str:
@@ -152,3 +154,14 @@ def table_rows() -> list[dict]:
         d["name"] = _str(d["name"])
         rows.append(d)
     return rows
+
+
+def pil_payload_rows() -> dict[str, list[dict]]:
+    """AOCS_PIL_PAYLOAD_ROWS of pil_frame.h: payload name -> its rows {name, kind, member} in wire order, and
+    "COUNTERS" -> the AOCS_PIL_COUNTER_ROWS; "bytes" of each payload from its AOCS_PIL_<NAME>_BYTES."""
+    text = PIL_FRAME_H.read_text()
+    cols = ("name", "kind", "member")
+    out = {"COUNTERS": [dict(zip(cols, r)) for r in _rows(_macro_body(text, "AOCS_PIL_COUNTER_ROWS"))]}
+    for name, _fn, _type, rows, _bytes in _rows(_macro_body(text, "AOCS_PIL_PAYLOAD_ROWS")):
+        out[name] = [dict(zip(cols, r)) for r in _rows(_macro_body(text, rows))]
+    return out

@@ -7,7 +7,8 @@ expands them into <build>/registry/aocs_registry.json (tools/registry,
 aocs_registry_dump, run on every `cmake --build`); this module is the one
 place Python reads it. Law ids and names, which fields a law takes (fsw_node
 keys, types, counts, rules, units, PIL ids), budgets, gain tables, status
-and mode names: nothing of it is typed again in Python.
+and mode names, the layouts of the fixed PIL payloads: nothing of it is typed
+again in Python.
 
 The build directory is paths.build_dir() (AOCS_BUILD_DIR, default
 build/host); the file is read once per path and cached. A missing file raises
@@ -107,6 +108,24 @@ class ConfigField:
     #                         index; ns), None for a table
 
 
+@dataclass(frozen=True)
+class PayloadField:
+    """One row of a fixed PIL payload (pil_frame.h AOCS_PIL_<NAME>_ROWS), in wire order."""
+    name: str             # the field's name on the host (the attribute of aocs_pil.frame's payload)
+    kind: str             # u32, u64, status, law, mode, pil_err, real, vec3, quat, wheels, counters
+    member: str           # the C struct member it travels in
+    wire: str             # u32, i32, u64, f64 (little-endian; f64 binary64)
+    count: int            # values on the wire
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A fixed-layout PIL payload (AOCS_PIL_PAYLOAD_ROWS): its rows and its size (AOCS_PIL_<NAME>_BYTES)."""
+    name: str             # HELLO, STEP, STEP_REPLY, SELECT, ACK, BYE_REPLY, ERROR
+    c_type: str
+    bytes: int
+    fields: tuple[PayloadField, ...]
+
 
 class Registry:
     """The parsed registry JSON of one build."""
@@ -144,6 +163,11 @@ class Registry:
                         tuple((x["names"] or "").split(",")) if x["names"] else (), x["law"], x["status"], x["help"],
                         x["default"])
             for x in data["config_fields"])
+        #: the fixed PIL payloads by name, and the counters of a STEP_REPLY (their rows, in wire order)
+        self.pil_payloads: dict[str, Payload] = {
+            x["name"]: Payload(x["name"], x["c_type"], x["bytes"], tuple(PayloadField(**f) for f in x["fields"]))
+            for x in data["pil_payloads"]}
+        self.pil_counters: tuple[PayloadField, ...] = tuple(PayloadField(**f) for f in data["pil_counters"])
         #: the executive's accepted ranges (executive.h): actuator limits (N m or N), control period (s)
         self.limits: dict[str, float] = {k: float(v) for k, v in data["limits"].items()}
         self.status_names: dict[int, str] = {s["value"]: s["name"] for s in data["status"]}

@@ -1,9 +1,11 @@
 """PIL frame codec, the host side of firmware/pil/include/aocs/pil_frame.h.
 
-Byte for byte the same layouts as the C codec (firmware/pil/src/pil_frame.c);
-tests/python/aocs_pil/test_frame.py checks the constants against the header and the
-bytes against golden vectors that tests/unit/test_pil_frame.c also checks.
-The CONFIG field ids are the law registry's (aocs_core.registry), never a copy.
+The fixed payloads are the rows of pil_frame.h (AOCS_PIL_PAYLOAD_ROWS) as the build's
+registry lists them (aocs_core.registry): their struct formats, sizes and field names are
+derived here, never typed; the CONFIG field ids are the configuration registry's.
+tests/python/aocs_pil/test_frame.py checks the constants against the header, every layout
+against the C codec (encoded here, decoded by it) and the bytes against golden vectors that
+tests/unit/test_pil_frame.c also checks.
 
 Frame: magic u32 ("APIL"), version u8, type u8, length u16, seq u32, payload,
 CRC-32 (zlib.crc32) of everything before it; little-endian; reals binary64.
@@ -13,7 +15,7 @@ from __future__ import annotations
 import math
 import struct
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, make_dataclass
 
 from aocs_core import registry
 
@@ -61,16 +63,7 @@ def cfg_fields() -> dict[str, tuple[int, str, int]]:
 def cfg_name_by_id() -> dict[int, str]:
     return {v[0]: k for k, v in cfg_fields().items()}
 
-HELLO = struct.Struct("<7I")
-STEP = struct.Struct("<IQI19d")
-STEP_REPLY = struct.Struct("<I5i6d6I10II2i7dIi3dd")
-SELECT = struct.Struct("<iI7d")
-ACK = struct.Struct("<2iI2i4I")
-BYE_REPLY = struct.Struct("<4I")
-ERROR = struct.Struct("<i3I")
 _HEADER = struct.Struct("<IBBHI")
-assert (HELLO.size, STEP.size, STEP_REPLY.size, SELECT.size, ACK.size, BYE_REPLY.size, ERROR.size) == \
-    (28, 168, 244, 64, 36, 16, 16)
 
 
 class FrameError(Exception):
@@ -128,144 +121,63 @@ def check_frame(buf: bytes) -> tuple[Header, bytes]:
     return h, bytes(buf[HEADER_BYTES:HEADER_BYTES + h.length])
 
 
-# ---- payloads ---------------------------------------------------------------
-@dataclass(frozen=True)
-class Hello:
-    target: int
-    real_bytes: int
-    icount_shift: int
-    calib_ok: int
-    calib_measured: int
-    calib_expected: int
-    overhead: int
+# ---- the fixed payloads: the rows of pil_frame.h, as the build's registry lists them ----
+_REG = registry.load()
+_LAYOUTS = _REG.pil_payloads
+_FORMAT = {"u32": "I", "i32": "i", "u64": "Q", "f64": "d"}
+COUNTER_NAMES = tuple(f.name for f in _REG.pil_counters)
+WHEELS_MAX = _REG.wheels_max   # tachometers in STEP, wheel torques in STEP_REPLY
+
+
+def _struct(name: str) -> struct.Struct:
+    s = struct.Struct("<" + "".join(f"{f.count}{_FORMAT[f.wire]}" for f in _LAYOUTS[name].fields))
+    assert s.size == _LAYOUTS[name].bytes, f"{name}: rows of {s.size} bytes, AOCS_PIL_{name}_BYTES {_LAYOUTS[name].bytes}"
+    return s
+
+
+STRUCTS = {name: _struct(name) for name in _LAYOUTS}
+HELLO, STEP, STEP_REPLY, SELECT, ACK, BYE_REPLY, ERROR = (
+    STRUCTS[n] for n in ("HELLO", "STEP", "STEP_REPLY", "SELECT", "ACK", "BYE_REPLY", "ERROR"))
+
+
+def pack(name: str, values: dict) -> bytes:
+    """The payload `name` of its rows' values by row name (several values: a sequence; counters: a dict)."""
+    flat = []
+    for f in _LAYOUTS[name].fields:
+        v = values[f.name]
+        v = [v[n] for n in COUNTER_NAMES] if f.kind == "counters" else list(v) if f.count > 1 else [v]
+        if len(v) != f.count:
+            raise ValueError(f"{name} {f.name}: {len(v)} values, {f.count} expected")
+        flat += v
+    return STRUCTS[name].pack(*flat)
+
+
+def unpack(name: str, p: bytes) -> dict:
+    """Row name -> value (a tuple for several values, a dict for the counters); FrameError on a wrong size."""
+    s = STRUCTS[name]
+    if len(p) != s.size:
+        raise FrameError(f"{name} payload of {len(p)} bytes, {s.size} expected")
+    vals, out, i = s.unpack(p), {}, 0
+    for f in _LAYOUTS[name].fields:
+        v = vals[i:i + f.count]
+        out[f.name] = dict(zip(COUNTER_NAMES, v)) if f.kind == "counters" else v if f.count > 1 else v[0]
+        i += f.count
+    return out
+
+
+class _Payload:
+    """A fixed payload: one attribute per row of its layout LAYOUT."""
+    LAYOUT = ""
 
     @classmethod
-    def decode(cls, p: bytes) -> "Hello":
-        _need(p, HELLO, "HELLO")
-        return cls(*HELLO.unpack(p))
+    def decode(cls, p: bytes):
+        return cls(**unpack(cls.LAYOUT, p))
 
     def encode(self) -> bytes:
-        return HELLO.pack(self.target, self.real_bytes, self.icount_shift, self.calib_ok, self.calib_measured,
-                          self.calib_expected, self.overhead)
+        return pack(self.LAYOUT, vars(self))
 
 
-WHEELS_MAX = 6   # AOCS_WHEELS_MAX (wheel_array.h): tachometers in STEP, wheel torques in STEP_REPLY
-
-
-def encode_step(tick: int, t_sensor_ns: int, valid: int, q, w, pos, vel, wheel_speed=None) -> bytes:
-    """wheel_speed: up to WHEELS_MAX tachometer speeds (rad/s); the wheels not given read NaN, as fsw_node
-    reads a wheel the sensor message does not measure."""
-    vals = [float(x) for x in (*q, *w, *pos, *vel)]
-    if len(vals) != 13:
-        raise ValueError("q needs 4 values, w, pos and vel 3 each")
-    ws = [float(x) for x in (wheel_speed or ())]
-    if len(ws) > WHEELS_MAX:
-        raise ValueError(f"{len(ws)} wheel speeds, at most {WHEELS_MAX}")
-    ws += [math.nan] * (WHEELS_MAX - len(ws))
-    return STEP.pack(tick & 0xFFFFFFFF, t_sensor_ns, valid & 0xFFFFFFFF, *vals, *ws)
-
-
-COUNTER_NAMES = ("steps", "invalid", "stale", "missing", "law_error", "overrun", "mode_transitions", "saturated",
-                 "select_accepted", "select_rejected")
-
-
-@dataclass(frozen=True)
-class StepReply:
-    tick: int
-    step_status: int
-    law: int
-    mode: int
-    law_status: int
-    input_status: int
-    u_cmd: tuple
-    u_unsat: tuple
-    saturated: int
-    overrun: int
-    exact: int
-    instructions: int
-    law_instructions: int
-    budget: int
-    counters: dict
-    pil_overruns: int
-    exec_law: int
-    exec_mode: int
-    # the wheel array (all zero without one): what fsw_node publishes in actuator_cmd_t
-    u_wheels: tuple = (0.0,) * WHEELS_MAX
-    wheel_scale: float = 0.0
-    wheel_limited: int = 0       # torque-limited mask | speed-limited mask << 8
-    wheel_status: int = 0
-    h_total: tuple = (0.0, 0.0, 0.0)
-    speed_margin: float = 0.0
-
-    @classmethod
-    def decode(cls, p: bytes) -> "StepReply":
-        _need(p, STEP_REPLY, "STEP_REPLY")
-        v = STEP_REPLY.unpack(p)
-        return cls(tick=v[0], step_status=v[1], law=v[2], mode=v[3], law_status=v[4], input_status=v[5],
-                   u_cmd=tuple(v[6:9]), u_unsat=tuple(v[9:12]), saturated=v[12], overrun=v[13], exact=v[14],
-                   instructions=v[15], law_instructions=v[16], budget=v[17],
-                   counters=dict(zip(COUNTER_NAMES, v[18:28])), pil_overruns=v[28], exec_law=v[29],
-                   exec_mode=v[30], u_wheels=tuple(v[31:37]), wheel_scale=v[37], wheel_limited=v[38],
-                   wheel_status=v[39], h_total=tuple(v[40:43]), speed_margin=v[43])
-
-    def encode(self) -> bytes:
-        return STEP_REPLY.pack(self.tick, self.step_status, self.law, self.mode, self.law_status,
-                               self.input_status, *self.u_cmd, *self.u_unsat, self.saturated, self.overrun,
-                               self.exact, self.instructions, self.law_instructions, self.budget,
-                               *(self.counters[n] for n in COUNTER_NAMES), self.pil_overruns, self.exec_law,
-                               self.exec_mode, *self.u_wheels, self.wheel_scale, self.wheel_limited,
-                               self.wheel_status, *self.h_total, self.speed_margin)
-
-
-def encode_select(law: int, qd=None, wd=(0.0, 0.0, 0.0)) -> bytes:
-    has = qd is not None
-    q = [float(x) for x in (qd if has else (0.0, 0.0, 0.0, 1.0))]
-    return SELECT.pack(law, 1 if has else 0, *q, *(float(x) for x in wd))
-
-
-@dataclass(frozen=True)
-class Ack:
-    pil_err: int
-    status: int
-    field: int
-    exec_law: int
-    exec_mode: int
-    select_accepted: int
-    select_rejected: int
-    budget: int
-    reserved: int
-
-    @classmethod
-    def decode(cls, p: bytes) -> "Ack":
-        _need(p, ACK, "ACK")
-        return cls(*ACK.unpack(p))
-
-
-@dataclass(frozen=True)
-class Bye:
-    stack_bytes: int
-    steps: int
-    instructions_max: int
-    frame_errors: int
-
-    @classmethod
-    def decode(cls, p: bytes) -> "Bye":
-        _need(p, BYE_REPLY, "BYE")
-        return cls(*BYE_REPLY.unpack(p))
-
-
-@dataclass(frozen=True)
-class Error:
-    pil_err: int
-    type: int
-    seq: int
-    detail: int
-
-    @classmethod
-    def decode(cls, p: bytes) -> "Error":
-        _need(p, ERROR, "ERROR")
-        return cls(*ERROR.unpack(p))
-
+class _ErrorPayload(_Payload):
     def describe(self) -> str:
         name = err_name(self.pil_err)
         what = ERR_MEANING.get(name, "")
@@ -273,9 +185,33 @@ class Error:
         return f"{name} ({what}) on a {tname} frame, seq {self.seq}, detail {self.detail}"
 
 
-def _need(p: bytes, s: struct.Struct, what: str) -> None:
-    if len(p) != s.size:
-        raise FrameError(f"{what} payload of {len(p)} bytes, {s.size} expected")
+def _payload_class(cls_name: str, layout: str, base: type = _Payload) -> type:
+    cls = make_dataclass(cls_name, [f.name for f in _LAYOUTS[layout].fields], bases=(base,), frozen=True,
+                         namespace={"LAYOUT": layout})
+    cls.__module__ = __name__
+    return cls
+
+
+Hello = _payload_class("Hello", "HELLO")
+StepReply = _payload_class("StepReply", "STEP_REPLY")   # counters: a dict by COUNTER_NAMES
+Ack = _payload_class("Ack", "ACK")                      # CONFIG_ACK and SELECT_ACK
+Bye = _payload_class("Bye", "BYE_REPLY")
+Error = _payload_class("Error", "ERROR", _ErrorPayload)
+
+
+def encode_step(tick: int, t_sensor_ns: int, valid: int, q, w, pos, vel, wheel_speed=None) -> bytes:
+    """wheel_speed: up to WHEELS_MAX tachometer speeds (rad/s); the wheels not given read NaN, as fsw_node
+    reads a wheel the sensor message does not measure."""
+    ws = [float(x) for x in (wheel_speed or ())]
+    if len(ws) > WHEELS_MAX:
+        raise ValueError(f"{len(ws)} wheel speeds, at most {WHEELS_MAX}")
+    return pack("STEP", dict(tick=tick & 0xFFFFFFFF, t_sensor_ns=t_sensor_ns, valid=valid & 0xFFFFFFFF, q=q, w=w,
+                             pos=pos, vel=vel, wheel_speed=ws + [math.nan] * (WHEELS_MAX - len(ws))))
+
+
+def encode_select(law: int, qd=None, wd=(0.0, 0.0, 0.0)) -> bytes:
+    has = qd is not None
+    return pack("SELECT", dict(law=law, has_target=int(has), qd=qd if has else (0.0, 0.0, 0.0, 1.0), wd=wd))
 
 
 # ---- CONFIG field list ------------------------------------------------------

@@ -3,34 +3,34 @@
  * writing firmware/src/pil/pil_frame.c, being moved to firmware/pil/ on
  * another branch: the build takes whichever path exists). The bytes are one
  * received frame: header and CRC check, then the payload decoder of its
- * type; every payload decoder also gets the raw bytes. A CONFIG payload that
- * decodes is given to aocs_exec_init and, when accepted, one step whose
- * command must be within the limits (fuzz_support.h).
+ * type; every payload decoder also gets the raw bytes (the fixed payloads
+ * from their rows: one that decodes must be exactly its size and encode
+ * again). A CONFIG payload that decodes is given to aocs_exec_init and, when
+ * accepted, one step whose command must be within the limits
+ * (fuzz_support.h).
  */
 #include "fuzz_support.h"
 
 #include "aocs/pil_frame.h"
 
+/* Every fixed payload (the rows of pil_frame.h): a payload that decodes is exactly its size and encodes again. */
+#define FUZZ_PAYLOAD(NAME, FN, TYPE, ROWS, BYTES)                                        \
+    {                                                                                    \
+        TYPE v;                                                                          \
+        uint8_t back[BYTES];                                                             \
+        if ((aocs_pil_##FN##_decode(p, len, &v) == AOCS_PIL_OK) &&                       \
+            ((len != (BYTES)) || (aocs_pil_##FN##_encode(&v, back, sizeof(back)) != AOCS_PIL_OK))) {   \
+            abort();                                                                     \
+        }                                                                                \
+    }
+
 static void decode_payload(const uint8_t *p, uint32_t len)
 {
-    aocs_pil_hello_t h;
-    aocs_exec_input_t in;
-    aocs_pil_step_reply_t rp;
-    aocs_pil_select_t sel;
-    aocs_pil_ack_t ack;
-    aocs_pil_bye_t bye;
-    aocs_pil_error_t e;
     aocs_exec_config_t cfg;
     uint64_t budget = 0u;
     uint32_t field = 0u;
     aocs_status_t st = AOCS_OK;
-    (void)aocs_pil_hello_decode(p, len, &h);
-    (void)aocs_pil_step_decode(p, len, &in);
-    (void)aocs_pil_step_reply_decode(p, len, &rp);
-    (void)aocs_pil_select_decode(p, len, &sel);
-    (void)aocs_pil_ack_decode(p, len, &ack);
-    (void)aocs_pil_bye_decode(p, len, &bye);
-    (void)aocs_pil_error_decode(p, len, &e);
+    AOCS_PIL_PAYLOAD_ROWS(FUZZ_PAYLOAD)
     aocs_exec_config_default(&cfg);
     if (aocs_pil_config_decode(p, len, &cfg, &budget, &field, &st) == AOCS_PIL_OK) {
         aocs_exec_t exec;

@@ -372,6 +372,33 @@ static void test_negative_int32(void **state)
     assert_int_equal((int32_t)ab.status, INT32_MIN);
 }
 
+/*
+ * The rows' wire description (AOCS_PIL_WIRE_<KIND>: what the registry JSON tells the Python codec) adds up to
+ * the size each payload's encoder writes and its decoder takes (AOCS_PIL_<NAME>_BYTES, checked by the round
+ * trips above); tests/python/aocs_pil/test_frame.py checks each row's place against the C decoder.
+ */
+static uint32_t wire_bytes(const char *wire, uint32_t count)
+{
+    return count * (((strcmp(wire, "u64") == 0) || (strcmp(wire, "f64") == 0)) ? 8u : 4u);
+}
+
+#define ROW_BYTES(NAME, KIND, MEMBER) +wire_bytes(AOCS_PIL_WIRE_##KIND)
+#define CHECK_PAYLOAD_BYTES(NAME, FN, TYPE, ROWS, BYTES) assert_int_equal(0u ROWS(ROW_BYTES), BYTES);
+
+static void test_rows_add_up_to_the_payload_sizes(void **state)
+{
+    (void)state;
+    assert_int_equal(0u AOCS_PIL_COUNTER_ROWS(ROW_BYTES), 4u * AOCS_PIL_COUNTERS);
+    AOCS_PIL_PAYLOAD_ROWS(CHECK_PAYLOAD_BYTES)
+    assert_int_equal(AOCS_PIL_HELLO_BYTES, 28u); /* the wire: a size changes only with AOCS_PIL_VERSION */
+    assert_int_equal(AOCS_PIL_STEP_BYTES, 168u);
+    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 244u);
+    assert_int_equal(AOCS_PIL_SELECT_BYTES, 64u);
+    assert_int_equal(AOCS_PIL_ACK_BYTES, 36u);
+    assert_int_equal(AOCS_PIL_BYE_REPLY_BYTES, 16u);
+    assert_int_equal(AOCS_PIL_ERROR_BYTES, 16u);
+}
+
 /* ---- CONFIG field list ---- */
 static void test_config_fields_apply(void **state)
 {
@@ -673,6 +700,7 @@ int main(void)
         cmocka_unit_test(test_decode_rounds_like_a_cast),
         cmocka_unit_test(test_reply_select_ack_bye_error_round_trip),
         cmocka_unit_test(test_negative_int32),
+        cmocka_unit_test(test_rows_add_up_to_the_payload_sizes),
         cmocka_unit_test(test_config_fields_apply),
         cmocka_unit_test(test_config_field_errors),
         cmocka_unit_test(test_config_wheel_fields_apply),

@@ -3,6 +3,7 @@
  *
  *   aocs_registry_dump [--out FILE]        the registry (default: stdout)
  *   aocs_registry_dump --pil-decode FILE   decode a PIL CONFIG payload
+ *   aocs_registry_dump --pil-payload NAME FILE   decode a fixed PIL payload
  *
  * Registry mode (run at build time: build/<preset>/registry/aocs_registry.json,
  * tools/registry/CMakeLists.txt): the laws of firmware/include/aocs/laws.def
@@ -10,8 +11,10 @@
  * config takes), every config field (key, member, type, count, rule, unit,
  * PIL id, variant, reference value), the gain tables of
  * firmware/gains/gain_tables.def, the status codes and executive modes with
- * their names (aocs/status.def), and the PIL ids of the executive's own CONFIG fields. Python
- * reads this file instead of keeping copies (sil/aocs_core/registry.py).
+ * their names (aocs/status.def), the PIL ids of the executive's own CONFIG fields, and the
+ * rows of every fixed PIL payload (pil_frame.h AOCS_PIL_PAYLOAD_ROWS: name, kind, member, wire
+ * type and count of each field, in wire order; "pil_counters" the rows of the counters). Python
+ * reads this file instead of keeping copies (sil/aocs_core/registry.py, aocs_pil.frame).
  *
  * Decode mode (a test hook: Python encodes, the C codec decodes): FILE holds
  * the payload of one CONFIG frame; it is applied to aocs_exec_config_default()
@@ -19,6 +22,12 @@
  * {"pil_err", "field", "status", "budget_instr", "values": {NAME: [...]}},
  * where NAME is every PIL field name (AOCS_PIL_CFG_<NAME>) and the values
  * are what the config holds afterwards (a TABLE field's values are its gain).
+ *
+ * Payload mode (the same kind of hook for the fixed payloads): FILE holds the
+ * payload of NAME (HELLO, STEP, STEP_REPLY, SELECT, ACK, BYE_REPLY, ERROR),
+ * decoded by its C decoder and printed as {"pil_err", "fields": {FIELD:
+ * [values]}, "encoded": hex}: every row's values by the row's name (the
+ * counters as their ten values), and the C encoder's bytes of the result.
  *
  * Host tool: stdio allowed, no dynamic memory all the same.
  */
@@ -322,6 +331,38 @@ static void dump_config_fields(FILE *f)
     (void)fputs("  ],\n", f);
 }
 
+/* One row of a fixed PIL payload: its name, kind, struct member, wire type and value count (AOCS_PIL_WIRE_<KIND>). */
+static void put_payload_field(FILE *f, const char *sep, const char *name, const char *kind, const char *member,
+                              const char *wire, unsigned count)
+{
+    (void)fprintf(f, "%s{\"name\": \"%s\", \"kind\": \"%s\", \"member\": \"%s\", \"wire\": \"%s\", \"count\": %u}", sep,
+                  name, kind, member, wire, count);
+}
+
+#define DUMP_PIL_FIELD(NAME, KIND, MEMBER)                                               \
+    put_payload_field(f, sep, #NAME, #KIND, #MEMBER, AOCS_PIL_WIRE_##KIND);              \
+    sep = ", ";
+#define DUMP_PIL_PAYLOAD(NAME, FN, TYPE, ROWS, BYTES)                                    \
+    (void)fprintf(f, "%s    {\"name\": \"" #NAME "\", \"c_type\": \"" #TYPE "\", \"bytes\": %u, \"fields\": [", \
+                  next, (unsigned)(BYTES));                                              \
+    sep = "";                                                                            \
+    ROWS(DUMP_PIL_FIELD)                                                                 \
+    (void)fputs("]}", f);                                                                \
+    next = ",\n";
+
+/* The rows of every fixed payload (pil_frame.h), in wire order: how aocs_pil.frame learns each layout. */
+static void dump_pil_payloads(FILE *f)
+{
+    const char *sep = "";
+    const char *next = "";
+    (void)fputs("  \"pil_payloads\": [\n", f);
+    AOCS_PIL_PAYLOAD_ROWS(DUMP_PIL_PAYLOAD)
+    (void)fputs("\n  ],\n  \"pil_counters\": [", f);
+    sep = "";
+    AOCS_PIL_COUNTER_ROWS(DUMP_PIL_FIELD)
+    (void)fputs("],\n", f);
+}
+
 static void dump_registry(FILE *f)
 {
     (void)fprintf(f, "{\n  \"schema\": %d,\n  \"real_t\": \"%s\",\n", DUMP_SCHEMA, DUMP_REAL_NAME);
@@ -346,8 +387,10 @@ static void dump_registry(FILE *f)
     dump_tables(f);
     dump_enums(f);
     dump_config_fields(f);
+    dump_pil_payloads(f);
     (void)fputs("  \"generated_by\": \"tools/registry/aocs_registry_dump.c from firmware/include/aocs/laws.def, "
-                "firmware/include/aocs/config_fields.def, firmware/gains/gain_tables.def\"\n}\n",
+                "firmware/include/aocs/config_fields.def, firmware/gains/gain_tables.def, "
+                "firmware/pil/include/aocs/pil_frame.h\"\n}\n",
                 f);
 }
 
@@ -408,6 +451,23 @@ static void dump_decoded(FILE *f, const aocs_exec_config_t *cfg, uint64_t budget
     }
 }
 
+/* The payload in FILE into payload (AOCS_PIL_PAYLOAD_MAX + 1 bytes); 0, or 2 with a message. */
+static int read_payload(const char *path, uint8_t *payload, size_t *n)
+{
+    FILE *in = fopen(path, "rb");
+    if (in == NULL) {
+        (void)fprintf(stderr, "aocs_registry_dump: cannot open %s\n", path);
+        return 2;
+    }
+    *n = fread(payload, 1u, AOCS_PIL_PAYLOAD_MAX + 1u, in);
+    (void)fclose(in);
+    if (*n > AOCS_PIL_PAYLOAD_MAX) {
+        (void)fprintf(stderr, "aocs_registry_dump: %s is longer than a payload\n", path);
+        return 2;
+    }
+    return 0;
+}
+
 static int pil_decode(const char *path)
 {
     static uint8_t payload[AOCS_PIL_PAYLOAD_MAX + 1u];
@@ -416,16 +476,8 @@ static int pil_decode(const char *path)
     uint32_t field = 0u;
     aocs_status_t status = AOCS_OK;
     aocs_pil_err_t err;
-    size_t n;
-    FILE *in = fopen(path, "rb");
-    if (in == NULL) {
-        (void)fprintf(stderr, "aocs_registry_dump: cannot open %s\n", path);
-        return 2;
-    }
-    n = fread(payload, 1u, sizeof(payload), in);
-    (void)fclose(in);
-    if (n > AOCS_PIL_PAYLOAD_MAX) {
-        (void)fprintf(stderr, "aocs_registry_dump: %s is longer than a CONFIG payload\n", path);
+    size_t n = 0u;
+    if (read_payload(path, payload, &n) != 0) {
         return 2;
     }
     aocs_exec_config_default(&cfg);
@@ -438,6 +490,74 @@ static int pil_decode(const char *path)
     dump_decoded(stdout, &cfg, budget_instr);
     (void)printf("}}\n");
     return 0;
+}
+
+/* ---- payload mode: each row's values as the C decoder read them, one printer per row kind ---- */
+static void show_reals(const real_t *x, unsigned n)
+{
+    for (unsigned i = 0u; i < n; ++i) {
+        (void)printf("%s%.17g", (i > 0u) ? ", " : "", (double)x[i]);
+    }
+}
+
+static void show_u32(const uint32_t *x) { (void)printf("%lu", (unsigned long)*x); }
+static void show_u64(const uint64_t *x) { (void)printf("%llu", (unsigned long long)*x); }
+static void show_status(const aocs_status_t *x) { (void)printf("%d", (int)*x); }
+static void show_law(const aocs_law_id_t *x) { (void)printf("%d", (int)*x); }
+static void show_mode(const aocs_exec_mode_t *x) { (void)printf("%d", (int)*x); }
+static void show_pil_err(const aocs_pil_err_t *x) { (void)printf("%d", (int)*x); }
+static void show_real(const real_t *x) { show_reals(x, 1u); }
+static void show_vec3(const aocs_vec3_t *x) { show_reals(x->v, 3u); }
+static void show_quat(const aocs_quat_t *x) { show_reals(x->q, 4u); }
+static void show_wheels(const real_t (*x)[AOCS_WHEELS_MAX]) { show_reals(*x, AOCS_WHEELS_MAX); }
+
+#define SHOW_COUNTER(NAME, KIND, MEMBER) \
+    (void)fputs(sep, stdout);            \
+    show_##KIND(&x->MEMBER);             \
+    sep = ", ";
+
+static void show_counters(const aocs_exec_counters_t *x)
+{
+    const char *sep = "";
+    AOCS_PIL_COUNTER_ROWS(SHOW_COUNTER)
+}
+
+#define SHOW_FIELD(NAME, KIND, MEMBER)              \
+    (void)printf("%s\"" #NAME "\": [", sep);         \
+    show_##KIND(&x->MEMBER);                         \
+    (void)fputc(']', stdout);                        \
+    sep = ", ";
+/* decode payload[0 .. n) as NAME; print the rows' values and the C encoder's bytes of them */
+#define SHOW_PAYLOAD(NAME, FN, TYPE, ROWS, BYTES)                                               \
+    if (strcmp(which, #NAME) == 0) {                                                            \
+        TYPE v;                                                                                 \
+        const TYPE *x = &v;                                                                     \
+        const char *sep = "";                                                                   \
+        const aocs_pil_err_t err = aocs_pil_##FN##_decode(payload, (uint32_t)n, &v);             \
+        (void)printf("{\"pil_err\": \"%s\", \"fields\": {", aocs_pil_err_name(err));             \
+        if (err == AOCS_PIL_OK) {                                                               \
+            ROWS(SHOW_FIELD)                                                                    \
+            (void)aocs_pil_##FN##_encode(&v, back, sizeof(back));                               \
+        }                                                                                       \
+        (void)fputs("}, \"encoded\": \"", stdout);                                              \
+        for (unsigned i = 0u; (err == AOCS_PIL_OK) && (i < (unsigned)(BYTES)); ++i) {           \
+            (void)printf("%02x", (unsigned)back[i]);                                            \
+        }                                                                                       \
+        (void)fputs("\"}\n", stdout);                                                           \
+        return 0;                                                                               \
+    }
+
+static int pil_payload(const char *which, const char *path)
+{
+    static uint8_t payload[AOCS_PIL_PAYLOAD_MAX + 1u];
+    static uint8_t back[AOCS_PIL_PAYLOAD_MAX];
+    size_t n = 0u;
+    if (read_payload(path, payload, &n) != 0) {
+        return 2;
+    }
+    AOCS_PIL_PAYLOAD_ROWS(SHOW_PAYLOAD)
+    (void)fprintf(stderr, "aocs_registry_dump: no fixed payload named %s\n", which);
+    return 2;
 }
 
 static int write_registry(const char *out)
@@ -473,9 +593,12 @@ int main(int argc, char **argv)
     if ((argc == 3) && (strcmp(argv[1], "--pil-decode") == 0)) {
         return pil_decode(argv[2]);
     }
+    if ((argc == 4) && (strcmp(argv[1], "--pil-payload") == 0)) {
+        return pil_payload(argv[2], argv[3]);
+    }
     if (argc == 1) {
         return write_registry(NULL);
     }
-    (void)fprintf(stderr, "usage: aocs_registry_dump [--out FILE] | --pil-decode FILE\n");
+    (void)fprintf(stderr, "usage: aocs_registry_dump [--out FILE] | --pil-decode FILE | --pil-payload NAME FILE\n");
     return 2;
 }

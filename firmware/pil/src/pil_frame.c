@@ -1,14 +1,14 @@
 /*
  * PIL frame codec (aocs/pil_frame.h, docs/pil.md): byte-exact little-endian
- * encoding independent of the host's byte order, CRC-32 and the payload
- * layouts. Every decoder checks the size before it reads; nothing here
- * trusts a length it has not checked.
+ * encoding independent of the host's byte order, CRC-32, and the payloads
+ * expanded from their rows. Every decoder checks the size before it reads;
+ * nothing here trusts a length it has not checked.
  */
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "aocs/pil_frame.h"
-
 
 /* Sequential writer / reader over a byte buffer; an overflow sticks and is reported once. */
 typedef struct {
@@ -73,19 +73,9 @@ static uint64_t r_uint(pil_reader_t *r, uint32_t n)
     return value;
 }
 
-static void w_u32(pil_writer_t *w, uint32_t value)
-{
-    w_uint(w, (uint64_t)value, 4U);
-}
-
 static void w_i32(pil_writer_t *w, int32_t value)
 {
     w_uint(w, (uint64_t)(uint32_t)value, 4U);
-}
-
-static uint32_t r_u32(pil_reader_t *r)
-{
-    return (uint32_t)r_uint(r, 4U);
 }
 
 static int32_t r_i32(pil_reader_t *r)
@@ -164,72 +154,103 @@ static double f64_from_bits(uint64_t bits)
     return ((bits & PIL_F64_SIGN) != 0U) ? -mag : mag;
 }
 
-/* A real_t goes on the wire as binary64 (widening a float is exact). */
-static void w_real(pil_writer_t *w, real_t x)
+/* A real_t goes on the wire as binary64 (widening a float is exact) and comes back as (real_t) of the binary64,
+ * as the SIL node converts the LCM doubles. */
+static void put_reals(pil_writer_t *w, const real_t *x, uint32_t n)
 {
-    w_uint(w, f64_to_bits((double)x), 8U);
-}
-
-static real_t r_real(pil_reader_t *r)
-{
-    return (real_t)f64_from_bits(r_uint(r, 8U)); /* as the SIL node: (real_t) of the LCM double */
-}
-
-static void w_vec3(pil_writer_t *w, aocs_vec3_t v)
-{
-    uint32_t i;
-    for (i = 0U; i < 3U; i++) {
-        w_real(w, v.v[i]);
+    for (uint32_t i = 0U; i < n; i++) {
+        w_uint(w, f64_to_bits((double)x[i]), 8U);
     }
 }
 
-static aocs_vec3_t r_vec3(pil_reader_t *r)
+static void get_reals(pil_reader_t *r, real_t *x, uint32_t n)
 {
-    aocs_vec3_t v;
-    uint32_t i;
-    for (i = 0U; i < 3U; i++) {
-        v.v[i] = r_real(r);
-    }
-    return v;
-}
-
-static void w_quat(pil_writer_t *w, aocs_quat_t q)
-{
-    uint32_t i;
-    for (i = 0U; i < 4U; i++) {
-        w_real(w, q.q[i]);
+    for (uint32_t i = 0U; i < n; i++) {
+        x[i] = (real_t)f64_from_bits(r_uint(r, 8U));
     }
 }
 
-static aocs_quat_t r_quat(pil_reader_t *r)
-{
-    aocs_quat_t q;
-    uint32_t i;
-    for (i = 0U; i < 4U; i++) {
-        q.q[i] = r_real(r);
-    }
-    return q;
-}
+/* ---- one writer and one reader per row kind (pil_frame.h, AOCS_PIL_WIRE_<KIND>) ---- */
+static void put_u32(pil_writer_t *w, const uint32_t *x) { w_uint(w, (uint64_t)*x, 4U); }
+static void get_u32(pil_reader_t *r, uint32_t *x) { *x = (uint32_t)r_uint(r, 4U); }
+static void put_u64(pil_writer_t *w, const uint64_t *x) { w_uint(w, *x, 8U); }
+static void get_u64(pil_reader_t *r, uint64_t *x) { *x = r_uint(r, 8U); }
+static void put_status(pil_writer_t *w, const aocs_status_t *x) { w_i32(w, (int32_t)*x); }
+static void get_status(pil_reader_t *r, aocs_status_t *x) { *x = (aocs_status_t)r_i32(r); }
+static void put_law(pil_writer_t *w, const aocs_law_id_t *x) { w_i32(w, (int32_t)*x); }
+static void get_law(pil_reader_t *r, aocs_law_id_t *x) { *x = (aocs_law_id_t)r_i32(r); }
+static void put_mode(pil_writer_t *w, const aocs_exec_mode_t *x) { w_i32(w, (int32_t)*x); }
+static void get_mode(pil_reader_t *r, aocs_exec_mode_t *x) { *x = (aocs_exec_mode_t)r_i32(r); }
+static void put_pil_err(pil_writer_t *w, const aocs_pil_err_t *x) { w_i32(w, (int32_t)*x); }
+static void get_pil_err(pil_reader_t *r, aocs_pil_err_t *x) { *x = (aocs_pil_err_t)r_i32(r); }
+static void put_real(pil_writer_t *w, const real_t *x) { put_reals(w, x, 1U); }
+static void get_real(pil_reader_t *r, real_t *x) { get_reals(r, x, 1U); }
+static void put_vec3(pil_writer_t *w, const aocs_vec3_t *x) { put_reals(w, x->v, 3U); }
+static void get_vec3(pil_reader_t *r, aocs_vec3_t *x) { get_reals(r, x->v, 3U); }
+static void put_quat(pil_writer_t *w, const aocs_quat_t *x) { put_reals(w, x->q, 4U); }
+static void get_quat(pil_reader_t *r, aocs_quat_t *x) { get_reals(r, x->q, 4U); }
+static void put_wheels(pil_writer_t *w, const real_t (*x)[AOCS_WHEELS_MAX]) { put_reals(w, *x, AOCS_WHEELS_MAX); }
+static void get_wheels(pil_reader_t *r, real_t (*x)[AOCS_WHEELS_MAX]) { get_reals(r, *x, AOCS_WHEELS_MAX); }
 
 /* encode epilogue: exactly `size` bytes written */
 static aocs_pil_err_t w_result(const pil_writer_t *w, uint32_t size)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((w->overflow != 0) || (w->pos != size)) {
-        err = AOCS_PIL_ERR_BUFFER;
-    }
-    return err;
+    return ((w->overflow != 0) || (w->pos != size)) ? AOCS_PIL_ERR_BUFFER : AOCS_PIL_OK;
 }
 
 /* decode epilogue: exactly the whole payload consumed */
 static aocs_pil_err_t r_result(const pil_reader_t *r)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((r->underflow != 0) || (r->pos != r->len)) {
-        err = AOCS_PIL_ERR_PAYLOAD;
-    }
-    return err;
+    return ((r->underflow != 0) || (r->pos != r->len)) ? AOCS_PIL_ERR_PAYLOAD : AOCS_PIL_OK;
 }
+
+/* ---- the payloads: each one's writer and reader are its rows, one kind's writer / reader per row ---- */
+#define PIL_PUT(NAME, KIND, MEMBER) put_##KIND(w, &x->MEMBER);
+#define PIL_GET(NAME, KIND, MEMBER) get_##KIND(r, &x->MEMBER);
+#define PIL_ROWS_CODEC(FN, TYPE, ROWS)                        \
+    static void put_##FN(pil_writer_t *w, const TYPE *x)      \
+    {                                                         \
+        ROWS(PIL_PUT)                                         \
+    }                                                         \
+    static void get_##FN(pil_reader_t *r, TYPE *x)            \
+    {                                                         \
+        ROWS(PIL_GET)                                         \
+    }
+
+/* the public pair of a payload (pil_frame.h): encode writes exactly BYTES; decode takes exactly BYTES, the members
+ * that are not on the wire read 0, and *x is written only on success */
+#define PIL_PAYLOAD_CODEC(NAME, FN, TYPE, ROWS, BYTES)                                 \
+    PIL_ROWS_CODEC(FN, TYPE, ROWS)                                                     \
+    aocs_pil_err_t aocs_pil_##FN##_encode(const TYPE *x, uint8_t *out, uint32_t cap)   \
+    {                                                                                  \
+        aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
+        if ((x != NULL) && (out != NULL)) {                                            \
+            pil_writer_t w;                                                            \
+            w_init(&w, out, cap, 0U);                                                  \
+            put_##FN(&w, x);                                                           \
+            err = w_result(&w, BYTES);                                                 \
+        }                                                                              \
+        return err;                                                                    \
+    }                                                                                  \
+    aocs_pil_err_t aocs_pil_##FN##_decode(const uint8_t *p, uint32_t len, TYPE *x)     \
+    {                                                                                  \
+        aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
+        if ((p != NULL) && (x != NULL)) {                                              \
+            pil_reader_t r;                                                            \
+            TYPE v;                                                                    \
+            (void)memset(&v, 0, sizeof(v));                                            \
+            r_init(&r, p, len);                                                        \
+            get_##FN(&r, &v);                                                          \
+            err = r_result(&r);                                                        \
+            if (err == AOCS_PIL_OK) {                                                  \
+                *x = v;                                                                \
+            }                                                                          \
+        }                                                                              \
+        return err;                                                                    \
+    }
+
+PIL_ROWS_CODEC(counters, aocs_exec_counters_t, AOCS_PIL_COUNTER_ROWS)
+AOCS_PIL_PAYLOAD_ROWS(PIL_PAYLOAD_CODEC)
 
 uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len)
 {
@@ -294,6 +315,7 @@ uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len)
     return crc ^ 0xFFFFFFFFU;
 }
 
+
 aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const uint8_t *payload, uint32_t len,
                                      uint8_t *out, uint32_t cap, uint32_t *frame_len)
 {
@@ -308,16 +330,16 @@ aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const u
         pil_writer_t w;
         uint32_t i;
         w_init(&w, out, cap, 0U);
-        w_u32(&w, (uint32_t)AOCS_PIL_MAGIC);
+        w_uint(&w, (uint64_t)AOCS_PIL_MAGIC, 4U);
         w_uint(&w, (uint64_t)AOCS_PIL_VERSION, 1U);
         w_uint(&w, (uint64_t)(uint32_t)type, 1U);
         w_uint(&w, (uint64_t)len, 2U);
-        w_u32(&w, seq);
+        w_uint(&w, (uint64_t)seq, 4U);
         for (i = 0U; i < len; i++) {
             out[AOCS_PIL_HEADER_BYTES + i] = payload[i];
         }
         w.pos = AOCS_PIL_HEADER_BYTES + len;
-        w_u32(&w, aocs_pil_crc32(out, AOCS_PIL_HEADER_BYTES + len));
+        w_uint(&w, (uint64_t)aocs_pil_crc32(out, AOCS_PIL_HEADER_BYTES + len), 4U);
         *frame_len = w.pos;
     }
     return err;
@@ -335,11 +357,11 @@ aocs_pil_err_t aocs_pil_header_decode(const uint8_t *buf, uint32_t len, aocs_pil
         uint32_t magic;
         aocs_pil_header_t h;
         r_init(&r, buf, AOCS_PIL_HEADER_BYTES);
-        magic = r_u32(&r);
+        magic = (uint32_t)r_uint(&r, 4U);
         h.version = (uint8_t)r_uint(&r, 1U);
         h.type = (uint8_t)r_uint(&r, 1U);
         h.length = (uint16_t)r_uint(&r, 2U);
-        h.seq = r_u32(&r);
+        h.seq = (uint32_t)r_uint(&r, 4U);
         if (magic != (uint32_t)AOCS_PIL_MAGIC) {
             err = AOCS_PIL_ERR_MAGIC;
         } else if ((uint32_t)h.version != AOCS_PIL_VERSION) {
@@ -366,363 +388,12 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
             err = AOCS_PIL_ERR_LENGTH;
         } else {
             pil_reader_t r;
-            uint32_t crc;
             r_init(&r, &buf[body], AOCS_PIL_CRC_BYTES);
-            crc = r_u32(&r);
-            if (crc != aocs_pil_crc32(buf, body)) {
+            if ((uint32_t)r_uint(&r, 4U) != aocs_pil_crc32(buf, body)) {
                 err = AOCS_PIL_ERR_CRC;
             } else {
                 *hdr = h;
             }
-        }
-    }
-    return err;
-}
-
-/* ---- HELLO ---- */
-aocs_pil_err_t aocs_pil_hello_encode(const aocs_pil_hello_t *h, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((h != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_u32(&w, h->target);
-        w_u32(&w, h->real_bytes);
-        w_u32(&w, h->icount_shift);
-        w_u32(&w, h->calib_ok);
-        w_u32(&w, h->calib_measured);
-        w_u32(&w, h->calib_expected);
-        w_u32(&w, h->overhead);
-        err = w_result(&w, AOCS_PIL_HELLO_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_hello_decode(const uint8_t *p, uint32_t len, aocs_pil_hello_t *h)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (h != NULL)) {
-        pil_reader_t r;
-        aocs_pil_hello_t v;
-        r_init(&r, p, len);
-        v.target = r_u32(&r);
-        v.real_bytes = r_u32(&r);
-        v.icount_shift = r_u32(&r);
-        v.calib_ok = r_u32(&r);
-        v.calib_measured = r_u32(&r);
-        v.calib_expected = r_u32(&r);
-        v.overhead = r_u32(&r);
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *h = v;
-        }
-    }
-    return err;
-}
-
-/* ---- STEP ---- */
-aocs_pil_err_t aocs_pil_step_encode(const aocs_exec_input_t *in, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((in != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_u32(&w, in->tick);
-        w_uint(&w, in->t_sensor_ns, 8U);
-        w_u32(&w, in->valid);
-        w_quat(&w, in->q_BN);
-        w_vec3(&w, in->w_BN_B);
-        w_vec3(&w, in->pos_m);
-        w_vec3(&w, in->vel_mps);
-        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
-            w_real(&w, in->wheel_speed_radps[i]);
-        }
-        err = w_result(&w, AOCS_PIL_STEP_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_step_decode(const uint8_t *p, uint32_t len, aocs_exec_input_t *in)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (in != NULL)) {
-        pil_reader_t r;
-        aocs_exec_input_t v;
-        r_init(&r, p, len);
-        v.tick = r_u32(&r);
-        v.t_sensor_ns = r_uint(&r, 8U);
-        v.valid = r_u32(&r);
-        v.q_BN = r_quat(&r);
-        v.w_BN_B = r_vec3(&r);
-        v.pos_m = r_vec3(&r);
-        v.vel_mps = r_vec3(&r);
-        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
-            v.wheel_speed_radps[i] = r_real(&r);
-        }
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *in = v;
-        }
-    }
-    return err;
-}
-
-/* ---- STEP_REPLY ---- */
-static void w_counters(pil_writer_t *w, const aocs_exec_counters_t *c)
-{
-    w_u32(w, c->steps);
-    w_u32(w, c->invalid);
-    w_u32(w, c->stale);
-    w_u32(w, c->missing);
-    w_u32(w, c->law_error);
-    w_u32(w, c->overrun);
-    w_u32(w, c->mode_transitions);
-    w_u32(w, c->saturated);
-    w_u32(w, c->select_accepted);
-    w_u32(w, c->select_rejected);
-}
-
-static aocs_exec_counters_t r_counters(pil_reader_t *r)
-{
-    aocs_exec_counters_t c;
-    c.steps = r_u32(r);
-    c.invalid = r_u32(r);
-    c.stale = r_u32(r);
-    c.missing = r_u32(r);
-    c.law_error = r_u32(r);
-    c.overrun = r_u32(r);
-    c.mode_transitions = r_u32(r);
-    c.saturated = r_u32(r);
-    c.select_accepted = r_u32(r);
-    c.select_rejected = r_u32(r);
-    c.step_time_max_ns = 0U; /* not on the wire */
-    return c;
-}
-
-aocs_pil_err_t aocs_pil_step_reply_encode(const aocs_pil_step_reply_t *rp, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((rp != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_u32(&w, rp->tick);
-        w_i32(&w, (int32_t)rp->step_status);
-        w_i32(&w, (int32_t)rp->law);
-        w_i32(&w, (int32_t)rp->mode);
-        w_i32(&w, (int32_t)rp->law_status);
-        w_i32(&w, (int32_t)rp->input_status);
-        w_vec3(&w, rp->u_cmd);
-        w_vec3(&w, rp->u_unsat);
-        w_u32(&w, rp->saturated);
-        w_u32(&w, rp->overrun);
-        w_u32(&w, rp->exact);
-        w_u32(&w, rp->instructions);
-        w_u32(&w, rp->law_instructions);
-        w_u32(&w, rp->budget);
-        w_counters(&w, &rp->counters);
-        w_u32(&w, rp->pil_overruns);
-        w_i32(&w, (int32_t)rp->exec_law);
-        w_i32(&w, (int32_t)rp->exec_mode);
-        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
-            w_real(&w, rp->u_wheels_nm[i]);
-        }
-        w_real(&w, rp->wheel_scale);
-        w_u32(&w, rp->wheel_limited);
-        w_i32(&w, (int32_t)rp->wheels_status);
-        w_vec3(&w, rp->h_total_B_Nms);
-        w_real(&w, rp->speed_margin);
-        err = w_result(&w, AOCS_PIL_STEP_REPLY_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_step_reply_decode(const uint8_t *p, uint32_t len, aocs_pil_step_reply_t *rp)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (rp != NULL)) {
-        pil_reader_t r;
-        aocs_pil_step_reply_t v;
-        r_init(&r, p, len);
-        v.tick = r_u32(&r);
-        v.step_status = (aocs_status_t)r_i32(&r);
-        v.law = (aocs_law_id_t)r_i32(&r);
-        v.mode = (aocs_exec_mode_t)r_i32(&r);
-        v.law_status = (aocs_status_t)r_i32(&r);
-        v.input_status = (aocs_status_t)r_i32(&r);
-        v.u_cmd = r_vec3(&r);
-        v.u_unsat = r_vec3(&r);
-        v.saturated = r_u32(&r);
-        v.overrun = r_u32(&r);
-        v.exact = r_u32(&r);
-        v.instructions = r_u32(&r);
-        v.law_instructions = r_u32(&r);
-        v.budget = r_u32(&r);
-        v.counters = r_counters(&r);
-        v.pil_overruns = r_u32(&r);
-        v.exec_law = (aocs_law_id_t)r_i32(&r);
-        v.exec_mode = (aocs_exec_mode_t)r_i32(&r);
-        for (uint32_t i = 0U; i < AOCS_WHEELS_MAX; i++) {
-            v.u_wheels_nm[i] = r_real(&r);
-        }
-        v.wheel_scale = r_real(&r);
-        v.wheel_limited = r_u32(&r);
-        v.wheels_status = (aocs_status_t)r_i32(&r);
-        v.h_total_B_Nms = r_vec3(&r);
-        v.speed_margin = r_real(&r);
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *rp = v;
-        }
-    }
-    return err;
-}
-
-/* ---- SELECT ---- */
-aocs_pil_err_t aocs_pil_select_encode(const aocs_pil_select_t *s, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((s != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_i32(&w, (int32_t)s->law);
-        w_u32(&w, s->has_target);
-        w_quat(&w, s->target.qd_DN);
-        w_vec3(&w, s->target.wd_B);
-        err = w_result(&w, AOCS_PIL_SELECT_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_select_decode(const uint8_t *p, uint32_t len, aocs_pil_select_t *s)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (s != NULL)) {
-        pil_reader_t r;
-        aocs_pil_select_t v;
-        r_init(&r, p, len);
-        v.law = (aocs_law_id_t)r_i32(&r);
-        v.has_target = r_u32(&r);
-        v.target.qd_DN = r_quat(&r);
-        v.target.wd_B = r_vec3(&r);
-        v.target.wd_dot_B = aocs_vec3_zero();
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *s = v;
-        }
-    }
-    return err;
-}
-
-/* ---- CONFIG_ACK / SELECT_ACK ---- */
-aocs_pil_err_t aocs_pil_ack_encode(const aocs_pil_ack_t *a, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((a != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_i32(&w, (int32_t)a->pil_err);
-        w_i32(&w, (int32_t)a->status);
-        w_u32(&w, a->field);
-        w_i32(&w, (int32_t)a->exec_law);
-        w_i32(&w, (int32_t)a->exec_mode);
-        w_u32(&w, a->select_accepted);
-        w_u32(&w, a->select_rejected);
-        w_u32(&w, a->budget);
-        w_u32(&w, a->reserved);
-        err = w_result(&w, AOCS_PIL_ACK_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_ack_decode(const uint8_t *p, uint32_t len, aocs_pil_ack_t *a)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (a != NULL)) {
-        pil_reader_t r;
-        aocs_pil_ack_t v;
-        r_init(&r, p, len);
-        v.pil_err = (aocs_pil_err_t)r_i32(&r);
-        v.status = (aocs_status_t)r_i32(&r);
-        v.field = r_u32(&r);
-        v.exec_law = (aocs_law_id_t)r_i32(&r);
-        v.exec_mode = (aocs_exec_mode_t)r_i32(&r);
-        v.select_accepted = r_u32(&r);
-        v.select_rejected = r_u32(&r);
-        v.budget = r_u32(&r);
-        v.reserved = r_u32(&r);
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *a = v;
-        }
-    }
-    return err;
-}
-
-/* ---- BYE reply ---- */
-aocs_pil_err_t aocs_pil_bye_encode(const aocs_pil_bye_t *b, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((b != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_u32(&w, b->stack_bytes);
-        w_u32(&w, b->steps);
-        w_u32(&w, b->instructions_max);
-        w_u32(&w, b->frame_errors);
-        err = w_result(&w, AOCS_PIL_BYE_REPLY_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_bye_decode(const uint8_t *p, uint32_t len, aocs_pil_bye_t *b)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (b != NULL)) {
-        pil_reader_t r;
-        aocs_pil_bye_t v;
-        r_init(&r, p, len);
-        v.stack_bytes = r_u32(&r);
-        v.steps = r_u32(&r);
-        v.instructions_max = r_u32(&r);
-        v.frame_errors = r_u32(&r);
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *b = v;
-        }
-    }
-    return err;
-}
-
-/* ---- ERROR ---- */
-aocs_pil_err_t aocs_pil_error_encode(const aocs_pil_error_t *e, uint8_t *out, uint32_t cap)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((e != NULL) && (out != NULL)) {
-        pil_writer_t w;
-        w_init(&w, out, cap, 0U);
-        w_i32(&w, (int32_t)e->pil_err);
-        w_u32(&w, e->type);
-        w_u32(&w, e->seq);
-        w_u32(&w, e->detail);
-        err = w_result(&w, AOCS_PIL_ERROR_BYTES);
-    }
-    return err;
-}
-
-aocs_pil_err_t aocs_pil_error_decode(const uint8_t *p, uint32_t len, aocs_pil_error_t *e)
-{
-    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
-    if ((p != NULL) && (e != NULL)) {
-        pil_reader_t r;
-        aocs_pil_error_t v;
-        r_init(&r, p, len);
-        v.pil_err = (aocs_pil_err_t)r_i32(&r);
-        v.type = r_u32(&r);
-        v.seq = r_u32(&r);
-        v.detail = r_u32(&r);
-        err = r_result(&r);
-        if (err == AOCS_PIL_OK) {
-            *e = v;
         }
     }
     return err;
@@ -742,13 +413,10 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
         err = AOCS_PIL_ERR_FIELD;
     } else {
         pil_writer_t w;
-        uint32_t i;
         w_init(&w, out, cap, *pos);
         w_uint(&w, (uint64_t)(uint32_t)field, 1U);
         w_uint(&w, (uint64_t)count, 1U);
-        for (i = 0U; i < count; i++) {
-            w_real(&w, values[i]);
-        }
+        put_reals(&w, values, count);
         if (w.overflow != 0) {
             err = AOCS_PIL_ERR_BUFFER;
         } else {
@@ -859,19 +527,19 @@ static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, u
 /* 1 when an entry of `count` values has the shape of field f: its reals, a name of 1 .. 31 bytes, one integer. */
 static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
 {
+    uint32_t lo = 1U;
+    uint32_t hi = 1U;
     int ok = 0;
     if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        if (count == f->count) {
-            ok = 1;
-        }
+        lo = f->count;
+        hi = f->count;
     } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
-            ok = 1;
-        }
-    } else if (count == 1U) {
-        ok = 1;
+        hi = AOCS_PIL_TABLE_NAME_MAX;
     } else {
-        ok = 0;
+        /* one integer */
+    }
+    if ((count >= lo) && (count <= hi)) {
+        ok = 1;
     }
     return ok;
 }

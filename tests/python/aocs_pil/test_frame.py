@@ -3,6 +3,10 @@
 - the Python frame codec (sil/aocs_pil/frame.py) against the C header
   (constants, enums, payload sizes) and the golden vectors that
   tests/unit/test_pil_frame.c also checks against the C codec;
+- every fixed payload layout: the registry JSON's rows against pil_frame.h's as text,
+  and each payload encoded here, decoded by the C codec (the test hook
+  `aocs_registry_dump --pil-payload`), every row found by name with the values Python
+  put there, and encoded back by C to Python's bytes;
 - the configuration the bridge flies: read by fsw_node's parser (the
   aocs_node_config tool behind sil/aocs_pil/config.py), encoded as the
   CONFIG payload in the file's order, and for a list of broken files the same
@@ -10,7 +14,9 @@
 """
 from __future__ import annotations
 
+import json
 import math
+import os
 import re
 import struct
 import subprocess
@@ -75,6 +81,84 @@ def test_constants_and_enums_match_the_c_header():
              for f in registry_text.field_rows()}
     assert frame.cfg_fields() == want
     assert frame.cfg_name_by_id() == {v[0]: k for k, v in want.items()}
+
+
+# ---- the fixed payloads: one layout, the rows of pil_frame.h, on both sides ------------------------
+PAYLOADS = sorted(registry.load().pil_payloads)
+
+
+def test_the_payload_rows_of_the_registry_are_the_rows_of_pil_frame_h():
+    reg = registry.load()
+    rows = registry_text.pil_payload_rows()
+    assert sorted(rows) == sorted([*PAYLOADS, "COUNTERS"])
+    for name, layout in reg.pil_payloads.items():
+        assert [(f.name, f.kind, f.member) for f in layout.fields] == [
+            (r["name"], r["kind"], r["member"]) for r in rows[name]], name
+        assert layout.bytes == c_define(f"AOCS_PIL_{name}_BYTES") == frame.STRUCTS[name].size, name
+    assert [(f.name, f.kind, f.member) for f in reg.pil_counters] == [
+        (r["name"], r["kind"], r["member"]) for r in rows["COUNTERS"]]
+    assert frame.COUNTER_NAMES == tuple(r["name"] for r in rows["COUNTERS"])
+
+
+@pytest.fixture(scope="module")
+def dump_bin(aocs_build_dir):
+    exe = aocs_build_dir / "bin" / "aocs_registry_dump"
+    if not (exe.is_file() and os.access(exe, os.X_OK)):
+        pytest.fail(f"aocs_registry_dump not found at {exe}; build it first (make build-host)")
+    return exe
+
+
+def sample(f, i: int) -> list:
+    """Values for row i that no other row has: exact in binary32 too, negative for an i32, high bits set for the
+    unsigned ones (a swapped, shifted, truncated or sign-lost field cannot pass)."""
+    base = 100 * (i + 1)
+    return [{"f64": -1000.0 + (base + j) / 8, "i32": -(base + j), "u64": (0xA5 << 56) + base + j,
+             "u32": 0x80000000 + base + j}[f.wire] for j in range(f.count)]
+
+
+@pytest.mark.parametrize("name", PAYLOADS)
+def test_the_c_codec_reads_every_row_where_python_writes_it(name, dump_bin, tmp_path):
+    """Encoded by Python from the registry's rows, decoded by the C codec from pil_frame.h's rows: every row by
+    name with Python's values, and the C encoder gives Python's bytes back. Fails if the two disagree on any
+    field's name, order, kind or count."""
+    layout = registry.load().pil_payloads[name]
+    flat = {f.name: sample(f, i) for i, f in enumerate(layout.fields)}
+    values = {f.name: dict(zip(frame.COUNTER_NAMES, flat[f.name])) if f.kind == "counters"
+              else tuple(flat[f.name]) if f.count > 1 else flat[f.name][0] for f in layout.fields}
+    payload = frame.pack(name, values)
+    assert frame.unpack(name, payload) == values
+    path = tmp_path / f"{name}.bin"
+    path.write_bytes(payload)
+    res = subprocess.run([str(dump_bin), "--pil-payload", name, str(path)], capture_output=True, text=True,
+                         timeout=20)
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout)
+    assert out["pil_err"] == "AOCS_PIL_OK"
+    assert list(out["fields"]) == [f.name for f in layout.fields]
+    assert out["fields"] == flat
+    assert bytes.fromhex(out["encoded"]) == payload
+    # one byte short or long: the C decoder refuses, as Python does
+    path.write_bytes(payload[:-1])
+    res = subprocess.run([str(dump_bin), "--pil-payload", name, str(path)], capture_output=True, text=True,
+                         timeout=20)
+    assert json.loads(res.stdout)["pil_err"] == "AOCS_PIL_ERR_PAYLOAD"
+    with pytest.raises(frame.FrameError, match=f"{name} payload of {len(payload) + 1} bytes"):
+        frame.unpack(name, payload + b"\0")
+
+
+def test_the_payload_classes_are_the_rows():
+    """Hello, StepReply, Ack, Bye, Error: one attribute per row, in row order, and back to the same bytes."""
+    reg = registry.load()
+    for cls, name in ((frame.Hello, "HELLO"), (frame.StepReply, "STEP_REPLY"), (frame.Ack, "ACK"),
+                      (frame.Bye, "BYE_REPLY"), (frame.Error, "ERROR")):
+        assert list(cls.__dataclass_fields__) == [f.name for f in reg.pil_payloads[name].fields]
+        payload = bytes(range(frame.STRUCTS[name].size))
+        assert cls.decode(payload).encode() == payload
+    r = frame.StepReply.decode(bytes(frame.STEP_REPLY.size))
+    assert r.counters == dict.fromkeys(frame.COUNTER_NAMES, 0) and r.u_wheels == (0.0,) * frame.WHEELS_MAX
+    assert frame.encode_select(3) == frame.SELECT.pack(3, 0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="STEP q: 3 values, 4 expected"):
+        frame.encode_step(1, 2, 3, (0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0))
 
 
 def test_golden_frames_byte_for_byte():

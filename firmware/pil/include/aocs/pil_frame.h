@@ -27,9 +27,9 @@
 
 #include <stdint.h>
 
-#include "aocs/types.h"
 #include "aocs/config_registry.h"
 #include "aocs/executive.h"
+#include "aocs/types.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
 #define AOCS_PIL_VERSION 2U   /* 2: the wheel array (CONFIG fields 65-67 and 100-147, tachometers, wheel torques) */
@@ -54,7 +54,7 @@
 #define AOCS_PIL_TARGET_CORTEX_M4F 1U
 #define AOCS_PIL_TARGET_CORTEX_M7 2U
 
-/* Payload sizes of the fixed-layout frames. */
+/* Payload sizes of the fixed-layout frames (the sums of their rows below, which the encoders check). */
 #define AOCS_PIL_HELLO_BYTES 28U
 #define AOCS_PIL_STEP_BYTES 168U
 #define AOCS_PIL_STEP_REPLY_BYTES 244U
@@ -104,6 +104,7 @@ typedef enum {
  * aocs_exec_config_default(). The ids are wire values: never renumber
  * (tests/unit/test_registry.c pins them).
  */
+
 /* Decoded header (magic and CRC are checked, not kept). */
 typedef struct {
     uint8_t version;
@@ -188,6 +189,146 @@ typedef struct {
     uint32_t detail;          /* e.g. the received length or field id */
 } aocs_pil_error_t;
 
+/*
+ * The fixed payloads as rows, in wire order: X(NAME, KIND, MEMBER). NAME is
+ * the field's name on the host (aocs_pil.frame, the registry JSON), MEMBER
+ * the member of the payload's struct it travels in, KIND its C type and its
+ * wire form (AOCS_PIL_WIRE_<KIND>: wire type, value count):
+ *
+ *   KIND      member                    wire
+ *   u32       uint32_t                  u32
+ *   u64       uint64_t                  u64
+ *   status    aocs_status_t             i32 (two's complement)
+ *   law       aocs_law_id_t             i32
+ *   mode      aocs_exec_mode_t          i32
+ *   pil_err   aocs_pil_err_t            i32
+ *   real      real_t                    f64 (binary64 in both precisions)
+ *   vec3      aocs_vec3_t               3 f64
+ *   quat      aocs_quat_t               4 f64, scalar last
+ *   wheels    real_t[AOCS_WHEELS_MAX]   AOCS_WHEELS_MAX f64
+ *   counters  aocs_exec_counters_t      the AOCS_PIL_COUNTER_ROWS (step_time_max_ns is not sent)
+ *
+ * pil_frame.c expands each payload's rows into its encoder and decoder (a
+ * decoded member that is not on the wire reads 0), tools/registry writes
+ * them into the registry JSON, and the Python codec (aocs_pil.frame) derives
+ * its struct formats, sizes and field names from that. The rows are the
+ * wire: never reorder or retype one without a new AOCS_PIL_VERSION.
+ */
+#define AOCS_PIL_WIRE_u32 "u32", 1U
+#define AOCS_PIL_WIRE_u64 "u64", 1U
+#define AOCS_PIL_WIRE_status "i32", 1U
+#define AOCS_PIL_WIRE_law "i32", 1U
+#define AOCS_PIL_WIRE_mode "i32", 1U
+#define AOCS_PIL_WIRE_pil_err "i32", 1U
+#define AOCS_PIL_WIRE_real "f64", 1U
+#define AOCS_PIL_WIRE_vec3 "f64", 3U
+#define AOCS_PIL_WIRE_quat "f64", 4U
+#define AOCS_PIL_WIRE_wheels "f64", AOCS_WHEELS_MAX
+#define AOCS_PIL_WIRE_counters "u32", AOCS_PIL_COUNTERS
+
+/* The executive counters of a STEP_REPLY (aocs_exec_counters_t). */
+#define AOCS_PIL_COUNTERS 10U
+#define AOCS_PIL_COUNTER_ROWS(X)                     \
+    X(steps, u32, steps)                             \
+    X(invalid, u32, invalid)                         \
+    X(stale, u32, stale)                             \
+    X(missing, u32, missing)                         \
+    X(law_error, u32, law_error)                     \
+    X(overrun, u32, overrun)                         \
+    X(mode_transitions, u32, mode_transitions)       \
+    X(saturated, u32, saturated)                     \
+    X(select_accepted, u32, select_accepted)         \
+    X(select_rejected, u32, select_rejected)
+
+#define AOCS_PIL_HELLO_ROWS(X)                       \
+    X(target, u32, target)                           \
+    X(real_bytes, u32, real_bytes)                   \
+    X(icount_shift, u32, icount_shift)               \
+    X(calib_ok, u32, calib_ok)                       \
+    X(calib_measured, u32, calib_measured)           \
+    X(calib_expected, u32, calib_expected)           \
+    X(overhead, u32, overhead)
+
+/* STEP: the executive input (tachometers: NaN for a wheel the sensor message does not measure) */
+#define AOCS_PIL_STEP_ROWS(X)                        \
+    X(tick, u32, tick)                               \
+    X(t_sensor_ns, u64, t_sensor_ns)                 \
+    X(valid, u32, valid)                             \
+    X(q, quat, q_BN)                                 \
+    X(w, vec3, w_BN_B)                               \
+    X(pos, vec3, pos_m)                              \
+    X(vel, vec3, vel_mps)                            \
+    X(wheel_speed, wheels, wheel_speed_radps)
+
+#define AOCS_PIL_STEP_REPLY_ROWS(X)                  \
+    X(tick, u32, tick)                               \
+    X(step_status, status, step_status)              \
+    X(law, law, law)                                 \
+    X(mode, mode, mode)                              \
+    X(law_status, status, law_status)                \
+    X(input_status, status, input_status)            \
+    X(u_cmd, vec3, u_cmd)                            \
+    X(u_unsat, vec3, u_unsat)                        \
+    X(saturated, u32, saturated)                     \
+    X(overrun, u32, overrun)                         \
+    X(exact, u32, exact)                             \
+    X(instructions, u32, instructions)               \
+    X(law_instructions, u32, law_instructions)       \
+    X(budget, u32, budget)                           \
+    X(counters, counters, counters)                  \
+    X(pil_overruns, u32, pil_overruns)               \
+    X(exec_law, law, exec_law)                       \
+    X(exec_mode, mode, exec_mode)                    \
+    X(u_wheels, wheels, u_wheels_nm)                 \
+    X(wheel_scale, real, wheel_scale)                \
+    X(wheel_limited, u32, wheel_limited)             \
+    X(wheel_status, status, wheels_status)           \
+    X(h_total, vec3, h_total_B_Nms)                  \
+    X(speed_margin, real, speed_margin)
+
+/* SELECT: target.wd_dot_B is not sent (it decodes as zero, as fsw_node sets it) */
+#define AOCS_PIL_SELECT_ROWS(X)                      \
+    X(law, law, law)                                 \
+    X(has_target, u32, has_target)                   \
+    X(qd, quat, target.qd_DN)                        \
+    X(wd, vec3, target.wd_B)
+
+#define AOCS_PIL_ACK_ROWS(X)                         \
+    X(pil_err, pil_err, pil_err)                     \
+    X(status, status, status)                        \
+    X(field, u32, field)                             \
+    X(exec_law, law, exec_law)                       \
+    X(exec_mode, mode, exec_mode)                    \
+    X(select_accepted, u32, select_accepted)         \
+    X(select_rejected, u32, select_rejected)         \
+    X(budget, u32, budget)                           \
+    X(reserved, u32, reserved)
+
+#define AOCS_PIL_BYE_REPLY_ROWS(X)                   \
+    X(stack_bytes, u32, stack_bytes)                 \
+    X(steps, u32, steps)                             \
+    X(instructions_max, u32, instructions_max)       \
+    X(frame_errors, u32, frame_errors)
+
+#define AOCS_PIL_ERROR_ROWS(X)                       \
+    X(pil_err, pil_err, pil_err)                     \
+    X(type, u32, type)                               \
+    X(seq, u32, seq)                                 \
+    X(detail, u32, detail)
+
+/*
+ * Every fixed payload: X(NAME, FN, TYPE, ROWS, BYTES): aocs_pil_<FN>_encode
+ * and aocs_pil_<FN>_decode (declared below) code a TYPE as ROWS, BYTES long.
+ */
+#define AOCS_PIL_PAYLOAD_ROWS(X)                                                                        \
+    X(HELLO, hello, aocs_pil_hello_t, AOCS_PIL_HELLO_ROWS, AOCS_PIL_HELLO_BYTES)                        \
+    X(STEP, step, aocs_exec_input_t, AOCS_PIL_STEP_ROWS, AOCS_PIL_STEP_BYTES)                           \
+    X(STEP_REPLY, step_reply, aocs_pil_step_reply_t, AOCS_PIL_STEP_REPLY_ROWS, AOCS_PIL_STEP_REPLY_BYTES) \
+    X(SELECT, select, aocs_pil_select_t, AOCS_PIL_SELECT_ROWS, AOCS_PIL_SELECT_BYTES)                   \
+    X(ACK, ack, aocs_pil_ack_t, AOCS_PIL_ACK_ROWS, AOCS_PIL_ACK_BYTES)                                  \
+    X(BYE_REPLY, bye, aocs_pil_bye_t, AOCS_PIL_BYE_REPLY_ROWS, AOCS_PIL_BYE_REPLY_BYTES)                \
+    X(ERROR, error, aocs_pil_error_t, AOCS_PIL_ERROR_ROWS, AOCS_PIL_ERROR_BYTES)
+
 /* CRC-32/ISO-HDLC (reflected 0x04C11DB7, init and final XOR 0xFFFFFFFF). Total (0 for NULL). */
 uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len);
 
@@ -212,7 +353,8 @@ aocs_pil_err_t aocs_pil_header_decode(const uint8_t *buf, uint32_t len, aocs_pil
  */
 aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_header_t *hdr);
 
-/* ---- payloads: encode writes exactly AOCS_PIL_<X>_BYTES, decode requires exactly that many ---- */
+/* ---- payloads, from their rows (AOCS_PIL_PAYLOAD_ROWS): encode writes exactly AOCS_PIL_<X>_BYTES, decode
+ * requires exactly that many ---- */
 aocs_pil_err_t aocs_pil_hello_encode(const aocs_pil_hello_t *h, uint8_t *out, uint32_t cap);
 aocs_pil_err_t aocs_pil_hello_decode(const uint8_t *p, uint32_t len, aocs_pil_hello_t *h);
 
