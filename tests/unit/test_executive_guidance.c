@@ -518,7 +518,7 @@ static void test_rotating_target_validation(void **state)
     tgt.wd_B.v[0] = AOCS_R(0.01);
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_QUAT_PD, &tgt), AOCS_ERR_TARGET_INVALID);
     assert_int_equal(exec.counters.select_rejected, 1u);
-    assert_memory_equal(&exec.target, &cfg.target, sizeof(cfg.target));
+    assert_memory_equal(&exec.guidance.target, &cfg.target, sizeof(cfg.target));
     tgt.wd_B.v[0] = AOCS_R(0.0);
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_QUAT_PD, &tgt), AOCS_OK);
 
