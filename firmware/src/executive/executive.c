@@ -259,9 +259,9 @@ static uint64_t step_budget(const aocs_exec_t *exec)
 }
 
 /* The target an attitude law sees (guidance stage); orbit laws regulate to zero and see the stored target. */
-static aocs_exec_target_t guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det_output_t *est)
+static void guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det_output_t *est,
+                  aocs_exec_target_t *target)
 {
-    aocs_exec_target_t target = exec->guidance.target;
     if (aocs_law_is_orbit(exec->law) == 0) {
         aocs_guidance_input_t gin;
         gin.t_ns = in->t_sensor_ns;
@@ -269,9 +269,10 @@ static aocs_exec_target_t guide(aocs_exec_t *exec, const aocs_exec_input_t *in, 
         gin.usable = (est->status == AOCS_OK) ? 1 : 0;
         gin.law_active = (exec->law != AOCS_LAW_NONE) ? 1 : 0;
         gin.wheels = aocs_act_wheels(&exec->act);
-        target = aocs_guidance_step(&exec->guidance, &gin);
+        aocs_guidance_step(&exec->guidance, &gin, target);
+    } else {
+        *target = exec->guidance.target;
     }
-    return target;
 }
 
 /* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE. */
@@ -307,9 +308,8 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         aocs_vec3_t u_law = aocs_vec3_zero();
         aocs_att_input_t att;
         aocs_orbit_input_t orbit;
-        aocs_exec_target_t target;
+        const aocs_exec_target_t *target = &out->target; /* written by guidance, read by the law */
         aocs_det_output_t est;
-        aocs_mom_output_t mom;
         uint32_t missing = 0u;
         uint64_t t_start;
         uint32_t c_start;
@@ -334,13 +334,13 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         /* 2. attitude determination (its status is the verdict the law runs on) */
         (void)aocs_det_step(&exec->det, in, in_st, exec->cfg.period_s, &est);
         /* 3. guidance */
-        target = guide(exec, in, &est);
+        guide(exec, in, &est, &out->target);
         /* 4. control law */
         att.q_BN = est.q_BN;
         att.w_BN_B = est.w_BN_B;
-        att.qd_DN = target.qd_DN;
-        att.wd_B = target.wd_B;
-        att.wd_dot_B = target.wd_dot_B;
+        att.qd_DN = target->qd_DN;
+        att.wd_B = target->wd_B;
+        att.wd_dot_B = target->wd_dot_B;
         att.dt_s = exec->cfg.period_s;
         att.u_max_axis = exec->cfg.u_max_axis;
         att.u_max_norm = exec->cfg.u_max_norm;
@@ -372,7 +372,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             if ((aocs_guidance_has_feedforward(&exec->guidance) != 0) && (aocs_law_is_orbit(exec->law) == 0) &&
                 (aocs_law_has_feedforward(exec->law) == 0)) {
                 /* SPEC 5.1 feedforward, h_wheels from the tachometers (zero without a wheel array) */
-                out->u_ff = aocs_guidance_feedforward(&exec->guidance, &target,
+                out->u_ff = aocs_guidance_feedforward(&exec->guidance, target,
                                                       aocs_wheels_h_B(&exec->act.wheels, in->wheel_speed_radps));
                 out->u_unsat = aocs_vec3_add(u_law, out->u_ff);
             }
@@ -385,12 +385,11 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         aocs_act_step(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0, out->u_unsat,
                       in->wheel_speed_radps, est.w_BN_B, out, &sat);
         /* 6. momentum management (NONE today: nothing to apply) */
-        (void)aocs_mom_step(&exec->momentum, &out->momentum, &mom);
+        (void)aocs_mom_step(&exec->momentum, &out->momentum);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
         out->saturated = sat;
-        out->target = target;
         out->law_status = law_st;
         out->input_status = in_st;
         finish_output(exec, out, step_budget(exec));

@@ -131,18 +131,19 @@ void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns)
 
 #define GUIDANCE_STEP_CASE(ID, NAME, CHECK, STEP, ...) \
     case AOCS_GUIDANCE_##ID:                           \
-        STEP(g, in, &target);                          \
+        STEP(g, in, target);                           \
         break;
 
-aocs_exec_target_t aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_input_t *in)
+void aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target)
 {
-    aocs_exec_target_t target;
-    if ((g == NULL) || (in == NULL) || (in->est == NULL)) {
-        target.qd_DN = aocs_quat_identity();
-        target.wd_B = aocs_vec3_zero();
-        target.wd_dot_B = aocs_vec3_zero();
+    if (target == NULL) {
+        /* nowhere to write */
+    } else if ((g == NULL) || (in == NULL) || (in->est == NULL)) {
+        target->qd_DN = aocs_quat_identity();
+        target->wd_B = aocs_vec3_zero();
+        target->wd_dot_B = aocs_vec3_zero();
     } else {
-        target = g->target;
+        *target = g->target;
         switch (g->id) {
         AOCS_GUIDANCE_ROWS(GUIDANCE_STEP_CASE)
         default:
@@ -150,7 +151,6 @@ aocs_exec_target_t aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_in
             break;
         }
     }
-    return target;
 }
 
 int aocs_guidance_has_feedforward(const aocs_guidance_t *g)

@@ -28,10 +28,14 @@ const char *aocs_mom_name(aocs_mom_id_t id)
 aocs_status_t aocs_mom_init(aocs_mom_t *m, const aocs_mom_config_t *cfg)
 {
     aocs_status_t st = AOCS_OK;
+    if (m != NULL) {
+        m->id = AOCS_MOM_NONE;
+        zero_output(&m->out);
+        m->initialised = 0;
+    }
     if ((m == NULL) || (cfg == NULL)) {
         st = AOCS_ERR_NULL_ARG;
     } else if (cfg->policy >= (uint32_t)AOCS_MOM_COUNT) {
-        m->initialised = 0;
         st = AOCS_ERR_MOMENTUM_POLICY_UNKNOWN;
     } else {
         m->id = (aocs_mom_id_t)cfg->policy;
@@ -42,40 +46,45 @@ aocs_status_t aocs_mom_init(aocs_mom_t *m, const aocs_mom_config_t *cfg)
 
 #define MOM_STEP_CASE(ID, NAME, STEP) \
     case AOCS_MOM_##ID:               \
-        st = STEP(m, h, out);         \
+        st = STEP(m, h);              \
         break;
 
-aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h, aocs_mom_output_t *out)
+aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h)
 {
     aocs_status_t st = AOCS_OK;
-    if (out == NULL) {
+    if (m == NULL) {
         st = AOCS_ERR_NULL_ARG;
+    } else if (m->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
     } else {
-        zero_output(out);
-        if (m == NULL) {
-            st = AOCS_ERR_NULL_ARG;
-        } else if (m->initialised == 0) {
-            st = AOCS_ERR_NOT_INITIALISED;
-        } else {
-            switch (m->id) {
-            AOCS_MOMENTUM_ROWS(MOM_STEP_CASE)
-            default:
-                st = AOCS_ERR_MOMENTUM_POLICY_UNKNOWN;
-                break;
-            }
-            if (st != AOCS_OK) {
-                zero_output(out);
-            }
+        switch (m->id) {
+        AOCS_MOMENTUM_ROWS(MOM_STEP_CASE)
+        default:
+            st = AOCS_ERR_MOMENTUM_POLICY_UNKNOWN;
+            break;
+        }
+        if (st != AOCS_OK) {
+            zero_output(&m->out);
         }
     }
     return st;
 }
 
-aocs_status_t aocs_mom_none_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h, aocs_mom_output_t *out)
+aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m)
 {
-    /* no unloading: the zero commands aocs_mom_step wrote stand */
+    aocs_mom_output_t out;
+    if ((m != NULL) && (m->initialised != 0)) {
+        out = m->out;
+    } else {
+        zero_output(&out);
+    }
+    return out;
+}
+
+aocs_status_t aocs_mom_none_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h)
+{
+    /* no unloading: the zero commands of init stand */
     (void)m;
     (void)h;
-    (void)out;
     return AOCS_OK;
 }

@@ -7,7 +7,7 @@
  *   aocs_guidance_check(&cfg.guidance, &cfg.target, cfg.target_rotation_rate_D)  at init
  *   aocs_guidance_init(&g, &cfg.guidance, &cfg.target, rate_D, t0, limits)
  *   aocs_guidance_command(&g, &target, have_sample, t_last_ns)   a new target
- *   loop: target = aocs_guidance_step(&g, &gin)                 attitude laws
+ *   loop: aocs_guidance_step(&g, &gin, &target)                 attitude laws
  *
  * Modes (docs/spec.md "Slew guidance", SPEC 5.1):
  *   STEP      the law sees the commanded target at once (the reference
@@ -134,10 +134,11 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns);
 
 /*
- * The target an attitude law sees this step (the row's STEP): wd_B and
- * wd_dot_B only on a usable estimate, else 0. Total.
+ * The target an attitude law sees this step (the row's STEP), into *target:
+ * wd_B and wd_dot_B only on a usable estimate, else 0. On NULL arguments
+ * (target given) the identity with zero rates. Total.
  */
-aocs_exec_target_t aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_input_t *in);
+void aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target);
 
 /* 1 when the executive adds the row's feedforward to an attitude law without its own (FEEDFORWARD). Total. */
 int aocs_guidance_has_feedforward(const aocs_guidance_t *g);

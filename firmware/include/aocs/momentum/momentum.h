@@ -35,6 +35,7 @@ typedef struct {
 
 typedef struct {
     aocs_mom_id_t id;
+    aocs_mom_output_t out;        /* the commands of the last step (zero from init; NONE leaves them zero) */
     int initialised;
 } aocs_mom_t;
 
@@ -44,10 +45,17 @@ const char *aocs_mom_name(aocs_mom_id_t id);
 /* AOCS_ERR_NULL_ARG; AOCS_ERR_MOMENTUM_POLICY_UNKNOWN (policy out of range). */
 aocs_status_t aocs_mom_init(aocs_mom_t *m, const aocs_mom_config_t *cfg);
 
-/* One step on the array's momentum h (NULL without an array). *out always written (zero on any error). */
-aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h, aocs_mom_output_t *out);
+/*
+ * One step on the array's momentum h (NULL without an array): the policy
+ * updates m->out (aocs_mom_output). AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED,
+ * or the policy's status (on an error m->out is zero).
+ */
+aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
+
+/* The commands of the last step; zero for NULL or a stage not initialised. Total. */
+aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m);
 
 /* ---- the rows' functions (momentum.def) ---- */
-aocs_status_t aocs_mom_none_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h, aocs_mom_output_t *out);
+aocs_status_t aocs_mom_none_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
 
 #endif /* AOCS_MOMENTUM_MOMENTUM_H */
