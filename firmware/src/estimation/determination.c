@@ -9,6 +9,7 @@
 #include "aocs/executive.h"
 
 #define DET_NAME_ROW(ID, NAME, ...) (NAME),
+#define DET_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (uint64_t)(BUDGET_NS),
 
 static int id_in_range(aocs_det_id_t id)
 {
@@ -25,7 +26,7 @@ const char *aocs_det_name(aocs_det_id_t id)
     return name;
 }
 
-#define DET_INIT_CASE(ID, NAME, STATE, STATE_T, INIT, STEP) \
+#define DET_INIT_CASE(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...) \
     case AOCS_DET_##ID:                                     \
         st = INIT(&det->states.STATE, &det->cfg);           \
         break;
@@ -77,7 +78,7 @@ aocs_status_t aocs_det_reset(aocs_det_t *det)
     return st;
 }
 
-#define DET_STEP_CASE(ID, NAME, STATE, STATE_T, INIT, STEP)               \
+#define DET_STEP_CASE(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...) \
     case AOCS_DET_##ID:                                                   \
         st = STEP(&det->states.STATE, in, accept_status, dt_s, out);      \
         break;
@@ -108,4 +109,14 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
         out->status = st;
     }
     return st;
+}
+
+uint64_t aocs_det_budget_ns(const aocs_det_t *det)
+{
+    static const uint64_t det_budget_ns[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_BUDGET_ROW)};
+    uint64_t budget = 0u;
+    if ((det != NULL) && (id_in_range(det->id) != 0)) {
+        budget = det_budget_ns[det->id];
+    }
+    return budget;
 }

@@ -254,6 +254,7 @@ static uint64_t step_budget(const aocs_exec_t *exec)
         if ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (aocs_law_is_orbit(exec->law) == 0)) {
             budget += aocs_guidance_budget_ns(&exec->guidance); /* e.g. the slew reference and feedforward */
         }
+        budget += aocs_det_budget_ns(&exec->det); /* the estimator runs in every mode */
     }
     return budget;
 }

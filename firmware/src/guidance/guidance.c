@@ -16,7 +16,7 @@ typedef struct {
     uint64_t budget_ns; /* BUDGET_NS */
 } guidance_info_t;
 
-#define GUIDANCE_INFO_ROW(ID, NAME, CHECK, STEP, OWN_RATES, PLANNED, FEEDFORWARD, BUDGET_NS) \
+#define GUIDANCE_INFO_ROW(ID, NAME, CHECK, STEP, OWN_RATES, PLANNED, FEEDFORWARD, BUDGET_NS, ...) \
     {(NAME), (OWN_RATES), (PLANNED), (FEEDFORWARD), (uint64_t)(BUDGET_NS)},
 
 static const guidance_info_t guidance_info[AOCS_GUIDANCE_COUNT] = {AOCS_GUIDANCE_ROWS(GUIDANCE_INFO_ROW)};

@@ -34,9 +34,13 @@ typedef enum {
     AOCS_DET_COUNT
 } aocs_det_id_t;
 
-/* Configuration of the stage (aocs_exec_config_t.determination). */
+/* Configuration of the stage (aocs_exec_config_t.determination): the selection, then each estimator's own. */
+#define AOCS_DET_CFG_DECL_CFG_OWN(CFG_T, CFG) CFG_T CFG;
+#define AOCS_DET_CFG_DECL_CFG_NONE(CFG_T, CFG)
+#define AOCS_DET_CONFIG_MEMBER(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, ...) AOCS_DET_CFG_DECL_##CFG_USE(CFG_T, CFG)
 typedef struct {
     uint32_t estimator;           /* aocs_det_id_t value (key "estimator"); default 0 = PASSTHROUGH */
+    AOCS_DETERMINATION_ROWS(AOCS_DET_CONFIG_MEMBER)
 } aocs_det_config_t;
 
 /* The estimate of one step. */
@@ -46,11 +50,6 @@ typedef struct {
     uint32_t valid;               /* AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE of the estimate */
     aocs_status_t status;         /* AOCS_OK: usable for the law this step; else why not */
 } aocs_det_output_t;
-
-/* PASSTHROUGH keeps no estimate: its state counts steps (a C99 struct needs a member). */
-typedef struct {
-    uint32_t steps;
-} aocs_det_passthrough_state_t;
 
 /* One state of each estimator (member STATE of every row). */
 #define AOCS_DET_STATE_MEMBER(ID, NAME, STATE, STATE_T, ...) STATE_T STATE;
@@ -83,9 +82,14 @@ aocs_status_t aocs_det_reset(aocs_det_t *det);
 aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
                             aocs_det_output_t *out);
 
-/* ---- the rows' functions (determination.def) ---- */
-aocs_status_t aocs_det_passthrough_init(aocs_det_passthrough_state_t *s, const aocs_det_config_t *cfg);
-aocs_status_t aocs_det_passthrough_step(aocs_det_passthrough_state_t *s, const aocs_exec_input_t *in,
-                                        aocs_status_t accept_status, real_t dt_s, aocs_det_output_t *out);
+/* Host budget the selected estimator adds to a step, ns (BUDGET_NS). Total (0 on NULL). */
+uint64_t aocs_det_budget_ns(const aocs_det_t *det);
+
+/* ---- the rows' functions (determination.def), declared from the rows ---- */
+#define AOCS_DET_PROTOTYPES(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...)                   \
+    aocs_status_t INIT(STATE_T *s, const aocs_det_config_t *cfg);                                            \
+    aocs_status_t STEP(STATE_T *s, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,    \
+                       aocs_det_output_t *out);
+AOCS_DETERMINATION_ROWS(AOCS_DET_PROTOTYPES)
 
 #endif /* AOCS_ESTIMATION_DETERMINATION_H */
