@@ -9,7 +9,7 @@
 #include "aocs/hal.h"
 
 /* Counter increment that sticks at the maximum instead of wrapping. */
-static void count_sat(uint32_t *counter, uint32_t n)
+static void accept_count(uint32_t *counter, uint32_t n)
 {
     if ((UINT32_MAX - *counter) < n) {
         *counter = UINT32_MAX;
@@ -147,7 +147,7 @@ static aocs_status_t sample_timing_check(aocs_accept_t *acc, const aocs_exec_inp
         take_reference(acc, in);
     } else if (resync_candidate(acc, in) != 0) {
         take_reference(acc, in);
-        count_sat(&acc->resyncs, 1u);
+        accept_count(&acc->resyncs, 1u);
     } else {
         st = AOCS_ERR_INPUT_STALE;
     }
@@ -184,13 +184,13 @@ uint32_t aocs_accept_no_sample(aocs_accept_t *acc)
 {
     uint32_t run = 0u;
     if (acc != NULL) {
-        count_sat(&acc->missing_run, 1u);
+        accept_count(&acc->missing_run, 1u);
         run = acc->missing_run;
     }
     return run;
 }
 
-static int quat_is_unit(aocs_quat_t q)
+static int accept_quat_is_unit(aocs_quat_t q)
 {
     real_t n = aocs_quat_norm(q);
     return (AOCS_IS_FINITE(n) && (AOCS_FABS(n - AOCS_R(1.0)) <= AOCS_QUAT_UNIT_TOL)) ? 1 : 0;
@@ -219,7 +219,7 @@ static aocs_status_t attitude_validity(const aocs_exec_input_t *in)
         st = AOCS_ERR_INPUT_INVALID;
     } else if ((aocs_quat_is_finite(in->q_BN) == 0) || (aocs_vec3_is_finite(in->w_BN_B) == 0)) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
-    } else if (quat_is_unit(in->q_BN) == 0) {
+    } else if (accept_quat_is_unit(in->q_BN) == 0) {
         st = AOCS_ERR_QUAT_NOT_UNIT;
     } else {
         st = AOCS_OK;

@@ -11,7 +11,7 @@
 #define DET_NAME_ROW(ID, NAME, ...) (NAME),
 #define DET_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (uint64_t)(BUDGET_NS),
 
-static int id_in_range(aocs_det_id_t id)
+static int det_id_in_range(aocs_det_id_t id)
 {
     return (((int)id >= 0) && (id < AOCS_DET_COUNT)) ? 1 : 0;
 }
@@ -20,7 +20,7 @@ const char *aocs_det_name(aocs_det_id_t id)
 {
     static const char *const det_names[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_NAME_ROW)};
     const char *name = "unknown";
-    if (id_in_range(id) != 0) {
+    if (det_id_in_range(id) != 0) {
         name = det_names[id];
     }
     return name;
@@ -115,7 +115,7 @@ uint64_t aocs_det_budget_ns(const aocs_det_t *det)
 {
     static const uint64_t det_budget_ns[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_BUDGET_ROW)};
     uint64_t budget = 0u;
-    if ((det != NULL) && (id_in_range(det->id) != 0)) {
+    if ((det != NULL) && (det_id_in_range(det->id) != 0)) {
         budget = det_budget_ns[det->id];
     }
     return budget;

@@ -267,8 +267,14 @@ static void guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det
         aocs_guidance_input_t gin;
         gin.t_ns = in->t_sensor_ns;
         gin.est = est;
-        gin.usable = (est->status == AOCS_OK) ? 1 : 0;
-        gin.law_active = (exec->law != AOCS_LAW_NONE) ? 1 : 0;
+        gin.usable = 0;
+        if (est->status == AOCS_OK) {
+            gin.usable = 1;
+        }
+        gin.law_active = 0;
+        if (exec->law != AOCS_LAW_NONE) {
+            gin.law_active = 1;
+        }
         gin.wheels = aocs_act_wheels(&exec->act);
         aocs_guidance_step(&exec->guidance, &gin, target);
     } else {

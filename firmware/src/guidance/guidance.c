@@ -21,7 +21,7 @@ typedef struct {
 
 static const guidance_info_t guidance_info[AOCS_GUIDANCE_COUNT] = {AOCS_GUIDANCE_ROWS(GUIDANCE_INFO_ROW)};
 
-static int id_in_range(aocs_guidance_id_t id)
+static int guidance_id_in_range(aocs_guidance_id_t id)
 {
     return (((int)id >= 0) && (id < AOCS_GUIDANCE_COUNT)) ? 1 : 0;
 }
@@ -53,7 +53,7 @@ aocs_guidance_id_t aocs_guidance_resolve(const aocs_exec_guidance_config_t *gcfg
 const char *aocs_guidance_name(aocs_guidance_id_t id)
 {
     const char *name = "unknown";
-    if (id_in_range(id) != 0) {
+    if (guidance_id_in_range(id) != 0) {
         name = guidance_info[id].name;
     }
     return name;
@@ -103,7 +103,7 @@ void aocs_guidance_init(aocs_guidance_t *g, const aocs_exec_guidance_config_t *g
 int aocs_guidance_owns_rates(const aocs_guidance_t *g)
 {
     int own = 0;
-    if ((g != NULL) && (id_in_range(g->id) != 0)) {
+    if ((g != NULL) && (guidance_id_in_range(g->id) != 0)) {
         own = guidance_info[g->id].own_rates;
     }
     return own;
@@ -112,7 +112,7 @@ int aocs_guidance_owns_rates(const aocs_guidance_t *g)
 void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target, int have_sample,
                            uint64_t t_last_ns)
 {
-    if ((g != NULL) && (target != NULL) && (id_in_range(g->id) != 0)) {
+    if ((g != NULL) && (target != NULL) && (guidance_id_in_range(g->id) != 0)) {
         g->target = *target;
         g->slew_pending = guidance_info[g->id].planned; /* planned rows: from the next usable sample */
         if (have_sample != 0) {
@@ -156,7 +156,7 @@ void aocs_guidance_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aoc
 int aocs_guidance_has_feedforward(const aocs_guidance_t *g)
 {
     int ff = 0;
-    if ((g != NULL) && (id_in_range(g->id) != 0)) {
+    if ((g != NULL) && (guidance_id_in_range(g->id) != 0)) {
         ff = guidance_info[g->id].feedforward;
     }
     return ff;
@@ -176,7 +176,7 @@ aocs_vec3_t aocs_guidance_feedforward(const aocs_guidance_t *g, const aocs_exec_
 uint64_t aocs_guidance_budget_ns(const aocs_guidance_t *g)
 {
     uint64_t budget = 0u;
-    if ((g != NULL) && (id_in_range(g->id) != 0)) {
+    if ((g != NULL) && (guidance_id_in_range(g->id) != 0)) {
         budget = guidance_info[g->id].budget_ns;
     }
     return budget;

@@ -9,7 +9,7 @@
 
 #define MOM_NAME_ROW(ID, NAME, ...) (NAME),
 
-static void zero_output(aocs_mom_output_t *out)
+static void mom_zero_output(aocs_mom_output_t *out)
 {
     out->dipole_Am2 = aocs_vec3_zero();
     out->u_unload_B_Nm = aocs_vec3_zero();
@@ -30,7 +30,7 @@ aocs_status_t aocs_mom_init(aocs_mom_t *m, const aocs_mom_config_t *cfg)
     aocs_status_t st = AOCS_OK;
     if (m != NULL) {
         m->id = AOCS_MOM_NONE;
-        zero_output(&m->out);
+        mom_zero_output(&m->out);
         m->initialised = 0;
     }
     if ((m == NULL) || (cfg == NULL)) {
@@ -64,7 +64,7 @@ aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h)
             break;
         }
         if (st != AOCS_OK) {
-            zero_output(&m->out);
+            mom_zero_output(&m->out);
         }
     }
     return st;
@@ -76,7 +76,7 @@ aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m)
     if ((m != NULL) && (m->initialised != 0)) {
         out = m->out;
     } else {
-        zero_output(&out);
+        mom_zero_output(&out);
     }
     return out;
 }
