@@ -293,7 +293,7 @@ static void test_path_solves_target_kinematics(void **state)
  * wd_dot_B is the time derivative of wd_B along a motion: the body turns at
  * a constant w_B (q(t) = dq(w_B t) (x) q0, body kinematics), the target at w;
  * the central difference of the executive's wd_B equals its wd_dot_B. This
- * checks the derivation in guidance.c, not just the formula.
+ * checks the derivation in src/guidance/rotating.c, not just the formula.
  */
 static void test_wd_dot_is_derivative_of_wd(void **state)
 {
