@@ -95,10 +95,10 @@ void aocs_act_step(aocs_act_t *act, int standby, aocs_vec3_t u_unsat, const real
 void aocs_act_step_held(aocs_act_t *act, int standby, aocs_vec3_t u_unsat, aocs_exec_output_t *out,
                         int *saturated);
 
-/* ---- the rows' functions (actuation.def) ---- */
-void aocs_act_body_apply(aocs_act_t *act, int standby, const real_t *omega_radps, aocs_vec3_t w_BN_B,
-                         aocs_exec_output_t *out, int *saturated);
-void aocs_act_wheels_apply(aocs_act_t *act, int standby, const real_t *omega_radps, aocs_vec3_t w_BN_B,
-                           aocs_exec_output_t *out, int *saturated);
+/* ---- the rows' functions (actuation.def), declared from the rows ---- */
+#define AOCS_ACT_PROTOTYPES(ID, NAME, APPLY)                                                                  \
+    void APPLY(aocs_act_t *act, int standby, const real_t *omega_radps, aocs_vec3_t w_BN_B,                   \
+               aocs_exec_output_t *out, int *saturated);
+AOCS_ACTUATION_ROWS(AOCS_ACT_PROTOTYPES)
 
 #endif /* AOCS_ACTUATION_ACTUATION_H */

@@ -150,17 +150,14 @@ aocs_vec3_t aocs_guidance_feedforward(const aocs_guidance_t *g, const aocs_exec_
 /* Host budget the row adds to an attitude law's step, ns (BUDGET_NS). Total (0 on NULL). */
 uint64_t aocs_guidance_budget_ns(const aocs_guidance_t *g);
 
-/* ---- the rows' functions (guidance_modes.def) and their helpers ---- */
-aocs_status_t aocs_guidance_step_check(const aocs_exec_guidance_config_t *gcfg, const aocs_exec_target_t *target,
-                                       aocs_vec3_t rate_D);
-void aocs_guidance_step_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target);
-aocs_status_t aocs_guidance_rotating_check(const aocs_exec_guidance_config_t *gcfg,
-                                           const aocs_exec_target_t *target, aocs_vec3_t rate_D);
-void aocs_guidance_rotating_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target);
-aocs_status_t aocs_guidance_slew_check(const aocs_exec_guidance_config_t *gcfg, const aocs_exec_target_t *target,
-                                       aocs_vec3_t rate_D);
-void aocs_guidance_slew_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target);
+/* ---- the rows' functions (guidance_modes.def), declared from the rows ---- */
+#define AOCS_GUIDANCE_PROTOTYPES(ID, NAME, CHECK, STEP, ...)                                                   \
+    aocs_status_t CHECK(const aocs_exec_guidance_config_t *gcfg, const aocs_exec_target_t *target,            \
+                        aocs_vec3_t rate_D);                                                                  \
+    void STEP(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target);
+AOCS_GUIDANCE_ROWS(AOCS_GUIDANCE_PROTOTYPES)
 
+/* ---- helpers the rows share ---- */
 /* 1 when any component is non-zero (exact test, no tolerance). Total. */
 int aocs_guidance_vec_nonzero(aocs_vec3_t w);
 

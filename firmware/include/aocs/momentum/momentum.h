@@ -55,7 +55,8 @@ aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
 /* The commands of the last step; zero for NULL or a stage not initialised. Total. */
 aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m);
 
-/* ---- the rows' functions (momentum.def) ---- */
-aocs_status_t aocs_mom_none_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
+/* ---- the rows' functions (momentum.def), declared from the rows ---- */
+#define AOCS_MOM_PROTOTYPES(ID, NAME, STEP) aocs_status_t STEP(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
+AOCS_MOMENTUM_ROWS(AOCS_MOM_PROTOTYPES)
 
 #endif /* AOCS_MOMENTUM_MOMENTUM_H */
