@@ -1,8 +1,9 @@
 /*
  * Attitude-determination stage alone (firmware/src/estimation/determination.c,
  * passthrough.c; aocs/estimation/determination.h):
- *  - every row of determination.def has a distinct non-empty name, inits and
- *    resets; an estimator out of range is AOCS_ERR_ESTIMATOR_UNKNOWN;
+ *  - every row of determination.def has a distinct non-empty name, inits from
+ *    its configuration fields' defaults and resets; an estimator out of range
+ *    is AOCS_ERR_ESTIMATOR_UNKNOWN;
  *  - PASSTHROUGH gives the measured q and w bit for bit, the attitude and rate
  *    flags of the sample, and the acceptance's verdict as its status (the
  *    measured values stay: SAFE damps with the rate of a stale sample);
@@ -26,12 +27,22 @@ static aocs_exec_input_t sample(void)
     return in;
 }
 
+/* The stage's configuration with every field at its DEFAULT (config_fields.def) and the given estimator. */
+static aocs_det_config_t default_config(uint32_t estimator)
+{
+    aocs_exec_config_t ecfg;
+    aocs_exec_config_default(&ecfg);
+    ecfg.determination.estimator = estimator;
+    return ecfg.determination;
+}
+
 static void test_every_row_has_a_name_and_inits(void **state)
 {
     (void)state;
     for (int i = 0; i < (int)AOCS_DET_COUNT; ++i) {
         aocs_det_t det;
-        aocs_det_config_t cfg = {(uint32_t)i};
+        /* every estimator inits from its configuration fields' defaults */
+        aocs_det_config_t cfg = default_config((uint32_t)i);
         const char *name = aocs_det_name((aocs_det_id_t)i);
         assert_true(strlen(name) > 0u);
         assert_string_not_equal(name, "unknown");
@@ -50,7 +61,7 @@ static void test_unknown_estimator_is_refused(void **state)
 {
     (void)state;
     aocs_det_t det;
-    aocs_det_config_t cfg = {(uint32_t)AOCS_DET_COUNT};
+    aocs_det_config_t cfg = default_config((uint32_t)AOCS_DET_COUNT);
     aocs_det_output_t out;
     aocs_exec_input_t in = sample();
     assert_int_equal(aocs_det_init(&det, &cfg), AOCS_ERR_ESTIMATOR_UNKNOWN);
@@ -69,7 +80,7 @@ static void test_passthrough_gives_the_measurement_bit_for_bit(void **state)
 {
     (void)state;
     aocs_det_t det;
-    aocs_det_config_t cfg = {(uint32_t)AOCS_DET_PASSTHROUGH};
+    aocs_det_config_t cfg = default_config((uint32_t)AOCS_DET_PASSTHROUGH);
     aocs_det_output_t out;
     aocs_exec_input_t in = sample();
     assert_int_equal(aocs_det_init(&det, &cfg), AOCS_OK);
@@ -93,7 +104,7 @@ static void test_null_arguments(void **state)
 {
     (void)state;
     aocs_det_t det;
-    aocs_det_config_t cfg = {0u};
+    aocs_det_config_t cfg = default_config(0u);
     aocs_det_output_t out;
     aocs_exec_input_t in = sample();
     assert_int_equal(aocs_det_init(NULL, &cfg), AOCS_ERR_NULL_ARG);
