@@ -7,6 +7,8 @@
  *    a sample that does not continue is stale and leaves the reference;
  *    K = AOCS_EXEC_RESYNC_FRAMES consecutive candidates resynchronise; the
  *    lockstep time tolerance T / 4; real time: a sample off the HAL clock is stale;
+ *  - the rows of acceptance.def (the clock's time rules) alone: names, the
+ *    lockstep tolerance, the real-time HAL window;
  *  - validity for attitude laws, orbit laws and STANDBY (either rule);
  *  - NULL arguments.
  */
@@ -165,6 +167,35 @@ static void test_validity_for_each_kind_of_law(void **state)
     assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, &in), AOCS_ERR_INPUT_INVALID);
 }
 
+static void test_time_rule_rows(void **state)
+{
+    (void)state;
+    aocs_accept_t acc;
+    const uint64_t now = aocs_hal_time_ns();
+    for (int i = 0; i < (int)AOCS_EXEC_CLOCK_COUNT; ++i) {
+        const char *name = aocs_accept_name((aocs_exec_clock_t)i);
+        assert_true(strlen(name) > 0u);
+        assert_string_not_equal(name, "unknown");
+        for (int j = 0; j < i; ++j) {
+            assert_string_not_equal(name, aocs_accept_name((aocs_exec_clock_t)j));
+        }
+    }
+    assert_string_equal(aocs_accept_name(AOCS_EXEC_CLOCK_LOCKSTEP), "lockstep");
+    assert_string_equal(aocs_accept_name(AOCS_EXEC_CLOCK_COUNT), "unknown");
+    lockstep(&acc);
+    /* lockstep: any sample may be considered; g periods later within T / 4 */
+    assert_int_equal(aocs_accept_lockstep_on_clock(&acc, 0u), 1);
+    assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS, 2u), 1);
+    assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS + T_NS / 4u, 2u), 1);
+    assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS + T_NS / 4u + 1u, 2u), 0);
+    assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS - T_NS / 4u - 1u, 2u), 0);
+    /* real time: the HAL window [now - timeout, now + T], any later time continues */
+    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_REALTIME, T_NS, 2u * T_NS, 3u);
+    assert_int_equal(aocs_accept_realtime_on_clock(&acc, now), 1);
+    assert_int_equal(aocs_accept_realtime_on_clock(&acc, now + 10u * T_NS), 0);
+    assert_int_equal(aocs_accept_realtime_continues(&acc, T_NS, 900u * T_NS, 1u), 1);
+}
+
 static void test_null_arguments(void **state)
 {
     (void)state;
@@ -189,6 +220,7 @@ int main(void)
         cmocka_unit_test(test_gaps_count_missing_samples),
         cmocka_unit_test(test_k_consecutive_candidates_resynchronise),
         cmocka_unit_test(test_real_time_sample_off_the_hal_clock_is_stale),
+        cmocka_unit_test(test_time_rule_rows),
         cmocka_unit_test(test_validity_for_each_kind_of_law),
         cmocka_unit_test(test_null_arguments),
     };

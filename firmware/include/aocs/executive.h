@@ -8,7 +8,7 @@
  * (one .def of rows each, like the laws' laws.def), in its own folder:
  *
  *   stage                 header (public)                      rows                          source
- *   input acceptance      aocs/exec/acceptance.h               (clock: lockstep / real time) src/acceptance/
+ *   input acceptance      aocs/exec/acceptance.h               exec/acceptance.def (clock)   src/acceptance/
  *   attitude determin.    aocs/estimation/determination.h      estimation/determination.def  src/estimation/
  *   guidance              aocs/guidance/guidance.h             guidance/guidance_modes.def   src/guidance/
  *   control law           aocs/exec/law_dispatch.h             laws.def                      src/control/

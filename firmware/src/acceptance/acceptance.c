@@ -37,42 +37,51 @@ void aocs_accept_init(aocs_accept_t *acc, aocs_exec_clock_t clock, uint64_t peri
     }
 }
 
-/*
- * 1 when sample (tick, t) continues the sample (ref_tick, ref_t): the tick
- * advances by g in [1, G] (modulo 2^32: the counter may wrap) and the time
- * advances, in lockstep by g periods within T / AOCS_EXEC_LOCKSTEP_TOL_DIV
- * (acceptance.h, "Frame acceptance"). *gap_out = g. Unsigned arithmetic only:
- * g T <= 1024 * 1e12 ns, no wrap.
- */
-static int sample_continues(const aocs_accept_t *acc, uint32_t ref_tick, uint64_t ref_t_ns, uint32_t tick,
-                            uint64_t t_ns, uint32_t *gap_out)
+#define ACCEPT_NAME_ROW(ID, NAME, ...) (NAME),
+
+const char *aocs_accept_name(aocs_exec_clock_t clock)
+{
+    static const char *const accept_names[AOCS_EXEC_CLOCK_COUNT] = {AOCS_ACCEPTANCE_ROWS(ACCEPT_NAME_ROW)};
+    const char *name = "unknown";
+    if (((int)clock >= 0) && (clock < AOCS_EXEC_CLOCK_COUNT)) {
+        name = accept_names[clock];
+    }
+    return name;
+}
+
+/* ---- time rule LOCKSTEP: the sample is the tick ---- */
+
+int aocs_accept_lockstep_on_clock(const aocs_accept_t *acc, uint64_t t_ns)
+{
+    /* no clock but the samples' own: every sample may be considered */
+    (void)acc;
+    (void)t_ns;
+    return 1;
+}
+
+/* Sensor time advances by g periods within T / AOCS_EXEC_LOCKSTEP_TOL_DIV. Unsigned: g T <= 1024 * 1e12 ns. */
+int aocs_accept_lockstep_continues(const aocs_accept_t *acc, uint64_t ref_t_ns, uint64_t t_ns, uint32_t gap)
 {
     int ok = 0;
-    const uint32_t gap = tick - ref_tick;
-    *gap_out = gap;
-    if ((gap >= 1u) && (gap <= AOCS_EXEC_TICK_JUMP_MAX) && (t_ns > ref_t_ns)) {
-        if (acc->clock == AOCS_EXEC_CLOCK_LOCKSTEP) {
-            const uint64_t dt = t_ns - ref_t_ns;
-            const uint64_t expected = (uint64_t)gap * acc->period_ns;
-            const uint64_t tol = acc->period_ns / (uint64_t)AOCS_EXEC_LOCKSTEP_TOL_DIV;
-            uint64_t err = 0u;
-            if (dt >= expected) {
-                err = dt - expected;
-            } else {
-                err = expected - dt;
-            }
-            if (err <= tol) {
-                ok = 1;
-            }
-        } else {
-            ok = 1;
-        }
+    const uint64_t dt = t_ns - ref_t_ns;
+    const uint64_t expected = (uint64_t)gap * acc->period_ns;
+    const uint64_t tol = acc->period_ns / (uint64_t)AOCS_EXEC_LOCKSTEP_TOL_DIV;
+    uint64_t err = 0u;
+    if (dt >= expected) {
+        err = dt - expected;
+    } else {
+        err = expected - dt;
+    }
+    if (err <= tol) {
+        ok = 1;
     }
     return ok;
 }
 
-/* Real time: 1 when t lies on the HAL clock within [now - stale_timeout, now + T]. */
-static int sample_on_hal_clock(const aocs_accept_t *acc, uint64_t t_ns)
+/* ---- time rule REALTIME: the HAL clock is the authority ---- */
+
+/* 1 when t lies on the HAL clock within [now - stale_timeout, now + T]. */
+int aocs_accept_realtime_on_clock(const aocs_accept_t *acc, uint64_t t_ns)
 {
     const uint64_t now = aocs_hal_time_ns();
     int ok = 1;
@@ -82,6 +91,63 @@ static int sample_on_hal_clock(const aocs_accept_t *acc, uint64_t t_ns)
         ok = 0; /* from the future: no clock the adapter reads runs ahead of ours by a period */
     } else {
         ok = 1;
+    }
+    return ok;
+}
+
+/* Any later time continues (the HAL window above bounds it). */
+int aocs_accept_realtime_continues(const aocs_accept_t *acc, uint64_t ref_t_ns, uint64_t t_ns, uint32_t gap)
+{
+    (void)acc;
+    (void)ref_t_ns;
+    (void)t_ns;
+    (void)gap;
+    return 1;
+}
+
+/* ---- the dispatch to the selected row ---- */
+
+#define ACCEPT_ON_CLOCK_CASE(ID, NAME, ON_CLOCK, CONTINUES) \
+    case AOCS_EXEC_CLOCK_##ID:                               \
+        ok = ON_CLOCK(acc, t_ns);                            \
+        break;
+
+static int sample_on_clock(const aocs_accept_t *acc, uint64_t t_ns)
+{
+    int ok = 0;
+    switch (acc->clock) {
+    AOCS_ACCEPTANCE_ROWS(ACCEPT_ON_CLOCK_CASE)
+    default:
+        ok = 0; /* not reachable: the clock was checked at init */
+        break;
+    }
+    return ok;
+}
+
+#define ACCEPT_CONTINUES_CASE(ID, NAME, ON_CLOCK, CONTINUES) \
+    case AOCS_EXEC_CLOCK_##ID:                                \
+        ok = CONTINUES(acc, ref_t_ns, t_ns, gap);             \
+        break;
+
+/*
+ * 1 when sample (tick, t) continues the sample (ref_tick, ref_t): the tick
+ * advances by g in [1, G] (modulo 2^32: the counter may wrap), the time
+ * advances, and the selected time rule agrees (acceptance.h, "Frame
+ * acceptance"). *gap_out = g.
+ */
+static int sample_continues(const aocs_accept_t *acc, uint32_t ref_tick, uint64_t ref_t_ns, uint32_t tick,
+                            uint64_t t_ns, uint32_t *gap_out)
+{
+    int ok = 0;
+    const uint32_t gap = tick - ref_tick;
+    *gap_out = gap;
+    if ((gap >= 1u) && (gap <= AOCS_EXEC_TICK_JUMP_MAX) && (t_ns > ref_t_ns)) {
+        switch (acc->clock) {
+        AOCS_ACCEPTANCE_ROWS(ACCEPT_CONTINUES_CASE)
+        default:
+            ok = 0; /* not reachable: the clock was checked at init */
+            break;
+        }
     }
     return ok;
 }
@@ -128,8 +194,8 @@ static aocs_status_t sample_timing_check(aocs_accept_t *acc, const aocs_exec_inp
 {
     aocs_status_t st = AOCS_OK;
     uint32_t gap = 0u;
-    if ((acc->clock == AOCS_EXEC_CLOCK_REALTIME) && (sample_on_hal_clock(acc, in->t_sensor_ns) == 0)) {
-        /* the HAL clock is the authority in real time: such a sample is no candidate either */
+    if (sample_on_clock(acc, in->t_sensor_ns) == 0) {
+        /* real time: the HAL clock is the authority, such a sample is no candidate either */
         st = AOCS_ERR_INPUT_STALE;
         acc->resync_run = 0u;
     } else if (acc->have_sample == 0) {

@@ -61,7 +61,7 @@ static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *perio
         /* period_to_ns already says RATE_INVALID */
     } else if (((int)cfg->law < 0) || (cfg->law >= AOCS_LAW_COUNT)) {
         st = AOCS_ERR_UNKNOWN_LAW;
-    } else if ((cfg->clock != AOCS_EXEC_CLOCK_LOCKSTEP) && (cfg->clock != AOCS_EXEC_CLOCK_REALTIME)) {
+    } else if (((int)cfg->clock < 0) || (cfg->clock >= AOCS_EXEC_CLOCK_COUNT)) {
         st = AOCS_ERR_MODE_INVALID;
     } else if ((aocs_exec_target_check(&cfg->target) != AOCS_OK) ||
                (aocs_vec3_is_finite(cfg->target_rotation_rate_D) == 0) ||

@@ -1,7 +1,8 @@
 /*
  * The input-acceptance stage (part of aocs/executive.h; src/acceptance/):
  * whether a sensor sample may drive the pipeline, with the reason when not.
- * Two checks, in this order:
+ * Its time rules are the rows of aocs/exec/acceptance.def (LOCKSTEP,
+ * REALTIME), selected by the executive's clock. Two checks, in this order:
  *   - frame acceptance (below): the sample continues the tick/time
  *     reference (fresh), or it is stale; tick gaps count missing samples;
  *   - validity for the selected law: the validity flags it needs are set,
@@ -99,5 +100,14 @@ uint32_t aocs_accept_no_sample(aocs_accept_t *acc);
 
 /* Validity of a sample for law (the second check above). AOCS_ERR_NULL_ARG on NULL. */
 aocs_status_t aocs_accept_validity(aocs_law_id_t law, const aocs_exec_input_t *in);
+
+/* Name of a time rule ("lockstep", "realtime"); "unknown" out of range. Total. */
+const char *aocs_accept_name(aocs_exec_clock_t clock);
+
+/* ---- the rows' functions (acceptance.def), declared from the rows ---- */
+#define AOCS_ACCEPT_PROTOTYPES(ID, NAME, ON_CLOCK, CONTINUES)                                                 \
+    int ON_CLOCK(const aocs_accept_t *acc, uint64_t t_ns);                                                    \
+    int CONTINUES(const aocs_accept_t *acc, uint64_t ref_t_ns, uint64_t t_ns, uint32_t gap);
+AOCS_ACCEPTANCE_ROWS(AOCS_ACCEPT_PROTOTYPES)
 
 #endif /* AOCS_EXEC_ACCEPTANCE_H */
