@@ -304,8 +304,8 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
     law_nominal = meta["law"]
     override = int(float(cfg.get("budget_ns", "0")))
     # guidance mode slew: the executive adds its slew allowance to an attitude law's NOMINAL budget
-    # (executive.h AOCS_EXEC_SLEW_BUDGET_NS; the orbit law takes no guidance)
-    slew_ns = (int(paths.header_number("firmware/include/aocs/executive.h", "AOCS_EXEC_SLEW_BUDGET_NS"))
+    # (aocs/exec/timing.h AOCS_EXEC_SLEW_BUDGET_NS; the orbit law takes no guidance)
+    slew_ns = (int(paths.header_number("firmware/include/aocs/exec/timing.h", "AOCS_EXEC_SLEW_BUDGET_NS"))
                if cfg.get("guidance.mode") == "slew" else 0)
 
     def nominal(law: str) -> int:

@@ -426,15 +426,15 @@ static void guidance_summary(const node_t *n, char *buf, size_t size)
     const aocs_exec_t *e = &n->exec;
     if (e->cfg.guidance.mode != AOCS_GUIDANCE_MODE_SLEW) {
         (void)snprintf(buf, size, "{\"mode\": \"step\"}");
-    } else if (e->slew_pending != 0) {
+    } else if (e->guidance.slew_pending != 0) {
         (void)snprintf(buf, size, "{\"mode\": \"slew\", \"slew_start_s\": null, \"profile_end_s\": null}");
     } else {
-        const double t0 = (double)e->slew_t0_ns * 1e-9;
+        const double t0 = (double)e->guidance.slew_t0_ns * 1e-9;
         (void)snprintf(buf, size,
                        "{\"mode\": \"slew\", \"slew_start_s\": %.9g, \"profile_end_s\": %.9g, "
                        "\"angle_rad\": %.9g, \"peak_rate_radps\": %.9g, \"peak_accel_radps2\": %.9g}",
-                       t0, t0 + (double)e->slew.t_end_s, (double)e->slew.theta_f_rad, (double)e->slew.rate_radps,
-                       (double)e->slew.accel_radps2);
+                       t0, t0 + (double)e->guidance.slew.t_end_s, (double)e->guidance.slew.theta_f_rad, (double)e->guidance.slew.rate_radps,
+                       (double)e->guidance.slew.accel_radps2);
     }
 }
 
@@ -454,7 +454,7 @@ static void report(node_t *n, const char *reason)
                   (unsigned long long)s.median, (unsigned long long)s.p99, (unsigned long long)s.max,
                   (unsigned long long)n->timer.jitter_max_abs_ns, jitter_rms, (unsigned long long)n->seq.lost,
                   (unsigned long long)n->seq.duplicate, (unsigned long long)n->seq.jump,
-                  (unsigned long long)n->seq.resyncs, (unsigned long)n->exec.resyncs,
+                  (unsigned long long)n->seq.resyncs, (unsigned long)n->exec.accept.resyncs,
                   (unsigned long long)n->n_foreign, (unsigned long long)n->n_malformed);
     (void)printf("{\"fsw_node\": {\"reason\": \"%s\", \"run_mode\": \"%s\", \"law\": \"%s\", \"mode\": \"%s\", "
                  "\"steps\": %llu, \"overruns\": %llu, \"slips\": %llu, "

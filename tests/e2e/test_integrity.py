@@ -9,7 +9,7 @@ with the LCM Python bindings the way an attacker on the group would, then
 plays the plant's legitimate frames and checks that the node answers them and
 is NOMINAL again within the documented count (docs/wire-contract.md, "Frame
 acceptance"): K - 1 + M answered frames, K = AOCS_EXEC_RESYNC_FRAMES (read
-from executive.h), M = recover_good_samples.
+from aocs/exec/acceptance.h), M = recover_good_samples.
 """
 from __future__ import annotations
 
@@ -34,9 +34,9 @@ W = (0.001, -0.002, 0.003)
 
 
 def _header_constant(name: str) -> int:
-    text = (REPO / "firmware/include/aocs/executive.h").read_text()
+    text = (REPO / "firmware/include/aocs/exec/acceptance.h").read_text()
     m = re.search(rf"^#define {name} (\d+)u$", text, re.M)
-    assert m, f"{name} not found in executive.h"
+    assert m, f"{name} not found in aocs/exec/acceptance.h"
     return int(m.group(1))
 
 

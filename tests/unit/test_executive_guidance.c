@@ -293,7 +293,7 @@ static void test_path_solves_target_kinematics(void **state)
  * wd_dot_B is the time derivative of wd_B along a motion: the body turns at
  * a constant w_B (q(t) = dq(w_B t) (x) q0, body kinematics), the target at w;
  * the central difference of the executive's wd_B equals its wd_dot_B. This
- * checks the derivation in guidance.c, not just the formula.
+ * checks the derivation in src/guidance/rotating.c, not just the formula.
  */
 static void test_wd_dot_is_derivative_of_wd(void **state)
 {
@@ -518,7 +518,7 @@ static void test_rotating_target_validation(void **state)
     tgt.wd_B.v[0] = AOCS_R(0.01);
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_QUAT_PD, &tgt), AOCS_ERR_TARGET_INVALID);
     assert_int_equal(exec.counters.select_rejected, 1u);
-    assert_memory_equal(&exec.target, &cfg.target, sizeof(cfg.target));
+    assert_memory_equal(&exec.guidance.target, &cfg.target, sizeof(cfg.target));
     tgt.wd_B.v[0] = AOCS_R(0.0);
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_QUAT_PD, &tgt), AOCS_OK);
 

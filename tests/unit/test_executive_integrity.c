@@ -121,7 +121,7 @@ static void test_future_time_does_not_latch(void **state)
     /* the reference did not move: the plant's next samples are good at once */
     assert_true(good_until_nominal(&exec, 11u, M_GOOD) <= M_GOOD);
     assert_int_equal(exec.counters.stale, 1u);
-    assert_int_equal(exec.resyncs, 0u);
+    assert_int_equal(exec.accept.resyncs, 0u);
 }
 
 /* issue 11 item 1: a tick far ahead (with a time that agrees with it) latched SAFE */
@@ -221,7 +221,7 @@ static void test_any_single_bad_sample_recovers_within_bound(void **state)
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     (void)step(&exec, sample(5000000u, 1000000u * NS_PER_S));
     assert_true(good_until_nominal(&exec, 1u, bound) <= bound);
-    assert_int_equal(exec.resyncs, 1u);
+    assert_int_equal(exec.accept.resyncs, 1u);
 
     /* invalid values in an otherwise well-timed sample: M good samples */
     init_running(&exec, AOCS_EXEC_CLOCK_LOCKSTEP, 10u);
@@ -246,7 +246,7 @@ static void test_resync_after_k_consistent_samples(void **state)
     }
     out = step(&exec, good(K_RESYNC - 1u));
     assert_int_equal(out.input_status, AOCS_OK);
-    assert_int_equal(exec.resyncs, 1u);
+    assert_int_equal(exec.accept.resyncs, 1u);
     assert_int_equal(exec.counters.missing, 0u);
     assert_true(good_until_nominal(&exec, K_RESYNC, M_GOOD) == M_GOOD - 1u);
 
@@ -258,7 +258,7 @@ static void test_resync_after_k_consistent_samples(void **state)
     }
     out = step(&exec, good(11u));
     assert_int_equal(out.input_status, AOCS_OK);
-    assert_int_equal(exec.resyncs, 0u);
+    assert_int_equal(exec.accept.resyncs, 0u);
 
     /* candidates that do not continue each other (the same forged sample repeated) never resynchronise */
     init_running(&exec, AOCS_EXEC_CLOCK_LOCKSTEP, 10u);
@@ -266,7 +266,7 @@ static void test_resync_after_k_consistent_samples(void **state)
         out = step(&exec, good(5000u));
         assert_int_equal(out.input_status, AOCS_ERR_INPUT_STALE);
     }
-    assert_int_equal(exec.resyncs, 0u);
+    assert_int_equal(exec.accept.resyncs, 0u);
     out = step(&exec, good(11u));
     assert_int_equal(out.input_status, AOCS_OK);
 
@@ -278,7 +278,7 @@ static void test_resync_after_k_consistent_samples(void **state)
         out = step(&exec, good(11u + k));
         assert_int_equal(out.input_status, AOCS_OK);
     }
-    assert_int_equal(exec.resyncs, 0u);
+    assert_int_equal(exec.accept.resyncs, 0u);
 }
 
 /* tick wrap modulo 2^32 is still a step of one */
@@ -337,7 +337,7 @@ static void test_realtime_bounds_of_hal_clock(void **state)
         out = step(&exec, sample(100u + k, fake_now_ns - 3u * PERIOD_NS));
         assert_int_equal(out.input_status, AOCS_ERR_INPUT_STALE);
     }
-    assert_int_equal(exec.resyncs, 0u);
+    assert_int_equal(exec.accept.resyncs, 0u);
 }
 
 int main(void)

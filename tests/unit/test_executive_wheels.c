@@ -1,6 +1,6 @@
 /*
  * The executive with a reaction wheel array (executive.h "Reaction wheels",
- * src/executive/wheels.c): the saturated body torque goes to the wheels, the
+ * src/actuation/actuation.c): the saturated body torque goes to the wheels, the
  * delivered torque (checked here as -Gs u_s, multiplied out in double) keeps
  * the law's direction, no wheel command exceeds its limit, a failed wheel gets
  * nothing, bad tachometer speeds give a zero command, the array's status codes

@@ -540,7 +540,7 @@ static void test_config_wheel_fields_apply(void **state)
     {
         static aocs_exec_t exec;
         assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
-        assert_int_equal(exec.wheels.n_healthy, 3);
+        assert_int_equal(exec.act.wheels.n_healthy, 3);
     }
     /* a per-wheel field with the wrong count, beyond the last wheel, or between the families: refused */
     {

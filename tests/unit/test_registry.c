@@ -57,6 +57,7 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     {"GUIDANCE_JERK_TIME", 64u},
     /* the wheel array (wheel_array.h), ids from 65 */
     {"WHEELS_COUNT", 65u}, {"WHEELS_FAILED_MASK", 66u}, {"WHEELS_NULL_GAIN", 67u},
+    {"ESTIMATOR", 68u},
     /* per wheel i: 100 + 8 i + field (pil_frame.h AOCS_PIL_WHEEL_FIELD_ROWS); wheel 0 and the last one here,
      * the rest by the rule in test_pil_ids_are_the_wire_values_and_unique */
     {"WHEEL0_AXIS", 100u}, {"WHEEL0_JS", 101u}, {"WHEEL0_U_MAX", 102u}, {"WHEEL0_OMEGA_MAX", 103u},

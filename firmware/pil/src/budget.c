@@ -42,7 +42,38 @@ static uint32_t budget_per_target(aocs_budget_target_t target, uint32_t m4f, uin
 
 uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target)
 {
-    return budget_per_target(target, AOCS_BUDGET_SLEW_INSTR_M4F, AOCS_BUDGET_SLEW_INSTR_M7);
+    return aocs_budget_guidance_instructions(AOCS_GUIDANCE_SLEW, target);
+}
+
+#define GUIDANCE_BUDGET_ROW(ID, NAME, CHECK, STEP, OWN_RATES, PLANNED, FEEDFORWARD, BUDGET_NS, INSTR_M4F, INSTR_M7) \
+    {(INSTR_M4F), (INSTR_M7)},
+
+uint32_t aocs_budget_guidance_instructions(aocs_guidance_id_t mode, aocs_budget_target_t target)
+{
+    static const uint32_t guidance_budget[AOCS_GUIDANCE_COUNT][AOCS_BUDGET_TARGET_COUNT] = {
+        AOCS_GUIDANCE_ROWS(GUIDANCE_BUDGET_ROW)};
+    uint32_t budget = 0U;
+    if (((int32_t)mode >= 0) && (mode < AOCS_GUIDANCE_COUNT)) {
+        budget = budget_per_target(target, guidance_budget[mode][AOCS_BUDGET_TARGET_CORTEX_M4F],
+                                   guidance_budget[mode][AOCS_BUDGET_TARGET_CORTEX_M7]);
+    }
+    return budget;
+}
+
+#define ESTIMATOR_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, INSTR_M4F, \
+                             INSTR_M7)                                                                         \
+    {(INSTR_M4F), (INSTR_M7)},
+
+uint32_t aocs_budget_estimator_instructions(aocs_det_id_t estimator, aocs_budget_target_t target)
+{
+    static const uint32_t estimator_budget[AOCS_DET_COUNT][AOCS_BUDGET_TARGET_COUNT] = {
+        AOCS_DETERMINATION_ROWS(ESTIMATOR_BUDGET_ROW)};
+    uint32_t budget = 0U;
+    if (((int32_t)estimator >= 0) && (estimator < AOCS_DET_COUNT)) {
+        budget = budget_per_target(target, estimator_budget[estimator][AOCS_BUDGET_TARGET_CORTEX_M4F],
+                                   estimator_budget[estimator][AOCS_BUDGET_TARGET_CORTEX_M7]);
+    }
+    return budget;
 }
 
 uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target)

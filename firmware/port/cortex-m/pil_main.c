@@ -156,10 +156,11 @@ static void pil_send_error(aocs_pil_err_t err, uint32_t type, uint32_t seq, uint
 static uint32_t pil_budget(aocs_law_id_t law)
 {
     uint32_t budget = aocs_budget_instructions(law, PIL_BUDGET_TARGET);
-    if ((pil_exec.cfg.guidance.mode == AOCS_GUIDANCE_MODE_SLEW) && (law != AOCS_LAW_NONE) &&
-        (aocs_law_is_orbit(law) == 0)) {
-        budget += aocs_budget_slew_instructions(PIL_BUDGET_TARGET); /* the slew reference (aocs/budget.h) */
+    if ((law != AOCS_LAW_NONE) && (aocs_law_is_orbit(law) == 0)) {
+        /* the guidance mode's own work, e.g. the slew reference (guidance_modes.def, aocs/budget.h) */
+        budget += aocs_budget_guidance_instructions(pil_exec.guidance.id, PIL_BUDGET_TARGET);
     }
+    budget += aocs_budget_estimator_instructions(pil_exec.det.id, PIL_BUDGET_TARGET); /* determination.def */
     if (pil_exec.cfg.wheels.n != 0U) {
         budget += aocs_budget_wheels_instructions(PIL_BUDGET_TARGET); /* the wheel allocation (aocs/budget.h) */
     }

@@ -81,6 +81,17 @@ uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target);
 uint32_t aocs_budget_slew_instructions(aocs_budget_target_t target);
 
 /*
+ * The instructions a guidance mode adds to an attitude law's step (the
+ * INSTR_M4F / INSTR_M7 columns of aocs/guidance/guidance_modes.def: SLEW =
+ * aocs_budget_slew_instructions); 0 out of range. Total.
+ */
+uint32_t aocs_budget_guidance_instructions(aocs_guidance_id_t mode, aocs_budget_target_t target);
+
+/* The instructions an estimator adds to every step (INSTR_M4F / INSTR_M7 of
+ * aocs/estimation/determination.def); 0 out of range. Total. */
+uint32_t aocs_budget_estimator_instructions(aocs_det_id_t estimator, aocs_budget_target_t target);
+
+/*
  * Instructions of one aocs_exec_step with `law` selected on `target`
  * (AOCS_LAW_NONE: a STANDBY step). 0 for an out-of-range law or target
  * (no budget known: every step would count as an overrun). Total.

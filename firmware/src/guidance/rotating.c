@@ -1,5 +1,6 @@
 /*
- * Rotating-target guidance of the executive (aocs/executive.h, "Guidance").
+ * Guidance mode ROTATING (aocs/guidance/guidance.h, guidance_modes.def), and
+ * the rate and time helpers the SLEW mode shares.
  *
  * The target frame D turns at a constant rate w (rad/s, components in D)
  * relative to N. Its attitude obeys qd' = 0.5 Xi(qd) w (SPEC 1), whose exact
@@ -24,7 +25,7 @@
  */
 #include <stddef.h>
 
-#include "exec_internal.h"
+#include "aocs/executive.h"
 
 /*
  * Below this |theta| (rad) sin(|theta|/2)/|theta| is evaluated by its series
@@ -34,7 +35,7 @@
  */
 #define GUIDANCE_SMALL_ANGLE AOCS_R(1.0e-4)
 
-aocs_quat_t aocs_exec_guidance_attitude(aocs_quat_t qd0_DN, aocs_vec3_t w_DN_D, real_t dt_s)
+aocs_quat_t aocs_guidance_rotating_attitude(aocs_quat_t qd0_DN, aocs_vec3_t w_DN_D, real_t dt_s)
 {
     const aocs_vec3_t theta = aocs_vec3_scale(w_DN_D, dt_s);
     const real_t a = aocs_vec3_norm(theta);
@@ -50,7 +51,7 @@ aocs_quat_t aocs_exec_guidance_attitude(aocs_quat_t qd0_DN, aocs_vec3_t w_DN_D, 
     return aocs_quat_mul(dq, qd0_DN);
 }
 
-void aocs_exec_guidance_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w_DN_D, aocs_vec3_t w_BN_B,
+void aocs_guidance_rotating_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w_DN_D, aocs_vec3_t w_BN_B,
                               aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B)
 {
     aocs_quat_t qe;
@@ -69,7 +70,7 @@ void aocs_exec_guidance_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t w
     }
 }
 
-void aocs_exec_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D, aocs_vec3_t wd_dot_D,
+void aocs_guidance_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D, aocs_vec3_t wd_dot_D,
                           aocs_vec3_t w_BN_B, aocs_vec3_t *wd_B, aocs_vec3_t *wd_dot_B)
 {
     aocs_quat_t qe;
@@ -88,7 +89,7 @@ void aocs_exec_slew_rates(aocs_quat_t q_BN, aocs_quat_t qd_DN, aocs_vec3_t wd_D,
     }
 }
 
-real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns)
+real_t aocs_guidance_elapsed_s(uint64_t t_ns, uint64_t t0_ns)
 {
     uint64_t d;
     uint64_t whole_s;
@@ -106,4 +107,28 @@ real_t aocs_exec_elapsed_s(uint64_t t_ns, uint64_t t0_ns)
     whole_s = d / 1000000000u;
     frac_ns = d % 1000000000u;
     return sign * ((real_t)whole_s + ((real_t)frac_ns * AOCS_R(1.0e-9)));
+}
+
+aocs_status_t aocs_guidance_rotating_check(const aocs_exec_guidance_config_t *gcfg,
+                                           const aocs_exec_target_t *target, aocs_vec3_t rate_D)
+{
+    /* the target's own checks (a rotating target with a fixed wd/wd_dot) are the executive's
+     * (AOCS_ERR_TARGET_INVALID, before this): nothing more here */
+    (void)gcfg;
+    (void)target;
+    (void)rate_D;
+    return AOCS_OK;
+}
+
+void aocs_guidance_rotating_step(aocs_guidance_t *g, const aocs_guidance_input_t *in, aocs_exec_target_t *target)
+{
+    const aocs_vec3_t w_D = g->rate_D;
+    target->qd_DN =
+        aocs_guidance_rotating_attitude(g->target.qd_DN, w_D, aocs_guidance_elapsed_s(in->t_ns, g->target_t0_ns));
+    target->wd_B = aocs_vec3_zero();
+    target->wd_dot_B = aocs_vec3_zero();
+    if (in->usable != 0) {
+        aocs_guidance_rotating_rates(in->est->q_BN, target->qd_DN, w_D, in->est->w_BN_B, &target->wd_B,
+                                     &target->wd_dot_B);
+    }
 }

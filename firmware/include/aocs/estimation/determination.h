@@ -1,0 +1,95 @@
+/*
+ * The attitude-determination stage (ARCHITECTURE.md "The flight pipeline"):
+ * from the accepted sensor sample, the attitude and rate estimate the
+ * guidance and the control law use, by one of the estimators of
+ * aocs/estimation/determination.def, selected by the configuration key
+ * "estimator" (config_fields.def; 0 = passthrough).
+ *
+ *   aocs_det_init(&det, &cfg.determination)     validates the selection, inits its state
+ *   loop: aocs_det_step(&det, &in, accept_status, dt_s, &est)
+ *   aocs_det_reset(&det)                         the state afresh (same configuration)
+ *
+ * The output's status is AOCS_OK when q_BN and w_BN_B may drive the law this
+ * step; otherwise the reason (the executive then flies SAFE). valid holds the
+ * AOCS_EXEC_VALID_ATT / _RATE flags of the estimate (SAFE damps with w_BN_B
+ * when its RATE flag is set and it is finite).
+ *
+ * PASSTHROUGH (passthrough.c): the measured q and w as they are, with the
+ * input acceptance's verdict as status. An MEKF keeps its state here
+ * (propagate with w and dt, update with q when accepted).
+ */
+#ifndef AOCS_ESTIMATION_DETERMINATION_H
+#define AOCS_ESTIMATION_DETERMINATION_H
+
+#include <stdint.h>
+
+#include "aocs/types.h"
+#include "aocs/math3.h"
+#include "aocs/exec/io.h"
+#include "aocs/estimation/determination.def"
+
+#define AOCS_DET_ENUM_ROW(ID, ...) AOCS_DET_##ID,
+typedef enum {
+    AOCS_DETERMINATION_ROWS(AOCS_DET_ENUM_ROW)
+    AOCS_DET_COUNT
+} aocs_det_id_t;
+
+/* Configuration of the stage (aocs_exec_config_t.determination): the selection, then each estimator's own. */
+#define AOCS_DET_CFG_DECL_CFG_OWN(CFG_T, CFG) CFG_T CFG;
+#define AOCS_DET_CFG_DECL_CFG_NONE(CFG_T, CFG)
+#define AOCS_DET_CONFIG_MEMBER(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, ...) AOCS_DET_CFG_DECL_##CFG_USE(CFG_T, CFG)
+typedef struct {
+    uint32_t estimator;           /* aocs_det_id_t value (key "estimator"); default 0 = PASSTHROUGH */
+    AOCS_DETERMINATION_ROWS(AOCS_DET_CONFIG_MEMBER)
+} aocs_det_config_t;
+
+/* The estimate of one step. */
+typedef struct {
+    aocs_quat_t q_BN;             /* attitude estimate */
+    aocs_vec3_t w_BN_B;           /* body rate estimate, rad/s */
+    uint32_t valid;               /* AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE of the estimate */
+    aocs_status_t status;         /* AOCS_OK: usable for the law this step; else why not */
+} aocs_det_output_t;
+
+/* One state of each estimator (member STATE of every row). */
+#define AOCS_DET_STATE_MEMBER(ID, NAME, STATE, STATE_T, ...) STATE_T STATE;
+typedef struct {
+    AOCS_DETERMINATION_ROWS(AOCS_DET_STATE_MEMBER)
+} aocs_det_states_t;
+
+typedef struct {
+    aocs_det_id_t id;             /* the selected estimator */
+    aocs_det_config_t cfg;        /* cached configuration (reset) */
+    aocs_det_states_t states;
+    int initialised;
+} aocs_det_t;
+
+/* Name of an estimator ("passthrough"); "unknown" out of range. Total. */
+const char *aocs_det_name(aocs_det_id_t id);
+
+/* AOCS_ERR_NULL_ARG; AOCS_ERR_ESTIMATOR_UNKNOWN (estimator out of range); else the estimator's init. */
+aocs_status_t aocs_det_init(aocs_det_t *det, const aocs_det_config_t *cfg);
+
+/* The selected estimator's state afresh from the cached configuration. AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED. */
+aocs_status_t aocs_det_reset(aocs_det_t *det);
+
+/*
+ * One step on the sensor sample in (accept_status: the input acceptance's
+ * verdict on it), dt_s the control period. *out is always written (on an
+ * error: q identity, w zero, valid 0, status the error). AOCS_ERR_NULL_ARG,
+ * AOCS_ERR_NOT_INITIALISED, else the estimator's own status.
+ */
+aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
+                            aocs_det_output_t *out);
+
+/* Host budget the selected estimator adds to a step, ns (BUDGET_NS). Total (0 on NULL). */
+uint64_t aocs_det_budget_ns(const aocs_det_t *det);
+
+/* ---- the rows' functions (determination.def), declared from the rows ---- */
+#define AOCS_DET_PROTOTYPES(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...)                   \
+    aocs_status_t INIT(STATE_T *s, const aocs_det_config_t *cfg);                                            \
+    aocs_status_t STEP(STATE_T *s, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,    \
+                       aocs_det_output_t *out);
+AOCS_DETERMINATION_ROWS(AOCS_DET_PROTOTYPES)
+
+#endif /* AOCS_ESTIMATION_DETERMINATION_H */

@@ -1,0 +1,122 @@
+/*
+ * The attitude-determination stage (aocs/estimation/determination.h): names,
+ * init/reset and the dispatch to the selected estimator, all expanded from
+ * the rows of aocs/estimation/determination.def (nothing here names one).
+ */
+#include <stddef.h>
+#include <string.h>
+
+#include "aocs/executive.h"
+
+#define DET_NAME_ROW(ID, NAME, ...) (NAME),
+#define DET_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (uint64_t)(BUDGET_NS),
+
+static int det_id_in_range(aocs_det_id_t id)
+{
+    return (((int)id >= 0) && (id < AOCS_DET_COUNT)) ? 1 : 0;
+}
+
+const char *aocs_det_name(aocs_det_id_t id)
+{
+    static const char *const det_names[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_NAME_ROW)};
+    const char *name = "unknown";
+    if (det_id_in_range(id) != 0) {
+        name = det_names[id];
+    }
+    return name;
+}
+
+#define DET_INIT_CASE(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...) \
+    case AOCS_DET_##ID:                                     \
+        st = INIT(&det->states.STATE, &det->cfg);           \
+        break;
+
+/* (Re)initialises the selected estimator's state from the cached configuration. */
+static aocs_status_t det_init_selected(aocs_det_t *det)
+{
+    aocs_status_t st = AOCS_ERR_ESTIMATOR_UNKNOWN;
+    switch (det->id) {
+    AOCS_DETERMINATION_ROWS(DET_INIT_CASE)
+    default:
+        st = AOCS_ERR_ESTIMATOR_UNKNOWN;
+        break;
+    }
+    return st;
+}
+
+aocs_status_t aocs_det_init(aocs_det_t *det, const aocs_det_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    if (det != NULL) {
+        (void)memset(det, 0, sizeof(*det));
+    }
+    if ((det == NULL) || (cfg == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (cfg->estimator >= (uint32_t)AOCS_DET_COUNT) {
+        st = AOCS_ERR_ESTIMATOR_UNKNOWN;
+    } else {
+        det->cfg = *cfg;
+        det->id = (aocs_det_id_t)cfg->estimator;
+        st = det_init_selected(det);
+        if (st == AOCS_OK) {
+            det->initialised = 1;
+        }
+    }
+    return st;
+}
+
+aocs_status_t aocs_det_reset(aocs_det_t *det)
+{
+    aocs_status_t st = AOCS_OK;
+    if (det == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (det->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        st = det_init_selected(det);
+    }
+    return st;
+}
+
+#define DET_STEP_CASE(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, ...) \
+    case AOCS_DET_##ID:                                                   \
+        st = STEP(&det->states.STATE, in, accept_status, dt_s, out);      \
+        break;
+
+aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
+                            aocs_det_output_t *out)
+{
+    aocs_status_t st = AOCS_OK;
+    if (out == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if ((det == NULL) || (in == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (det->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        switch (det->id) {
+        AOCS_DETERMINATION_ROWS(DET_STEP_CASE)
+        default:
+            st = AOCS_ERR_ESTIMATOR_UNKNOWN;
+            break;
+        }
+    }
+    if ((out != NULL) && (st != AOCS_OK) && (st != accept_status)) {
+        /* an error of the stage itself: nothing usable */
+        out->q_BN = aocs_quat_identity();
+        out->w_BN_B = aocs_vec3_zero();
+        out->valid = 0u;
+        out->status = st;
+    }
+    return st;
+}
+
+uint64_t aocs_det_budget_ns(const aocs_det_t *det)
+{
+    static const uint64_t det_budget_ns[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_BUDGET_ROW)};
+    uint64_t budget = 0u;
+    if ((det != NULL) && (det_id_in_range(det->id) != 0)) {
+        budget = det_budget_ns[det->id];
+    }
+    return budget;
+}
