@@ -559,19 +559,21 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
         const real_t h = (real_t)(f->t_ns - t_meas_ns) * MEKF_NS_TO_S;
         mekf_sym3_t s;
         mekf_sym3_t l;
+        mekf_sym3_t rmat;
         aocs_vec3_t y;
         if (dq.q[3] < AOCS_R(0.0)) {
             dq = aocs_quat_make(-dq.q[0], -dq.q[1], -dq.q[2], -dq.q[3]);
         }
         /* spec 5.6.5: y = 2 vec(dq), H = [I  h I] */
         y = aocs_vec3_scale(aocs_quat_vec(dq), AOCS_R(2.0));
-        /* spec 5.6.7: S = H P H^T + R */
+        /* spec 5.6.6: R_ij = sum_k C_ik r_S,k C_jk; spec 5.6.7: S = H P H^T + R */
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
                 real_t r = AOCS_R(0.0);
                 for (int k = 0; k < 3; ++k) {
-                    r += cmat.m[k][i] * f->r_S[k] * cmat.m[k][j];
+                    r += cmat.m[i][k] * f->r_S[k] * cmat.m[j][k];
                 }
+                rmat.m[i][j] = r;
                 s.m[i][j] = p->m[i][j] + (h * (p->m[i][j + 3] + p->m[i + 3][j])) + (h * h * p->m[i + 3][j + 3]) + r;
             }
         }
@@ -616,17 +618,12 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
             }
             pj = mekf_mat6_abt(&a, p, &a);
             for (int i = 0; i < 6; ++i) {
-                aocs_vec3_t kr; /* (K C diag(r_S) C^T)_i, through C^T K_i */
-                real_t ct[3];
-                for (int q = 0; q < 3; ++q) {
-                    ct[q] = (cmat.m[q][0] * k[i][0]) + (cmat.m[q][1] * k[i][1]) + (cmat.m[q][2] * k[i][2]);
-                }
+                real_t kr[3]; /* (K R)_i */
                 for (int j = 0; j < 3; ++j) {
-                    kr.v[j] = (cmat.m[0][j] * f->r_S[0] * ct[0]) + (cmat.m[1][j] * f->r_S[1] * ct[1]) +
-                              (cmat.m[2][j] * f->r_S[2] * ct[2]);
+                    kr[j] = (k[i][0] * rmat.m[0][j]) + (k[i][1] * rmat.m[1][j]) + (k[i][2] * rmat.m[2][j]);
                 }
                 for (int j = 0; j < 6; ++j) {
-                    pj.m[i][j] += (kr.v[0] * k[j][0]) + (kr.v[1] * k[j][1]) + (kr.v[2] * k[j][2]);
+                    pj.m[i][j] += (kr[0] * k[j][0]) + (kr[1] * k[j][1]) + (kr[2] * k[j][2]);
                 }
             }
             if (mekf_cov_condition(&pj, f->p_floor) == 0) {
