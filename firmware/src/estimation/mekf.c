@@ -92,6 +92,57 @@ static aocs_quat_t mekf_rotvec_to_quat(aocs_vec3_t r)
     return aocs_quat_make(k * r.v[0], k * r.v[1], k * r.v[2], AOCS_COS(half));
 }
 
+/* ---- the reference attitude in double (spec 5.6.9): same algebra as aocs_quat_mul (Shuster product) ---- */
+static aocs_mekf_quatd_t qd_of(aocs_quat_t q)
+{
+    aocs_mekf_quatd_t r;
+    for (int i = 0; i < 4; ++i) {
+        r.q[i] = (double)q.q[i];
+    }
+    return r;
+}
+
+static aocs_quat_t qd_to_real(aocs_mekf_quatd_t q)
+{
+    return aocs_quat_make((real_t)q.q[0], (real_t)q.q[1], (real_t)q.q[2], (real_t)q.q[3]);
+}
+
+static aocs_mekf_quatd_t qd_identity(void)
+{
+    aocs_mekf_quatd_t r = {{0.0, 0.0, 0.0, 1.0}};
+    return r;
+}
+
+static aocs_mekf_quatd_t qd_conj(aocs_mekf_quatd_t a)
+{
+    aocs_mekf_quatd_t r = {{-a.q[0], -a.q[1], -a.q[2], a.q[3]}};
+    return r;
+}
+
+/* a (x) b = [a4 b_v + b4 a_v - a_v x b_v ; a4 b4 - a_v . b_v] */
+static aocs_mekf_quatd_t qd_mul(aocs_mekf_quatd_t a, aocs_mekf_quatd_t b)
+{
+    aocs_mekf_quatd_t r;
+    r.q[0] = ((a.q[3] * b.q[0]) + (b.q[3] * a.q[0])) - ((a.q[1] * b.q[2]) - (a.q[2] * b.q[1]));
+    r.q[1] = ((a.q[3] * b.q[1]) + (b.q[3] * a.q[1])) - ((a.q[2] * b.q[0]) - (a.q[0] * b.q[2]));
+    r.q[2] = ((a.q[3] * b.q[2]) + (b.q[3] * a.q[2])) - ((a.q[0] * b.q[1]) - (a.q[1] * b.q[0]));
+    r.q[3] = (a.q[3] * b.q[3]) - ((a.q[0] * b.q[0]) + (a.q[1] * b.q[1]) + (a.q[2] * b.q[2]));
+    return r;
+}
+
+/* a / |a|; a is within rounding of unit here (products of unit quaternions) */
+static aocs_mekf_quatd_t qd_unit(aocs_mekf_quatd_t a)
+{
+    const double n = sqrt((a.q[0] * a.q[0]) + (a.q[1] * a.q[1]) + (a.q[2] * a.q[2]) + (a.q[3] * a.q[3]));
+    aocs_mekf_quatd_t r = a;
+    if (n > 0.5) {
+        for (int i = 0; i < 4; ++i) {
+            r.q[i] = a.q[i] / n;
+        }
+    }
+    return r;
+}
+
 /* q / |q|; total for the unit-ish quaternions of this file (their norm is within rounding of 1) */
 static aocs_quat_t mekf_unit(aocs_quat_t q)
 {
@@ -254,7 +305,7 @@ static void mekf_restart(aocs_mekf_t *f)
 {
     f->started = 0u;
     f->have_meas = 0u;
-    f->q_BN_hat = aocs_quat_identity();
+    f->q_BN_hat = qd_identity();
     f->bias_B_hat = aocs_vec3_zero();
     f->w_meas_B_radps = aocs_vec3_zero();
     (void)memset(&f->P, 0, sizeof(f->P));
@@ -350,7 +401,7 @@ aocs_status_t aocs_mekf_init(aocs_mekf_t *f, const aocs_mekf_config_t *cfg)
     }
     if (f != NULL) {
         (void)memset(f, 0, sizeof(*f));
-        f->q_BN_hat = aocs_quat_identity();
+        f->q_BN_hat = qd_identity();
         if (st == AOCS_OK) {
             const real_t sc = cfg->st_sigma_cross_rad;
             const real_t sa = cfg->st_sigma_about_rad;
@@ -453,7 +504,7 @@ static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, 
     } else {
         /* spec 5.6.2: q_hat(t) = [sin(th/2) r/th; cos(th/2)] (x) q_hat(t_prev) */
         dq = mekf_rotvec_to_quat(r);
-        f->q_BN_hat = mekf_unit(aocs_quat_mul(dq, f->q_BN_hat));
+        f->q_BN_hat = qd_unit(qd_mul(qd_of(dq), f->q_BN_hat));
         f->P = p;
         /* spec 5.6.8: the step's rotation into the history ring */
         f->hist_head = (f->hist_count == 0u) ? 0u : ((f->hist_head + 1u) % AOCS_MEKF_HISTORY_LEN);
@@ -520,24 +571,24 @@ static aocs_status_t mekf_check_sample(const aocs_mekf_t *f, const aocs_mekf_st_
  * spec 5.6.8: M, the rotation from t_meas to now along the history
  * (q_hat(now) = M (x) q_hat(t_meas)). 0 when t_meas is older than the history.
  */
-static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_quat_t *m)
+static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_mekf_quatd_t *m)
 {
     int found = (t_meas_ns >= f->t_ns) ? 1 : 0;
     uint32_t idx = f->hist_head;
-    aocs_quat_t acc = aocs_quat_identity();
+    aocs_mekf_quatd_t acc = qd_identity();
     for (uint32_t k = 0u; (k < f->hist_count) && (found == 0); ++k) {
         const aocs_mekf_hist_t *e = &f->hist[idx];
         if (e->t0_ns <= t_meas_ns) {
             /* t_meas inside (t0, t1]: the part of the step after it, with the step's rate */
             const real_t tau = (real_t)(e->t1_ns - t_meas_ns) * MEKF_NS_TO_S;
-            acc = aocs_quat_mul(acc, mekf_rotvec_to_quat(aocs_vec3_scale(e->w_B_radps, tau)));
+            acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(e->w_B_radps, tau))));
             found = 1;
         } else {
-            acc = aocs_quat_mul(acc, e->dq);
+            acc = qd_mul(acc, qd_of(e->dq));
             idx = (idx + AOCS_MEKF_HISTORY_LEN - 1u) % AOCS_MEKF_HISTORY_LEN;
         }
     }
-    *m = mekf_unit(acc);
+    *m = qd_unit(acc);
     return found;
 }
 
@@ -545,17 +596,18 @@ static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_
 static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint64_t t_meas_ns)
 {
     aocs_status_t st = AOCS_OK;
-    aocs_quat_t m;
+    aocs_mekf_quatd_t m;
     if (mekf_history_rotation(f, t_meas_ns, &m) == 0) {
         st = AOCS_ERR_MEKF_MEAS_TOO_OLD;
         mekf_count(&f->n_hostile);
     } else {
         const aocs_mekf_mat6_t *p = &f->P;
         /* spec 5.6.5: the measured body attitude carried to now, q_m = M (x) q_SB^-1 (x) q_SN */
-        const aocs_quat_t m_sb = aocs_quat_mul(m, aocs_quat_conj(f->cfg.q_SB));
-        aocs_quat_t dq = aocs_quat_mul(aocs_quat_mul(m_sb, q_SN), aocs_quat_conj(f->q_BN_hat));
+        const aocs_mekf_quatd_t m_sb = qd_mul(m, qd_conj(qd_of(f->cfg.q_SB)));
+        const aocs_mekf_quatd_t dqd = qd_mul(qd_mul(m_sb, qd_of(q_SN)), qd_conj(f->q_BN_hat));
+        aocs_quat_t dq = qd_to_real(dqd);
         /* spec 5.6.6: R = C diag(r_S) C^T, C = A(M (x) q_SB^-1) (S to B now) */
-        const aocs_mat3_t cmat = aocs_quat_to_dcm(m_sb);
+        const aocs_mat3_t cmat = aocs_quat_to_dcm(qd_to_real(m_sb));
         const real_t h = (real_t)(f->t_ns - t_meas_ns) * MEKF_NS_TO_S;
         mekf_sym3_t s;
         mekf_sym3_t l;
@@ -632,7 +684,7 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
             } else {
                 /* spec 5.6.6 reset: q_hat <- dq(dth) (x) q_hat, b_hat <- b_hat + db, error back to 0 */
                 const aocs_vec3_t dth = aocs_vec3_make(dx[0], dx[1], dx[2]);
-                f->q_BN_hat = mekf_unit(aocs_quat_mul(mekf_rotvec_to_quat(dth), f->q_BN_hat));
+                f->q_BN_hat = qd_unit(qd_mul(qd_of(mekf_rotvec_to_quat(dth)), f->q_BN_hat));
                 f->bias_B_hat = aocs_vec3_add(f->bias_B_hat, aocs_vec3_make(dx[3], dx[4], dx[5]));
                 f->P = pj;
                 f->t_last_meas_ns = t_meas_ns;
@@ -680,7 +732,7 @@ static aocs_status_t mekf_start(aocs_mekf_t *f, const aocs_mekf_st_sample_t *s, 
         const real_t pa = f->cfg.p0_att_sigma_rad * f->cfg.p0_att_sigma_rad;
         const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
         /* q_BN = q_SB^-1 (x) q_SN (A(q_SN) = A(q_SB) A(q_BN)) */
-        f->q_BN_hat = mekf_unit(aocs_quat_mul(aocs_quat_conj(f->cfg.q_SB), q_SN));
+        f->q_BN_hat = qd_unit(qd_mul(qd_conj(qd_of(f->cfg.q_SB)), qd_of(q_SN)));
         f->bias_B_hat = f->cfg.bias0_B_radps;
         (void)memset(&f->P, 0, sizeof(f->P));
         for (int i = 0; i < 3; ++i) {
@@ -700,10 +752,9 @@ static void mekf_fill_output(const aocs_mekf_t *f, aocs_status_t st, aocs_status
 {
     (void)memset(out, 0, sizeof(*out));
     if (st == AOCS_OK) {
-        out->q_BN_hat = f->q_BN_hat;
-        if (out->q_BN_hat.q[3] < AOCS_R(0.0)) {
-            out->q_BN_hat = aocs_quat_make(-f->q_BN_hat.q[0], -f->q_BN_hat.q[1], -f->q_BN_hat.q[2], -f->q_BN_hat.q[3]);
-        }
+        const double sgn = (f->q_BN_hat.q[3] < 0.0) ? -1.0 : 1.0;
+        out->q_BN_hat = aocs_quat_make((real_t)(sgn * f->q_BN_hat.q[0]), (real_t)(sgn * f->q_BN_hat.q[1]),
+                                       (real_t)(sgn * f->q_BN_hat.q[2]), (real_t)(sgn * f->q_BN_hat.q[3]));
         out->bias_B_hat = f->bias_B_hat;
         out->w_BN_B_hat = aocs_vec3_sub(f->w_meas_B_radps, f->bias_B_hat);
         out->P = f->P;

@@ -60,6 +60,11 @@ typedef struct {
     real_t max_gap_s;            /* longest propagation step accepted, s, > 0 (AOCS_ERR_MEKF_GAP beyond) */
 } aocs_mekf_config_t;
 
+/* A quaternion in double (scalar last): the reference attitude of both builds (spec 5.6.9). */
+typedef struct {
+    double q[4];
+} aocs_mekf_quatd_t;
+
 /* A 6x6 matrix, row-major m[row][col]; rows/cols 0..2 attitude error, 3..5 bias error. */
 typedef struct {
     real_t m[6][6];
@@ -112,7 +117,7 @@ typedef struct {
     real_t r_S[3];               /* tracker noise variances on the axes of S, rad^2 */
     real_t p_floor[6];           /* floor of diag P (spec 5.6.9) */
     /* internal state */
-    aocs_quat_t q_BN_hat;
+    aocs_mekf_quatd_t q_BN_hat;  /* the reference attitude, in double in both builds (spec 5.6.9) */
     aocs_vec3_t bias_B_hat;
     aocs_vec3_t w_meas_B_radps;  /* gyro rate of the last propagation (output rate: it minus b_hat) */
     aocs_mekf_mat6_t P;
