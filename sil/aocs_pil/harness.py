@@ -3,7 +3,7 @@
 The plant (aocs_plant.plant.Plant) runs in this process; the flight computer
 is a separate process on LCM: fsw_node (target "host") or the PIL bridge
 (targets "pil-m4f", "pil-m7") started with the same configuration file
-(aocs_wire.fsw_config.node_config). Each period: sense, publish
+(aocs_flightcfg.fsw_config.node_config). Each period: sense, publish
 sensors_t, wait (bounded) for the actuator_cmd_t of that tick, apply its
 u_sat (and wheel torques), integrate: the closed loop of aocs_loop.core with its
 LCM adapter, as plant_node packs and applies. Every command and the true pointing
@@ -37,12 +37,13 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths, registry
+from aocs_flightcfg import fsw_config
 from aocs_loop import core
 from aocs_loop.frames import PlantPort, SensorFrame
 from aocs_loop.lcm_adapter import LcmCodec, LcmFlightComputer
 from aocs_plant.plant import Plant
 from aocs_plant.scenario import load
-from aocs_wire import fsw_config, netns, wire
+from aocs_wire import netns, wire
 
 from . import config as nodecfg
 from . import frame

@@ -24,8 +24,9 @@ from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
 from aocs_analysis import verdict
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import load
-from aocs_wire import fsw_config, lcmlog, netns
+from aocs_wire import lcmlog, netns
 
 from . import events as evmod
 from . import orchestrate, scenario_gains, scenario_opts

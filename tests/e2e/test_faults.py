@@ -22,10 +22,11 @@ import pytest
 from aocs import cmd_replay
 from aocs_analysis import run_metrics as results
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import load
 from aocs_runner import orchestrate
 from aocs_runner.run import RunOptions, execute
-from aocs_wire import fsw_config, lcmlog
+from aocs_wire import lcmlog
 from aocs_wire.recorder import Recorder
 
 LIMIT = 0.5

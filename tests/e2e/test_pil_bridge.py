@@ -261,8 +261,8 @@ def test_wire_behaviour_is_fsw_nodes(env, fsw_node_bin, lcm_link, aocs_lcm, node
 
 # ---- failures: clear, bounded, exit status 1 --------------------------------------------------
 def _bridge(tmp_path, target, extra=(), law="quat_pd"):
+    from aocs_flightcfg import fsw_config
     from aocs_plant.scenario import load
-    from aocs_wire import fsw_config
     sc = load("irassi_small")
     cfg = fsw_config.write(tmp_path / "f.cfg", harness.node_config_for(sc, law))
     return harness.FlightComputer(target, cfg, tmp_path, extra_args=list(extra))

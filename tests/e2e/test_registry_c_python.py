@@ -5,7 +5,7 @@ Python derives from the build's registry JSON (aocs_core.registry).
   the law's registry fields with their reference values, and the CONFIG payload the bridge
   makes of it (aocs_pil.config: the same parser) decodes to those values;
 - every law on its reference scenario: the configuration the runner writes
-  (aocs_wire.fsw_config, keys derived from the registry and the scenario schema) is
+  (aocs_flightcfg.fsw_config, keys derived from the registry and the scenario schema) is
   accepted by fsw_node;
 - every PIL CONFIG field: encoded by the Python codec (aocs_pil.frame, ids from the
   registry), decoded by the C codec (aocs_pil_config_decode, through the test hook
@@ -25,10 +25,10 @@ import pytest
 
 import registry_text
 from aocs_core import registry
+from aocs_flightcfg import fsw_config
 from aocs_pil import config as nodecfg
 from aocs_pil import frame
 from aocs_plant.scenario import load
-from aocs_wire import fsw_config
 
 LAWS = [r["name"] for r in registry_text.law_rows()]
 #: general keys of a minimal valid configuration (the law's fields are added); no network

@@ -14,10 +14,11 @@ import pytest
 
 import pil_support
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant import load
 from aocs_runner import orchestrate
 from aocs_runner.run import RunOptions, execute
-from aocs_wire import fsw_config, lcmlog
+from aocs_wire import lcmlog
 
 
 @pytest.fixture(scope="module")

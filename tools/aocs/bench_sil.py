@@ -33,12 +33,13 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_loop.frames import SensorFrame, valid_bits
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import integrate_open_loop
 from aocs_plant.scenario import load
 from aocs_runner.run import RunOptions, execute
-from aocs_wire import fsw_config, netns, wire
+from aocs_wire import netns, wire
 
 
 def _pct(vals, p):

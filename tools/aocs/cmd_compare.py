@@ -10,10 +10,11 @@ from pathlib import Path
 from aocs_compare import sweep as sweep_mod
 from aocs_compare.compare import compare, comparison_table_for
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
 from aocs_report import text
 from aocs_runner import orchestrate
-from aocs_wire import fsw_config, netns
+from aocs_wire import netns
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
 

@@ -26,10 +26,11 @@ from pathlib import Path
 import lcm
 
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_runner import events as evmod
 from aocs_runner import orchestrate
 from aocs_runner.run import fc_command
-from aocs_wire import fsw_config, lcmlog, netns, wire
+from aocs_wire import lcmlog, netns, wire
 
 EXIT_OK, EXIT_MISMATCH, EXIT_USAGE = 0, 1, 2
 

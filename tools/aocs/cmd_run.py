@@ -12,11 +12,12 @@ import sys
 
 from aocs_analysis import verdict
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import events as evmod
 from aocs_runner import orchestrate
 from aocs_runner.run import RECORDERS, TARGETS, RunFailed, RunOptions, execute
-from aocs_wire import fsw_config, netns
+from aocs_wire import netns
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
 

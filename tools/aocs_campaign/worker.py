@@ -28,11 +28,12 @@ from pathlib import Path
 import numpy as np
 
 from aocs_core import paths
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import events as evmod
 from aocs_runner import orchestrate, scenario_opts
 from aocs_runner.run import RunFailed, RunOptions, execute
-from aocs_wire import fsw_config, netns
+from aocs_wire import netns
 
 from .plant_server import PlantServer
 

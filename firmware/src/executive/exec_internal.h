@@ -13,6 +13,9 @@ int aocs_exec_law_is_valid(aocs_law_id_t law);
 /* Target check: finite, unit qd (AOCS_ERR_TARGET_INVALID). */
 aocs_status_t aocs_exec_target_check(const aocs_exec_target_t *target);
 
+/* SAFE-mode gain check: AOCS_ERR_PARAM_NOT_FINITE (not finite), AOCS_ERR_GAIN_NOT_POSITIVE (<= 0). */
+aocs_status_t aocs_exec_safe_config_check(const aocs_exec_config_t *cfg);
+
 /* Safe-mode command before saturation: rate damping of the estimate (attitude, RATE flag, finite), else zero. */
 aocs_vec3_t aocs_exec_safe_command(const aocs_exec_config_t *cfg, aocs_law_id_t law,
                                    const aocs_det_output_t *est);

@@ -67,10 +67,8 @@ static aocs_status_t config_check(const aocs_exec_config_t *cfg, uint64_t *perio
                (aocs_vec3_is_finite(cfg->target_rotation_rate_D) == 0) ||
                (rotating_target_check(&cfg->target, aocs_guidance_vec_nonzero(cfg->target_rotation_rate_D)) != AOCS_OK)) {
         st = AOCS_ERR_TARGET_INVALID;
-    } else if (!AOCS_IS_FINITE(cfg->k_safe)) {
-        st = AOCS_ERR_PARAM_NOT_FINITE;
-    } else if (!(cfg->k_safe > AOCS_R(0.0))) {
-        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else if (aocs_exec_safe_config_check(cfg) != AOCS_OK) {
+        st = aocs_exec_safe_config_check(cfg);
     } else if ((cfg->recover_good_samples == 0u) || (cfg->missing_max_periods == 0u)) {
         st = AOCS_ERR_GAIN_NOT_POSITIVE;
     } else if ((cfg->clock == AOCS_EXEC_CLOCK_REALTIME) && (cfg->stale_timeout_ns == 0u)) {

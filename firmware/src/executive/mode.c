@@ -1,6 +1,7 @@
 /*
  * The executive's mode helpers: the saturating event counter, the target
- * check and the SAFE-mode command (rate damping on the estimate).
+ * check, and the SAFE mode: its configuration check and its command (rate
+ * damping on the estimate).
  */
 #include <stddef.h>
 
@@ -50,3 +51,18 @@ aocs_vec3_t aocs_exec_safe_command(const aocs_exec_config_t *cfg, aocs_law_id_t 
     return u;
 }
 
+
+aocs_status_t aocs_exec_safe_config_check(const aocs_exec_config_t *cfg)
+{
+    aocs_status_t st = AOCS_OK;
+    if (cfg == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (!AOCS_IS_FINITE(cfg->k_safe)) {
+        st = AOCS_ERR_PARAM_NOT_FINITE;
+    } else if (!(cfg->k_safe > AOCS_R(0.0))) {
+        st = AOCS_ERR_GAIN_NOT_POSITIVE;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}

@@ -23,7 +23,7 @@ coulomb_width_rad_s, SPEC 5.3 "smooth near 0"):
 
 The array is either a pyramid (spin axes cant_deg from one body axis, equally spaced around it,
 the first at azimuth 0 from the next body axis in cyclic order) or explicit unit axes. The same
-description gives the flight software's wheel configuration (aocs_wire.fsw_config), so the two
+description gives the flight software's wheel configuration (aocs_flightcfg.fsw_config), so the two
 cannot disagree; geometry() is that one derivation.
 """
 from __future__ import annotations

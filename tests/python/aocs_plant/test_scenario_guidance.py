@@ -1,10 +1,10 @@
 """The scenario's [guidance] section (aocs_plant.scenario, docs/spec.md 5.1.1): defaults, bounds,
-one-line errors naming the key, and what aocs_wire.fsw_config writes for it (nothing in step mode)."""
+one-line errors naming the key, and what aocs_flightcfg.fsw_config writes for it (nothing in step mode)."""
 import pytest
 
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import GuidanceConfig, ScenarioError, load
 from aocs_runner import scenario_opts
-from aocs_wire import fsw_config
 
 
 def test_default_is_step_and_writes_no_key():

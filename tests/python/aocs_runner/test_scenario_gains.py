@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError, load
 from aocs_runner import scenario_gains
-from aocs_wire import fsw_config
 
 J_IRASSI = (2059.5, 5954.2, 5974.3)
 REF = "laws.lqr_quat.tables.lqr_quat_ref"

@@ -47,7 +47,7 @@
  * the candidates. So one bad sample (any tick, any time, first one or not)
  * costs itself and at most K - 1 later good samples: the executive is
  * NOMINAL again at the latest with the (K - 1 + M)-th good sample after it
- * (M = recover_good_samples), and with the M-th when the bad sample did not
+ * (M of exec/config.h), and with the M-th when the bad sample did not
  * continue the reference.
  *
  * K = 3: one bad sample can never resynchronise, two forged samples that

@@ -12,11 +12,11 @@
  *
  * The step is timed (aocs/exec/timing.h) from determination to the end of
  * actuation. Modes: STANDBY (zero command), NOMINAL (the law's command plus
- * the guidance feedforward), SAFE (attitude: u = -k_safe w of the estimate
- * within the limits; orbit: zero force). SAFE is entered on a sample the
+ * the guidance feedforward), SAFE (attitude: rate damping on the estimate,
+ * mode.c, within the limits; orbit: zero force). SAFE is entered on a sample the
  * acceptance or the determination rejects, a missing sample or a law error,
- * and left for the requested mode after recover_good_samples consecutive
- * good samples (valid, fresh, no gap, and the law evaluates without error:
+ * and left for the requested mode after M consecutive good samples
+ * (exec/config.h) (valid, fresh, no gap, and the law evaluates without error:
  * in SAFE the law runs in the shadow to know that).
  */
 #ifndef AOCS_EXEC_PIPELINE_H
@@ -62,9 +62,9 @@ typedef struct {
  * of range); AOCS_ERR_UNKNOWN_LAW; AOCS_ERR_TARGET_INVALID (non-finite or
  * non-unit qd, non-finite wd/wd_dot, non-finite target_rotation_rate_D, or
  * a rotating target with a non-zero wd/wd_dot); AOCS_ERR_PARAM_NOT_FINITE (limit,
- * k_safe); AOCS_ERR_SAT_LIMIT_NOT_POSITIVE (negative limit, mixed zero and
+ * safe-mode gain); AOCS_ERR_SAT_LIMIT_NOT_POSITIVE (negative limit, mixed zero and
  * non-zero per-axis limits, or no limit set); AOCS_ERR_GAIN_NOT_POSITIVE
- * (k_safe <= 0, M or N == 0, real-time stale timeout == 0);
+ * (safe-mode gain <= 0, M or N == 0, real-time stale timeout == 0);
  * AOCS_ERR_MODE_INVALID (clock out of range); AOCS_ERR_GUIDANCE_MODE_INVALID
  * (guidance.mode out of range); in SLEW mode AOCS_ERR_GUIDANCE_TARGET_MOVING
  * (rotating target or non-zero wd/wd_dot) and the slew config's codes

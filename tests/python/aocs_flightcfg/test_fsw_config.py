@@ -1,4 +1,4 @@
-"""The fsw_node configuration file written from a scenario (aocs_wire.fsw_config).
+"""The fsw_node configuration file written from a scenario (aocs_flightcfg.fsw_config).
 
 Expected values come from independent sources: the lcm-gen bindings, the
 scenario loader, the firmware headers, the plant's own rotation functions,
@@ -12,8 +12,8 @@ import subprocess
 import pytest
 
 from aocs_core import conventions as rot
+from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError, list_scenarios, load
-from aocs_wire import fsw_config
 
 
 def _vals(text):
