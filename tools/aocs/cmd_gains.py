@@ -113,13 +113,18 @@ def summary(designs) -> dict:
 # Numbers in the tables may move in their last digits between machines (a
 # different BLAS kernel in the Riccati or conic solver); everything else must
 # be identical. Table entries (the AOCS_R(...) literals) must agree within
-# TABLE_RTOL of the largest entry of their line (1e-6: the conic solvers stop
-# at ~1e-8 relative and the H-infinity tables are rounded to 9 digits, so one
-# unit in the last digit must pass; any change of a design input moves K by
-# far more); the solver statistics of the
-# provenance comments (residuals, gamma, poles: always printed in exponent
-# notation) may differ; every other character, design inputs included, may not.
-TABLE_RTOL = 1e-6
+# TABLE_RTOL of the largest entry of their line. The LMI designs are the
+# loosest: the interior-point solvers stop at ~1e-8 on the duality gap, and
+# the K recovered from the LMI variables (K = Y X^-1, an ill-conditioned X)
+# moved by 6.5e-6 of its line's largest entry between the Intel machine the
+# tables were made on and an AMD EPYC with the same pinned packages
+# (hinf_bounded, row 1). 1e-4 passes that with a margin of 15 and is still
+# far below what a change of a design input does to K (alpha_sel 1% higher
+# moves the tables' lines by up to 1e-2); the design inputs themselves are
+# compared character for character. The solver statistics of the provenance
+# comments (residuals, gamma, poles: always printed in exponent notation) may
+# differ; every other character may not.
+TABLE_RTOL = 1e-4
 _LITERAL = re.compile(r"AOCS_R\(([^)]*)\)")
 _STATISTIC = re.compile(r"[-+]?\d+\.?\d*[eE][-+]?\d+")
 
