@@ -347,7 +347,8 @@ static int mekf_all_finite(const real_t *v, int n)
 static uint64_t mekf_max_gap_ns(const aocs_mekf_t *f)
 {
     /* validated at init: 0 < max_gap_s <= AOCS_MEKF_MAX_GAP_LIMIT_S, so the product fits */
-    return (uint64_t)(f->cfg.max_gap_s * AOCS_R(1.0e9));
+    const real_t max_gap_ns = f->cfg.max_gap_s * AOCS_R(1.0e9);
+    return (uint64_t)max_gap_ns;
 }
 
 /* ---- configuration ---- */
@@ -463,7 +464,8 @@ static aocs_status_t mekf_check_rate(aocs_vec3_t w)
 static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, uint64_t t_ns)
 {
     aocs_status_t st = AOCS_OK;
-    const real_t dt = (real_t)(t_ns - f->t_ns) * MEKF_NS_TO_S;
+    const uint64_t dt_ns = t_ns - f->t_ns;
+    const real_t dt = (real_t)dt_ns * MEKF_NS_TO_S;
     const real_t sv2 = f->cfg.gyro_arw_radpsqrts * f->cfg.gyro_arw_radpsqrts;
     const real_t su2 = f->cfg.gyro_rrw_radps1p5 * f->cfg.gyro_rrw_radps1p5;
     /* spec 5.6.2: omega_hat = omega_m - b_hat, held over the step; r = omega_hat dt */
@@ -474,7 +476,6 @@ static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, 
     const aocs_mat3_t v2 = aocs_mat3_mul(v, v);
     aocs_mekf_mat6_t phi;
     aocs_mekf_mat6_t p;
-    aocs_quat_t dq;
 
     /* spec 5.6.3: Phi11 = I - s0 V + f1 V^2, Phi12 = dt (-I + f1 V - f2 V^2), Phi21 = 0, Phi22 = I */
     (void)memset(&phi, 0, sizeof(phi));
@@ -503,7 +504,7 @@ static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, 
         mekf_restart(f);
     } else {
         /* spec 5.6.2: q_hat(t) = [sin(th/2) r/th; cos(th/2)] (x) q_hat(t_prev) */
-        dq = mekf_rotvec_to_quat(r);
+        const aocs_quat_t dq = mekf_rotvec_to_quat(r);
         f->q_BN_hat = qd_unit(qd_mul(qd_of(dq), f->q_BN_hat));
         f->P = p;
         /* spec 5.6.8: the step's rotation into the history ring */
@@ -573,14 +574,18 @@ static aocs_status_t mekf_check_sample(const aocs_mekf_t *f, const aocs_mekf_st_
  */
 static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_mekf_quatd_t *m)
 {
-    int found = (t_meas_ns >= f->t_ns) ? 1 : 0;
+    int found = 0;
     uint32_t idx = f->hist_head;
     aocs_mekf_quatd_t acc = qd_identity();
+    if (t_meas_ns >= f->t_ns) {
+        found = 1; /* at or after the estimate: nothing to undo */
+    }
     for (uint32_t k = 0u; (k < f->hist_count) && (found == 0); ++k) {
         const aocs_mekf_hist_t *e = &f->hist[idx];
         if (e->t0_ns <= t_meas_ns) {
             /* t_meas inside (t0, t1]: the part of the step after it, with the step's rate */
-            const real_t tau = (real_t)(e->t1_ns - t_meas_ns) * MEKF_NS_TO_S;
+            const uint64_t tau_ns = e->t1_ns - t_meas_ns;
+            const real_t tau = (real_t)tau_ns * MEKF_NS_TO_S;
             acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(e->w_B_radps, tau))));
             found = 1;
         } else {
@@ -608,7 +613,8 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
         aocs_quat_t dq = qd_to_real(dqd);
         /* spec 5.6.6: R = C diag(r_S) C^T, C = A(M (x) q_SB^-1) (S to B now) */
         const aocs_mat3_t cmat = aocs_quat_to_dcm(qd_to_real(m_sb));
-        const real_t h = (real_t)(f->t_ns - t_meas_ns) * MEKF_NS_TO_S;
+        const uint64_t h_ns = f->t_ns - t_meas_ns;
+        const real_t h = (real_t)h_ns * MEKF_NS_TO_S;
         mekf_sym3_t s;
         mekf_sym3_t l;
         mekf_sym3_t rmat;
