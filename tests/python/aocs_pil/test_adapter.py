@@ -45,7 +45,8 @@ def test_the_reply_of_a_step_reply():
     r = frame.StepReply(tick=7, step_status=0, law=3, mode=1, law_status=5, input_status=0, u_cmd=(0.1, 0.2, 0.3),
                         u_unsat=(1.0, 2.0, 3.0), saturated=1, overrun=0, exact=1, instructions=21600,
                         law_instructions=1000, budget=50000, counters=dict.fromkeys(frame.COUNTER_NAMES, 0),
-                        pil_overruns=0, exec_law=3, exec_mode=1, u_wheels=(0.01, 0.02, 0.03, 0.04, 0.0, 0.0))
+                        pil_overruns=0, exec_law=3, exec_mode=1, u_wheels=(0.01, 0.02, 0.03, 0.04, 0.0, 0.0),
+                        wheel_scale=1.0, wheel_limited=0, wheel_status=0, h_total=(0.0, 0.0, 0.0), speed_margin=1.0)
     rep = adapter.reply_of(r, 7, 4, 216e6)
     assert rep.command.u == (0.1, 0.2, 0.3) and rep.command.u_wheels == (0.01, 0.02, 0.03, 0.04)
     assert (rep.law_id, rep.mode, rep.status, rep.step_ns, rep.overrun, rep.raw) == (3, 1, 5, 100_000, False, r)
