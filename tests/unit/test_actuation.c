@@ -10,6 +10,7 @@
  *  - the limit check's codes.
  */
 #include "test_support.h"
+#include "wheel_test_support.h"
 
 #include <string.h>
 
@@ -17,17 +18,7 @@
 
 static void pyramid(aocs_wheels_config_t *w)
 {
-    double beta = acos(1.0 / sqrt(3.0));
-    aocs_wheels_config_default(w);
-    w->n = 4u;
-    for (uint32_t i = 0u; i < 4u; ++i) {
-        double az = 0.5 * 3.14159265358979323846 * (double)i;
-        w->axis_B[i] = aocs_vec3_make((real_t)(sin(beta) * cos(az)), (real_t)(sin(beta) * sin(az)), (real_t)cos(beta));
-        w->js_kgm2[i] = AOCS_R(0.08);
-        w->u_max_nm[i] = AOCS_R(0.25);
-        w->omega_max_radps[i] = AOCS_R(600.0);
-    }
-    w->inertia_B_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
+    test_wheels_pyramid(w);
 }
 
 static aocs_exec_config_t config(int wheels)

@@ -6,30 +6,19 @@
  * envelope of the reference pyramid and every configuration status code.
  */
 #include "test_support.h"
+#include "wheel_test_support.h"
 
 #include "aocs/actuation/wheel_array.h"
 
 #define PI_D 3.14159265358979323846
-#define JS 0.08
-#define UMAX 0.25
-#define WMAX 600.0
+#define JS TEST_WHEEL_JS_KGM2
+#define UMAX TEST_WHEEL_U_MAX_NM
+#define WMAX TEST_WHEEL_OMEGA_MAX_RADPS
 
-/* the SPEC 5.3 reference pyramid about z: cant acos(1/sqrt 3), azimuths 0, 90, 180, 270 deg from x */
 static void pyramid(aocs_wheels_config_t *cfg)
 {
-    double beta = acos(1.0 / sqrt(3.0));
-    aocs_wheels_config_default(cfg);
-    cfg->n = 4u;
-    for (uint32_t i = 0u; i < 4u; ++i) {
-        double az = 0.5 * PI_D * (double)i;
-        cfg->axis_B[i] = aocs_vec3_make((real_t)(sin(beta) * cos(az)), (real_t)(sin(beta) * sin(az)),
-                                        (real_t)cos(beta));
-        cfg->js_kgm2[i] = AOCS_R(JS);
-        cfg->u_max_nm[i] = AOCS_R(UMAX);
-        cfg->omega_max_radps[i] = AOCS_R(WMAX);
-    }
+    test_wheels_pyramid(cfg);
     cfg->period_s = AOCS_R(0.1);
-    cfg->inertia_B_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
 }
 
 /* independent minimum-norm solution in double: u_s = -Gs^T (Gs Gs^T)^-1 u_c over the healthy wheels */

@@ -9,6 +9,7 @@ period whether or not a fault hides the sample, so a fault never shifts later no
 from __future__ import annotations
 
 import math
+from itertools import chain
 
 
 class SensorSuite:
@@ -50,16 +51,9 @@ class SensorSuite:
         ok = True
         truth = self.history[0]  # period k - latency, or period 0 early in the run
         faulty = bool(self.faults)
-        for i, s in enumerate(self._delayed):
-            value = s.measure(truth[i])
-            if faulty:
-                ok = self._fault(s, value, t, out) and ok
-            else:
-                out[s.value_field] = value
-                if s.valid_field is not None:
-                    out[s.valid_field] = True
-        for s, src in self._now:
-            value = s.measure(src())
+        delayed = ((s, s.measure(truth[i])) for i, s in enumerate(self._delayed))
+        now = ((s, s.measure(src())) for s, src in self._now)
+        for s, value in chain(delayed, now):   # in this order: the delayed sensors, then the current ones
             if faulty:
                 ok = self._fault(s, value, t, out) and ok
             else:
