@@ -25,22 +25,6 @@ typedef struct {
     int underflow;
 } pil_reader_t;
 
-static void w_init(pil_writer_t *w, uint8_t *buf, uint32_t cap, uint32_t pos)
-{
-    w->buf = buf;
-    w->cap = cap;
-    w->pos = pos;
-    w->overflow = 0;
-}
-
-static void r_init(pil_reader_t *r, const uint8_t *buf, uint32_t len)
-{
-    r->buf = buf;
-    r->len = len;
-    r->pos = 0U;
-    r->underflow = 0;
-}
-
 /* n little-endian bytes of value */
 static void w_uint(pil_writer_t *w, uint64_t value, uint32_t n)
 {
@@ -225,8 +209,7 @@ static aocs_pil_err_t r_result(const pil_reader_t *r)
     {                                                                                  \
         aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
         if ((x != NULL) && (out != NULL)) {                                            \
-            pil_writer_t w;                                                            \
-            w_init(&w, out, cap, 0U);                                                  \
+            pil_writer_t w = {out, cap, 0U, 0};                                        \
             put_##FN(&w, x);                                                           \
             err = w_result(&w, BYTES);                                                 \
         }                                                                              \
@@ -236,10 +219,9 @@ static aocs_pil_err_t r_result(const pil_reader_t *r)
     {                                                                                  \
         aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
         if ((p != NULL) && (x != NULL)) {                                              \
-            pil_reader_t r;                                                            \
+            pil_reader_t r = {p, len, 0U, 0};                                          \
             TYPE v;                                                                    \
             (void)memset(&v, 0, sizeof(v));                                            \
-            r_init(&r, p, len);                                                        \
             get_##FN(&r, &v);                                                          \
             err = r_result(&r);                                                        \
             if (err == AOCS_PIL_OK) {                                                  \
@@ -315,7 +297,6 @@ uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len)
     return crc ^ 0xFFFFFFFFU;
 }
 
-
 aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const uint8_t *payload, uint32_t len,
                                      uint8_t *out, uint32_t cap, uint32_t *frame_len)
 {
@@ -327,9 +308,8 @@ aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const u
     } else if (cap < (AOCS_PIL_HEADER_BYTES + len + AOCS_PIL_CRC_BYTES)) {
         err = AOCS_PIL_ERR_BUFFER;
     } else {
-        pil_writer_t w;
+        pil_writer_t w = {out, cap, 0U, 0};
         uint32_t i;
-        w_init(&w, out, cap, 0U);
         w_uint(&w, (uint64_t)AOCS_PIL_MAGIC, 4U);
         w_uint(&w, (uint64_t)AOCS_PIL_VERSION, 1U);
         w_uint(&w, (uint64_t)(uint32_t)type, 1U);
@@ -353,11 +333,9 @@ aocs_pil_err_t aocs_pil_header_decode(const uint8_t *buf, uint32_t len, aocs_pil
     } else if (len < AOCS_PIL_HEADER_BYTES) {
         err = AOCS_PIL_ERR_LENGTH;
     } else {
-        pil_reader_t r;
-        uint32_t magic;
+        pil_reader_t r = {buf, AOCS_PIL_HEADER_BYTES, 0U, 0};
+        const uint32_t magic = (uint32_t)r_uint(&r, 4U);
         aocs_pil_header_t h;
-        r_init(&r, buf, AOCS_PIL_HEADER_BYTES);
-        magic = (uint32_t)r_uint(&r, 4U);
         h.version = (uint8_t)r_uint(&r, 1U);
         h.type = (uint8_t)r_uint(&r, 1U);
         h.length = (uint16_t)r_uint(&r, 2U);
@@ -387,8 +365,7 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
         if (len != (body + AOCS_PIL_CRC_BYTES)) {
             err = AOCS_PIL_ERR_LENGTH;
         } else {
-            pil_reader_t r;
-            r_init(&r, &buf[body], AOCS_PIL_CRC_BYTES);
+            pil_reader_t r = {&buf[body], AOCS_PIL_CRC_BYTES, 0U, 0};
             if ((uint32_t)r_uint(&r, 4U) != aocs_pil_crc32(buf, body)) {
                 err = AOCS_PIL_ERR_CRC;
             } else {
@@ -403,6 +380,31 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
 /* the widest real field: the 3x9 gain of lqr_quat_i (laws.def GAIN) */
 #define PIL_CFG_COUNT_MAX AOCS_CONFIG_VALUES_MAX
 
+/* One entry at *pos: field, count, then the count reals, the count bytes of name, or (neither given) the one
+ * integer; *pos moves past it only when it fits. */
+static aocs_pil_err_t cfg_put(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field, uint32_t count,
+                              const real_t *values, const char *name, uint64_t value)
+{
+    aocs_pil_err_t err = AOCS_PIL_ERR_BUFFER;
+    pil_writer_t w = {out, cap, *pos, 0};
+    w_uint(&w, (uint64_t)(uint32_t)field, 1U);
+    w_uint(&w, (uint64_t)count, 1U);
+    if (values != NULL) {
+        put_reals(&w, values, count);
+    } else if (name != NULL) {
+        for (uint32_t i = 0U; i < count; i++) {
+            w_uint(&w, (uint64_t)(uint8_t)name[i], 1U);
+        }
+    } else {
+        w_uint(&w, value, 8U);
+    }
+    if (w.overflow == 0) {
+        err = AOCS_PIL_OK;
+        *pos = w.pos;
+    }
+    return err;
+}
+
 aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                          const real_t *values, uint32_t count)
 {
@@ -412,16 +414,7 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
     } else if ((count == 0U) || (count > PIL_CFG_COUNT_MAX)) {
         err = AOCS_PIL_ERR_FIELD;
     } else {
-        pil_writer_t w;
-        w_init(&w, out, cap, *pos);
-        w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-        w_uint(&w, (uint64_t)count, 1U);
-        put_reals(&w, values, count);
-        if (w.overflow != 0) {
-            err = AOCS_PIL_ERR_BUFFER;
-        } else {
-            *pos = w.pos;
-        }
+        err = cfg_put(out, cap, pos, field, count, values, NULL, 0U);
     }
     return err;
 }
@@ -429,20 +422,9 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
 aocs_pil_err_t aocs_pil_config_put_u64(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                        uint64_t value)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((out == NULL) || (pos == NULL)) {
-        err = AOCS_PIL_ERR_NULL_ARG;
-    } else {
-        pil_writer_t w;
-        w_init(&w, out, cap, *pos);
-        w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-        w_uint(&w, 1U, 1U);
-        w_uint(&w, value, 8U);
-        if (w.overflow != 0) {
-            err = AOCS_PIL_ERR_BUFFER;
-        } else {
-            *pos = w.pos;
-        }
+    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
+    if ((out != NULL) && (pos != NULL)) {
+        err = cfg_put(out, cap, pos, field, 1U, NULL, NULL, value);
     }
     return err;
 }
@@ -450,10 +432,8 @@ aocs_pil_err_t aocs_pil_config_put_u64(uint8_t *out, uint32_t cap, uint32_t *pos
 aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                         const char *name)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((out == NULL) || (pos == NULL) || (name == NULL)) {
-        err = AOCS_PIL_ERR_NULL_ARG;
-    } else {
+    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
+    if ((out != NULL) && (pos != NULL) && (name != NULL)) {
         uint32_t n = 0U;
         while ((n <= AOCS_PIL_TABLE_NAME_MAX) && (name[n] != '\0')) {
             n++;
@@ -461,93 +441,66 @@ aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *po
         if ((n == 0U) || (n > AOCS_PIL_TABLE_NAME_MAX)) {
             err = AOCS_PIL_ERR_FIELD;
         } else {
-            pil_writer_t w;
-            uint32_t i;
-            w_init(&w, out, cap, *pos);
-            w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-            w_uint(&w, (uint64_t)n, 1U);
-            for (i = 0U; i < n; i++) {
-                w_uint(&w, (uint64_t)(uint8_t)name[i], 1U);
-            }
-            if (w.overflow != 0) {
-                err = AOCS_PIL_ERR_BUFFER;
-            } else {
-                *pos = w.pos;
-            }
+            err = cfg_put(out, cap, pos, field, n, NULL, name, 0U);
         }
     }
     return err;
 }
 
+/* Bytes after the two-byte head of an entry of `count` values of field f: count binary64 reals (REALS, INERTIA),
+ * a name of 1 .. AOCS_PIL_TABLE_NAME_MAX bytes (TABLE) or one uint64; 0 for a count the field does not take. */
+static uint32_t cfg_entry_bytes(const aocs_config_field_t *f, uint32_t count)
+{
+    uint32_t bytes = 0U;
+    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
+            bytes = count * 8U;
+        }
+    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            bytes = count;
+        }
+    } else if (count == 1U) {
+        bytes = 8U;
+    } else {
+        /* not one integer */
+    }
+    return bytes;
+}
+
 /*
- * One CONFIG entry into *cfg through the configuration registry: its row
- * (aocs_config_find_pil) gives the value kind and count, its setter applies
- * the row's rule, so the image refuses what fsw_node refuses. Returns the
- * registry status (AOCS_ERR_CONFIG_FIELD for a shape the row does not take).
+ * One CONFIG entry, of a shape cfg_entry_bytes took, into *cfg through the configuration registry: the row's
+ * setter applies its rule, so the image refuses what fsw_node refuses. Returns the registry status.
  */
 static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, uint64_t *budget_instr,
                                      aocs_config_ref_t ref, uint32_t count)
 {
-    const aocs_config_field_t *f = ref.field;
-    aocs_status_t st = AOCS_ERR_CONFIG_FIELD;
-    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
-            double vals[AOCS_CONFIG_VALUES_MAX];
-            for (uint32_t i = 0U; i < count; i++) {
-                vals[i] = f64_from_bits(r_uint(r, 8U));
-            }
-            st = aocs_config_set_reals(cfg, ref, vals, count);
+    const aocs_config_kind_t kind = ref.field->kind;
+    aocs_status_t st;
+    if ((kind == AOCS_CONFIG_KIND_REALS) || (kind == AOCS_CONFIG_KIND_INERTIA)) {
+        double vals[AOCS_CONFIG_VALUES_MAX];
+        for (uint32_t i = 0U; i < count; i++) {
+            vals[i] = f64_from_bits(r_uint(r, 8U));
         }
-    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
-            char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
-            for (uint32_t i = 0U; i < count; i++) {
-                name[i] = (char)(uint8_t)r_uint(r, 1U);
-            }
-            name[count] = '\0';
-            st = aocs_config_set_table(cfg, ref, name);
+        st = aocs_config_set_reals(cfg, ref, vals, count);
+    } else if (kind == AOCS_CONFIG_KIND_TABLE) {
+        char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
+        for (uint32_t i = 0U; i < count; i++) {
+            name[i] = (char)(uint8_t)r_uint(r, 1U);
         }
-    } else if (count == 1U) {
+        name[count] = '\0';
+        st = aocs_config_set_table(cfg, ref, name);
+    } else if (kind == AOCS_CONFIG_KIND_BUDGET) {
+        /* the image's budget is an instruction count (the table's when 0), not the node's ns */
         const uint64_t value = r_uint(r, 8U);
-        if (f->kind == AOCS_CONFIG_KIND_BUDGET) {
-            /* the image's budget is an instruction count (the table's when 0), not the node's ns */
-            st = (value > (uint64_t)UINT32_MAX) ? AOCS_ERR_CONFIG_RULE : AOCS_OK;
-            if (st == AOCS_OK) {
-                *budget_instr = value;
-            }
-        } else {
-            st = aocs_config_set_uint(cfg, ref, value);
+        st = (value > (uint64_t)UINT32_MAX) ? AOCS_ERR_CONFIG_RULE : AOCS_OK;
+        if (st == AOCS_OK) {
+            *budget_instr = value;
         }
     } else {
-        st = AOCS_ERR_CONFIG_FIELD;
+        st = aocs_config_set_uint(cfg, ref, r_uint(r, 8U));
     }
     return st;
-}
-
-/* 1 when an entry of `count` values has the shape of field f: its reals, a name of 1 .. 31 bytes, one integer. */
-static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
-{
-    uint32_t lo = 1U;
-    uint32_t hi = 1U;
-    int ok = 0;
-    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        lo = f->count;
-        hi = f->count;
-    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        hi = AOCS_PIL_TABLE_NAME_MAX;
-    } else {
-        /* one integer */
-    }
-    if ((count >= lo) && (count <= hi)) {
-        ok = 1;
-    }
-    return ok;
-}
-
-/* Bytes an entry of `count` values of field f takes after its two-byte head. */
-static uint32_t cfg_entry_bytes(const aocs_config_field_t *f, uint32_t count)
-{
-    return (f->kind == AOCS_CONFIG_KIND_TABLE) ? count : (count * 8U);
 }
 
 aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_config_t *cfg,
@@ -557,20 +510,20 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
     if ((p == NULL) || (cfg == NULL) || (budget_instr == NULL) || (field == NULL) || (status == NULL)) {
         err = AOCS_PIL_ERR_NULL_ARG;
     } else {
-        pil_reader_t r;
+        pil_reader_t r = {p, len, 0U, 0};
         *field = 0U;
         *status = AOCS_OK;
-        r_init(&r, p, len);
         while ((err == AOCS_PIL_OK) && (r.pos < r.len)) {
             aocs_config_ref_t ref = {NULL, 0U};
             const uint32_t id = (uint32_t)r_uint(&r, 1U);
             const uint32_t count = (uint32_t)r_uint(&r, 1U);
+            const uint32_t bytes = (aocs_config_find_pil(id, &ref) != 0) ? cfg_entry_bytes(ref.field, count) : 0U;
             if (r.underflow != 0) {
                 err = AOCS_PIL_ERR_PAYLOAD;
-            } else if ((aocs_config_find_pil(id, &ref) == 0) || (cfg_entry_shape_ok(ref.field, count) == 0)) {
+            } else if (bytes == 0U) {
                 err = AOCS_PIL_ERR_FIELD;
                 *field = id;
-            } else if (cfg_entry_bytes(ref.field, count) > (r.len - r.pos)) {
+            } else if (bytes > (r.len - r.pos)) {
                 err = AOCS_PIL_ERR_PAYLOAD;
                 *field = id;
             } else {
@@ -579,7 +532,8 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
                     err = AOCS_PIL_ERR_FIELD;
                     *field = id;
                     /* a gain table's own status says which; a value or shape refused is the field's fault */
-                    *status = ((st == AOCS_ERR_GAIN_TABLE_UNKNOWN) || (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW)) ? st : AOCS_OK;
+                    *status =
+                        ((st == AOCS_ERR_GAIN_TABLE_UNKNOWN) || (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW)) ? st : AOCS_OK;
                 }
             }
         }
