@@ -6,11 +6,13 @@
  * registry's JSON cannot disagree on a key, a count or a rule. Only the
  * node's own transport settings (NODE_KEYS) are listed here. Every error
  * names the key; the executive's own init still validates the whole
- * (ordering rules, inertia, a spanning wheel array).
+ * (ordering rules, inertia, a spanning wheel array), and node_hints.c names
+ * the keys to check when it refuses.
  */
 #include "node_config.h"
 
 #include "aocs/config_registry.h"
+#include "node_hints.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -55,88 +57,6 @@ static void set_err(char *err, size_t err_size, const char *fmt, ...)
     va_start(ap, fmt);
     (void)vsnprintf(err, err_size, fmt, ap);
     va_end(ap);
-}
-
-/* "a, b, c": the names of the compiled gain tables designed for law */
-static void table_names(aocs_law_id_t law, char *buf, size_t size)
-{
-    size_t used = 0u;
-    int i;
-    buf[0] = '\0';
-    for (i = 0; i < (int)AOCS_GAIN_TABLE_COUNT; ++i) {
-        aocs_gain_table_id_t t = (aocs_gain_table_id_t)i;
-        if ((aocs_gain_table_law(t) == law) && (used < size)) {
-            int n = snprintf(buf + used, size - used, "%s%s", (used > 0u) ? ", " : "", aocs_gain_table_name(t));
-            used += (n > 0) ? (size_t)n : 0u;
-        }
-    }
-}
-
-/* The REALS field a TABLE field fills by name (same offset): the key giving the gain by value; NULL if none. */
-static const aocs_config_field_t *gain_field_of(const aocs_config_field_t *table)
-{
-    uint32_t i;
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *f = aocs_config_field_at(i);
-        if ((f->kind == AOCS_CONFIG_KIND_REALS) && (f->offset == table->offset)) {
-            return f;
-        }
-    }
-    return NULL;
-}
-
-const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size)
-{
-    uint32_t i;
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *t = aocs_config_field_at(i);
-        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
-        if ((k != NULL) && (t->law == law) && (size > 0u)) {
-            (void)snprintf(buf, size, "%s / %s", k->key, t->key);
-            return buf;
-        }
-    }
-    return "the gains of the selected law";
-}
-
-/* appends text to buf (size bytes), keeping it NUL-terminated; *used grows */
-static void append(char *buf, size_t size, size_t *used, const char *text)
-{
-    if (*used < size) {
-        int n = snprintf(buf + *used, size - *used, "%s", text);
-        *used += (n > 0) ? (size_t)n : 0u;
-    }
-}
-
-const char *aocs_node_config_status_hint(aocs_status_t st, aocs_law_id_t law, char *buf, size_t size)
-{
-    size_t used = 0u;
-    uint32_t i;
-    if ((buf == NULL) || (size == 0u)) {
-        return "";
-    }
-    buf[0] = '\0';
-    if (st == AOCS_ERR_GAIN_TABLE_INVALID) {
-        return aocs_node_config_gain_keys(law, buf, size);
-    }
-    if ((st == AOCS_ERR_GAIN_NOT_POSITIVE) || (st == AOCS_ERR_PARAM_NOT_FINITE)) {
-        append(buf, size, &used, "the gains of the selected law");
-    }
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *f = aocs_config_field_at(i);
-        const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) &&
-                            ((st == AOCS_ERR_INERTIA_NOT_SYMMETRIC) || (st == AOCS_ERR_INERTIA_NOT_POS_DEF) ||
-                             (st == AOCS_ERR_INERTIA_SINGULAR));
-        if ((st != AOCS_OK) && ((f->status == st) || (f->also == st) || inertia)) {
-            append(buf, size, &used, (used > 0u) ? ", " : "");
-            append(buf, size, &used, (aocs_config_field_is_per_wheel(f) != 0) ? "wheel<i>." : "");
-            append(buf, size, &used, f->key);
-            append(buf, size, &used, (f->help[0] != '\0') ? " (" : "");
-            append(buf, size, &used, f->help);
-            append(buf, size, &used, (f->help[0] != '\0') ? ")" : "");
-        }
-    }
-    return (used > 0u) ? buf : "the keys of the selected law";
 }
 
 /* A key: a node setting (*node) or a registry field (*ref), and its duplicate-check slot. 0 when known. */
@@ -240,7 +160,7 @@ static int set_field(aocs_node_config_t *cfg, const char *key, aocs_config_ref_t
     uint64_t u = 0u;
     if (f->kind == AOCS_CONFIG_KIND_TABLE) {
         char valid[256];
-        table_names(f->law, valid, sizeof(valid));
+        aocs_node_config_table_names(f->law, valid, sizeof(valid));
         st = aocs_config_set_table(&cfg->exec, ref, value);
         if (st == AOCS_OK) {
             size_t row = (size_t)(f - aocs_config_field_at(0u));
@@ -420,7 +340,7 @@ static int exclusive_gain_keys(const char *path, const unsigned *seen, char *err
     uint32_t i;
     for (i = 0u; i < aocs_config_field_count(); ++i) {
         const aocs_config_field_t *t = aocs_config_field_at(i);
-        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
+        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? aocs_node_config_gain_field(t) : NULL;
         if (k != NULL) {
             const unsigned line_table = seen[NODE_KEY_COUNT + ((size_t)i * (size_t)AOCS_WHEELS_MAX)];
             const unsigned line_k =
