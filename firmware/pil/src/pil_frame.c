@@ -338,9 +338,6 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
 }
 
 /* ---- CONFIG field list ---- */
-/* the widest real field: the 3x9 gain of lqr_quat_i (laws.def GAIN) */
-#define PIL_CFG_COUNT_MAX AOCS_CONFIG_VALUES_MAX
-
 /* One entry at *pos: field, count, then the count reals, the count bytes of name, or (neither given) the one
  * integer; *pos moves past it only when it fits. */
 static aocs_pil_err_t cfg_put(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field, uint32_t count,
@@ -372,7 +369,7 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
     aocs_pil_err_t err = AOCS_PIL_OK;
     if ((out == NULL) || (pos == NULL) || (values == NULL)) {
         err = AOCS_PIL_ERR_NULL_ARG;
-    } else if ((count == 0U) || (count > PIL_CFG_COUNT_MAX)) {
+    } else if ((count == 0U) || (count > AOCS_CONFIG_VALUES_MAX)) {
         err = AOCS_PIL_ERR_FIELD;
     } else {
         err = cfg_put(out, cap, pos, field, count, values, NULL, 0U);
