@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import subprocess
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from pathlib import Path
 
@@ -62,11 +62,8 @@ class NodeConfig:
 def load(path: str | Path) -> NodeConfig:
     """aocs_node_config_load and the timeout checks; ConfigError with fsw_node's message on any problem."""
     d = json.loads(_run([str(path)]))
-    return NodeConfig(path=str(path), law=d["law"], run_mode=d["mode"], period_s=d["period_s"],
-                      idle_timeout_s=d["idle_timeout_s"], run_timeout_s=d["run_timeout_s"],
-                      status_period_s=d["status_period_s"], lcm_url=d["lcm_url"], budget_ns=d["budget_ns"],
-                      stale_timeout_ns=d["stale_timeout_ns"], n_wheels=d["n_wheels"],
-                      guidance_mode=d["guidance_mode"], lines=d["lines"])
+    d["run_mode"] = d.pop("mode")   # the file's key 'mode'; every other member is the tool's JSON key of its name
+    return NodeConfig(path=str(path), **{f.name: d[f.name] for f in fields(NodeConfig) if f.name != "path"})
 
 
 @lru_cache(maxsize=None)

@@ -31,11 +31,10 @@ TABLE_NAME_MAX = 31
 TARGET_HOST, TARGET_CORTEX_M4F, TARGET_CORTEX_M7 = 0, 1, 2
 TARGET_NAMES = {TARGET_HOST: "host", TARGET_CORTEX_M4F: "cortex-m4f", TARGET_CORTEX_M7: "cortex-m7"}
 
-# aocs_pil_type_t
-T_HELLO, T_CONFIG, T_CONFIG_ACK, T_STEP, T_STEP_REPLY, T_SELECT, T_SELECT_ACK, T_BYE, T_ERROR = range(1, 10)
-TYPE_NAMES = {T_HELLO: "HELLO", T_CONFIG: "CONFIG", T_CONFIG_ACK: "CONFIG_ACK", T_STEP: "STEP",
-              T_STEP_REPLY: "STEP_REPLY", T_SELECT: "SELECT", T_SELECT_ACK: "SELECT_ACK", T_BYE: "BYE",
-              T_ERROR: "ERROR"}
+# aocs_pil_type_t: value -> name (AOCS_PIL_T_<name>), and a T_<name> per value
+TYPE_NAMES = dict(enumerate(("HELLO", "CONFIG", "CONFIG_ACK", "STEP", "STEP_REPLY", "SELECT", "SELECT_ACK", "BYE",
+                             "ERROR"), start=1))
+T_HELLO, T_CONFIG, T_CONFIG_ACK, T_STEP, T_STEP_REPLY, T_SELECT, T_SELECT_ACK, T_BYE, T_ERROR = TYPE_NAMES
 
 # aocs_pil_err_t
 ERR_NAMES = ["AOCS_PIL_OK", "AOCS_PIL_ERR_NULL_ARG", "AOCS_PIL_ERR_MAGIC", "AOCS_PIL_ERR_VERSION",
@@ -55,8 +54,8 @@ ERR_MEANING = {
 def cfg_fields() -> dict[str, tuple[int, str, int]]:
     """aocs_pil_cfg_field_t: name -> (id, kind, count); kind 'f' binary64, 'u' uint64, 's' name.
 
-    The executive's fields (AOCS_PIL_EXEC_FIELD_ROWS of pil_frame.h) and every law field of
-    laws.def, from the build's law registry."""
+    The configuration registry's rows (config_fields.def and every law field of laws.def), from
+    the build's registry."""
     return registry.load().pil_fields()
 
 
@@ -130,8 +129,9 @@ WHEELS_MAX = _REG.wheels_max   # tachometers in STEP, wheel torques in STEP_REPL
 
 
 def _struct(name: str) -> struct.Struct:
-    s = struct.Struct("<" + "".join(f"{f.count}{_FORMAT[f.wire]}" for f in _LAYOUTS[name].fields))
-    assert s.size == _LAYOUTS[name].bytes, f"{name}: rows of {s.size} bytes, AOCS_PIL_{name}_BYTES {_LAYOUTS[name].bytes}"
+    layout = _LAYOUTS[name]
+    s = struct.Struct("<" + "".join(f"{f.count}{_FORMAT[f.wire]}" for f in layout.fields))
+    assert s.size == layout.bytes, f"{name}: rows of {s.size} bytes, AOCS_PIL_{name}_BYTES {layout.bytes}"
     return s
 
 

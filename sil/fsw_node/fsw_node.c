@@ -30,6 +30,7 @@
 #include "aocs_lcm_status_t.h"
 #include "node_checks.h"
 #include "node_config.h"
+#include "node_hints.h"
 #include "node_stats.h"
 #include "node_wire.h"
 

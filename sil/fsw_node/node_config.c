@@ -6,11 +6,13 @@
  * registry's JSON cannot disagree on a key, a count or a rule. Only the
  * node's own transport settings (NODE_KEYS) are listed here. Every error
  * names the key; the executive's own init still validates the whole
- * (ordering rules, inertia, a spanning wheel array).
+ * (ordering rules, inertia, a spanning wheel array), and node_hints.c names
+ * the keys to check when it refuses.
  */
 #include "node_config.h"
 
 #include "aocs/config_registry.h"
+#include "node_hints.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -22,121 +24,46 @@
 
 /* The node's own settings: not flight software configuration, so not registry rows. */
 typedef enum {
-    NODE_DOUBLE_POS,    /* double > 0 */
-    NODE_DOUBLE_NONNEG, /* double >= 0 */
-    NODE_RUN_MODE,      /* lockstep | realtime */
-    NODE_STRING         /* char[AOCS_NODE_URL_MAX] */
+    NODE_DOUBLE,   /* double, within the key's rule */
+    NODE_RUN_MODE, /* lockstep | realtime */
+    NODE_STRING    /* char[AOCS_NODE_URL_MAX] */
 } node_kind_t;
 
 typedef struct {
     const char *name;
     node_kind_t kind;
+    aocs_config_rule_t rule;
     size_t offset;
     const char *help;
 } node_key_t;
 
 #define NODE_OFF(member) offsetof(aocs_node_config_t, member)
 static const node_key_t NODE_KEYS[] = {
-    {"mode", NODE_RUN_MODE, NODE_OFF(run_mode), "lockstep | realtime"},
-    {"idle_timeout_s", NODE_DOUBLE_POS, NODE_OFF(idle_timeout_s), "s"},
-    {"run_timeout_s", NODE_DOUBLE_NONNEG, NODE_OFF(run_timeout_s), "s, 0 = none"},
-    {"status_period_s", NODE_DOUBLE_POS, NODE_OFF(status_period_s), "s"},
-    {"lcm_url", NODE_STRING, NODE_OFF(lcm_url), "LCM provider URL"},
+    {"mode", NODE_RUN_MODE, AOCS_CONFIG_RULE_ANY, NODE_OFF(run_mode), "lockstep | realtime"},
+    {"idle_timeout_s", NODE_DOUBLE, AOCS_CONFIG_RULE_POS, NODE_OFF(idle_timeout_s), "s"},
+    {"run_timeout_s", NODE_DOUBLE, AOCS_CONFIG_RULE_NONNEG, NODE_OFF(run_timeout_s), "s, 0 = none"},
+    {"status_period_s", NODE_DOUBLE, AOCS_CONFIG_RULE_POS, NODE_OFF(status_period_s), "s"},
+    {"lcm_url", NODE_STRING, AOCS_CONFIG_RULE_ANY, NODE_OFF(lcm_url), "LCM provider URL"},
 };
 #define NODE_KEY_COUNT (sizeof(NODE_KEYS) / sizeof(NODE_KEYS[0]))
 typedef char node_own_keys_counted[(NODE_KEY_COUNT == AOCS_NODE_OWN_KEYS) ? 1 : -1];
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...)
+/* The message into err (when there is one); returns 1, so that `return fail(...)` ends a step in error. */
+static int fail(char *err, size_t err_size, const char *fmt, ...)
 {
     va_list ap;
-    if ((err == NULL) || (err_size == 0u)) {
-        return;
+    if ((err != NULL) && (err_size > 0u)) {
+        va_start(ap, fmt);
+        (void)vsnprintf(err, err_size, fmt, ap);
+        va_end(ap);
     }
-    va_start(ap, fmt);
-    (void)vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
+    return 1;
 }
 
-/* "a, b, c": the names of the compiled gain tables designed for law */
-static void table_names(aocs_law_id_t law, char *buf, size_t size)
+/* The duplicate-check slot of a registry field: after the node's own keys, one per row and wheel. */
+static size_t field_slot(const aocs_config_field_t *f, uint32_t wheel)
 {
-    size_t used = 0u;
-    int i;
-    buf[0] = '\0';
-    for (i = 0; i < (int)AOCS_GAIN_TABLE_COUNT; ++i) {
-        aocs_gain_table_id_t t = (aocs_gain_table_id_t)i;
-        if ((aocs_gain_table_law(t) == law) && (used < size)) {
-            int n = snprintf(buf + used, size - used, "%s%s", (used > 0u) ? ", " : "", aocs_gain_table_name(t));
-            used += (n > 0) ? (size_t)n : 0u;
-        }
-    }
-}
-
-/* The REALS field a TABLE field fills by name (same offset): the key giving the gain by value; NULL if none. */
-static const aocs_config_field_t *gain_field_of(const aocs_config_field_t *table)
-{
-    uint32_t i;
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *f = aocs_config_field_at(i);
-        if ((f->kind == AOCS_CONFIG_KIND_REALS) && (f->offset == table->offset)) {
-            return f;
-        }
-    }
-    return NULL;
-}
-
-const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size)
-{
-    uint32_t i;
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *t = aocs_config_field_at(i);
-        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
-        if ((k != NULL) && (t->law == law) && (size > 0u)) {
-            (void)snprintf(buf, size, "%s / %s", k->key, t->key);
-            return buf;
-        }
-    }
-    return "the gains of the selected law";
-}
-
-/* appends text to buf (size bytes), keeping it NUL-terminated; *used grows */
-static void append(char *buf, size_t size, size_t *used, const char *text)
-{
-    if (*used < size) {
-        int n = snprintf(buf + *used, size - *used, "%s", text);
-        *used += (n > 0) ? (size_t)n : 0u;
-    }
-}
-
-const char *aocs_node_config_status_hint(aocs_status_t st, aocs_law_id_t law, char *buf, size_t size)
-{
-    size_t used = 0u;
-    uint32_t i;
-    if ((buf == NULL) || (size == 0u)) {
-        return "";
-    }
-    buf[0] = '\0';
-    if (st == AOCS_ERR_GAIN_TABLE_INVALID) {
-        return aocs_node_config_gain_keys(law, buf, size);
-    }
-    if ((st == AOCS_ERR_GAIN_NOT_POSITIVE) || (st == AOCS_ERR_PARAM_NOT_FINITE)) {
-        append(buf, size, &used, "the gains of the selected law");
-    }
-    for (i = 0u; i < aocs_config_field_count(); ++i) {
-        const aocs_config_field_t *f = aocs_config_field_at(i);
-        const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) &&
-                            ((st == AOCS_ERR_INERTIA_NOT_SYMMETRIC) || (st == AOCS_ERR_INERTIA_NOT_POS_DEF) ||
-                             (st == AOCS_ERR_INERTIA_SINGULAR));
-        if ((st != AOCS_OK) && ((f->status == st) || (f->also == st) || inertia)) {
-            append(buf, size, &used, (used > 0u) ? ", " : "");
-            append(buf, size, &used, (aocs_config_field_is_per_wheel(f) != 0) ? "wheel<i>." : "");
-            append(buf, size, &used, f->key);
-            append(buf, size, &used, (f->help[0] != '\0') ? " (" : "");
-            append(buf, size, &used, f->help);
-            append(buf, size, &used, (f->help[0] != '\0') ? ")" : "");
-        }
-    }
-    return (used > 0u) ? buf : "the keys of the selected law";
+    return NODE_KEY_COUNT + ((size_t)(f - aocs_config_field_at(0u)) * (size_t)AOCS_WHEELS_MAX) + (size_t)wheel;
 }
 
 /* A key: a node setting (*node) or a registry field (*ref), and its duplicate-check slot. 0 when known. */
@@ -152,9 +79,8 @@ static int resolve_key(const char *key, const node_key_t **node, aocs_config_ref
         }
     }
     if (aocs_config_find_key(key, ref) != 0) {
-        size_t row = (size_t)(ref->field - aocs_config_field_at(0u));
-        *slot = NODE_KEY_COUNT + (row * (size_t)AOCS_WHEELS_MAX) + (size_t)ref->wheel;
-        return (row < AOCS_NODE_CONFIG_ROWS_MAX) ? 0 : 1;
+        *slot = field_slot(ref->field, ref->wheel);
+        return (*slot < AOCS_NODE_KEY_SLOTS) ? 0 : 1; /* a row below AOCS_NODE_CONFIG_ROWS_MAX */
     }
     return 1;
 }
@@ -191,43 +117,39 @@ static int parse_numbers(const char *value, double *out, unsigned max, const cha
     return n;
 }
 
-/* The rule's words for an error message. */
-static const char *rule_words(aocs_config_rule_t rule)
-{
-    return (rule == AOCS_CONFIG_RULE_POS) ? "must be > 0" : "must be >= 0";
-}
-
-/* want values of key into vals (an inertia: 3 = the diagonal, or 9); the count or -1 with err set. */
+/* want values of key into vals (an inertia: 3 = the diagonal, or 9), each within rule; 0, or 1 with err set. */
 static int read_numbers(const char *key, const char *help, const char *value, unsigned want, int inertia,
-                        double *vals, char *err, size_t err_size)
+                        aocs_config_rule_t rule, double *vals, char *err, size_t err_size)
 {
     const char *bad = NULL;
     int n = parse_numbers(value, vals, want, &bad);
+    unsigned i;
     if (n == -1) {
-        set_err(err, err_size, "key '%s': '%s' is not a finite number (%s)", key, bad, help);
-        return -1;
+        return fail(err, err_size, "key '%s': '%s' is not a finite number (%s)", key, bad, help);
     }
     if (n == -2) {
-        set_err(err, err_size, "key '%s': too many values (%s)", key, help);
-        return -1;
+        return fail(err, err_size, "key '%s': too many values (%s)", key, help);
     }
     if ((inertia != 0) && (n == 3)) {
         double d[3] = {vals[0], vals[1], vals[2]};
-        unsigned i;
         for (i = 0u; i < 9u; ++i) {
             vals[i] = ((i % 4u) == 0u) ? d[i / 4u] : 0.0;
         }
         n = 9;
     }
     if ((inertia != 0) && (n != 9)) {
-        set_err(err, err_size, "key '%s': %d values given (%s)", key, n, help);
-        return -1;
+        return fail(err, err_size, "key '%s': %d values given (%s)", key, n, help);
     }
     if ((unsigned)n != want) {
-        set_err(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", key, n, want, help);
-        return -1;
+        return fail(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", key, n, want, help);
     }
-    return n;
+    for (i = 0u; i < want; ++i) {
+        if ((rule != AOCS_CONFIG_RULE_ANY) && !((rule == AOCS_CONFIG_RULE_POS) ? (vals[i] > 0.0) : (vals[i] >= 0.0))) {
+            return fail(err, err_size, "key '%s': value %g %s (%s)", key, vals[i],
+                        (rule == AOCS_CONFIG_RULE_POS) ? "must be > 0" : "must be >= 0", help);
+        }
+    }
+    return 0;
 }
 
 /* A registry field from its text: numbers, a whole number, a name of the row's enum or a gain table. */
@@ -235,80 +157,59 @@ static int set_field(aocs_node_config_t *cfg, const char *key, aocs_config_ref_t
                      size_t err_size)
 {
     const aocs_config_field_t *f = ref.field;
+    const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) ? 1 : 0;
+    const int reals = (f->kind == AOCS_CONFIG_KIND_REALS) || (inertia != 0);
     double vals[AOCS_CONFIG_VALUES_MAX];
-    aocs_status_t st = AOCS_OK;
+    aocs_status_t st;
     uint64_t u = 0u;
     if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        const size_t row = (size_t)(f - aocs_config_field_at(0u));
+        aocs_gain_table_id_t t = AOCS_GAIN_TABLE_COUNT;
         char valid[256];
-        table_names(f->law, valid, sizeof(valid));
         st = aocs_config_set_table(&cfg->exec, ref, value);
+        (void)aocs_gain_table_find(value, &t);
         if (st == AOCS_OK) {
-            size_t row = (size_t)(f - aocs_config_field_at(0u));
-            (void)aocs_gain_table_find(value, &cfg->table_of[(row < AOCS_NODE_CONFIG_ROWS_MAX) ? row : 0u]);
+            cfg->table_of[(row < AOCS_NODE_CONFIG_ROWS_MAX) ? row : 0u] = t;
+            return 0;
         }
+        aocs_node_config_table_names(f->law, valid, sizeof(valid));
         if (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW) {
-            aocs_gain_table_id_t t = AOCS_GAIN_TABLE_COUNT;
-            (void)aocs_gain_table_find(value, &t);
-            set_err(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)", key,
-                    value, aocs_law_name(aocs_gain_table_law(t)), aocs_law_name(f->law), valid);
-        } else if (st != AOCS_OK) {
-            set_err(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", key, value, valid);
+            return fail(err, err_size, "key '%s': gain table '%s' was designed for law %s, not %s (valid names: %s)",
+                        key, value, aocs_law_name(aocs_gain_table_law(t)), aocs_law_name(f->law), valid);
         }
-        return (st == AOCS_OK) ? 0 : 1;
+        return fail(err, err_size, "key '%s': unknown gain table '%s' (valid names: %s)", key, value, valid);
     }
     if ((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM)) {
         if (aocs_config_enum_value(f, value, &u) == 0) {
-            if (f->kind == AOCS_CONFIG_KIND_LAW) {
-                set_err(err, err_size, "key '%s': unknown law '%s'", key, value);
-            } else {
-                set_err(err, err_size, "key '%s': '%s' is not one of %s", key, value, f->names);
-            }
-            return 1;
+            return (f->kind == AOCS_CONFIG_KIND_LAW)
+                       ? fail(err, err_size, "key '%s': unknown law '%s'", key, value)
+                       : fail(err, err_size, "key '%s': '%s' is not one of %s", key, value, f->names);
         }
         (void)aocs_config_set_uint(&cfg->exec, ref, u);
         return 0;
     }
-    {
-        const int inertia = (f->kind == AOCS_CONFIG_KIND_INERTIA) ? 1 : 0;
-        const unsigned want = (f->kind == AOCS_CONFIG_KIND_REALS) || (inertia != 0) ? f->count : 1u;
-        unsigned i;
-        if (read_numbers(key, f->help, value, want, inertia, vals, err, err_size) < 0) {
-            return 1;
-        }
-        for (i = 0u; i < want; ++i) {
-            if ((f->rule != AOCS_CONFIG_RULE_ANY) &&
-                !((f->rule == AOCS_CONFIG_RULE_POS) ? (vals[i] > 0.0) : (vals[i] >= 0.0))) {
-                set_err(err, err_size, "key '%s': value %g %s (%s)", key, vals[i], rule_words(f->rule), f->help);
-                return 1;
-            }
-        }
+    if (read_numbers(key, f->help, value, reals ? f->count : 1u, inertia, f->rule, vals, err, err_size) != 0) {
+        return 1;
     }
-    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+    if (reals) {
         st = aocs_config_set_reals(&cfg->exec, ref, vals, f->count);
     } else if (f->kind == AOCS_CONFIG_KIND_NS) {
         if (vals[0] > 1.0e9) {
-            set_err(err, err_size, "key '%s': %g s is out of range (%s)", key, vals[0], f->help);
-            return 1;
+            return fail(err, err_size, "key '%s': %g s is out of range (%s)", key, vals[0], f->help);
         }
         st = aocs_config_set_uint(&cfg->exec, ref, (uint64_t)(vals[0] * 1.0e9 + 0.5));
     } else {
         const double top = (f->kind == AOCS_CONFIG_KIND_U32) ? 4294967295.0 : 1.8e19;
         if ((vals[0] > top) || (floor(vals[0]) < vals[0])) {
-            set_err(err, err_size, "key '%s': %g is not a whole number in range (%s)", key, vals[0], f->help);
-            return 1;
+            return fail(err, err_size, "key '%s': %g is not a whole number in range (%s)", key, vals[0], f->help);
         }
         st = aocs_config_set_uint(&cfg->exec, ref, (uint64_t)vals[0]);
     }
-    if (st != AOCS_OK) {
-        set_err(err, err_size, "key '%s': %s (%s)", key, aocs_status_name(st), f->help);
-        return 1;
-    }
-    return 0;
+    return (st == AOCS_OK) ? 0 : fail(err, err_size, "key '%s': %s (%s)", key, aocs_status_name(st), f->help);
 }
 
 static int set_node_key(aocs_node_config_t *cfg, const node_key_t *k, const char *value, char *err, size_t err_size)
 {
-    unsigned char *base = (unsigned char *)cfg + k->offset;
     double x[1];
     if (k->kind == NODE_RUN_MODE) {
         if (strcmp(value, "lockstep") == 0) {
@@ -316,28 +217,21 @@ static int set_node_key(aocs_node_config_t *cfg, const node_key_t *k, const char
         } else if (strcmp(value, "realtime") == 0) {
             cfg->run_mode = AOCS_NODE_RUN_REALTIME;
         } else {
-            set_err(err, err_size, "key 'mode': '%s' is neither lockstep nor realtime", value);
-            return 1;
+            return fail(err, err_size, "key 'mode': '%s' is neither lockstep nor realtime", value);
         }
         return 0;
     }
     if (k->kind == NODE_STRING) {
         if (strlen(value) >= AOCS_NODE_URL_MAX) {
-            set_err(err, err_size, "key '%s': longer than %u characters", k->name, AOCS_NODE_URL_MAX - 1u);
-            return 1;
+            return fail(err, err_size, "key '%s': longer than %u characters", k->name, AOCS_NODE_URL_MAX - 1u);
         }
         (void)snprintf(cfg->lcm_url, sizeof(cfg->lcm_url), "%s", value);
         return 0;
     }
-    if (read_numbers(k->name, k->help, value, 1u, 0, x, err, err_size) < 0) {
+    if (read_numbers(k->name, k->help, value, 1u, 0, k->rule, x, err, err_size) != 0) {
         return 1;
     }
-    if ((k->kind == NODE_DOUBLE_POS) ? !(x[0] > 0.0) : !(x[0] >= 0.0)) {
-        set_err(err, err_size, "key '%s': value %g %s (%s)", k->name, x[0],
-                rule_words((k->kind == NODE_DOUBLE_POS) ? AOCS_CONFIG_RULE_POS : AOCS_CONFIG_RULE_NONNEG), k->help);
-        return 1;
-    }
-    memcpy(base, &x[0], sizeof(double));
+    memcpy((unsigned char *)cfg + k->offset, &x[0], sizeof(double));
     return 0;
 }
 
@@ -348,12 +242,10 @@ int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *v
     aocs_config_ref_t ref = {NULL, 0u};
     size_t slot = 0u;
     if (resolve_key(key, &node, &ref, &slot) != 0) {
-        set_err(err, err_size, "unknown key '%s'", key);
-        return 1;
+        return fail(err, err_size, "unknown key '%s'", key);
     }
     if (value[0] == '\0') {
-        set_err(err, err_size, "key '%s': empty value (%s)", key, (node != NULL) ? node->help : ref.field->help);
-        return 1;
+        return fail(err, err_size, "key '%s': empty value (%s)", key, (node != NULL) ? node->help : ref.field->help);
     }
     return (node != NULL) ? set_node_key(cfg, node, value, err, err_size)
                           : set_field(cfg, key, ref, value, err, err_size);
@@ -400,8 +292,6 @@ int aocs_node_config_slot(size_t slot, aocs_config_ref_t *ref, const char **own_
             ref->wheel = wheel;
             kind = 1;
         }
-    } else {
-        kind = 0;
     }
     return kind;
 }
@@ -411,7 +301,7 @@ static size_t slot_of_field(uint32_t pil_id)
 {
     aocs_config_ref_t ref = {NULL, 0u};
     (void)aocs_config_find_pil(pil_id, &ref);
-    return NODE_KEY_COUNT + ((size_t)(ref.field - aocs_config_field_at(0u)) * (size_t)AOCS_WHEELS_MAX);
+    return field_slot(ref.field, 0u);
 }
 
 /* A gain is given by table name or by value, not both: 0, or 1 with the two lines in err. */
@@ -420,92 +310,82 @@ static int exclusive_gain_keys(const char *path, const unsigned *seen, char *err
     uint32_t i;
     for (i = 0u; i < aocs_config_field_count(); ++i) {
         const aocs_config_field_t *t = aocs_config_field_at(i);
-        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? gain_field_of(t) : NULL;
+        const aocs_config_field_t *k = (t->kind == AOCS_CONFIG_KIND_TABLE) ? aocs_node_config_gain_field(t) : NULL;
         if (k != NULL) {
-            const unsigned line_table = seen[NODE_KEY_COUNT + ((size_t)i * (size_t)AOCS_WHEELS_MAX)];
-            const unsigned line_k =
-                seen[NODE_KEY_COUNT + ((size_t)(k - aocs_config_field_at(0u)) * (size_t)AOCS_WHEELS_MAX)];
+            const unsigned line_table = seen[field_slot(t, 0u)];
+            const unsigned line_k = seen[field_slot(k, 0u)];
             if ((line_table != 0u) && (line_k != 0u)) {
-                set_err(err, err_size,
-                        "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
-                        "by table name or by value, not both",
-                        path, (line_table > line_k) ? line_table : line_k, t->key, line_table, k->key, line_k);
-                return 1;
+                return fail(err, err_size,
+                            "%s:%u: keys '%s' (line %u) and '%s' (line %u) are mutually exclusive: give the gain "
+                            "by table name or by value, not both",
+                            path, (line_table > line_k) ? line_table : line_k, t->key, line_table, k->key, line_k);
             }
         }
     }
     return 0;
 }
 
+/* One line of the file: blank or a comment, or `key = value` of a key not given before (its line noted). */
+static int load_line(const char *path, unsigned lineno, char *line, aocs_node_config_t *cfg, char *err,
+                     size_t err_size)
+{
+    char msg[AOCS_NODE_ERR_MAX];
+    char *hash = strchr(line, '#');
+    char *s;
+    char *eq;
+    char *key;
+    const node_key_t *node = NULL;
+    aocs_config_ref_t ref = {NULL, 0u};
+    size_t slot = 0u;
+    if (hash != NULL) {
+        *hash = '\0';
+    }
+    s = trim(line);
+    eq = strchr(s, '=');
+    if (*s == '\0') {
+        return 0;
+    }
+    if (eq == NULL) {
+        return fail(err, err_size, "%s:%u: expected 'key = value', got '%s'", path, lineno, s);
+    }
+    *eq = '\0';
+    key = trim(s);
+    if ((resolve_key(key, &node, &ref, &slot) == 0) && (cfg->line_of[slot] != 0u)) {
+        return fail(err, err_size, "%s:%u: key '%s' given twice", path, lineno, key);
+    }
+    if (aocs_node_config_set(cfg, key, trim(eq + 1), msg, sizeof(msg)) != 0) {
+        return fail(err, err_size, "%s:%u: %s", path, lineno, msg);
+    }
+    cfg->line_of[slot] = lineno; /* resolve_key's slot; 0 = not given */
+    return 0;
+}
+
 int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
 {
-    FILE *f;
     char line[1024];
-    char msg[AOCS_NODE_ERR_MAX];
-    unsigned *seen = cfg->line_of; /* line of each key (resolve_key's slot), 0 = not given */
     unsigned lineno = 0u;
     int rc = 0;
-
+    FILE *f;
     config_defaults(cfg);
     f = fopen(path, "r");
     if (f == NULL) {
-        set_err(err, err_size, "%s: cannot open: %s", path, strerror(errno));
-        return 1;
+        return fail(err, err_size, "%s: cannot open: %s", path, strerror(errno));
     }
     while ((rc == 0) && (fgets(line, (int)sizeof(line), f) != NULL)) {
-        char *s;
-        char *eq;
-        char *key;
-        char *value;
-        char *hash;
-        const node_key_t *node = NULL;
-        aocs_config_ref_t ref = {NULL, 0u};
-        size_t slot = 0u;
-        int known;
         ++lineno;
         if ((strchr(line, '\n') == NULL) && !feof(f)) {
-            set_err(err, err_size, "%s:%u: line longer than %u characters", path, lineno,
-                    (unsigned)sizeof(line) - 2u);
-            rc = 1;
-            break;
+            rc = fail(err, err_size, "%s:%u: line longer than %u characters", path, lineno,
+                      (unsigned)sizeof(line) - 2u);
+        } else {
+            rc = load_line(path, lineno, line, cfg, err, err_size);
         }
-        hash = strchr(line, '#');
-        if (hash != NULL) {
-            *hash = '\0';
-        }
-        s = trim(line);
-        if (*s == '\0') {
-            continue;
-        }
-        eq = strchr(s, '=');
-        if (eq == NULL) {
-            set_err(err, err_size, "%s:%u: expected 'key = value', got '%s'", path, lineno, s);
-            rc = 1;
-            break;
-        }
-        *eq = '\0';
-        key = trim(s);
-        value = trim(eq + 1);
-        known = (resolve_key(key, &node, &ref, &slot) == 0);
-        if (known && (seen[slot] != 0u)) {
-            set_err(err, err_size, "%s:%u: key '%s' given twice", path, lineno, key);
-            rc = 1;
-            break;
-        }
-        if (aocs_node_config_set(cfg, key, value, msg, sizeof(msg)) != 0) {
-            set_err(err, err_size, "%s:%u: %s", path, lineno, msg);
-            rc = 1;
-            break;
-        }
-        seen[slot] = lineno;
     }
     if ((rc == 0) && ferror(f)) {
-        set_err(err, err_size, "%s: read error", path);
-        rc = 1;
+        rc = fail(err, err_size, "%s: read error", path);
     }
     (void)fclose(f);
     if (rc == 0) {
-        rc = exclusive_gain_keys(path, seen, err, err_size);
+        rc = exclusive_gain_keys(path, cfg->line_of, err, err_size);
     }
     if (rc == 0) {
         /* one inertia (the plant's, key 'inertia'): the slew guidance sizes its profile and feedforward with it */
@@ -513,7 +393,7 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         /* the same inertia gives the wheel array's total momentum H = J w + sum Js g Omega */
         cfg->exec.wheels.inertia_B_kgm2 = cfg->exec.laws.smc.inertia;
     }
-    if ((rc == 0) && (seen[slot_of_field(AOCS_PIL_CFG_STALE_TIMEOUT_NS)] == 0u)) {
+    if ((rc == 0) && (cfg->line_of[slot_of_field(AOCS_PIL_CFG_STALE_TIMEOUT_NS)] == 0u)) {
         /* default: a sample older than two control periods is stale */
         double p = (double)cfg->exec.period_s;
         cfg->exec.stale_timeout_ns = (p > 0.0) && (p < 1.0e6) ? (uint64_t)(2.0e9 * p + 0.5) : 0u;

@@ -57,19 +57,4 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
 int aocs_node_config_set(aocs_node_config_t *cfg, const char *key, const char *value, char *err,
                          size_t err_size);
 
-/*
- * "<law>.k / <law>.table": the keys that give the 3x6 gain of `law` (by value,
- * by table name), written into buf; "the gains of the selected law" for a
- * law without a gain table. Returns the text.
- */
-const char *aocs_node_config_gain_keys(aocs_law_id_t law, char *buf, size_t size);
-
-/*
- * The keys to check when aocs_exec_init refuses a configuration with `st`:
- * every registry row that names st (STATUS / ALSO columns of
- * config_fields.def) with its unit, the gains of `law` for a gain status, the
- * inertia for an inertia status; written into buf. Returns the text.
- */
-const char *aocs_node_config_status_hint(aocs_status_t st, aocs_law_id_t law, char *buf, size_t size);
-
 #endif /* AOCS_FSW_NODE_CONFIG_H */

@@ -25,7 +25,7 @@ def add_arguments(p) -> None:
                    "law:table selects one gain table, e.g. lqr_quat:lqr_quat_strong")
     p.add_argument("--limit", type=float, metavar="NM", help="per-axis actuator limit for every run (N m, or N)")
     p.add_argument("--duration", type=float, help="run length, s")
-    p.add_argument("--guidance", choices=("step", "slew"),
+    p.add_argument("--guidance", metavar="MODE",
                    help="flight software guidance for every run (sets guidance.mode); slew also prints the "
                         "eigenaxis bang-bang bound and settle / bound per law")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",

@@ -34,7 +34,7 @@ def add_arguments(p) -> None:
     p.add_argument("--target", choices=TARGETS, default="host",
                    help="flight computer: host fsw_node, or processor in the loop (QEMU)")
     p.add_argument("--seed", type=int, help="seed of the plant's random streams")
-    p.add_argument("--guidance", choices=("step", "slew"),
+    p.add_argument("--guidance", metavar="MODE",
                    help="flight software guidance: step (the target at once) or slew (rest-to-rest eigenaxis "
                         "slew, the scenario's [guidance] settings); sets guidance.mode")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",

@@ -25,22 +25,6 @@ typedef struct {
     int underflow;
 } pil_reader_t;
 
-static void w_init(pil_writer_t *w, uint8_t *buf, uint32_t cap, uint32_t pos)
-{
-    w->buf = buf;
-    w->cap = cap;
-    w->pos = pos;
-    w->overflow = 0;
-}
-
-static void r_init(pil_reader_t *r, const uint8_t *buf, uint32_t len)
-{
-    r->buf = buf;
-    r->len = len;
-    r->pos = 0U;
-    r->underflow = 0;
-}
-
 /* n little-endian bytes of value */
 static void w_uint(pil_writer_t *w, uint64_t value, uint32_t n)
 {
@@ -225,8 +209,7 @@ static aocs_pil_err_t r_result(const pil_reader_t *r)
     {                                                                                  \
         aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
         if ((x != NULL) && (out != NULL)) {                                            \
-            pil_writer_t w;                                                            \
-            w_init(&w, out, cap, 0U);                                                  \
+            pil_writer_t w = {out, cap, 0U, 0};                                        \
             put_##FN(&w, x);                                                           \
             err = w_result(&w, BYTES);                                                 \
         }                                                                              \
@@ -236,10 +219,9 @@ static aocs_pil_err_t r_result(const pil_reader_t *r)
     {                                                                                  \
         aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;                                    \
         if ((p != NULL) && (x != NULL)) {                                              \
-            pil_reader_t r;                                                            \
+            pil_reader_t r = {p, len, 0U, 0};                                          \
             TYPE v;                                                                    \
             (void)memset(&v, 0, sizeof(v));                                            \
-            r_init(&r, p, len);                                                        \
             get_##FN(&r, &v);                                                          \
             err = r_result(&r);                                                        \
             if (err == AOCS_PIL_OK) {                                                  \
@@ -255,66 +237,26 @@ AOCS_PIL_PAYLOAD_ROWS(PIL_PAYLOAD_CODEC)
 uint32_t aocs_pil_crc32(const uint8_t *data, uint32_t len)
 {
     /*
-     * CRC-32/ISO-HDLC, reflected polynomial 0xEDB88320: byte-wise table
-     * (crc_table[i] = the CRC register after shifting the byte i through the
-     * polynomial 8 times; checked against zlib in tests/unit/test_pil_frame.c).
+     * CRC-32/ISO-HDLC, reflected polynomial 0xEDB88320, four bits at a time
+     * (crc_nibble[i] = the CRC register after shifting the nibble i through
+     * the polynomial 4 times; checked against a bitwise CRC and zlib in
+     * tests/unit/test_pil_frame.c).
      */
-    static const uint32_t crc_table[256] = {
-        0x00000000U, 0x77073096U, 0xEE0E612CU, 0x990951BAU, 0x076DC419U, 0x706AF48FU,
-        0xE963A535U, 0x9E6495A3U, 0x0EDB8832U, 0x79DCB8A4U, 0xE0D5E91EU, 0x97D2D988U,
-        0x09B64C2BU, 0x7EB17CBDU, 0xE7B82D07U, 0x90BF1D91U, 0x1DB71064U, 0x6AB020F2U,
-        0xF3B97148U, 0x84BE41DEU, 0x1ADAD47DU, 0x6DDDE4EBU, 0xF4D4B551U, 0x83D385C7U,
-        0x136C9856U, 0x646BA8C0U, 0xFD62F97AU, 0x8A65C9ECU, 0x14015C4FU, 0x63066CD9U,
-        0xFA0F3D63U, 0x8D080DF5U, 0x3B6E20C8U, 0x4C69105EU, 0xD56041E4U, 0xA2677172U,
-        0x3C03E4D1U, 0x4B04D447U, 0xD20D85FDU, 0xA50AB56BU, 0x35B5A8FAU, 0x42B2986CU,
-        0xDBBBC9D6U, 0xACBCF940U, 0x32D86CE3U, 0x45DF5C75U, 0xDCD60DCFU, 0xABD13D59U,
-        0x26D930ACU, 0x51DE003AU, 0xC8D75180U, 0xBFD06116U, 0x21B4F4B5U, 0x56B3C423U,
-        0xCFBA9599U, 0xB8BDA50FU, 0x2802B89EU, 0x5F058808U, 0xC60CD9B2U, 0xB10BE924U,
-        0x2F6F7C87U, 0x58684C11U, 0xC1611DABU, 0xB6662D3DU, 0x76DC4190U, 0x01DB7106U,
-        0x98D220BCU, 0xEFD5102AU, 0x71B18589U, 0x06B6B51FU, 0x9FBFE4A5U, 0xE8B8D433U,
-        0x7807C9A2U, 0x0F00F934U, 0x9609A88EU, 0xE10E9818U, 0x7F6A0DBBU, 0x086D3D2DU,
-        0x91646C97U, 0xE6635C01U, 0x6B6B51F4U, 0x1C6C6162U, 0x856530D8U, 0xF262004EU,
-        0x6C0695EDU, 0x1B01A57BU, 0x8208F4C1U, 0xF50FC457U, 0x65B0D9C6U, 0x12B7E950U,
-        0x8BBEB8EAU, 0xFCB9887CU, 0x62DD1DDFU, 0x15DA2D49U, 0x8CD37CF3U, 0xFBD44C65U,
-        0x4DB26158U, 0x3AB551CEU, 0xA3BC0074U, 0xD4BB30E2U, 0x4ADFA541U, 0x3DD895D7U,
-        0xA4D1C46DU, 0xD3D6F4FBU, 0x4369E96AU, 0x346ED9FCU, 0xAD678846U, 0xDA60B8D0U,
-        0x44042D73U, 0x33031DE5U, 0xAA0A4C5FU, 0xDD0D7CC9U, 0x5005713CU, 0x270241AAU,
-        0xBE0B1010U, 0xC90C2086U, 0x5768B525U, 0x206F85B3U, 0xB966D409U, 0xCE61E49FU,
-        0x5EDEF90EU, 0x29D9C998U, 0xB0D09822U, 0xC7D7A8B4U, 0x59B33D17U, 0x2EB40D81U,
-        0xB7BD5C3BU, 0xC0BA6CADU, 0xEDB88320U, 0x9ABFB3B6U, 0x03B6E20CU, 0x74B1D29AU,
-        0xEAD54739U, 0x9DD277AFU, 0x04DB2615U, 0x73DC1683U, 0xE3630B12U, 0x94643B84U,
-        0x0D6D6A3EU, 0x7A6A5AA8U, 0xE40ECF0BU, 0x9309FF9DU, 0x0A00AE27U, 0x7D079EB1U,
-        0xF00F9344U, 0x8708A3D2U, 0x1E01F268U, 0x6906C2FEU, 0xF762575DU, 0x806567CBU,
-        0x196C3671U, 0x6E6B06E7U, 0xFED41B76U, 0x89D32BE0U, 0x10DA7A5AU, 0x67DD4ACCU,
-        0xF9B9DF6FU, 0x8EBEEFF9U, 0x17B7BE43U, 0x60B08ED5U, 0xD6D6A3E8U, 0xA1D1937EU,
-        0x38D8C2C4U, 0x4FDFF252U, 0xD1BB67F1U, 0xA6BC5767U, 0x3FB506DDU, 0x48B2364BU,
-        0xD80D2BDAU, 0xAF0A1B4CU, 0x36034AF6U, 0x41047A60U, 0xDF60EFC3U, 0xA867DF55U,
-        0x316E8EEFU, 0x4669BE79U, 0xCB61B38CU, 0xBC66831AU, 0x256FD2A0U, 0x5268E236U,
-        0xCC0C7795U, 0xBB0B4703U, 0x220216B9U, 0x5505262FU, 0xC5BA3BBEU, 0xB2BD0B28U,
-        0x2BB45A92U, 0x5CB36A04U, 0xC2D7FFA7U, 0xB5D0CF31U, 0x2CD99E8BU, 0x5BDEAE1DU,
-        0x9B64C2B0U, 0xEC63F226U, 0x756AA39CU, 0x026D930AU, 0x9C0906A9U, 0xEB0E363FU,
-        0x72076785U, 0x05005713U, 0x95BF4A82U, 0xE2B87A14U, 0x7BB12BAEU, 0x0CB61B38U,
-        0x92D28E9BU, 0xE5D5BE0DU, 0x7CDCEFB7U, 0x0BDBDF21U, 0x86D3D2D4U, 0xF1D4E242U,
-        0x68DDB3F8U, 0x1FDA836EU, 0x81BE16CDU, 0xF6B9265BU, 0x6FB077E1U, 0x18B74777U,
-        0x88085AE6U, 0xFF0F6A70U, 0x66063BCAU, 0x11010B5CU, 0x8F659EFFU, 0xF862AE69U,
-        0x616BFFD3U, 0x166CCF45U, 0xA00AE278U, 0xD70DD2EEU, 0x4E048354U, 0x3903B3C2U,
-        0xA7672661U, 0xD06016F7U, 0x4969474DU, 0x3E6E77DBU, 0xAED16A4AU, 0xD9D65ADCU,
-        0x40DF0B66U, 0x37D83BF0U, 0xA9BCAE53U, 0xDEBB9EC5U, 0x47B2CF7FU, 0x30B5FFE9U,
-        0xBDBDF21CU, 0xCABAC28AU, 0x53B39330U, 0x24B4A3A6U, 0xBAD03605U, 0xCDD70693U,
-        0x54DE5729U, 0x23D967BFU, 0xB3667A2EU, 0xC4614AB8U, 0x5D681B02U, 0x2A6F2B94U,
-        0xB40BBE37U, 0xC30C8EA1U, 0x5A05DF1BU, 0x2D02EF8DU,
+    static const uint32_t crc_nibble[16] = {
+        0x00000000U, 0x1DB71064U, 0x3B6E20C8U, 0x26D930ACU, 0x76DC4190U, 0x6B6B51F4U, 0x4DB26158U, 0x5005713CU,
+        0xEDB88320U, 0xF00F9344U, 0xD6D6A3E8U, 0xCB61B38CU, 0x9B64C2B0U, 0x86D3D2D4U, 0xA00AE278U, 0xBDBDF21CU,
     };
     uint32_t crc = 0xFFFFFFFFU;
     if (data != NULL) {
         uint32_t i;
         for (i = 0U; i < len; i++) {
-            const uint32_t index = (crc ^ (uint32_t)data[i]) & 0xFFU;
-            crc = (crc >> 8U) ^ crc_table[index];
+            const uint32_t byte = (uint32_t)data[i];
+            crc = (crc >> 4U) ^ crc_nibble[(crc ^ byte) & 0x0FU];
+            crc = (crc >> 4U) ^ crc_nibble[(crc ^ (byte >> 4U)) & 0x0FU];
         }
     }
     return crc ^ 0xFFFFFFFFU;
 }
-
 
 aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const uint8_t *payload, uint32_t len,
                                      uint8_t *out, uint32_t cap, uint32_t *frame_len)
@@ -327,9 +269,8 @@ aocs_pil_err_t aocs_pil_frame_encode(aocs_pil_type_t type, uint32_t seq, const u
     } else if (cap < (AOCS_PIL_HEADER_BYTES + len + AOCS_PIL_CRC_BYTES)) {
         err = AOCS_PIL_ERR_BUFFER;
     } else {
-        pil_writer_t w;
+        pil_writer_t w = {out, cap, 0U, 0};
         uint32_t i;
-        w_init(&w, out, cap, 0U);
         w_uint(&w, (uint64_t)AOCS_PIL_MAGIC, 4U);
         w_uint(&w, (uint64_t)AOCS_PIL_VERSION, 1U);
         w_uint(&w, (uint64_t)(uint32_t)type, 1U);
@@ -353,11 +294,9 @@ aocs_pil_err_t aocs_pil_header_decode(const uint8_t *buf, uint32_t len, aocs_pil
     } else if (len < AOCS_PIL_HEADER_BYTES) {
         err = AOCS_PIL_ERR_LENGTH;
     } else {
-        pil_reader_t r;
-        uint32_t magic;
+        pil_reader_t r = {buf, AOCS_PIL_HEADER_BYTES, 0U, 0};
+        const uint32_t magic = (uint32_t)r_uint(&r, 4U);
         aocs_pil_header_t h;
-        r_init(&r, buf, AOCS_PIL_HEADER_BYTES);
-        magic = (uint32_t)r_uint(&r, 4U);
         h.version = (uint8_t)r_uint(&r, 1U);
         h.type = (uint8_t)r_uint(&r, 1U);
         h.length = (uint16_t)r_uint(&r, 2U);
@@ -387,8 +326,7 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
         if (len != (body + AOCS_PIL_CRC_BYTES)) {
             err = AOCS_PIL_ERR_LENGTH;
         } else {
-            pil_reader_t r;
-            r_init(&r, &buf[body], AOCS_PIL_CRC_BYTES);
+            pil_reader_t r = {&buf[body], AOCS_PIL_CRC_BYTES, 0U, 0};
             if ((uint32_t)r_uint(&r, 4U) != aocs_pil_crc32(buf, body)) {
                 err = AOCS_PIL_ERR_CRC;
             } else {
@@ -400,8 +338,30 @@ aocs_pil_err_t aocs_pil_frame_check(const uint8_t *buf, uint32_t len, aocs_pil_h
 }
 
 /* ---- CONFIG field list ---- */
-/* the widest real field: the 3x9 gain of lqr_quat_i (laws.def GAIN) */
-#define PIL_CFG_COUNT_MAX AOCS_CONFIG_VALUES_MAX
+/* One entry at *pos: field, count, then the count reals, the count bytes of name, or (neither given) the one
+ * integer; *pos moves past it only when it fits. */
+static aocs_pil_err_t cfg_put(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field, uint32_t count,
+                              const real_t *values, const char *name, uint64_t value)
+{
+    aocs_pil_err_t err = AOCS_PIL_ERR_BUFFER;
+    pil_writer_t w = {out, cap, *pos, 0};
+    w_uint(&w, (uint64_t)(uint32_t)field, 1U);
+    w_uint(&w, (uint64_t)count, 1U);
+    if (values != NULL) {
+        put_reals(&w, values, count);
+    } else if (name != NULL) {
+        for (uint32_t i = 0U; i < count; i++) {
+            w_uint(&w, (uint64_t)(uint8_t)name[i], 1U);
+        }
+    } else {
+        w_uint(&w, value, 8U);
+    }
+    if (w.overflow == 0) {
+        err = AOCS_PIL_OK;
+        *pos = w.pos;
+    }
+    return err;
+}
 
 aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                          const real_t *values, uint32_t count)
@@ -409,19 +369,10 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
     aocs_pil_err_t err = AOCS_PIL_OK;
     if ((out == NULL) || (pos == NULL) || (values == NULL)) {
         err = AOCS_PIL_ERR_NULL_ARG;
-    } else if ((count == 0U) || (count > PIL_CFG_COUNT_MAX)) {
+    } else if ((count == 0U) || (count > AOCS_CONFIG_VALUES_MAX)) {
         err = AOCS_PIL_ERR_FIELD;
     } else {
-        pil_writer_t w;
-        w_init(&w, out, cap, *pos);
-        w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-        w_uint(&w, (uint64_t)count, 1U);
-        put_reals(&w, values, count);
-        if (w.overflow != 0) {
-            err = AOCS_PIL_ERR_BUFFER;
-        } else {
-            *pos = w.pos;
-        }
+        err = cfg_put(out, cap, pos, field, count, values, NULL, 0U);
     }
     return err;
 }
@@ -429,20 +380,9 @@ aocs_pil_err_t aocs_pil_config_put_reals(uint8_t *out, uint32_t cap, uint32_t *p
 aocs_pil_err_t aocs_pil_config_put_u64(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                        uint64_t value)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((out == NULL) || (pos == NULL)) {
-        err = AOCS_PIL_ERR_NULL_ARG;
-    } else {
-        pil_writer_t w;
-        w_init(&w, out, cap, *pos);
-        w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-        w_uint(&w, 1U, 1U);
-        w_uint(&w, value, 8U);
-        if (w.overflow != 0) {
-            err = AOCS_PIL_ERR_BUFFER;
-        } else {
-            *pos = w.pos;
-        }
+    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
+    if ((out != NULL) && (pos != NULL)) {
+        err = cfg_put(out, cap, pos, field, 1U, NULL, NULL, value);
     }
     return err;
 }
@@ -450,10 +390,8 @@ aocs_pil_err_t aocs_pil_config_put_u64(uint8_t *out, uint32_t cap, uint32_t *pos
 aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *pos, aocs_pil_cfg_field_t field,
                                         const char *name)
 {
-    aocs_pil_err_t err = AOCS_PIL_OK;
-    if ((out == NULL) || (pos == NULL) || (name == NULL)) {
-        err = AOCS_PIL_ERR_NULL_ARG;
-    } else {
+    aocs_pil_err_t err = AOCS_PIL_ERR_NULL_ARG;
+    if ((out != NULL) && (pos != NULL) && (name != NULL)) {
         uint32_t n = 0U;
         while ((n <= AOCS_PIL_TABLE_NAME_MAX) && (name[n] != '\0')) {
             n++;
@@ -461,93 +399,66 @@ aocs_pil_err_t aocs_pil_config_put_name(uint8_t *out, uint32_t cap, uint32_t *po
         if ((n == 0U) || (n > AOCS_PIL_TABLE_NAME_MAX)) {
             err = AOCS_PIL_ERR_FIELD;
         } else {
-            pil_writer_t w;
-            uint32_t i;
-            w_init(&w, out, cap, *pos);
-            w_uint(&w, (uint64_t)(uint32_t)field, 1U);
-            w_uint(&w, (uint64_t)n, 1U);
-            for (i = 0U; i < n; i++) {
-                w_uint(&w, (uint64_t)(uint8_t)name[i], 1U);
-            }
-            if (w.overflow != 0) {
-                err = AOCS_PIL_ERR_BUFFER;
-            } else {
-                *pos = w.pos;
-            }
+            err = cfg_put(out, cap, pos, field, n, NULL, name, 0U);
         }
     }
     return err;
 }
 
+/* Bytes after the two-byte head of an entry of `count` values of field f: count binary64 reals (REALS, INERTIA),
+ * a name of 1 .. AOCS_PIL_TABLE_NAME_MAX bytes (TABLE) or one uint64; 0 for a count the field does not take. */
+static uint32_t cfg_entry_bytes(const aocs_config_field_t *f, uint32_t count)
+{
+    uint32_t bytes = 0U;
+    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+        if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
+            bytes = count * 8U;
+        }
+    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
+        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
+            bytes = count;
+        }
+    } else if (count == 1U) {
+        bytes = 8U;
+    } else {
+        /* not one integer */
+    }
+    return bytes;
+}
+
 /*
- * One CONFIG entry into *cfg through the configuration registry: its row
- * (aocs_config_find_pil) gives the value kind and count, its setter applies
- * the row's rule, so the image refuses what fsw_node refuses. Returns the
- * registry status (AOCS_ERR_CONFIG_FIELD for a shape the row does not take).
+ * One CONFIG entry, of a shape cfg_entry_bytes took, into *cfg through the configuration registry: the row's
+ * setter applies its rule, so the image refuses what fsw_node refuses. Returns the registry status.
  */
 static aocs_status_t cfg_apply_entry(pil_reader_t *r, aocs_exec_config_t *cfg, uint64_t *budget_instr,
                                      aocs_config_ref_t ref, uint32_t count)
 {
-    const aocs_config_field_t *f = ref.field;
-    aocs_status_t st = AOCS_ERR_CONFIG_FIELD;
-    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        if ((count == f->count) && (count <= AOCS_CONFIG_VALUES_MAX)) {
-            double vals[AOCS_CONFIG_VALUES_MAX];
-            for (uint32_t i = 0U; i < count; i++) {
-                vals[i] = f64_from_bits(r_uint(r, 8U));
-            }
-            st = aocs_config_set_reals(cfg, ref, vals, count);
+    const aocs_config_kind_t kind = ref.field->kind;
+    aocs_status_t st;
+    if ((kind == AOCS_CONFIG_KIND_REALS) || (kind == AOCS_CONFIG_KIND_INERTIA)) {
+        double vals[AOCS_CONFIG_VALUES_MAX];
+        for (uint32_t i = 0U; i < count; i++) {
+            vals[i] = f64_from_bits(r_uint(r, 8U));
         }
-    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        if ((count > 0U) && (count <= AOCS_PIL_TABLE_NAME_MAX)) {
-            char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
-            for (uint32_t i = 0U; i < count; i++) {
-                name[i] = (char)(uint8_t)r_uint(r, 1U);
-            }
-            name[count] = '\0';
-            st = aocs_config_set_table(cfg, ref, name);
+        st = aocs_config_set_reals(cfg, ref, vals, count);
+    } else if (kind == AOCS_CONFIG_KIND_TABLE) {
+        char name[AOCS_PIL_TABLE_NAME_MAX + 1U];
+        for (uint32_t i = 0U; i < count; i++) {
+            name[i] = (char)(uint8_t)r_uint(r, 1U);
         }
-    } else if (count == 1U) {
+        name[count] = '\0';
+        st = aocs_config_set_table(cfg, ref, name);
+    } else if (kind == AOCS_CONFIG_KIND_BUDGET) {
+        /* the image's budget is an instruction count (the table's when 0), not the node's ns */
         const uint64_t value = r_uint(r, 8U);
-        if (f->kind == AOCS_CONFIG_KIND_BUDGET) {
-            /* the image's budget is an instruction count (the table's when 0), not the node's ns */
-            st = (value > (uint64_t)UINT32_MAX) ? AOCS_ERR_CONFIG_RULE : AOCS_OK;
-            if (st == AOCS_OK) {
-                *budget_instr = value;
-            }
-        } else {
-            st = aocs_config_set_uint(cfg, ref, value);
+        st = (value > (uint64_t)UINT32_MAX) ? AOCS_ERR_CONFIG_RULE : AOCS_OK;
+        if (st == AOCS_OK) {
+            *budget_instr = value;
         }
     } else {
-        st = AOCS_ERR_CONFIG_FIELD;
+        st = aocs_config_set_uint(cfg, ref, r_uint(r, 8U));
     }
     return st;
-}
-
-/* 1 when an entry of `count` values has the shape of field f: its reals, a name of 1 .. 31 bytes, one integer. */
-static int cfg_entry_shape_ok(const aocs_config_field_t *f, uint32_t count)
-{
-    uint32_t lo = 1U;
-    uint32_t hi = 1U;
-    int ok = 0;
-    if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
-        lo = f->count;
-        hi = f->count;
-    } else if (f->kind == AOCS_CONFIG_KIND_TABLE) {
-        hi = AOCS_PIL_TABLE_NAME_MAX;
-    } else {
-        /* one integer */
-    }
-    if ((count >= lo) && (count <= hi)) {
-        ok = 1;
-    }
-    return ok;
-}
-
-/* Bytes an entry of `count` values of field f takes after its two-byte head. */
-static uint32_t cfg_entry_bytes(const aocs_config_field_t *f, uint32_t count)
-{
-    return (f->kind == AOCS_CONFIG_KIND_TABLE) ? count : (count * 8U);
 }
 
 aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_config_t *cfg,
@@ -557,20 +468,20 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
     if ((p == NULL) || (cfg == NULL) || (budget_instr == NULL) || (field == NULL) || (status == NULL)) {
         err = AOCS_PIL_ERR_NULL_ARG;
     } else {
-        pil_reader_t r;
+        pil_reader_t r = {p, len, 0U, 0};
         *field = 0U;
         *status = AOCS_OK;
-        r_init(&r, p, len);
         while ((err == AOCS_PIL_OK) && (r.pos < r.len)) {
             aocs_config_ref_t ref = {NULL, 0U};
             const uint32_t id = (uint32_t)r_uint(&r, 1U);
             const uint32_t count = (uint32_t)r_uint(&r, 1U);
+            const uint32_t bytes = (aocs_config_find_pil(id, &ref) != 0) ? cfg_entry_bytes(ref.field, count) : 0U;
             if (r.underflow != 0) {
                 err = AOCS_PIL_ERR_PAYLOAD;
-            } else if ((aocs_config_find_pil(id, &ref) == 0) || (cfg_entry_shape_ok(ref.field, count) == 0)) {
+            } else if (bytes == 0U) {
                 err = AOCS_PIL_ERR_FIELD;
                 *field = id;
-            } else if (cfg_entry_bytes(ref.field, count) > (r.len - r.pos)) {
+            } else if (bytes > (r.len - r.pos)) {
                 err = AOCS_PIL_ERR_PAYLOAD;
                 *field = id;
             } else {
@@ -579,7 +490,8 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
                     err = AOCS_PIL_ERR_FIELD;
                     *field = id;
                     /* a gain table's own status says which; a value or shape refused is the field's fault */
-                    *status = ((st == AOCS_ERR_GAIN_TABLE_UNKNOWN) || (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW)) ? st : AOCS_OK;
+                    *status =
+                        ((st == AOCS_ERR_GAIN_TABLE_UNKNOWN) || (st == AOCS_ERR_GAIN_TABLE_WRONG_LAW)) ? st : AOCS_OK;
                 }
             }
         }

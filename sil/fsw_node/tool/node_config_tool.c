@@ -25,6 +25,7 @@
 #include "aocs/pil_frame.h"
 #include "node_checks.h"
 #include "node_config.h"
+#include "node_hints.h"
 
 #define EXIT_USAGE 2
 
