@@ -9,6 +9,7 @@ in docs/sil.md.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -189,11 +190,10 @@ def _guidance(out: dict, sc, fsw: dict | None) -> None:
         out["guidance"] = None
         return
     rep = ((fsw or {}).get("guidance") or {})
-    out["guidance"] = {"mode": g.mode, "profile": g.profile if g.mode == "slew" else None,
-                       "margin": g.margin if g.mode == "slew" else None,
-                       "rate_limit_radps": g.rate_limit_radps if g.mode == "slew" else None,
-                       "jerk_time_s": g.jerk_time_s if g.mode == "slew" else None,
-                       "slew_start_s": _fo(rep.get("slew_start_s")), "profile_end_s": _fo(rep.get("profile_end_s"))}
+    # the scenario's [guidance] keys as it gives them (the registry's guidance.* fields); the slew's only in slew mode
+    settings = {k: (v if k == "mode" or g.mode == "slew" else None) for k, v in dataclasses.asdict(g).items()}
+    out["guidance"] = {**settings, "slew_start_s": _fo(rep.get("slew_start_s")),
+                       "profile_end_s": _fo(rep.get("profile_end_s"))}
 
 
 def _accuracy(out: dict, series: dict, log, sc) -> None:
