@@ -6,22 +6,27 @@
 
 A case is a reference scenario (sil/scenarios/*.toml) with one of its laws (its own, every law it defines
 for the IRASSI ones, with and without slew guidance where it has [guidance]). Each is flown with
-`aocs run` in lockstep; the digest of a case is the SHA-256 of every actuator_cmd_t of its log with the
-timing fields (utime, step_ns, overrun, n_overrun) zeroed, and of every sensors_t payload as recorded:
-the flight software's commands and the plant's sensor stream, bit for bit. `check` exits 1 and names
-every case whose digest moved.
+`aocs run` in lockstep; the digest of a case is the SHA-256 of the decoded fields of its log that every
+protocol version since 2 has, as exact bits: of every actuator_cmd_t the fields of COMMAND_FIELDS (all
+but the timing ones, utime, step_ns, overrun, n_overrun, and the protocol version), of every sensors_t
+those of SENSOR_FIELDS (the valid bits of version 2 only): the flight software's commands and the plant's
+sensor stream, bit for bit. So the same script run on a version 2 checkout and on a later one gives
+comparable digests (a new wire field changes the bytes of every message, not what they say).
+`check` exits 1 and names every case whose digest moved.
 """
 from __future__ import annotations
 
 import argparse
 import hashlib
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 AOCS = ROOT / ".venv" / "bin" / "aocs"
+VENV_PYTHON = ROOT / ".venv" / "bin" / "python"
 
 #: (scenario, law, extra aocs run arguments): the reference cases
 CASES = [
@@ -37,29 +42,36 @@ CASES = [
     ("irassi_rw_failed", "quat_pd", ["--guidance", "slew"]),
 ]
 
-TIMING = ("utime", "step_ns", "overrun", "n_overrun")
+#: sensors_t fields of protocol version 2 (sil/lcmtypes/sensors_t.lcm) in the digest; valid masked to its bits
+SENSOR_FIELDS = ("tick", "t_s", "valid", "q", "w", "pos", "vel", "n_wheels", "wheel_speed")
+VALID_V2 = 31   # VALID_ATTITUDE | RATE | POSITION | VELOCITY | WHEELS
+#: actuator_cmd_t fields of protocol version 2 in the digest: every one but the timing fields (utime, step_ns,
+#: overrun, n_overrun) and protocol_version (its value is the version)
+COMMAND_FIELDS = ("frame", "tick", "law_id", "mode", "u_sat", "u_unsat", "saturated", "status", "n_invalid",
+                  "n_stale", "n_missing", "n_law_error", "n_lost", "n_duplicate", "n_foreign", "n_malformed",
+                  "n_cmd_accepted", "n_cmd_rejected", "n_wheels", "u_wheels", "wheel_scale", "wheel_limited",
+                  "wheel_status", "h_total", "wheel_speed_margin")
+
+
+def _hash(table: dict, names, masks=None) -> str:
+    """SHA-256 of the named columns of a log table, in the given order, as exact bits (name, then bytes)."""
+    h = hashlib.sha256()
+    for name in names:
+        col = table[name]
+        if masks and name in masks:
+            col = col & masks[name]
+        h.update(name.encode())
+        h.update(col.tobytes())
+    return h.hexdigest()
 
 
 def _digest(log_path: Path) -> dict:
     sys.path[:0] = [str(ROOT / "sil"), str(ROOT / "tools")]
-    from aocs_wire import lcmlog, wire  # noqa: E402  (the venv's packages, after the path is set)
-    log = lcmlog.read(log_path, keep_raw=True)
-    sens_hash = hashlib.sha256()
-    n_sens = 0
-    for channel, data, _utime in log.events or []:
-        if channel == wire.SENSORS:
-            n_sens += 1
-            sens_hash.update(data)
-    # masked command rows: every decoded field but the timing ones, as exact bits
-    masked = hashlib.sha256()
-    for name in sorted(log.cmd):
-        if name in TIMING or name == "log_utime":
-            continue
-        col = log.cmd[name]
-        masked.update(name.encode())
-        masked.update(col.tobytes())
-    return {"commands": masked.hexdigest(), "n_commands": int(len(log.cmd["tick"])), "sensors": sens_hash.hexdigest(),
-            "n_sensors": n_sens}
+    from aocs_wire import lcmlog  # noqa: E402  (the venv's packages, after the path is set)
+    log = lcmlog.read(log_path)
+    return {"commands": _hash(log.cmd, COMMAND_FIELDS), "n_commands": int(len(log.cmd["tick"])),
+            "sensors": _hash(log.sensors, SENSOR_FIELDS, {"valid": VALID_V2}),
+            "n_sensors": int(len(log.sensors["tick"]))}
 
 
 def _fly(scenario: str, law: str | None, extra: list[str], duration: float, out: Path) -> dict:
@@ -82,6 +94,9 @@ def _key(scenario, law, extra) -> str:
 
 
 def main() -> int:
+    if Path(sys.prefix).resolve() != (ROOT / ".venv").resolve() and VENV_PYTHON.is_file():
+        # run as `scripts/command-history.py`: the log reader needs the venv's packages (lcm, numpy)
+        os.execv(str(VENV_PYTHON), [str(VENV_PYTHON), str(Path(__file__).resolve()), *sys.argv[1:]])
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("action", choices=("record", "check"))
     p.add_argument("dir")

@@ -12,7 +12,7 @@ import time
 
 from aocs_wire import wire
 
-from .frames import Command, Reply, SensorFrame
+from .frames import Command, Estimate, Reply, SensorFrame
 
 
 class LcmCodec:
@@ -37,16 +37,21 @@ class LcmCodec:
         self.i_status = a.index("status")
         self.i_step_ns = a.index("step_ns")
         self.i_overrun = a.index("overrun")
+        # the estimate (protocol version 3): each field's index, Estimate's order
+        self.i_est = tuple(a.index(n) for n in ("estimator", "est_status", "q_est", "w_est", "bias_est", "est_p",
+                                                 "st_status", "n_st_used", "n_st_gated", "n_st_hostile",
+                                                 "n_est_restarts"))
+        self.n_p = a.fields[[n for n, _ in a.fields].index("est_p")][1]
 
     def pack_sensors(self, f: SensorFrame, frame_no: int | None = None, version: int | None = None) -> bytes:
         """sensors_t of a frame: frame counter = tick unless given, utime = t_s in us, n_wheels = the
-        tachometers it carries (the other slots zero)."""
+        tachometers it carries (the other slots zero), then the star tracker's and the gyro's fields."""
         ws = f.wheel_speed
         n = len(ws)
         tick, t_s = f.tick, f.t_s
         return self._pack(self.version if version is None else version, tick if frame_no is None else frame_no,
                           int(round(t_s * 1e6)), tick, t_s, f.valid, *f.q, *f.w, *f.pos, *f.vel, n, *ws,
-                          *self._pads[n])
+                          *self._pads[n], *f.st_q, f.st_t_meas_s, *f.gyro_w)
 
     def command(self, v: tuple) -> Command:
         """The Command of actuator_cmd_t values (Codec.unpack): u_sat and the first n_wheels wheel torques."""
@@ -55,11 +60,18 @@ class LcmCodec:
             n = min(max(n, 0), self.max_wheels)
         return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n])
 
+    def estimate(self, v: tuple) -> Estimate:
+        """The Estimate of actuator_cmd_t values (estimator, est_status, q_est, w_est, bias_est, est_p,
+        st_status and the counts, in the message's order)."""
+        est, st, q, w, b, p, ss, used, gated, hostile, restarts = self.i_est
+        return Estimate(v[est], v[st], v[q:q + 4], v[w:w + 3], v[b:b + 3], v[p:p + self.n_p], v[ss], v[used],
+                        v[gated], v[hostile], v[restarts])
+
     def reply(self, v: tuple) -> Reply:
         """The Reply of actuator_cmd_t values: the Command and the step's telemetry; raw = the values."""
         iu = self.i_unsat
         return Reply(self.command(v), v[iu:iu + 3], v[self.i_law], v[self.i_mode], v[self.i_status],
-                     v[self.i_step_ns], bool(v[self.i_overrun]), v)
+                     v[self.i_step_ns], bool(v[self.i_overrun]), v, self.estimate(v))
 
 
 class LcmFlightComputer:

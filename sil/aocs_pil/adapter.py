@@ -5,19 +5,21 @@ step_payload is the one translation of a SensorFrame into the image's executive 
 bridge (aocs_pil.bridge turns each sensors_t into a SensorFrame, then into this payload), so the bridge path
 and the direct path (harness.run_direct) feed the image the same bytes. It reads the frame as fsw_node reads
 a sensors_t (node_wire.c aocs_node_sensors_to_input): attitude and rate bits as they are, the orbit bit when
-both position and velocity are valid, a wheel the frame does not measure as NaN.
+both position and velocity are valid, a wheel the frame does not measure as NaN, the star tracker's and the
+gyro's bits as they are, the tracker's time of measurement converted as the sensor time is.
 """
 from __future__ import annotations
 
 import math
 
-from aocs_loop.frames import Command, Reply, SensorFrame, valid_bits
+from aocs_loop.frames import Command, Estimate, Reply, SensorFrame, valid_bits
 
 from . import frame
 from .qemu import Qemu
 
-#: the executive input's validity bits of the STEP frame (aocs_exec_input_t.valid: ATT, RATE, ORBIT)
-EXEC_VALID_ATT, EXEC_VALID_RATE, EXEC_VALID_ORBIT = 1, 2, 4
+#: the executive input's validity bits of the STEP frame (aocs_exec_input_t.valid, exec/io.h: ATT, RATE, ORBIT,
+#: ST, GYRO)
+EXEC_VALID_ATT, EXEC_VALID_RATE, EXEC_VALID_ORBIT, EXEC_VALID_ST, EXEC_VALID_GYRO = 1, 2, 4, 8, 16
 
 
 def step_payload(f: SensorFrame) -> bytes:
@@ -25,10 +27,12 @@ def step_payload(f: SensorFrame) -> bytes:
     b = valid_bits()
     v = f.valid
     valid = ((EXEC_VALID_ATT if v & b.attitude else 0) | (EXEC_VALID_RATE if v & b.rate else 0)
-             | (EXEC_VALID_ORBIT if (v & b.position) and (v & b.velocity) else 0))
+             | (EXEC_VALID_ORBIT if (v & b.position) and (v & b.velocity) else 0)
+             | (EXEC_VALID_ST if v & b.star_tracker else 0) | (EXEC_VALID_GYRO if v & b.gyro else 0))
     ws = f.wheel_speed if v & b.wheels else ()
     wheels = [ws[i] if i < len(ws) else math.nan for i in range(frame.WHEELS_MAX)]
-    return frame.encode_step(f.tick, f.t_ns, valid, f.q, f.w, f.pos, f.vel, wheels)
+    return frame.encode_step(f.tick, f.t_ns, valid, f.q, f.w, f.pos, f.vel, wheels, st_q=f.st_q,
+                             st_t_meas_ns=f.st_t_meas_ns, gyro_w=f.gyro_w)
 
 
 def step_status(r: frame.StepReply) -> int:
@@ -37,12 +41,19 @@ def step_status(r: frame.StepReply) -> int:
     return r.step_status or r.input_status or r.law_status
 
 
+def estimate_of(r: frame.StepReply) -> Estimate:
+    """The Estimate of a STEP_REPLY (its estimate rows)."""
+    return Estimate(r.estimator, r.est_status, r.q_est, r.w_est, r.bias_est, r.est_p, r.st_status, r.n_st_used,
+                    r.n_st_gated, r.n_st_hostile, r.n_est_restarts)
+
+
 def reply_of(r: frame.StepReply, tick: int, n_wheels: int, clock_hz: float) -> Reply:
     """The Reply of a STEP_REPLY: u_cmd and the first n_wheels wheel torques (the configuration's array;
-    the frame carries WHEELS_MAX), step_ns = the step's instructions at the target's nominal clock."""
+    the frame carries WHEELS_MAX), step_ns = the step's instructions at the target's nominal clock, the
+    estimate."""
     cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels])
     return Reply(cmd, r.u_unsat, r.law, r.mode, step_status(r), int(round(r.instructions * 1e9 / clock_hz)),
-                 bool(r.overrun), r)
+                 bool(r.overrun), r, estimate_of(r))
 
 
 class PilFlightComputer:

@@ -223,7 +223,8 @@ class Bridge:
         # of a frame (aocs_pil.adapter.step_payload, which the direct path uses too)
         n = max(0, min(msg.n_wheels, frame.WHEELS_MAX, len(msg.wheel_speed)))
         payload = step_payload(SensorFrame(msg.tick, msg.t_s, msg.valid, msg.q, msg.w, msg.pos, msg.vel,
-                                           tuple(msg.wheel_speed[:n])))
+                                           tuple(msg.wheel_speed[:n]), tuple(msg.st_q), msg.st_t_meas_s,
+                                           tuple(msg.gyro_w)))
         try:
             seq = self.q.next_seq()
             raw = frame.encode(frame.T_STEP, seq, payload)
@@ -296,6 +297,17 @@ class Bridge:
         m.wheel_status = r.wheel_status
         m.h_total = list(r.h_total)
         m.wheel_speed_margin = r.speed_margin
+        # the attitude-determination stage's estimate of this step, as fsw_node publishes it
+        # (node_wire.c aocs_node_estimate_to_cmd)
+        m.estimator = min(r.estimator, 127)
+        m.est_status = r.est_status
+        m.q_est = list(r.q_est)
+        m.w_est = list(r.w_est)
+        m.bias_est = list(r.bias_est)
+        m.est_p = list(r.est_p)
+        m.st_status = r.st_status
+        m.n_st_used, m.n_st_gated, m.n_st_hostile = r.n_st_used, r.n_st_gated, r.n_st_hostile
+        m.n_est_restarts = r.n_est_restarts
         self.lc.publish(CH_ACTUATOR, m.encode())
 
     # ---------------------------------------------------------------- AOCS_COMMAND

@@ -75,6 +75,7 @@ class RunResult:
     pointing_arcsec: list = field(default_factory=list)  # true angle at t_k, k = 0 .. n (after the last period)
     qe_arcsec: list = field(default_factory=list)
     sensors: list = field(default_factory=list)        # aocs_loop.frames.SensorFrame per tick
+    estimates: list = field(default_factory=list)      # aocs_loop.frames.Estimate per tick (the step's estimate)
     stats: dict = field(default_factory=dict)          # the flight computer's final JSON ("fsw_node")
     returncode: int | None = None
     stderr: str = ""
@@ -239,6 +240,7 @@ class _Record(core.Hook):
         if plant is not None:
             self.truth(plant)
         res.sensors.append(frame)
+        res.estimates.append(reply.estimate)
         res.u_sat.append(tuple(reply.command.u))
         res.u_wheels.append(tuple(reply.command.u_wheels))
         res.u_unsat.append(tuple(reply.u_unsat))
@@ -266,6 +268,7 @@ class DirectResult:
     dt: float
     replies: list = field(default_factory=list)       # frame.StepReply per tick
     sensors: list = field(default_factory=list)       # aocs_loop.frames.SensorFrame per tick
+    estimates: list = field(default_factory=list)     # aocs_loop.frames.Estimate per tick (the step's estimate)
     u_sat: list = field(default_factory=list)         # per tick, the body torque (force) the plant took
     u_wheels: list = field(default_factory=list)      # per tick, the wheel torques the plant took
     pointing_arcsec: list = field(default_factory=list)
@@ -330,6 +333,7 @@ class _DirectRecord(core.Hook):
         self.truth(plant)
         res.replies.append(reply.raw)
         res.sensors.append(frame)
+        res.estimates.append(reply.estimate)
         res.u_sat.append(tuple(reply.command.u))
         res.u_wheels.append(tuple(reply.command.u_wheels))
 

@@ -297,6 +297,9 @@ class _Loop:
         self.wmax = link.t.sensors_t.MAX_WHEELS
         self.progress_every = max(1, sc.n_steps // 10)
         self._zero_wheel_truth = (0,) + (0.0,) * (3 * self.wmax) + (0,) + (0.0,) * 6
+        # what an attitude estimate is judged against (truth_t, protocol version 3): the gyro's true bias, from
+        # its truth fields (Plant.truth()["sensors"]["gyro.bias_rad_s"]); zero without a gyro
+        self.gyro = next((s for s in plant.sensors if s.name == "gyro"), None)
         if self.attitude:
             self.qd0 = sc.target.qd0
             self.fixed_target = not any(sc.target.wd)
@@ -319,12 +322,12 @@ class _Loop:
             data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                *q, *w, *z3, *z3, *applied, *z3, *dist, *z3,
                                ang, abs(e1) * ARCSEC_PER_RAD, abs(e2) * ARCSEC_PER_RAD, abs(e3) * ARCSEC_PER_RAD,
-                               *self.truth_wheels())
+                               *self.truth_wheels(), *self.truth_estimation())
         else:
             x = plant.orbit.x
             data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                0.0, 0.0, 0.0, 1.0, *z3, x[3], x[4], x[5], x[0], x[1], x[2],
-                               *z3, *applied, *z3, *dist, 0.0, *z3, *self.truth_wheels())
+                               *z3, *applied, *z3, *dist, 0.0, *z3, *self.truth_wheels(), *z3)
         self.frame_truth += 1
         self.link.publish_truth(data)
 
@@ -348,6 +351,12 @@ class _Loop:
         HN = tuple(A[0][r] * H[0] + A[1][r] * H[1] + A[2][r] * H[2] for r in range(3))
         return (self.nw, *self._pad(tr["speed_rad_s"]), *self._pad(tr["momentum_nms"]),
                 *self._pad(tr["motor_torque_nm"]), bits, *H, *HN)
+
+    def truth_estimation(self):
+        """truth_t's fields an attitude estimate is judged against: the gyro's true bias in B at the end of its
+        last sample, rad/s (zeros without a gyro)."""
+        g = self.gyro
+        return (0.0, 0.0, 0.0) if g is None else g.truth()["bias_rad_s"]
 
     def sensors(self, tick, stale=False):
         """sensors_t of tick k (stale: with the sensor time of tick k - 1)."""

@@ -5,6 +5,12 @@
     log.cmd["u_sat"]      # (n, 3) saturated command per step
     log.counts            # events per channel, and undecodable payloads
 
+Every field of the wire contract (docs/wire-contract.md) is a column, those of protocol version 3 too:
+log.sensors["st_q"] (n, 4), ["st_t_meas_s"] (n,), ["gyro_w"] (n, 3) and the VALID_STAR_TRACKER /
+VALID_GYRO bits of ["valid"]; log.cmd["estimator"], ["est_status"], ["q_est"] (n, 4), ["w_est"],
+["bias_est"] (n, 3), ["est_p"] (n, 21; covariance() makes the (n, 6, 6) matrices), ["st_status"],
+["n_st_used"], ["n_st_gated"], ["n_st_hostile"], ["n_est_restarts"]; log.truth["gyro_bias"] (n, 3).
+
 Each table is a dict field -> array in the logged order: scalars (n,),
 fixed arrays (n, k); integer and boolean fields as int64, doubles as float64,
 plus "log_utime" (the logger's receive time, us). Payloads that are not
@@ -353,6 +359,19 @@ def _read_eventlog(path: Path, keep_raw: bool = False) -> Log:
     t = {c: _table(by_channel[c], rows[c], utimes[c]) for c in by_channel}
     return Log(path, t[wire.TRUTH], t[wire.ACTUATOR], t[wire.SENSORS], t[wire.STATUS], t[wire.COMMAND],
                markers, counts, raw)
+
+
+def covariance(p_upper) -> np.ndarray:
+    """The (n, 6, 6) symmetric covariances of the estimate from actuator_cmd_t's est_p, (n, 21) (or one row of
+    21): the upper triangle row by row, P00 P01 .. P05 P11 .. P55 (firmware estimate.h)."""
+    p = np.asarray(p_upper, dtype=np.float64)
+    one = p.ndim == 1
+    p = p.reshape(-1, 21)
+    i, j = np.triu_indices(6)
+    out = np.zeros((p.shape[0], 6, 6))
+    out[:, i, j] = p
+    out[:, j, i] = p
+    return out[0] if one else out
 
 
 def _tick_gap(ticks: np.ndarray, first: int, last: int | None, absent_ok=()) -> str | None:

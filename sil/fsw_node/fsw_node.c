@@ -158,6 +158,8 @@ static void publish_actuator(node_t *n, aocs_status_t step_rc, int64_t tick, int
         m.h_total[i] = (double)o->momentum.h_total_B_Nms.v[i];
     }
     m.wheel_speed_margin = (double)o->momentum.speed_margin;
+    /* the attitude-determination stage's estimate of this step (telemetry) */
+    aocs_node_estimate_to_cmd(&o->estimate, n->exec.cfg.determination.estimator, &m);
     if (aocs_lcm_actuator_cmd_t_publish(n->lcm, CH_ACTUATOR, &m) != 0) {
         (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_ACTUATOR);
     }
@@ -223,7 +225,7 @@ static void on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *us
         if (n->cfg.run_mode == AOCS_NODE_RUN_LOCKSTEP) {
             aocs_exec_input_t in;
             aocs_status_t rc;
-            aocs_node_sensors_to_input(&msg, aocs_node_seconds_to_ns(msg.t_s), &in);
+            aocs_node_lockstep_input(&msg, &in);
             rc = aocs_exec_step(&n->exec, &in, &n->out);
             record_step(n, rc);
             publish_actuator(n, rc, msg.tick, msg.utime, 0);

@@ -134,6 +134,22 @@ uint64_t aocs_node_seconds_to_ns(double t_s)
     return ns;
 }
 
+uint64_t aocs_node_meas_time_ns(uint64_t t_sensor_ns, double t_s, double t_meas_s)
+{
+    const uint64_t t = aocs_node_seconds_to_ns(t_s);
+    const uint64_t m = aocs_node_seconds_to_ns(t_meas_s);
+    uint64_t r = 0u;
+    if ((m == 0u) || ((t == 0u) && (t_sensor_ns != 0u))) {
+        r = 0u; /* no time: the measurement's own, or (real time) the sample's, so its age is unknown */
+    } else if (m <= t) {
+        const uint64_t age = t - m;
+        r = (age < t_sensor_ns) ? (t_sensor_ns - age) : 0u;
+    } else {
+        r = aocs_node_add_sat(t_sensor_ns, m - t); /* measured after the sample's time: left to the estimator */
+    }
+    return r;
+}
+
 void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor_ns, aocs_exec_input_t *in)
 {
     int i;
@@ -150,6 +166,12 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
         ((msg->valid & AOCS_LCM_SENSORS_T_VALID_VELOCITY) != 0)) {
         in->valid |= AOCS_EXEC_VALID_ORBIT;
     }
+    if ((msg->valid & AOCS_LCM_SENSORS_T_VALID_STAR_TRACKER) != 0) {
+        in->valid |= AOCS_EXEC_VALID_ST;
+    }
+    if ((msg->valid & AOCS_LCM_SENSORS_T_VALID_GYRO) != 0) {
+        in->valid |= AOCS_EXEC_VALID_GYRO;
+    }
     for (i = 0; i < 4; ++i) {
         in->q_BN.q[i] = (real_t)msg->q[i];
     }
@@ -158,6 +180,14 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
         in->pos_m.v[i] = (real_t)msg->pos[i];
         in->vel_mps.v[i] = (real_t)msg->vel[i];
     }
+    /* star tracker (the last sample taken; a new one when VALID_ST is set) and gyro */
+    for (i = 0; i < 4; ++i) {
+        in->st_q_SN.q[i] = (real_t)msg->st_q[i];
+    }
+    in->st_t_meas_ns = aocs_node_meas_time_ns(t_sensor_ns, msg->t_s, msg->st_t_meas_s);
+    for (i = 0; i < 3; ++i) {
+        in->gyro_w_B.v[i] = (real_t)msg->gyro_w[i];
+    }
     /* tachometers: a wheel the message does not measure (flag off, beyond n_wheels) reads NaN, so an
      * executive with a wheel array gives a zero wheel command rather than act on a made-up speed */
     for (i = 0; i < (int)AOCS_WHEELS_MAX; ++i) {
@@ -165,6 +195,41 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
                      (i < AOCS_LCM_SENSORS_T_MAX_WHEELS);
         in->wheel_speed_radps[i] = usable ? (real_t)msg->wheel_speed[i] : (real_t)NAN;
     }
+}
+
+void aocs_node_lockstep_input(const aocs_lcm_sensors_t *msg, aocs_exec_input_t *in)
+{
+    aocs_node_sensors_to_input(msg, aocs_node_seconds_to_ns(msg->t_s), in);
+}
+
+/* ---- the estimate ---------------------------------------------------------------- */
+/* the wire's est_p is the covariance's upper triangle of estimate.h (a compile-time check) */
+typedef char aocs_node_est_p_matches[((sizeof(((aocs_lcm_actuator_cmd_t *)NULL)->est_p) / sizeof(double)) ==
+                                      (size_t)AOCS_EST_P_UPPER_COUNT) ? 1 : -1];
+
+void aocs_node_estimate_to_cmd(const aocs_det_output_t *est, uint32_t estimator, aocs_lcm_actuator_cmd_t *m)
+{
+    int i;
+    if ((est == NULL) || (m == NULL)) {
+        return;
+    }
+    m->estimator = (estimator > (uint32_t)INT8_MAX) ? INT8_MAX : (int8_t)estimator;
+    m->est_status = (int32_t)est->status;
+    for (i = 0; i < 4; ++i) {
+        m->q_est[i] = (double)est->q_BN.q[i];
+    }
+    for (i = 0; i < 3; ++i) {
+        m->w_est[i] = (double)est->w_BN_B.v[i];
+        m->bias_est[i] = (double)est->bias_B_radps.v[i];
+    }
+    for (i = 0; i < (int)AOCS_EST_P_UPPER_COUNT; ++i) {
+        m->est_p[i] = (double)est->p_upper[i];
+    }
+    m->st_status = (int32_t)est->st_status;
+    m->n_st_used = (int64_t)est->n_st_used;
+    m->n_st_gated = (int64_t)est->n_st_gated;
+    m->n_st_hostile = (int64_t)est->n_st_hostile;
+    m->n_est_restarts = (int64_t)est->n_restarts;
 }
 
 /* ---- commands -------------------------------------------------------------------- */

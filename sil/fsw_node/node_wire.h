@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "aocs/executive.h"
+#include "aocs_lcm_actuator_cmd_t.h"
 #include "aocs_lcm_command_t.h"
 #include "aocs_lcm_sensors_t.h"
 
@@ -72,12 +73,32 @@ int aocs_node_seq_accepted(aocs_node_seq_result_t r);
 /* ---- sensors_t -> executive input ------------------------------------------- */
 /*
  * Validity bits map VALID_ATTITUDE -> AOCS_EXEC_VALID_ATT, VALID_RATE ->
- * AOCS_EXEC_VALID_RATE, POSITION and VELOCITY both set -> AOCS_EXEC_VALID_ORBIT.
+ * AOCS_EXEC_VALID_RATE, POSITION and VELOCITY both set -> AOCS_EXEC_VALID_ORBIT,
+ * VALID_STAR_TRACKER -> AOCS_EXEC_VALID_ST, VALID_GYRO -> AOCS_EXEC_VALID_GYRO.
  * tick is the int64 modulo 2^32. t_sensor_ns is given by the caller
- * (lockstep: from t_s; realtime: reception time on the HAL clock). Values
- * are passed through unchecked (NaN included): the executive decides.
+ * (lockstep: from t_s; realtime: reception time on the HAL clock); the star
+ * tracker's st_t_meas_ns is aocs_node_meas_time_ns(t_sensor_ns, t_s,
+ * st_t_meas_s), on the same clock. Values are passed through unchecked (NaN
+ * included): the executive decides.
  */
 void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor_ns, aocs_exec_input_t *in);
+
+/* Lockstep: the executive input of a sample, t_sensor_ns = aocs_node_seconds_to_ns(t_s) (what fsw_node steps
+ * on, and what the host tool aocs_node_input prints for a log). */
+void aocs_node_lockstep_input(const aocs_lcm_sensors_t *msg, aocs_exec_input_t *in);
+
+/*
+ * A sensor's time of measurement t_meas_s (sim time, s) on the clock of
+ * t_sensor_ns, the sample's sensor time: t_sensor_ns - (ns(t_s) - ns(t_meas_s)),
+ * ns() = aocs_node_seconds_to_ns, formed in uint64_t without wrapping (a
+ * time before the clock's 0 is 0, one beyond 2^64 - 1 ns is UINT64_MAX).
+ * Lockstep, where t_sensor_ns = ns(t_s), that is ns(t_meas_s) exactly: the
+ * measurement time converted as t_s is. 0 ("no time") when t_meas_s is out
+ * of the range of t_s (NaN, Inf, <= 0, >= AOCS_NODE_SECONDS_MAX) and, when
+ * t_sensor_ns is not ns(t_s) (real time), when t_s is: the age is then
+ * unknown. Total.
+ */
+uint64_t aocs_node_meas_time_ns(uint64_t t_sensor_ns, double t_s, double t_meas_s);
 
 /*
  * Sim time in s -> ns for the executive: round half away from zero of
@@ -88,6 +109,18 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
  */
 #define AOCS_NODE_SECONDS_MAX 1.8e10
 uint64_t aocs_node_seconds_to_ns(double t_s);
+
+/* ---- the estimate -> actuator_cmd_t ----------------------------------------------- */
+/*
+ * The attitude-determination stage's estimate of one step (aocs_exec_output_t.estimate)
+ * into the estimate fields of *m (telemetry, docs/wire-contract.md): estimator = the
+ * selected row of estimation/determination.def (the executive's
+ * cfg.determination.estimator; above INT8_MAX reads INT8_MAX), est_status, q_est,
+ * w_est, bias_est, est_p (the covariance's upper triangle as estimate.h orders it),
+ * st_status and the star-tracker and restart counts. The other fields of *m are left
+ * as they are. Total (nothing on NULL).
+ */
+void aocs_node_estimate_to_cmd(const aocs_det_output_t *est, uint32_t estimator, aocs_lcm_actuator_cmd_t *m);
 
 /* ---- command_t -> aocs_exec_select ------------------------------------------- */
 /*

@@ -1,15 +1,18 @@
 """One scenario through every closed-loop path, the command histories compared bit for bit (issue 19, item 5).
 
 irassi_rw (four reaction wheels, tachometers) with the on-board slew guidance, 30 s (300 periods, the slew
-under way: wheel torques up to ~0.2 N m), its own law and seed, flown through:
+under way: wheel torques up to ~0.2 N m), its own law and seed, with a star tracker (2 Hz, 0.3 s latency) and
+a gyro on the wire too (protocol version 3), flown through:
 
 - lcm:        `aocs run` in lockstep: plant_node (the recording plant) + fsw_node over LCM;
 - lcm-harness: the PIL harness's run against fsw_node: aocs_loop.core with the LCM adapter;
 - pil-bridge: the same against the PIL bridge with the Cortex-M7 image (double, bit-identical to the host);
 - pil-direct: the harness's direct run on the M7: aocs_loop.core with the PIL adapter, frames to QEMU.
 
-Every path must give the same body torque and wheel torques at every tick, bit for bit, and the same sensor
-frames (the packed sensors_t of the harness paths byte for byte the ones plant_node recorded). A path that
+Every path must give the same body torque and wheel torques at every tick, bit for bit, the same estimate
+(the attitude-determination stage's telemetry), and the same sensor frames (the packed sensors_t of the
+harness paths byte for byte the ones plant_node recorded: the tracker's samples and the gyro's rates
+included). A path that
 dropped the wheel torques or packed a sensor differently changes the trajectory, hence the commands: the
 last tests fly the direct path with such a fault injected between the plant and the image and check that
 the comparison catches it.
@@ -25,12 +28,20 @@ from aocs_loop.frames import Reply, SensorFrame, valid_bits
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_pil import harness
 from aocs_runner.run import RunOptions, execute
+from aocs_runner.scenario_opts import toml_value
 from aocs_wire import lcmlog, wire
 from pil_support import image
 
 SCENARIO = "irassi_rw"
 DURATION_S = 30.0
-OVERRIDES = {"guidance.mode": "slew", "metrics.window_s": DURATION_S}
+OVERRIDES = {"guidance.mode": "slew", "metrics.window_s": DURATION_S,
+             "sensors.star_tracker.rate_hz": 2.0, "sensors.star_tracker.latency_s": 0.3,
+             "sensors.star_tracker.noise_cross_arcsec": 1.0, "sensors.star_tracker.noise_about_arcsec": 8.0,
+             "sensors.gyro.arw_rad_sqrt_s": 5.8e-7, "sensors.gyro.bias_rad_s": [4.8e-7, -4.8e-7, 2.4e-7]}
+#: the estimate's fields compared across the paths (aocs_loop.frames.Estimate; actuator_cmd_t's names)
+ESTIMATE = (("estimator", "estimator"), ("status", "est_status"), ("q", "q_est"), ("w", "w_est"),
+            ("bias", "bias_est"), ("p_upper", "est_p"), ("st_status", "st_status"), ("n_st_used", "n_st_used"),
+            ("n_st_gated", "n_st_gated"), ("n_st_hostile", "n_st_hostile"), ("n_restarts", "n_est_restarts"))
 
 
 def _bits(a) -> np.ndarray:
@@ -40,6 +51,15 @@ def _bits(a) -> np.ndarray:
 
 def _history(u_sat, u_wheels) -> dict:
     return {"u": _bits(u_sat), "u_wheels": _bits(u_wheels)}
+
+
+def _estimates_of_log(cmd) -> dict:
+    """The estimate columns of a log's actuator_cmd_t, as exact bits (integers as float64 bits too)."""
+    return {wire_name: _bits(cmd[wire_name]) for _, wire_name in ESTIMATE}
+
+
+def _estimates_of_run(estimates) -> dict:
+    return {wire_name: _bits([getattr(e, name) for e in estimates]) for name, wire_name in ESTIMATE}
 
 
 def differences(ref: dict, other: dict) -> list[str]:
@@ -68,7 +88,7 @@ def env(aocs_build_dir):
 def lcm_run(env, private_netns, fsw_node_bin, aocs_lcm, tmp_path_factory):
     """The LCM lockstep run (plant_node + fsw_node): its log."""
     out = tmp_path_factory.mktemp("lcm")
-    sets = [f"{k}={v}" for k, v in OVERRIDES.items() if k != "guidance.mode"]
+    sets = [f"{k}={toml_value(v)}" for k, v in OVERRIDES.items() if k != "guidance.mode"]
     execute(RunOptions(scenario=SCENARIO, out=str(out), duration=DURATION_S, guidance="slew", sets=sets,
                        plots=False, quiet=True))
     return lcmlog.read(out / "run.lcmlog", keep_raw=True)
@@ -97,6 +117,26 @@ def test_the_scenario_exercises_the_wheels(lcm_run):
     s = lcm_run.sensors
     assert np.all(s["n_wheels"] == n) and np.all(s["valid"] & valid_bits().wheels)
     assert np.ptp(s["wheel_speed"][:, :n], axis=0).min() > 0.0     # the tachometers see the speeds change
+
+
+def test_the_scenario_has_the_star_tracker_and_the_gyro_on_the_wire(lcm_run):
+    """2 Hz at 10 Hz, 0.3 s latency: a new sample every fifth period from t = 0.5 s (the first whose time of
+    measurement is in the run), flagged there only; the gyro every period."""
+    s = lcm_run.sensors
+    b = valid_bits()
+    ticks = np.flatnonzero(s["valid"] & b.star_tracker)
+    assert ticks.tolist() == list(range(5, round(DURATION_S / 0.1), 5))
+    np.testing.assert_allclose(s["st_t_meas_s"][ticks], s["t_s"][ticks] - 0.3, atol=1e-12)
+    assert np.all(s["valid"] & b.gyro) and np.abs(s["gyro_w"]).max() > 1e-3
+
+
+@pytest.mark.parametrize("path", ["lcm-harness", "pil-bridge", "pil-direct"])
+def test_every_path_sends_back_the_estimate_of_the_lcm_lockstep_run_bit_for_bit(paths_flown, lcm_run, path):
+    _, runs = paths_flown
+    ref, got = _estimates_of_log(lcm_run.cmd), _estimates_of_run(runs[path].estimates)
+    assert ref["q_est"].shape == (round(DURATION_S / 0.1), 4)
+    for key in ref:
+        assert np.array_equal(ref[key], got[key]), (path, key)
 
 
 @pytest.mark.parametrize("path", ["lcm-harness", "pil-bridge", "pil-direct"])

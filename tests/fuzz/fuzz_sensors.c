@@ -1,9 +1,13 @@
 /*
  * libFuzzer target: fsw_node's AOCS_SENSORS path (node_wire.h): decode,
  * frame sequence, sensors_t -> executive input, seconds -> ns, real-time
- * epoch, executive step, for a sequence of payloads. Invariants: nothing
- * crashes or overflows (sanitizers), every step's command is finite and within
- * the limits (fuzz_support.h), and the sequence counters only grow.
+ * epoch, the star tracker's time of measurement, executive step, for a
+ * sequence of payloads. Invariants: nothing crashes or overflows
+ * (sanitizers), every step's command is finite and within the limits
+ * (fuzz_support.h), the sequence counters only grow, and the tracker's time
+ * of measurement is converted as t_s is (lockstep: exactly ns(st_t_meas_s);
+ * real time: never ahead of the sample's own reception time by more than
+ * the message says, no wrap).
  *
  * Input: u8 mode (bit0 real time, bits1-4 law), then payloads, each as a u16
  * little-endian length and that many bytes (an encoded aocs_lcm sensors_t,
@@ -88,6 +92,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 }
             }
             aocs_node_sensors_to_input(&msg, t_ns, &in);
+            if (cfg.clock == AOCS_EXEC_CLOCK_LOCKSTEP) {
+                if (in.st_t_meas_ns != aocs_node_seconds_to_ns(msg.st_t_meas_s)) {
+                    abort(); /* lockstep: converted exactly as t_s is */
+                }
+            } else if ((in.st_t_meas_ns > t_ns) &&
+                       (in.st_t_meas_ns - t_ns > aocs_node_seconds_to_ns(msg.st_t_meas_s))) {
+                abort(); /* real time: ahead of the reception by at most its own time */
+            }
+            if ((((msg.valid & AOCS_LCM_SENSORS_T_VALID_STAR_TRACKER) != 0) ? 1 : 0) !=
+                (((in.valid & AOCS_EXEC_VALID_ST) != 0u) ? 1 : 0)) {
+                abort();
+            }
             if (aocs_exec_step(&exec, &in, &out) != AOCS_OK) {
                 abort();
             }

@@ -65,6 +65,24 @@ def sensors_seeds(t) -> None:
         m.wheel_speed = list(speeds) + [0.0] * (6 - len(speeds))
         return m.encode()
 
+    def star_gyro(frame_no, tick, t_meas, valid=s.VALID_ATTITUDE | s.VALID_RATE | s.VALID_GYRO, st_q=Q):
+        m = s()
+        m.protocol_version = s.PROTOCOL_VERSION
+        m.frame, m.utime, m.tick, m.t_s, m.valid = frame_no, tick * 100000, tick, 0.1 * tick, valid
+        m.q, m.w, m.st_q, m.st_t_meas_s, m.gyro_w = list(Q), list(W), list(st_q), t_meas, [0.011, -0.021, 0.029]
+        return m.encode()
+
+    st_new = s.VALID_ATTITUDE | s.VALID_RATE | s.VALID_GYRO | s.VALID_STAR_TRACKER
+    st_frames = [star_gyro(k, k, 0.1 * k - 0.1 if k else 0.0, st_new if k % 2 == 0 else st_new & ~s.VALID_STAR_TRACKER)
+                 for k in range(8)]
+    # protocol version 3: the tracker's samples with their time of measurement, the gyro; then absurd times
+    _write("fuzz_sensors", "star_tracker_gyro", bytes([4]) + _chunks(st_frames))
+    _write("fuzz_sensors", "star_tracker_realtime", bytes([5]) + _chunks(st_frames))
+    _write("fuzz_sensors", "star_tracker_bad_times", bytes([4]) + _chunks(
+        st_frames[:3] + [star_gyro(3 + i, 3 + i, t, st_new) for i, t in enumerate(
+            (float("nan"), -1.0, 1e300, 1.8e10, 1e9, float("inf")))]
+        + [star_gyro(9, 9, 0.8, st_new, st_q=(0.0, 0.0, 0.0, 2.0)),
+           star_gyro(10, 10, 0.9, st_new, st_q=(float("nan"),) * 4)]))
     _write("fuzz_sensors", "wheels", bytes([4]) + _chunks([wheels(k, k) for k in range(6)] + [wheels(6, 6, n=9),
                                                            wheels(7, 7, speeds=(float("nan"), 0.0, 0.0, 0.0))]))
     _write("fuzz_sensors", "lockstep_good", bytes([4]) + _chunks(good))
@@ -179,6 +197,9 @@ def pil_seeds() -> None:
     fr = frame
     step = fr.encode_step(1, 100_000_000, 3, Q, W, (0, 0, 0), (0, 0, 0))
     _write("fuzz_pil_frame", "step", fr.encode(fr.T_STEP, 1, step))
+    step_st = fr.encode_step(2, 200_000_000, 3 | 8 | 16, Q, W, (0, 0, 0), (0, 0, 0), st_q=Q, st_t_meas_ns=100_000_000,
+                             gyro_w=W)
+    _write("fuzz_pil_frame", "step_star_tracker_gyro", fr.encode(fr.T_STEP, 2, step_st))
     _write("fuzz_pil_frame", "select", fr.encode(fr.T_SELECT, 2, fr.encode_select(2, Q)))
     cfg = fr.ConfigFields()
     cfg.add("LAW", 2)

@@ -4,7 +4,9 @@
  * signed overflow, no latch on one far frame, replays still duplicates,
  * resynchronisation after K consistent frames), the seconds-to-ns
  * conversion over the whole double range, the real-time epoch, payload
- * decoding and the timeout ranges. Built with the SIL node (host preset),
+ * decoding, the sensors_t -> executive input mapping (the star tracker's
+ * time of measurement included), the estimate -> actuator_cmd_t fields
+ * and the timeout ranges. Built with the SIL node (host preset),
  * registered from sil/CMakeLists.txt.
  */
 #include "test_support.h"
@@ -13,6 +15,20 @@
 
 #include "node_checks.h"
 #include "node_wire.h"
+
+/* bit-for-bit equality of two reals, of two doubles */
+#define assert_same_real(a, b)                         \
+    do {                                               \
+        const real_t a_ = (a);                         \
+        const real_t b_ = (b);                         \
+        assert_memory_equal(&a_, &b_, sizeof(real_t)); \
+    } while (0)
+#define assert_same_double(a, b)                       \
+    do {                                               \
+        const double a_ = (a);                         \
+        const double b_ = (b);                         \
+        assert_memory_equal(&a_, &b_, sizeof(double)); \
+    } while (0)
 
 #define K AOCS_NODE_SEQ_RESYNC_FRAMES
 #define W AOCS_NODE_SEQ_WINDOW
@@ -266,6 +282,129 @@ static void test_command_apply(void **state)
     assert_int_equal(aocs_node_command_apply(NULL, &nominal, &c), AOCS_ERR_NULL_ARG);
 }
 
+/* Lockstep: the measurement time converted exactly as t_s is; real time: shifted onto the reception clock by its
+ * age; every absurd time is 0 ("no time"), never a wrap. */
+static void test_meas_time_ns(void **state)
+{
+    (void)state;
+    const uint64_t s = 1000000000u;
+    const double bad[] = {(double)NAN, (double)INFINITY, -(double)INFINITY, -1.0, 0.0, 1.8e10, 1e300, -1e-300};
+    /* lockstep: t_sensor_ns = ns(t_s), the result is ns(t_meas_s) whatever the two times are */
+    assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(12.5), 12.5, 12.4) == aocs_node_seconds_to_ns(12.4));
+    assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(0.3), 0.3, 0.2) == 200000000u);
+    assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(0.3), 0.3, 0.7) == 700000000u); /* future: kept */
+    assert_true(aocs_node_meas_time_ns(0u, (double)NAN, 0.2) == 200000000u);   /* t_s no time: still ns(t_meas) */
+    assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(1.7e10), 1.7e10, 1.7999999e10) ==
+                aocs_node_seconds_to_ns(1.7999999e10));
+    for (double t = 1e-9; t < 1.8e10; t *= 3.7) {
+        assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(t), t, t * 0.5) == aocs_node_seconds_to_ns(t * 0.5));
+        assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(t), t, t) == aocs_node_seconds_to_ns(t));
+    }
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i) {
+        assert_true(aocs_node_meas_time_ns(aocs_node_seconds_to_ns(5.0), 5.0, bad[i]) == 0u);
+        assert_true(aocs_node_meas_time_ns(UINT64_MAX, 5.0, bad[i]) == 0u);
+        /* real time: a sample whose own t_s is no time has no age */
+        assert_true(aocs_node_meas_time_ns(100u * s, bad[i], 4.0) == 0u);
+    }
+    /* real time: the reception time minus the age (t_s - t_meas_s) */
+    assert_true(aocs_node_meas_time_ns(100u * s, 5.0, 4.75) == 100u * s - 250000000u);
+    assert_true(aocs_node_meas_time_ns(100u * s, 5.0, 5.0) == 100u * s);
+    assert_true(aocs_node_meas_time_ns(100u * s, 5.0, 5.5) == 100u * s + 500000000u);      /* future: kept */
+    assert_true(aocs_node_meas_time_ns(1u * s, 1.0e9, 1.0) == 0u);                        /* before the clock */
+    assert_true(aocs_node_meas_time_ns(UINT64_MAX - 1u, 1.0, 1.7e10) == UINT64_MAX);     /* saturates */
+}
+
+static void test_sensors_to_input_star_tracker_and_gyro(void **state)
+{
+    (void)state;
+    aocs_lcm_sensors_t m;
+    aocs_exec_input_t in;
+    memset(&m, 0, sizeof(m));
+    m.tick = 42;
+    m.t_s = 4.2;
+    m.valid = AOCS_LCM_SENSORS_T_VALID_ATTITUDE | AOCS_LCM_SENSORS_T_VALID_RATE;
+    m.q[3] = 1.0;
+    m.st_q[0] = 0.5;
+    m.st_q[1] = -0.5;
+    m.st_q[2] = 0.5;
+    m.st_q[3] = -0.5;
+    m.st_t_meas_s = 4.1;
+    m.gyro_w[0] = 0.0078125;
+    m.gyro_w[1] = -0.25;
+    m.gyro_w[2] = (double)NAN;
+    /* the flags off: the values are there all the same (the last sample), the executive is told it is not new */
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_int_equal(in.valid, AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE);
+    assert_same_real(in.st_q_SN.q[1], AOCS_R(-0.5));
+    assert_true(in.st_t_meas_ns == aocs_node_seconds_to_ns(4.1));
+    m.valid |= AOCS_LCM_SENSORS_T_VALID_STAR_TRACKER;
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_int_equal(in.valid, AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE | AOCS_EXEC_VALID_ST);
+    m.valid = AOCS_LCM_SENSORS_T_VALID_GYRO;
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_int_equal(in.valid, AOCS_EXEC_VALID_GYRO);
+    for (int i = 0; i < 4; ++i) {
+        assert_same_real(in.st_q_SN.q[i], (real_t)m.st_q[i]);
+    }
+    assert_same_real(in.gyro_w_B.v[0], AOCS_R(0.0078125));
+    assert_same_real(in.gyro_w_B.v[1], AOCS_R(-0.25));
+    assert_true(isnan(in.gyro_w_B.v[2])); /* unchecked: the executive decides */
+    /* real time: the tracker's time on the reception clock, 0.1 s before it */
+    aocs_node_sensors_to_input(&m, 1000000000000u, &in);
+    assert_true(in.t_sensor_ns == 1000000000000u);
+    assert_true(in.st_t_meas_ns == 1000000000000u - (aocs_node_seconds_to_ns(4.2) - aocs_node_seconds_to_ns(4.1)));
+    /* an absurd time of measurement: no time, whatever the mode */
+    m.st_t_meas_s = -1e300;
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_true(in.st_t_meas_ns == 0u);
+}
+
+static void test_estimate_to_cmd(void **state)
+{
+    (void)state;
+    aocs_det_output_t e;
+    aocs_lcm_actuator_cmd_t m;
+    memset(&e, 0, sizeof(e));
+    memset(&m, 0, sizeof(m));
+    m.tick = 9;
+    e.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(-0.75), AOCS_R(0.5));
+    e.w_BN_B = aocs_vec3_make(AOCS_R(0.125), AOCS_R(-0.5), AOCS_R(3.0));
+    e.valid = AOCS_EXEC_VALID_ATT;
+    e.status = AOCS_ERR_INPUT_NOT_FINITE;
+    e.bias_B_radps = aocs_vec3_make(AOCS_R(-0.0009765625), AOCS_R(0.0), AOCS_R(0.25));
+    for (uint32_t i = 0u; i < AOCS_EST_P_UPPER_COUNT; ++i) {
+        e.p_upper[i] = (real_t)(0.0625 * (double)(i + 1u));
+    }
+    e.st_status = AOCS_ERR_QUAT_NOT_UNIT;
+    e.n_st_used = UINT32_MAX;
+    e.n_st_gated = 2u;
+    e.n_st_hostile = 3u;
+    e.n_restarts = 4u;
+    aocs_node_estimate_to_cmd(&e, 1u, &m);
+    assert_int_equal(m.tick, 9); /* the other fields as they were */
+    assert_int_equal(m.estimator, 1);
+    assert_int_equal(m.est_status, (int32_t)AOCS_ERR_INPUT_NOT_FINITE);
+    assert_same_double(m.q_est[0], 0.0);
+    assert_same_double(m.q_est[2], -0.75);
+    assert_same_double(m.q_est[3], 0.5);
+    assert_same_double(m.w_est[0], 0.125);
+    assert_same_double(m.w_est[1], -0.5);
+    assert_same_double(m.w_est[2], 3.0);
+    assert_same_double(m.bias_est[0], -0.0009765625);
+    assert_same_double(m.bias_est[2], 0.25);
+    for (uint32_t i = 0u; i < AOCS_EST_P_UPPER_COUNT; ++i) {
+        assert_same_double(m.est_p[i], 0.0625 * (double)(i + 1u));
+    }
+    assert_int_equal(m.st_status, (int32_t)AOCS_ERR_QUAT_NOT_UNIT);
+    assert_true(m.n_st_used == (int64_t)UINT32_MAX);
+    assert_true((m.n_st_gated == 2) && (m.n_st_hostile == 3) && (m.n_est_restarts == 4));
+    aocs_node_estimate_to_cmd(&e, 1000u, &m);
+    assert_int_equal(m.estimator, INT8_MAX);
+    aocs_node_estimate_to_cmd(NULL, 0u, &m); /* total */
+    aocs_node_estimate_to_cmd(&e, 0u, NULL);
+    assert_int_equal(m.estimator, INT8_MAX);
+}
+
 /* issue 11 item 3: idle_timeout_s = 2e10, 1e300 or 1e-10 made fsw_node exit at once */
 static void test_timeouts_check(void **state)
 {
@@ -313,6 +452,9 @@ int main(void)
         cmocka_unit_test(test_seq_bad_first_frame_resyncs),
         cmocka_unit_test(test_seq_resync_rules),
         cmocka_unit_test(test_seconds_to_ns),
+        cmocka_unit_test(test_meas_time_ns),
+        cmocka_unit_test(test_sensors_to_input_star_tracker_and_gyro),
+        cmocka_unit_test(test_estimate_to_cmd),
         cmocka_unit_test(test_epoch_update),
         cmocka_unit_test(test_decode),
         cmocka_unit_test(test_command_apply),

@@ -17,14 +17,14 @@
 #include "gains/aocs_gains.h"
 
 /* BYE, seq 7, empty payload: "APIL", version 2, type 8, length 0, seq 7, CRC (zlib) */
-static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x02, 0x08, 0x00, 0x00,
-                                       0x07, 0x00, 0x00, 0x00, 0x0E, 0x4D, 0xB9, 0x1E};
+static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x03, 0x08, 0x00, 0x00,
+                                       0x07, 0x00, 0x00, 0x00, 0x90, 0x4D, 0x13, 0xD2};
 
 /* HELLO seq 0 of target 2, 8-byte reals, shift 7, calib ok 2000/2000, overhead 47 */
 static const uint8_t golden_hello[44] = {
-    0x41, 0x50, 0x49, 0x4C, 0x02, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    0x41, 0x50, 0x49, 0x4C, 0x03, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
     0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x8F, 0xBC, 0x8A, 0x18};
+    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x1A, 0x68, 0xFA, 0x8D};
 
 /* bit-at-a-time CRC-32/ISO-HDLC, the textbook definition (independent of the table) */
 static uint32_t crc_bitwise(const uint8_t *p, size_t n)
@@ -46,6 +46,11 @@ static uint32_t crc_bitwise(const uint8_t *p, size_t n)
         const real_t b_ = (b);                                  \
         assert_memory_equal(&a_, &b_, sizeof(real_t));          \
     } while (0)
+
+static uint32_t le32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
 
 static uint64_t le64(const uint8_t *p)
 {
@@ -134,7 +139,7 @@ static void test_header_errors_are_named(void **state)
     f[0] = 'X';
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_MAGIC);
     memcpy(f, golden_bye, sizeof(f));
-    f[4] = 1; /* version: the one before the wheel array */
+    f[4] = 2; /* version: the one before the star tracker, gyro and estimate */
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_VERSION);
     memcpy(f, golden_bye, sizeof(f));
     f[6] = 0x01; /* length 1025 */
@@ -391,8 +396,8 @@ static void test_rows_add_up_to_the_payload_sizes(void **state)
     assert_int_equal(0u AOCS_PIL_COUNTER_ROWS(ROW_BYTES), 4u * AOCS_PIL_COUNTERS);
     AOCS_PIL_PAYLOAD_ROWS(CHECK_PAYLOAD_BYTES)
     assert_int_equal(AOCS_PIL_HELLO_BYTES, 28u); /* the wire: a size changes only with AOCS_PIL_VERSION */
-    assert_int_equal(AOCS_PIL_STEP_BYTES, 168u);
-    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 244u);
+    assert_int_equal(AOCS_PIL_STEP_BYTES, 232u);
+    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 520u);
     assert_int_equal(AOCS_PIL_SELECT_BYTES, 64u);
     assert_int_equal(AOCS_PIL_ACK_BYTES, 36u);
     assert_int_equal(AOCS_PIL_BYE_REPLY_BYTES, 16u);
@@ -606,6 +611,71 @@ static void test_step_and_reply_carry_the_wheels(void **state)
     assert_int_equal(le64(&p[148]), 0x3F90000000000000ull); /* u_wheels[0] = 0.015625 */
 }
 
+/* Version 3: the star tracker and the gyro ride in the STEP frame after the tachometers, the estimate in the
+ * reply after the wheel array, bit for bit. */
+static void test_step_and_reply_carry_the_star_tracker_gyro_and_estimate(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_REPLY_BYTES];
+    aocs_exec_input_t in = sample_input();
+    aocs_exec_input_t back;
+    aocs_pil_step_reply_t r;
+    aocs_pil_step_reply_t rb;
+    in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE | AOCS_EXEC_VALID_ST | AOCS_EXEC_VALID_GYRO;
+    in.st_q_SN = aocs_quat_make(AOCS_R(0.5), AOCS_R(-0.5), AOCS_R(0.5), AOCS_R(-0.5));
+    in.st_t_meas_ns = 0x8877665544332211ull;
+    in.gyro_w_B = aocs_vec3_make(AOCS_R(0.0078125), AOCS_R(-0.25), (real_t)NAN);
+    assert_int_equal(aocs_pil_step_encode(&in, p, AOCS_PIL_STEP_BYTES), AOCS_PIL_OK);
+    assert_int_equal(p[12], 0x1B);                          /* ATT | RATE | ST | GYRO */
+    assert_int_equal(le64(&p[168]), 0x3FE0000000000000ull); /* st_q[0] = 0.5: after the 168 bytes of version 2 */
+    assert_int_equal(le64(&p[192]), 0xBFE0000000000000ull); /* st_q[3] = -0.5 */
+    assert_int_equal(le64(&p[200]), 0x8877665544332211ull); /* st_t_meas_ns */
+    assert_int_equal(le64(&p[208]), 0x3F80000000000000ull); /* gyro_w[0] = 2^-7 */
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES, &back), AOCS_PIL_OK);
+    assert_int_equal(back.valid, in.valid);
+    assert_memory_equal(&back.st_q_SN, &in.st_q_SN, sizeof(in.st_q_SN));
+    assert_true(back.st_t_meas_ns == in.st_t_meas_ns);
+    assert_same_real(back.gyro_w_B.v[1], in.gyro_w_B.v[1]);
+    assert_true(isnan(back.gyro_w_B.v[2])); /* passed through unchecked, as the SIL node does */
+
+    memset(&r, 0, sizeof(r));
+    r.estimator = 1u;
+    r.estimate.status = AOCS_ERR_INPUT_NOT_FINITE;
+    r.estimate.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(-0.75), AOCS_R(0.5));
+    r.estimate.w_BN_B = aocs_vec3_make(AOCS_R(0.001953125), AOCS_R(-0.5), AOCS_R(3.0));
+    r.estimate.bias_B_radps = aocs_vec3_make(AOCS_R(-0.0009765625), AOCS_R(0.0), AOCS_R(0.25));
+    for (uint32_t i = 0u; i < AOCS_EST_P_UPPER_COUNT; ++i) {
+        r.estimate.p_upper[i] = (real_t)(0.0625 * (double)(i + 1u));
+    }
+    r.estimate.valid = AOCS_EXEC_VALID_ATT; /* not on the wire */
+    r.estimate.st_status = AOCS_ERR_QUAT_NOT_UNIT;
+    r.estimate.n_st_used = 0x80000001u;
+    r.estimate.n_st_gated = 2u;
+    r.estimate.n_st_hostile = 3u;
+    r.estimate.n_restarts = 4u;
+    assert_int_equal(aocs_pil_step_reply_encode(&r, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(le32(&p[244]), 1u);                    /* estimator: after the 244 bytes of version 2 */
+    assert_int_equal(le32(&p[248]), (uint32_t)AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(le64(&p[268]), 0xBFE8000000000000ull); /* q_est[2] = -0.75 */
+    assert_int_equal(le64(&p[332]), 0x3FB0000000000000ull); /* est_p[0] = 0.0625 */
+    assert_int_equal(le32(&p[500]), (uint32_t)AOCS_ERR_QUAT_NOT_UNIT);
+    assert_int_equal(le32(&p[504]), 0x80000001u);
+    assert_int_equal(le32(&p[516]), 4u);                    /* n_est_restarts: the last field */
+    assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p), &rb), AOCS_PIL_OK);
+    assert_int_equal(rb.estimator, 1u);
+    assert_int_equal(rb.estimate.status, AOCS_ERR_INPUT_NOT_FINITE);
+    assert_memory_equal(&rb.estimate.q_BN, &r.estimate.q_BN, sizeof(r.estimate.q_BN));
+    assert_memory_equal(&rb.estimate.w_BN_B, &r.estimate.w_BN_B, sizeof(r.estimate.w_BN_B));
+    assert_memory_equal(&rb.estimate.bias_B_radps, &r.estimate.bias_B_radps, sizeof(r.estimate.bias_B_radps));
+    assert_memory_equal(rb.estimate.p_upper, r.estimate.p_upper, sizeof(r.estimate.p_upper));
+    assert_int_equal(rb.estimate.valid, 0u);                /* a member not on the wire decodes as 0 */
+    assert_int_equal(rb.estimate.st_status, AOCS_ERR_QUAT_NOT_UNIT);
+    assert_int_equal(rb.estimate.n_st_used, 0x80000001u);
+    assert_int_equal(rb.estimate.n_st_gated, 2u);
+    assert_int_equal(rb.estimate.n_st_hostile, 3u);
+    assert_int_equal(rb.estimate.n_restarts, 4u);
+}
+
 static void test_config_field_errors(void **state)
 {
     (void)state;
@@ -705,6 +775,7 @@ int main(void)
         cmocka_unit_test(test_config_field_errors),
         cmocka_unit_test(test_config_wheel_fields_apply),
         cmocka_unit_test(test_step_and_reply_carry_the_wheels),
+        cmocka_unit_test(test_step_and_reply_carry_the_star_tracker_gyro_and_estimate),
         cmocka_unit_test(test_budget_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -31,6 +31,7 @@
  *
  * Host tool: stdio allowed, no dynamic memory all the same.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -493,10 +494,19 @@ static int pil_decode(const char *path)
 }
 
 /* ---- payload mode: each row's values as the C decoder read them, one printer per row kind ---- */
+/* NaN and the infinities as Python's json reads them (a STEP frame's unmeasured wheels are NaN) */
 static void show_reals(const real_t *x, unsigned n)
 {
     for (unsigned i = 0u; i < n; ++i) {
-        (void)printf("%s%.17g", (i > 0u) ? ", " : "", (double)x[i]);
+        const double v = (double)x[i];
+        (void)fputs((i > 0u) ? ", " : "", stdout);
+        if (isnan(v)) {
+            (void)fputs("NaN", stdout);
+        } else if (isinf(v)) {
+            (void)fputs((v > 0.0) ? "Infinity" : "-Infinity", stdout);
+        } else {
+            (void)printf("%.17g", v);
+        }
     }
 }
 
@@ -510,6 +520,7 @@ static void show_real(const real_t *x) { show_reals(x, 1u); }
 static void show_vec3(const aocs_vec3_t *x) { show_reals(x->v, 3u); }
 static void show_quat(const aocs_quat_t *x) { show_reals(x->q, 4u); }
 static void show_wheels(const real_t (*x)[AOCS_WHEELS_MAX]) { show_reals(*x, AOCS_WHEELS_MAX); }
+static void show_cov(const real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { show_reals(*x, AOCS_EST_P_UPPER_COUNT); }
 
 #define SHOW_COUNTER(NAME, KIND, MEMBER) \
     (void)fputs(sep, stdout);            \

@@ -175,6 +175,8 @@ static void put_quat(pil_writer_t *w, const aocs_quat_t *x) { put_reals(w, x->q,
 static void get_quat(pil_reader_t *r, aocs_quat_t *x) { get_reals(r, x->q, 4U); }
 static void put_wheels(pil_writer_t *w, const real_t (*x)[AOCS_WHEELS_MAX]) { put_reals(w, *x, AOCS_WHEELS_MAX); }
 static void get_wheels(pil_reader_t *r, real_t (*x)[AOCS_WHEELS_MAX]) { get_reals(r, *x, AOCS_WHEELS_MAX); }
+static void put_cov(pil_writer_t *w, const real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { put_reals(w, *x, AOCS_EST_P_UPPER_COUNT); }
+static void get_cov(pil_reader_t *r, real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { get_reals(r, *x, AOCS_EST_P_UPPER_COUNT); }
 
 /* encode epilogue: exactly `size` bytes written */
 static aocs_pil_err_t w_result(const pil_writer_t *w, uint32_t size)

@@ -297,6 +297,8 @@ static void pil_on_step(const aocs_pil_header_t *hdr)
         rp.wheels_status = out.wheels_status;
         rp.h_total_B_Nms = out.momentum.h_total_B_Nms;
         rp.speed_margin = out.momentum.speed_margin;
+        rp.estimator = pil_exec.cfg.determination.estimator;
+        rp.estimate = out.estimate;
         if (aocs_pil_step_reply_encode(&rp, pil_payload, AOCS_PIL_PAYLOAD_MAX) == AOCS_PIL_OK) {
             pil_send(AOCS_PIL_T_STEP_REPLY, hdr->seq, AOCS_PIL_STEP_REPLY_BYTES);
         }

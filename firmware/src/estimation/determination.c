@@ -87,6 +87,12 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
                             aocs_det_output_t *out)
 {
     aocs_status_t st = AOCS_OK;
+    if (out != NULL) {
+        /* what an estimator does not write is zero (a passthrough has no covariance), no sample offered */
+        (void)memset(out, 0, sizeof(*out));
+        out->q_BN = aocs_quat_identity();
+        out->st_status = AOCS_ERR_INPUT_MISSING;
+    }
     if (out == NULL) {
         st = AOCS_ERR_NULL_ARG;
     } else if ((det == NULL) || (in == NULL)) {

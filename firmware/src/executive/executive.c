@@ -338,6 +338,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         c_start = aocs_hal_cycles();
         /* 2. attitude determination (its status is the verdict the law runs on) */
         (void)aocs_det_step(&exec->det, in, in_st, exec->cfg.period_s, &est);
+        out->estimate = est;
         /* 3. guidance */
         guide(exec, in, &est, &out->target);
         /* 4. control law */

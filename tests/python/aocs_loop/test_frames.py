@@ -12,7 +12,8 @@ from aocs_plant.scenario import load
 
 def test_valid_bits_are_the_wire_contract_s(aocs_lcm):
     s = aocs_lcm.sensors_t
-    assert valid_bits() == (s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS)
+    assert valid_bits() == (s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS,
+                            s.VALID_STAR_TRACKER, s.VALID_GYRO)
 
 
 def test_seconds_to_ns_rounds_like_llround_and_refuses_what_fsw_node_refuses():
@@ -38,6 +39,62 @@ def test_an_attitude_frame_carries_the_sample_and_the_tachometers(aocs_lcm):
 def test_an_attitude_frame_without_wheels_has_no_wheel_bit(aocs_lcm):
     f = PlantPort(Plant(load("irassi_small"))).sense(0)
     assert f.valid == valid_bits().attitude | valid_bits().rate and f.wheel_speed == ()
+    # nor a star tracker or a gyro: their fields hold the defaults
+    assert (f.st_q, f.st_t_meas_s, f.gyro_w) == ((0.0, 0.0, 0.0, 1.0), 0.0, (0.0, 0.0, 0.0)) and f.st_t_meas_ns == 0
+
+
+ST_GYRO = {"sensors.star_tracker.rate_hz": 2.5, "sensors.star_tracker.latency_s": 0.2,
+           "sensors.star_tracker.noise_cross_arcsec": 1.0, "sensors.gyro.arw_rad_sqrt_s": 1e-6,
+           "sensors.gyro.bias_rad_s": [1e-5, -2e-5, 3e-5], "duration_s": 3.0, "metrics.window_s": 1.0}
+
+
+def test_the_star_tracker_flag_marks_its_new_samples_only(aocs_lcm):
+    """Each period's frame carries the tracker's last sample and its time of measurement; the flag only in the
+    periods that took a new, valid one (2.5 Hz at 10 Hz: ticks 0, 4, 8, ... but the first, whose
+    measurement would precede the run by the latency); the gyro's rate and flag every period."""
+    plant = Plant(load("irassi_small", ST_GYRO))
+    port = PlantPort(plant)
+    b = valid_bits()
+    flagged = []
+    for k in range(25):
+        f = port.sense(k)
+        s = plant.sense()
+        assert f.st_q == s["st_q"] and f.st_t_meas_s == s["st_t_meas"] and f.gyro_w == s["gyro_w"]
+        assert f.valid & b.gyro and f.valid & b.attitude
+        if f.valid & b.star_tracker:
+            flagged.append(k)
+            assert s["st_new"] and s["st_valid"]
+            assert f.st_t_meas_s == pytest.approx(k * plant.dt - 0.2, abs=1e-12)
+            assert f.st_t_meas_ns == seconds_to_ns(f.st_t_meas_s)
+        else:
+            assert not (s["st_new"] and s["st_valid"])
+        plant.apply({"u_body": (0.0, 0.0, 0.0)})
+        plant.advance()
+    assert flagged == [4, 8, 12, 16, 20, 24]
+
+
+def test_the_gyro_in_angle_mode_sends_the_mean_rate(aocs_lcm):
+    ov = {"sensors.gyro.mode": "angle", "sensors.gyro.bias_rad_s": [1e-3, -2e-3, 3e-3], "duration_s": 1.0,
+          "metrics.window_s": 1.0}
+    plant = Plant(load("irassi_small", ov))
+    port = PlantPort(plant)
+    f = port.sense(0)
+    d = plant.sense()["gyro_dtheta"]
+    assert f.gyro_w == tuple(x / plant.dt for x in d) and f.valid & valid_bits().gyro
+    assert f.gyro_w == pytest.approx((1e-3, -2e-3, 3e-3), rel=1e-12)   # at rest: the bias alone
+
+
+def test_a_gyro_dropout_clears_its_flag(aocs_lcm):
+    ov = {"sensors.gyro.arw_rad_sqrt_s": 1e-6, "duration_s": 1.0, "metrics.window_s": 1.0,
+          "sensors.faults": [{"channel": "gyro", "kind": "dropout", "start_s": 0.0, "end_s": 0.25}]}
+    plant = Plant(load("irassi_small", ov))
+    port = PlantPort(plant)
+    flags = []
+    for k in range(5):
+        flags.append(bool(port.sense(k).valid & valid_bits().gyro))
+        plant.apply({"u_body": (0.0, 0.0, 0.0)})
+        plant.advance()
+    assert flags == [False, False, False, True, True]
 
 
 def test_an_orbit_frame(aocs_lcm):

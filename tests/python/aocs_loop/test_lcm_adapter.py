@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from aocs_loop.frames import SensorFrame
+from aocs_loop.frames import Estimate, SensorFrame
 from aocs_loop.lcm_adapter import LcmCodec, LcmFlightComputer
 from aocs_wire import wire
 
@@ -26,11 +26,17 @@ def _sensors_msg(aocs_lcm, f, frame_no=None):
     m.q, m.w, m.pos, m.vel = list(f.q), list(f.w), list(f.pos), list(f.vel)
     m.n_wheels = len(f.wheel_speed)
     m.wheel_speed = list(f.wheel_speed) + [0.0] * (st.MAX_WHEELS - len(f.wheel_speed))
+    m.st_q, m.st_t_meas_s, m.gyro_w = list(f.st_q), f.st_t_meas_s, list(f.gyro_w)
     return m
 
 
-@pytest.mark.parametrize("f", [FRAME, SensorFrame(0, 0.0, 4 | 8, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0),
-                                                  (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))])
+#: a frame with a new star-tracker sample and a gyro rate (protocol version 3)
+FRAME_ST = SensorFrame(13, 1.3, 1 | 2 | 32 | 64, (0.1, 0.2, 0.3, 0.9273618495495703), (1e-3, -2e-3, 3e-3),
+                       (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (), (0.5, -0.5, 0.5, -0.5), 1.2, (1.5e-3, -2.5e-3, 3.5e-3))
+
+
+@pytest.mark.parametrize("f", [FRAME, FRAME_ST, SensorFrame(0, 0.0, 4 | 8, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0),
+                                                            (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))])
 def test_pack_sensors_is_the_generated_encode(aocs_lcm, codec, f):
     assert codec.pack_sensors(f) == _sensors_msg(aocs_lcm, f).encode()
     assert codec.pack_sensors(f, frame_no=99) == _sensors_msg(aocs_lcm, f, 99).encode()
@@ -43,6 +49,10 @@ def _actuator(aocs_lcm, n_wheels=4):
     a.u_sat, a.u_unsat = [0.1, -0.2, 0.3], [1.0, -2.0, 3.0]
     a.n_wheels = n_wheels
     a.u_wheels = [0.01, 0.02, 0.03, 0.04, 0.05, 0.06]
+    a.estimator, a.est_status, a.q_est, a.w_est, a.bias_est = 1, -7, [0.0, 0.6, 0.0, 0.8], [4e-3, 5e-3, 6e-3], [
+        -1e-6, 2e-6, -3e-6]
+    a.est_p = [0.5 + i for i in range(21)]
+    a.st_status, a.n_st_used, a.n_st_gated, a.n_st_hostile, a.n_est_restarts = -3, 2**40, 5, 6, 7
     return a.encode()
 
 
@@ -53,6 +63,9 @@ def test_command_and_reply_of_an_actuator_cmd(aocs_lcm, codec):
     r = codec.reply(v)
     assert r.command == c and r.u_unsat == (1.0, -2.0, 3.0) and r.raw is v
     assert (r.law_id, r.mode, r.status, r.step_ns, r.overrun) == (3, 1, 0, 567, True)
+    assert r.estimate == codec.estimate(v) == Estimate(1, -7, (0.0, 0.6, 0.0, 0.8), (4e-3, 5e-3, 6e-3),
+                                                       (-1e-6, 2e-6, -3e-6), tuple(0.5 + i for i in range(21)),
+                                                       -3, 2**40, 5, 6, 7)
     assert codec.command(codec.unpack(_actuator(aocs_lcm, 0))).u_wheels == ()
     assert len(codec.command(codec.unpack(_actuator(aocs_lcm, 9))).u_wheels) == 6   # clamped to the array
 

@@ -2,9 +2,10 @@
 the Reply of a STEP_REPLY, without an emulator."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
-from aocs_loop.frames import SensorFrame, valid_bits
+from aocs_loop.frames import Estimate, SensorFrame, valid_bits
 from aocs_pil import adapter, frame
 
 Q = (0.1, 0.2, 0.3, 0.9273618495495703)
@@ -15,7 +16,7 @@ Z = (0.0, 0.0, 0.0)
 def _step(payload):
     v = frame.STEP.unpack(payload)
     return {"tick": v[0], "t_ns": v[1], "valid": v[2], "q": v[3:7], "w": v[7:10], "pos": v[10:13],
-            "vel": v[13:16], "wheels": v[16:22]}
+            "vel": v[13:16], "wheels": v[16:22], "st_q": v[22:26], "st_t_meas_ns": v[26], "gyro_w": v[27:30]}
 
 
 def test_an_attitude_frame_with_tachometers(aocs_lcm):
@@ -41,13 +42,44 @@ def test_the_orbit_bit_needs_position_and_velocity(aocs_lcm):
     assert s["valid"] == adapter.EXEC_VALID_ORBIT and s["pos"] == (1.0, 2.0, 3.0) and s["vel"] == (4.0, 5.0, 6.0)
 
 
+def test_the_star_tracker_and_the_gyro(aocs_lcm):
+    """Their bits become the executive's ST and GYRO; the tracker's time of measurement is converted as the
+    sensor time is (fsw_node's lockstep), the values pass as they are."""
+    b = valid_bits()
+    f = SensorFrame(12, 1.2, b.attitude | b.rate | b.star_tracker | b.gyro, Q, W, Z, Z, (),
+                    (0.5, -0.5, 0.5, -0.5), 1.0000000005, (1e-3, math.nan, -2e-3))
+    s = _step(adapter.step_payload(f))
+    assert s["valid"] == (adapter.EXEC_VALID_ATT | adapter.EXEC_VALID_RATE | adapter.EXEC_VALID_ST
+                          | adapter.EXEC_VALID_GYRO)
+    assert s["st_q"] == (0.5, -0.5, 0.5, -0.5) and s["st_t_meas_ns"] == 1_000_000_001 == f.st_t_meas_ns
+    assert s["gyro_w"][0] == 1e-3 and math.isnan(s["gyro_w"][1])
+    # the flags off: the values still travel (the last sample), the executive is not told they are new / usable
+    s = _step(adapter.step_payload(SensorFrame(12, 1.2, b.attitude, Q, W, Z, Z, (), (0.5, -0.5, 0.5, -0.5), 0.9)))
+    assert s["valid"] == adapter.EXEC_VALID_ATT and s["st_q"] == (0.5, -0.5, 0.5, -0.5)
+    assert s["st_t_meas_ns"] == 900_000_000
+
+
+def test_the_exec_valid_bits_are_io_h_s():
+    from pil_support import REPO
+    text = (REPO / "firmware/include/aocs/exec/io.h").read_text()
+    for name, bit in (("ATT", adapter.EXEC_VALID_ATT), ("RATE", adapter.EXEC_VALID_RATE),
+                      ("ORBIT", adapter.EXEC_VALID_ORBIT), ("ST", adapter.EXEC_VALID_ST),
+                      ("GYRO", adapter.EXEC_VALID_GYRO)):
+        shift = int(text.split(f"#define AOCS_EXEC_VALID_{name} ")[1].split("<<")[1].split(")")[0])
+        assert bit == 1 << shift, name
+
+
 def test_the_reply_of_a_step_reply():
-    r = frame.StepReply(tick=7, step_status=0, law=3, mode=1, law_status=5, input_status=0, u_cmd=(0.1, 0.2, 0.3),
-                        u_unsat=(1.0, 2.0, 3.0), saturated=1, overrun=0, exact=1, instructions=21600,
-                        law_instructions=1000, budget=50000, counters=dict.fromkeys(frame.COUNTER_NAMES, 0),
-                        pil_overruns=0, exec_law=3, exec_mode=1, u_wheels=(0.01, 0.02, 0.03, 0.04, 0.0, 0.0),
-                        wheel_scale=1.0, wheel_limited=0, wheel_status=0, h_total=(0.0, 0.0, 0.0), speed_margin=1.0)
+    r = dataclasses.replace(
+        frame.StepReply.decode(bytes(frame.STEP_REPLY.size)), tick=7, step_status=0, law=3, mode=1, law_status=5,
+        input_status=0, u_cmd=(0.1, 0.2, 0.3), u_unsat=(1.0, 2.0, 3.0), saturated=1, overrun=0, exact=1,
+        instructions=21600, law_instructions=1000, budget=50000, exec_law=3, exec_mode=1,
+        u_wheels=(0.01, 0.02, 0.03, 0.04, 0.0, 0.0), estimator=1, est_status=-4, q_est=(0.0, 0.6, 0.0, 0.8),
+        w_est=(1e-3, 2e-3, 3e-3), bias_est=(-1e-6, 0.0, 1e-6), est_p=tuple(float(i) for i in range(21)),
+        st_status=-9, n_st_used=10, n_st_gated=11, n_st_hostile=12, n_est_restarts=13)
     rep = adapter.reply_of(r, 7, 4, 216e6)
     assert rep.command.u == (0.1, 0.2, 0.3) and rep.command.u_wheels == (0.01, 0.02, 0.03, 0.04)
     assert (rep.law_id, rep.mode, rep.status, rep.step_ns, rep.overrun, rep.raw) == (3, 1, 5, 100_000, False, r)
+    assert rep.estimate == Estimate(1, -4, (0.0, 0.6, 0.0, 0.8), (1e-3, 2e-3, 3e-3), (-1e-6, 0.0, 1e-6),
+                                    tuple(float(i) for i in range(21)), -9, 10, 11, 12, 13)
     assert adapter.reply_of(r, 7, 0, 216e6).command.u_wheels == ()

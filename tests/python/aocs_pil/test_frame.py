@@ -14,6 +14,7 @@
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -35,11 +36,11 @@ HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 #: the configuration registry's header: the CONFIG field ids and limits pil_frame.h takes from it
 CONFIG_HEADER = (REPO / "firmware/include/aocs/config_registry.h").read_text()
 
-GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x0E, 0x4D, 0xB9,
-                    0x1E])
-GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x02, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x03, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x90, 0x4D, 0x13,
+                    0xD2])
+GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x03, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
                       0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x8F, 0xBC, 0x8A, 0x18])
+                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x1A, 0x68, 0xFA, 0x8D])
 
 
 def c_define(name: str) -> int:
@@ -152,7 +153,7 @@ def test_the_payload_classes_are_the_rows():
     for cls, name in ((frame.Hello, "HELLO"), (frame.StepReply, "STEP_REPLY"), (frame.Ack, "ACK"),
                       (frame.Bye, "BYE_REPLY"), (frame.Error, "ERROR")):
         assert list(cls.__dataclass_fields__) == [f.name for f in reg.pil_payloads[name].fields]
-        payload = bytes(range(frame.STRUCTS[name].size))
+        payload = bytes(i % 251 for i in range(frame.STRUCTS[name].size))
         assert cls.decode(payload).encode() == payload
     r = frame.StepReply.decode(bytes(frame.STEP_REPLY.size))
     assert r.counters == dict.fromkeys(frame.COUNTER_NAMES, 0) and r.u_wheels == (0.0,) * frame.WHEELS_MAX
@@ -176,7 +177,7 @@ def test_golden_frames_byte_for_byte():
 def test_step_payload_layout():
     p = frame.encode_step(0x01020304, 0x1122334455667788, 3, (1.0, -2.0, 0.5, 0.0), (0.25, -0.125, 4.0),
                           (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))
-    assert len(p) == 168
+    assert len(p) == 232
     assert p[:4] == bytes([4, 3, 2, 1])
     assert struct.unpack_from("<Q", p, 4)[0] == 0x1122334455667788
     assert p[12] == 3
@@ -190,6 +191,34 @@ def test_step_payload_layout():
     assert struct.unpack_from("<d", p, 128)[0] == 10.0 and math.isnan(struct.unpack_from("<d", p, 136)[0])
     with pytest.raises(ValueError):
         frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0), (1.0,) * 7)
+    # version 3: the star tracker's sample and time of measurement, the gyro's rate, after the tachometers
+    # (tests/unit/test_pil_frame.c: st_q[0] at byte 168, st_t_meas_ns at 200, gyro_w[0] at 208)
+    p = frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0), st_q=(0.5, -0.5, 0.5, -0.5),
+                          st_t_meas_ns=0x8877665544332211, gyro_w=(0.0078125, -0.25, 1.0))
+    assert struct.unpack_from("<Q", p, 168)[0] == 0x3FE0000000000000
+    assert struct.unpack_from("<Q", p, 192)[0] == 0xBFE0000000000000
+    assert struct.unpack_from("<Q", p, 200)[0] == 0x8877665544332211
+    assert struct.unpack_from("<Q", p, 208)[0] == 0x3F80000000000000
+    assert frame.unpack("STEP", p)["gyro_w"] == (0.0078125, -0.25, 1.0)
+    # without them: the identity, time 0 (no time), zero rate
+    d = frame.unpack("STEP", frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0)))
+    assert (d["st_q"], d["st_t_meas_ns"], d["gyro_w"]) == ((0.0, 0.0, 0.0, 1.0), 0, (0.0, 0.0, 0.0))
+
+
+def test_step_reply_layout_of_the_estimate():
+    """The estimate follows the 244 bytes of the version 2 reply (tests/unit/test_pil_frame.c checks the same
+    offsets on the C encoder)."""
+    r = dataclasses.replace(frame.StepReply.decode(bytes(frame.STEP_REPLY.size)), estimator=1, est_status=-4,
+                            q_est=(0.0, 0.0, -0.75, 0.5), est_p=tuple(0.0625 * (i + 1) for i in range(21)),
+                            st_status=-7, n_st_used=0x80000001, n_est_restarts=4)
+    p = r.encode()
+    assert len(p) == 520
+    assert struct.unpack_from("<I", p, 244)[0] == 1 and struct.unpack_from("<i", p, 248)[0] == -4
+    assert struct.unpack_from("<Q", p, 268)[0] == 0xBFE8000000000000
+    assert struct.unpack_from("<Q", p, 332)[0] == 0x3FB0000000000000
+    assert struct.unpack_from("<i", p, 500)[0] == -7 and struct.unpack_from("<I", p, 504)[0] == 0x80000001
+    assert struct.unpack_from("<I", p, 516)[0] == 4
+    assert frame.StepReply.decode(p) == r
 
 
 @pytest.mark.parametrize("mutate, fragment", [

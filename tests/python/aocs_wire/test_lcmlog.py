@@ -127,3 +127,50 @@ def test_a_damaged_log_is_read_by_the_eventlog_decoder(aocs_lcm, tmp_path):
         p.write_bytes(blob)
         assert lcmlog._read_fast(p, keep_raw=False) is None, name
         assert_same_log(lcmlog.read(p, keep_raw=True), lcmlog._read_eventlog(p, keep_raw=True))
+
+
+def test_covariance_of_the_upper_triangle():
+    import numpy as np
+    P = np.arange(36, dtype=float).reshape(6, 6)
+    P = P + P.T                                   # symmetric
+    upper = P[np.triu_indices(6)]                 # row by row: P00 P01 .. P05 P11 .. P55 (estimate.h)
+    assert upper[:7].tolist() == [P[0, 0], P[0, 1], P[0, 2], P[0, 3], P[0, 4], P[0, 5], P[1, 1]]
+    assert np.array_equal(lcmlog.covariance(upper), P)
+    both = lcmlog.covariance(np.stack([upper, 2 * upper]))
+    assert both.shape == (2, 6, 6) and np.array_equal(both[1], 2 * P)
+
+
+def test_the_version_3_fields_are_columns(aocs_lcm, tmp_path):
+    """The star tracker, gyro, estimate and truth fields of protocol version 3, decoded by name with their shapes
+    (both decoders)."""
+    from aocs_wire import wire
+    codecs = wire.Codecs(aocs_lcm)
+    ev = []
+    for k in range(3):
+        s = aocs_lcm.sensors_t()
+        s.protocol_version, s.tick, s.t_s = s.PROTOCOL_VERSION, k, 0.1 * k
+        s.valid = s.VALID_STAR_TRACKER | s.VALID_GYRO if k == 1 else s.VALID_GYRO
+        s.st_q, s.st_t_meas_s, s.gyro_w = [0.0, 0.0, 0.6, 0.8], 0.05 * k, [1e-3 * k, 0.0, -1e-3]
+        a = aocs_lcm.actuator_cmd_t()
+        a.protocol_version, a.tick, a.estimator, a.est_status = a.PROTOCOL_VERSION, k, 1, -k
+        a.q_est, a.w_est, a.bias_est = [0.0, 0.0, 0.0, 1.0], [0.0, k, 0.0], [1e-6, 0.0, 0.0]
+        a.est_p = [float(i + k) for i in range(21)]
+        a.st_status, a.n_st_used, a.n_st_gated, a.n_st_hostile, a.n_est_restarts = -1, 2**53 + k, 1, 2, 3
+        tr = aocs_lcm.truth_t()
+        tr.protocol_version, tr.tick, tr.gyro_bias = tr.PROTOCOL_VERSION, k, [1e-7, -2e-7, 3e-7]
+        ev += [(wire.SENSORS, s.encode()), (wire.ACTUATOR, a.encode()), (wire.TRUTH, tr.encode())]
+    assert len(ev[0][1]) == codecs.sensors.size
+    path = _write(tmp_path / "v3.lcmlog", ev)
+    for log in (lcmlog.read(path), lcmlog._read_eventlog(path)):
+        s, c, tr = log.sensors, log.cmd, log.truth
+        assert s["st_q"].shape == (3, 4) and s["st_t_meas_s"].tolist() == [0.0, 0.05, 0.1]
+        assert s["gyro_w"][:, 0].tolist() == [0.0, 1e-3, 2e-3]
+        assert ((s["valid"] & aocs_lcm.sensors_t.VALID_STAR_TRACKER) != 0).tolist() == [False, True, False]
+        assert c["estimator"].tolist() == [1, 1, 1] and c["est_status"].tolist() == [0, -1, -2]
+        assert c["q_est"].shape == (3, 4) and c["w_est"][:, 1].tolist() == [0.0, 1.0, 2.0]
+        assert c["bias_est"].shape == (3, 3) and c["est_p"].shape == (3, 21)
+        assert c["n_st_used"].tolist() == [2**53, 2**53 + 1, 2**53 + 2]     # int64 exact
+        assert (c["st_status"].tolist(), c["n_st_gated"].tolist(), c["n_st_hostile"].tolist(),
+                c["n_est_restarts"].tolist()) == ([-1] * 3, [1] * 3, [2] * 3, [3] * 3)
+        assert lcmlog.covariance(c["est_p"]).shape == (3, 6, 6)
+        assert tr["gyro_bias"].tolist() == [[1e-7, -2e-7, 3e-7]] * 3

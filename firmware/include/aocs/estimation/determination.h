@@ -26,6 +26,7 @@
 #include "aocs/types.h"
 #include "aocs/math3.h"
 #include "aocs/exec/io.h"
+#include "aocs/estimation/estimate.h"
 #include "aocs/estimation/determination.def"
 
 #define AOCS_DET_ENUM_ROW(ID, ...) AOCS_DET_##ID,
@@ -43,13 +44,6 @@ typedef struct {
     AOCS_DETERMINATION_ROWS(AOCS_DET_CONFIG_MEMBER)
 } aocs_det_config_t;
 
-/* The estimate of one step. */
-typedef struct {
-    aocs_quat_t q_BN;             /* attitude estimate */
-    aocs_vec3_t w_BN_B;           /* body rate estimate, rad/s */
-    uint32_t valid;               /* AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE of the estimate */
-    aocs_status_t status;         /* AOCS_OK: usable for the law this step; else why not */
-} aocs_det_output_t;
 
 /* One state of each estimator (member STATE of every row). */
 #define AOCS_DET_STATE_MEMBER(ID, NAME, STATE, STATE_T, ...) STATE_T STATE;

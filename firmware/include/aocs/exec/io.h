@@ -12,11 +12,14 @@
 #include "aocs/actuation/wheel_array.h"
 #include "aocs/exec/law_dispatch.h"
 #include "aocs/exec/modes.h"
+#include "aocs/estimation/estimate.h"
 
 /* Validity flags of aocs_exec_input_t.valid (set by the sensor adapter). */
 #define AOCS_EXEC_VALID_ATT   (1u << 0) /* q_BN usable */
 #define AOCS_EXEC_VALID_RATE  (1u << 1) /* w_BN_B usable */
 #define AOCS_EXEC_VALID_ORBIT (1u << 2) /* pos_m, vel_mps usable */
+#define AOCS_EXEC_VALID_ST    (1u << 3) /* st_q_SN is a new star-tracker sample, measured at st_t_meas_ns */
+#define AOCS_EXEC_VALID_GYRO  (1u << 4) /* gyro_w_B usable */
 
 /* Target held by the executive (attitude laws; the orbit law regulates to zero). */
 typedef struct {
@@ -36,6 +39,11 @@ typedef struct {
     aocs_vec3_t vel_mps;          /* orbit: velocity [du dv dw], m/s (SPEC 2.8) */
     real_t wheel_speed_radps[AOCS_WHEELS_MAX]; /* tachometers: wheel speeds relative to the body, rad/s
                                    * (read when a wheel array is configured) */
+    aocs_quat_t st_q_SN;          /* star tracker: attitude of its frame S w.r.t. N, scalar last (A(q_SN) maps
+                                   * N to S); a new sample when AOCS_EXEC_VALID_ST is set */
+    uint64_t st_t_meas_ns;        /* its time of measurement, ns, the clock of t_sensor_ns, <= t_sensor_ns */
+    aocs_vec3_t gyro_w_B;         /* gyro: measured body rate in B, rad/s, the mean over the sample period
+                                   * (angle increment / period; AOCS_EXEC_VALID_GYRO) */
 } aocs_exec_input_t;
 
 /* Event counters (saturate at UINT32_MAX, never wrap). */
@@ -74,6 +82,7 @@ typedef struct {
     aocs_wheels_alloc_t wheels;   /* wheel torque commands (all zero without an array) */
     aocs_wheels_momentum_t momentum; /* total momentum and speed margin (zero without an array) */
     aocs_status_t wheels_status;  /* AOCS_OK, or why the allocation gave a zero command */
+    aocs_det_output_t estimate;   /* the attitude-determination stage's estimate and its telemetry this step */
 } aocs_exec_output_t;
 
 #endif /* AOCS_EXEC_IO_H */

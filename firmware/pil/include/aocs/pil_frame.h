@@ -32,7 +32,8 @@
 #include "aocs/types.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
-#define AOCS_PIL_VERSION 2U   /* 2: the wheel array (CONFIG fields 65-67 and 100-147, tachometers, wheel torques) */
+#define AOCS_PIL_VERSION 3U   /* 3: star tracker, gyro, estimate; 2: the wheel array (CONFIG fields 65-67 and 100-147,
+                                * tachometers, wheel torques) */
 #define AOCS_PIL_HEADER_BYTES 12U
 #define AOCS_PIL_CRC_BYTES 4U
 #define AOCS_PIL_PAYLOAD_MAX 1024U
@@ -56,8 +57,8 @@
 
 /* Payload sizes of the fixed-layout frames (the sums of their rows below, which the encoders check). */
 #define AOCS_PIL_HELLO_BYTES 28U
-#define AOCS_PIL_STEP_BYTES 168U
-#define AOCS_PIL_STEP_REPLY_BYTES 244U
+#define AOCS_PIL_STEP_BYTES 232U
+#define AOCS_PIL_STEP_REPLY_BYTES 520U
 #define AOCS_PIL_SELECT_BYTES 64U
 #define AOCS_PIL_ACK_BYTES 36U
 #define AOCS_PIL_BYE_REPLY_BYTES 16U
@@ -151,6 +152,9 @@ typedef struct {
     aocs_status_t wheels_status;
     aocs_vec3_t h_total_B_Nms;/* out.momentum.h_total_B_Nms */
     real_t speed_margin;      /* out.momentum.speed_margin */
+    /* the attitude-determination stage's estimate, as fsw_node publishes it in actuator_cmd_t (valid not sent) */
+    uint32_t estimator;       /* the executive's cfg.determination.estimator (estimation/determination.def) */
+    aocs_det_output_t estimate; /* out.estimate */
 } aocs_pil_step_reply_t;
 
 /* SELECT: the run-time command (aocs_exec_select). */
@@ -206,6 +210,7 @@ typedef struct {
  *   vec3      aocs_vec3_t               3 f64
  *   quat      aocs_quat_t               4 f64, scalar last
  *   wheels    real_t[AOCS_WHEELS_MAX]   AOCS_WHEELS_MAX f64
+ *   cov       real_t[AOCS_EST_P_UPPER_COUNT]  AOCS_EST_P_UPPER_COUNT f64 (a covariance's upper triangle, estimate.h)
  *   counters  aocs_exec_counters_t      the AOCS_PIL_COUNTER_ROWS (step_time_max_ns is not sent)
  *
  * pil_frame.c expands each payload's rows into its encoder and decoder (a
@@ -224,6 +229,7 @@ typedef struct {
 #define AOCS_PIL_WIRE_vec3 "f64", 3U
 #define AOCS_PIL_WIRE_quat "f64", 4U
 #define AOCS_PIL_WIRE_wheels "f64", AOCS_WHEELS_MAX
+#define AOCS_PIL_WIRE_cov "f64", AOCS_EST_P_UPPER_COUNT
 #define AOCS_PIL_WIRE_counters "u32", AOCS_PIL_COUNTERS
 
 /* The executive counters of a STEP_REPLY (aocs_exec_counters_t). */
@@ -249,7 +255,9 @@ typedef struct {
     X(calib_expected, u32, calib_expected)           \
     X(overhead, u32, overhead)
 
-/* STEP: the executive input (tachometers: NaN for a wheel the sensor message does not measure) */
+/* STEP: the executive input (tachometers: NaN for a wheel the sensor message does not measure; the star
+ * tracker's last sample, new when valid has AOCS_EXEC_VALID_ST, and its time of measurement on the clock of
+ * t_sensor_ns; the gyro's rate) */
 #define AOCS_PIL_STEP_ROWS(X)                        \
     X(tick, u32, tick)                               \
     X(t_sensor_ns, u64, t_sensor_ns)                 \
@@ -258,7 +266,10 @@ typedef struct {
     X(w, vec3, w_BN_B)                               \
     X(pos, vec3, pos_m)                              \
     X(vel, vec3, vel_mps)                            \
-    X(wheel_speed, wheels, wheel_speed_radps)
+    X(wheel_speed, wheels, wheel_speed_radps)        \
+    X(st_q, quat, st_q_SN)                           \
+    X(st_t_meas_ns, u64, st_t_meas_ns)               \
+    X(gyro_w, vec3, gyro_w_B)
 
 #define AOCS_PIL_STEP_REPLY_ROWS(X)                  \
     X(tick, u32, tick)                               \
@@ -284,7 +295,18 @@ typedef struct {
     X(wheel_limited, u32, wheel_limited)             \
     X(wheel_status, status, wheels_status)           \
     X(h_total, vec3, h_total_B_Nms)                  \
-    X(speed_margin, real, speed_margin)
+    X(speed_margin, real, speed_margin)              \
+    X(estimator, u32, estimator)                     \
+    X(est_status, status, estimate.status)           \
+    X(q_est, quat, estimate.q_BN)                    \
+    X(w_est, vec3, estimate.w_BN_B)                  \
+    X(bias_est, vec3, estimate.bias_B_radps)         \
+    X(est_p, cov, estimate.p_upper)                  \
+    X(st_status, status, estimate.st_status)         \
+    X(n_st_used, u32, estimate.n_st_used)            \
+    X(n_st_gated, u32, estimate.n_st_gated)          \
+    X(n_st_hostile, u32, estimate.n_st_hostile)      \
+    X(n_est_restarts, u32, estimate.n_restarts)
 
 /* SELECT: target.wd_dot_B is not sent (it decodes as zero, as fsw_node sets it) */
 #define AOCS_PIL_SELECT_ROWS(X)                      \
@@ -359,7 +381,8 @@ aocs_pil_err_t aocs_pil_hello_encode(const aocs_pil_hello_t *h, uint8_t *out, ui
 aocs_pil_err_t aocs_pil_hello_decode(const uint8_t *p, uint32_t len, aocs_pil_hello_t *h);
 
 /* STEP <-> executive input (tick, t_sensor_ns, valid flags, q, w, pos, vel, the AOCS_WHEELS_MAX tachometer
- * speeds: NaN for a wheel the sensor message does not measure, as fsw_node reads them). */
+ * speeds: NaN for a wheel the sensor message does not measure, as fsw_node reads them; the star tracker's
+ * st_q_SN and st_t_meas_ns, the gyro's gyro_w_B). */
 aocs_pil_err_t aocs_pil_step_encode(const aocs_exec_input_t *in, uint8_t *out, uint32_t cap);
 aocs_pil_err_t aocs_pil_step_decode(const uint8_t *p, uint32_t len, aocs_exec_input_t *in);
 
