@@ -39,8 +39,9 @@
 #include "aocs/budget.h"
 #include "aocs_cm.h"
 
+/* the -icount shift of the QEMU command: CMakeLists.txt passes its AOCS_IMAGE_ICOUNT_SHIFT (5 there too) */
 #ifndef AOCS_IMAGE_ICOUNT_SHIFT
-#error "AOCS_IMAGE_ICOUNT_SHIFT: the -icount shift of the QEMU command (CMakeLists.txt)"
+#define AOCS_IMAGE_ICOUNT_SHIFT 5U
 #endif
 
 #if defined(AOCS_IMAGE_CORTEX_M7)
@@ -73,7 +74,10 @@
 #define IMG_HAL_SLEEP_NS 2500000ULL      /* 2.5 ms: several SysTick periods */
 #define IMG_ST_EVERY 5U                  /* a tracker sample every 5 periods (2 Hz) */
 #define IMG_DET_STEPS 160U               /* the worst-case stream of the determination step */
-#define IMG_ST_AGE (AOCS_MEKF_HISTORY_LEN - 1U) /* its tracker samples' age, periods: the whole history */
+#define IMG_ST_AGE 31U                   /* its tracker samples' age, periods: the whole history */
+#if (AOCS_MEKF_HISTORY_LEN - 1U) != IMG_ST_AGE
+#error "IMG_ST_AGE: the MEKF's history length less one (estimation/mekf.h)"
+#endif
 
 typedef struct {
     aocs_quat_t q_BN;
@@ -189,7 +193,6 @@ static img_result_t img_run(aocs_exec_t *exec, aocs_law_id_t law)
     res.det_instr_max = 0U;
     res.status = img_exec_init(exec, law, AOCS_DET_PASSTHROUGH);
 
-    in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
     in.pos_m = aocs_vec3_zero();
     in.vel_mps = aocs_vec3_zero();
     for (step = 0U; (step < IMG_STEPS) && (res.status == AOCS_OK); step++) {
@@ -282,9 +285,10 @@ static uint32_t img_det_worst(const aocs_det_config_t *cfg, aocs_status_t *statu
             in.st_q_SN = q;
             in.st_t_meas_ns = 0U;
         } else if ((step >= IMG_ST_AGE) && ((step % IMG_ST_EVERY) == 0U)) {
+            const uint64_t meas_step = (uint64_t)step - (uint64_t)IMG_ST_AGE;
             in.valid |= AOCS_EXEC_VALID_ST;
             in.st_q_SN = ring[(step - IMG_ST_AGE) % AOCS_MEKF_HISTORY_LEN];
-            in.st_t_meas_ns = (uint64_t)(step - IMG_ST_AGE) * IMG_PERIOD_NS;
+            in.st_t_meas_ns = meas_step * IMG_PERIOD_NS;
         } else {
             /* no tracker sample this period */
         }
@@ -474,7 +478,7 @@ int main(void)
     aocs_cm_fmt_str(line, IMG_LINE_CAP, &pos, "aocs_image " AOCS_IMAGE_TARGET ": runs_passed=");
     aocs_cm_fmt_int(line, IMG_LINE_CAP, &pos, (int64_t)passed);
     aocs_cm_fmt_str(line, IMG_LINE_CAP, &pos, "/");
-    aocs_cm_fmt_int(line, IMG_LINE_CAP, &pos, (int64_t)(IMG_RUN_COUNT + 1U));
+    aocs_cm_fmt_int(line, IMG_LINE_CAP, &pos, (int64_t)IMG_RUN_COUNT + 1);
     aocs_cm_fmt_str(line, IMG_LINE_CAP, &pos, (hal_ok != 0) ? " hal=ok" : " hal=FAIL");
     aocs_cm_fmt_str(line, IMG_LINE_CAP, &pos, " stack_high_water_bytes=");
     aocs_cm_fmt_int(line, IMG_LINE_CAP, &pos, (int64_t)aocs_cm_stack_high_water());

@@ -11,7 +11,7 @@
 #define DET_NAME_ROW(ID, NAME, ...) (NAME),
 #define DET_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (uint64_t)(BUDGET_NS),
 #define DET_NEEDS_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, INSTR_M4F, INSTR_M7, NEEDS) \
-    (uint32_t)(NEEDS),
+    (NEEDS),
 
 static int det_id_in_range(aocs_det_id_t id)
 {

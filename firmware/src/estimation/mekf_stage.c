@@ -62,7 +62,10 @@ static aocs_status_t mekf_stage_clock_restart(aocs_mekf_t *s, const aocs_mekf_in
         s->n_updates = n_updates;
         s->n_gated = n_gated;
         s->n_hostile = n_hostile;
-        s->n_restarts = (n_restarts < UINT32_MAX) ? (n_restarts + 1u) : n_restarts;
+        s->n_restarts = n_restarts;
+        if (n_restarts < UINT32_MAX) {
+            s->n_restarts += 1u;
+        }
         st = aocs_mekf_step(s, mi, mo);
     }
     return st;
@@ -94,7 +97,10 @@ aocs_status_t aocs_det_mekf_step(aocs_mekf_t *s, const aocs_exec_input_t *in, ao
         mi.w_meas_B_radps = w_gyro;
         mi.st.q_SN = in->st_q_SN;
         mi.st.t_meas_ns = in->st_t_meas_ns;
-        mi.st.valid = ((in->valid & AOCS_EXEC_VALID_ST) != 0u) ? 1u : 0u;
+        mi.st.valid = 0u;
+        if ((in->valid & AOCS_EXEC_VALID_ST) != 0u) {
+            mi.st.valid = 1u;
+        }
         st = aocs_mekf_step(s, &mi, &mo);
         if ((st == AOCS_ERR_INPUT_STALE) && (s->started != 0u) && (in->t_sensor_ns < s->t_ns)) {
             st = mekf_stage_clock_restart(s, &mi, &mo);
