@@ -104,10 +104,10 @@ def python_env() -> dict:
 
 @lru_cache(maxsize=None)
 def header_number(relpath: str, macro: str) -> float:
-    """The number a C header defines (`#define MACRO 1.5e-3` or `1024u`), read from the source tree:
+    """The number a C header defines (`#define MACRO 1.5e-3`, `1024u` or `AOCS_R(3600.0)`), read from the source tree:
     for the few fsw_node facts the Python mirrors need (node_wire.h, node_checks.h), so none is copied."""
     text = (REPO / relpath).read_text()
-    m = re.search(rf"^#define\s+{re.escape(macro)}\s+([0-9.eE+-]+)[uUlL]*\b", text, re.M)
+    m = re.search(rf"^#define\s+{re.escape(macro)}\s+(?:AOCS_R\()?([0-9.eE+-]+)[uUlL]*\b", text, re.M)
     if m is None:
         raise SetupError(f"{REPO / relpath}: no #define {macro}")
     return float(m.group(1))

@@ -30,6 +30,15 @@ What comes from where (docs/sil.md):
   `fsw_friction_scale`, 1 by default) and the null-space management
   `wheels.null_gain`, `wheel<i>.null_speed_radps`, so the two cannot disagree; the
   spacecraft inertia for the momentum is the `inertia` key;
+- the attitude determination, from the scenario's [estimator] (docs/spec.md
+  5.6.11): type "passthrough" (the default, every reference scenario)
+  writes nothing; "mekf" writes `estimator = mekf` and the mekf.* keys: the
+  sensor figures from the SAME [sensors.star_tracker] and [sensors.gyro]
+  that build the plant's sensors (tracker mounting `mekf.st_q_SB`, its
+  cross / about noise arcsec -> rad, the gyro's ARW and RRW), each noise
+  times [estimator] noise_scale (1: the filter knows its sensors; else a
+  mistuned filter), and the filter's tuning from [estimator] (gate, P0,
+  max gap, bias prior);
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
 """
@@ -41,6 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from aocs_core import registry
+from aocs_core.conventions import ARCSEC_PER_RAD
 from aocs_core.limits import UNLIMITED
 
 #: the flight software's guidance keys: guidance.<name of the scenario's [guidance] value>
@@ -117,6 +127,37 @@ def wheel_keys(scenario) -> dict[str, str]:
     return out
 
 
+def estimator_keys(scenario) -> dict[str, str]:
+    """fsw_node's attitude-determination keys from the scenario's [estimator] (empty for the passthrough)."""
+    e = getattr(scenario, "estimator", None)
+    if e is None or e.type == "passthrough":
+        return {}
+    if e.type != "mekf":
+        raise ConfigError(f"estimator type {e.type!r}: no flight-software keys for it")
+    st, gyro = scenario.sensors["star_tracker"], scenario.sensors["gyro"]
+    k = e.noise_scale
+    out = {
+        "estimator": e.type,
+        # the sensor figures: the plant's own sensors (one description), in the filter's units
+        "mekf.st_q_SB": _vec(st.mounting_q),
+        "mekf.st_sigma_cross_rad": _num(k * st.noise_cross_arcsec / ARCSEC_PER_RAD),
+        "mekf.st_sigma_about_rad": _num(k * st.noise_about_arcsec / ARCSEC_PER_RAD),
+        "mekf.gyro_arw_radpsqrts": _num(k * gyro.arw),
+        "mekf.gyro_rrw_radps1p5": _num(k * gyro.rrw),
+        # the filter's tuning
+        "mekf.bias0_radps": _vec(e.bias0_radps),
+        "mekf.p0_att_sigma_rad": _num(e.p0_att_sigma_rad),
+        "mekf.p0_bias_sigma_radps": _num(e.p0_bias_sigma_radps),
+        "mekf.gate_chi2": _num(e.gate_chi2),
+        "mekf.max_gap_s": _num(e.max_gap_s),
+    }
+    keys = {f.key for f in registry.load().config_fields}
+    unknown = sorted(set(out) - keys)
+    if unknown:
+        raise ConfigError(f"the flight software has no key {unknown[0]!r} (the registry of this build)")
+    return out
+
+
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
                 idle_timeout_s: float = 5.0, run_timeout_s: float = 0.0,
                 status_period_s: float | None = None, lcm_url: str | None = None,
@@ -164,6 +205,8 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
                 v = getattr(g, f.key[len(GUIDANCE_PREFIX):])
                 cfg[f.key] = v if f.kind == "enum" else _num(v)
     cfg.update(wheel_keys(sc))
+    if sc.kind == "attitude":
+        cfg.update(estimator_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])

@@ -163,6 +163,31 @@ class GuidanceConfig:
     jerk_time_s: float = 0.0
 
 
+#: [estimator]'s tuning keys are the flight software's mekf.* keys (the configuration registry) without the
+#: prefix; the sensor figures the filter uses are not among them: they come from [sensors.star_tracker] and
+#: [sensors.gyro] (aocs_flightcfg.fsw_config), the same description that builds the plant's sensors
+MEKF_PREFIX = "mekf."
+ESTIMATOR_TUNING_KEYS = ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s", "bias0_radps")
+#: the mekf.* keys written from the sensor sections, never from [estimator]
+ESTIMATOR_SENSOR_KEYS = ("st_q_SB", "st_sigma_cross_rad", "st_sigma_about_rad", "gyro_arw_radpsqrts",
+                         "gyro_rrw_radps1p5")
+
+
+@dataclass(frozen=True)
+class EstimatorConfig:
+    """[estimator]: the flight software's attitude determination (docs/spec.md 5.6.11, fsw_node key
+    `estimator` and the mekf.* keys). type "passthrough" (default) flies the sensor's q and w as they
+    are (every reference scenario); "mekf" the gyro and star-tracker filter, its sensor figures from
+    [sensors.star_tracker] and [sensors.gyro] (times noise_scale: a mistuned filter), its tuning here."""
+    type: str = "passthrough"
+    gate_chi2: float = 16.266236196238129
+    p0_att_sigma_rad: float = 0.017453292519943295
+    p0_bias_sigma_radps: float = 4.84813681109536e-06
+    max_gap_s: float = 10.0
+    bias0_radps: tuple = (0.0, 0.0, 0.0)
+    noise_scale: float = 1.0     # the filter's sensor noise figures = the sensors' x this
+
+
 @dataclass(frozen=True)
 class Scenario:
     id: str
@@ -190,6 +215,8 @@ class Scenario:
     guidance: GuidanceConfig = GuidanceConfig()
     # [environment]: epoch, the spacecraft's orbit (attitude scenarios too), magnetic field model
     environment: EnvironmentConfig = EnvironmentConfig()
+    # [estimator]: the flight software's attitude determination (passthrough unless the scenario says)
+    estimator: EstimatorConfig = EstimatorConfig()
 
     @property
     def dt(self) -> float:
@@ -624,6 +651,53 @@ def _read_guidance(root: _Section, kind: str, target) -> GuidanceConfig:
     return GuidanceConfig(mode, profile, margin, rate, jerk)
 
 
+#: the sensor figures the MEKF takes, which must be > 0 (its noise model): section, key
+_MEKF_SENSOR_FIGURES = (("star_tracker", "noise_cross_arcsec", "noise_cross_arcsec"),
+                        ("star_tracker", "noise_about_arcsec", "noise_about_arcsec"),
+                        ("gyro", "arw_rad_sqrt_s", "arw"), ("gyro", "rrw_rad_s_sqrt_s", "rrw"))
+
+
+def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig) -> EstimatorConfig:
+    """[estimator], bounded as fsw_node and the MEKF's init bound it (the registry's rules; mekf.h)."""
+    sec = root.table("estimator", required=False)
+    if sec is None:
+        return EstimatorConfig()
+    est = next(f for f in registry.load().config_fields if f.key == "estimator")
+    typ = sec.string("type", required=False, default=est.names[0], choices=est.names)
+    fields = {f.key[len(MEKF_PREFIX):]: f for f in registry.load().config_fields if f.key.startswith(MEKF_PREFIX)}
+    for k in sec.remaining():
+        if k in ESTIMATOR_SENSOR_KEYS:
+            sec.fail(sec.key(k), "is a sensor figure: it comes from [sensors.star_tracker] / [sensors.gyro]")
+    if typ != "mekf":
+        for k in sec.remaining():
+            sec.fail(sec.key(k), f'applies to type = "mekf" only (type is "{typ}")')
+        sec.done()
+        return EstimatorConfig(type=typ)
+    if kind != "attitude":
+        sec.fail(sec.key("type"), "an attitude estimator applies to attitude scenarios only")
+
+    def number(name: str) -> float:   # a real-valued key: the registry's default and sign rule
+        f = fields[name]
+        return sec.number(name, required=False, default=f.default[0], positive=f.rule == "pos",
+                          nonneg=f.rule == "nonneg")
+
+    gate, p0a, p0b, gap = (number(k) for k in ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s"))
+    gap_max = paths.header_number("firmware/include/aocs/estimation/mekf.h", "AOCS_MEKF_MAX_GAP_LIMIT_S")
+    if gap > gap_max:
+        sec.fail(sec.key("max_gap_s"), f"{gap:g} s is above {gap_max:g} s")
+    bias0 = sec.vector("bias0_radps", required=False, default=tuple(fields["bias0_radps"].default))
+    scale = sec.number("noise_scale", required=False, default=1.0, positive=True)
+    sec.done()
+    for name in ("star_tracker", "gyro"):
+        if name not in sensor_config.sensors:
+            root.fail("estimator.type", f'"mekf" needs [sensors.star_tracker] and [sensors.gyro] '
+                                        f"(the filter's sensors; [sensors.{name}] is missing)")
+    for name, key, attr in _MEKF_SENSOR_FIGURES:
+        if not getattr(sensor_config[name], attr) > 0.0:
+            root.fail(f"sensors.{name}.{key}", 'must be > 0 with estimator type "mekf" (the filter\'s noise model)')
+    return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale)
+
+
 def _read_effectors(root: _Section, kind: str, duration: float, rate: float, substeps: int, plant) -> dict:
     """[disturbances.<kind>] and [actuator]: each effector module reads its own section."""
     ctx = effectors.ReadContext(root.file, kind, duration, 1.0 / rate, substeps, plant)
@@ -719,6 +793,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
                                  if effectors.REGISTRY[k].group == "disturbances"})
     actuator = configs["actuator"]
     sensor_config = _read_sensors(root, kind, duration, rate, configs)
+    estimator = _read_estimator(root, kind, sensor_config)
     env = environment.read(root, kind, orb)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
@@ -727,7 +802,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env)
+                    environment=env, estimator=estimator)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

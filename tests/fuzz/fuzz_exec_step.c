@@ -9,7 +9,11 @@
  *                                     (axis / norm / both), bit3 raw limit doubles,
  *                                     bit4 rotating target, bit5 reaction wheels (the SPEC 5.3
  *                                     pyramid with friction feedforward and null-space
- *                                     management, wheel 3 failed when bit6)
+ *                                     management, wheel 3 failed when bit6), bit7 the MEKF as
+ *                                     the estimator (its defaults; a step's valid byte then
+ *                                     gives VALID_ST (bit3) and VALID_GYRO (bit4), the gyro is
+ *                                     the step's w, the tracker sample its q measured now or,
+ *                                     bit5, a period earlier)
  *   u8  period choice                 3 x u16 axis limit magnitudes, u16 norm magnitude
  *   (bit3: 4 x f64 raw limits)        u8 M, u8 N, u16 stale timeout (periods / 16)
  *   then ops until the end, each one u8 op then its fields:
@@ -84,6 +88,10 @@ static int build_config(fuzz_reader_t *r, aocs_exec_config_t *cfg)
     }
     if ((flags & 32u) != 0u) {
         fuzz_wheels(&cfg->wheels, (flags & 64u) != 0u);
+    }
+    if ((flags & 128u) != 0u) {
+        cfg->determination.estimator = (uint32_t)AOCS_DET_MEKF;
+        fuzz_mekf_config(r, 0u, &cfg->determination.mekf);
     }
     cfg->recover_good_samples = 1u + (uint32_t)(fuzz_u8(r) % 16u);
     cfg->missing_max_periods = 1u + (uint32_t)(fuzz_u8(r) % 16u);
@@ -174,10 +182,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                                                                       : (real_t)((double)fuzz_u16(&r) / 32.768 - 1000.0);
                 }
             }
+            if (cfg.determination.estimator == (uint32_t)AOCS_DET_MEKF) {
+                in.valid = (uint32_t)(valid & 0x1Fu);
+                in.gyro_w_B = in.w_BN_B;
+                in.st_q_SN = in.q_BN;
+                in.st_t_meas_ns = ((valid & 0x20u) != 0u) ? (t_ns - period_ns) : t_ns;
+            }
             if (aocs_exec_step(&exec, &in, &out) != AOCS_OK) {
                 abort(); /* an initialised executive always produces a command */
             }
             fuzz_check_output(&cfg, &out);
+            if (cfg.determination.estimator == (uint32_t)AOCS_DET_MEKF) {
+                fuzz_check_estimate(&out.estimate);
+            }
             fuzz_check_wheels(&cfg, &out);
         } else if (op == 6u) {
             g_now_ns += period_ns;

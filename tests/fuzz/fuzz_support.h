@@ -102,6 +102,63 @@ static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
     *laws = reference;
 }
 
+/* ---- the MEKF (estimation/mekf.h, the mekf row of determination.def) ---- */
+
+/*
+ * A configuration of the MEKF from the fuzz bytes: its defaults (aocs_mekf_config_default, the mekf.* rows'
+ * DEFAULT) with, when `mode` asks, plausible magnitudes of every noise and tuning figure (bit0) and a tracker
+ * mounting from 3 bytes (bit1). Always one the init accepts (an init failure would end the input early).
+ *   reads (bit0): 6 x u16 magnitudes (cross, about, ARW, RRW, P0 att, P0 bias), u16 gate, u16 max gap;
+ *         (bit1): 3 x u8 mounting
+ */
+static inline void fuzz_mekf_config(fuzz_reader_t *r, uint8_t mode, aocs_mekf_config_t *c)
+{
+    aocs_mekf_config_default(c);
+    if ((mode & 1u) != 0u) {
+        c->st_sigma_cross_rad = (real_t)fuzz_mag(r, -9.0, -1.0);
+        c->st_sigma_about_rad = (real_t)fuzz_mag(r, -9.0, -1.0);
+        c->gyro_arw_radpsqrts = (real_t)fuzz_mag(r, -10.0, -2.0);
+        c->gyro_rrw_radps1p5 = (real_t)fuzz_mag(r, -14.0, -4.0);
+        c->p0_att_sigma_rad = (real_t)fuzz_mag(r, -6.0, 0.5);
+        c->p0_bias_sigma_radps = (real_t)fuzz_mag(r, -9.0, -1.0);
+        c->gate_chi2 = (real_t)fuzz_mag(r, -1.0, 4.0);
+        c->max_gap_s = (real_t)fuzz_mag(r, -3.0, 3.5);
+    }
+    if ((mode & 2u) != 0u) {
+        const double a = (double)fuzz_u8(r) / 40.0;
+        const double b = (double)fuzz_u8(r) / 40.0;
+        const double d = (double)fuzz_u8(r) / 40.0;
+        const double n = sqrt(1.0 + (a * a) + (b * b) + (d * d));
+        c->q_SB = aocs_quat_make((real_t)(a / n), (real_t)(b / n), (real_t)(d / n), (real_t)(1.0 / n));
+    }
+}
+
+/* An estimate of the determination stage: every real finite; a usable one is a unit q with both flags, an
+ * unusable one has no attitude flag; the covariance's diagonal (p_upper 0, 6, 11, 15, 18, 20) not negative. */
+static inline void fuzz_check_estimate(const aocs_det_output_t *e)
+{
+    static const uint32_t diag[6] = {0u, 6u, 11u, 15u, 18u, 20u};
+    int ok = (aocs_quat_is_finite(e->q_BN) != 0) && (aocs_vec3_is_finite(e->w_BN_B) != 0) &&
+             (aocs_vec3_is_finite(e->bias_B_radps) != 0);
+    for (uint32_t i = 0u; i < AOCS_EST_P_UPPER_COUNT; ++i) {
+        ok = ok && AOCS_IS_FINITE(e->p_upper[i]);
+    }
+    for (uint32_t i = 0u; i < 6u; ++i) {
+        ok = ok && !(e->p_upper[diag[i]] < AOCS_R(0.0));
+    }
+    if (e->status == AOCS_OK) {
+        ok = ok && (e->valid == (AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE)) &&
+             (AOCS_FABS(aocs_quat_norm(e->q_BN) - AOCS_R(1.0)) <= AOCS_R(1.0e-3));
+    } else {
+        ok = ok && ((e->valid & AOCS_EXEC_VALID_ATT) == 0u);
+    }
+    if (ok == 0) {
+        (void)fprintf(stderr, "fuzz invariant violated: estimate (status %d, valid %u) not finite or inconsistent\n",
+                      (int)e->status, (unsigned)e->valid);
+        abort();
+    }
+}
+
 /* ---- the invariant ---- */
 
 static inline void fuzz_fail(const char *what, const aocs_exec_config_t *cfg, aocs_vec3_t u)

@@ -189,8 +189,28 @@ def exec_seeds() -> None:
         "<H", 32)
     _write("fuzz_exec_step", "wheels", wheels + b"".join(step(extra=b"") + tach for _ in range(6)))
     wheels_failed = bytes([11, 32 | 64, 0]) + wheels[3:]
+    # the MEKF as the estimator (flags bit7): gyro (bit4) every step, the tracker (bit3) every 5th
+    mekf = bytes([2, 128, 0]) + header[3:]
+    _write("fuzz_exec_step", "mekf", mekf + b"".join(step(valid=0x98 if k % 5 == 0 else 0x90) for k in range(12)))
     _write("fuzz_exec_step", "wheels_failed", wheels_failed + b"".join(step() + tach for _ in range(6))
            + bytes([6, 6]) + step() + tach)
+
+
+def mekf_seeds() -> None:
+    # fuzz_mekf_step: config mode, then steps (op 0, verdict, time mode, valid, 3 x u16 gyro, 3 x u8 q, u8 age)
+    def step(valid=0x18, verdict=0, time_mode=0, age=0, q=(128, 130, 126)):
+        return bytes([0, verdict, time_mode, valid]) + struct.pack("<3H", 32768 + 82, 32768 - 164, 32768 + 41) + \
+            bytes(q) + bytes([age])
+
+    good = step() + b"".join(step(valid=0x10 if k % 5 else 0x18) for k in range(1, 40))
+    _write("fuzz_mekf_step", "tracker_every_5", bytes([0]) + good)
+    _write("fuzz_mekf_step", "waiting", bytes([0]) + b"".join(step(valid=0x10) for _ in range(8)) + step())
+    _write("fuzz_mekf_step", "delayed", bytes([0]) + step() + b"".join(
+        step(valid=0x10 if k % 5 else 0x18, age=0 if k < 35 else 200) for k in range(1, 60)))
+    _write("fuzz_mekf_step", "hostile", bytes([0]) + good + step(valid=0x18, age=255) + step(valid=0x58)
+           + struct.pack("<4d", float("nan"), 0.0, 0.0, 1.0) + step(valid=0x18, q=(250, 3, 3)) + step(verdict=5)
+           + bytes([7]) + step())
+    _write("fuzz_mekf_step", "tuned", bytes([3]) + struct.pack("<8H", *(32768,) * 8) + bytes([10, 0, 0]) + good)
 
 
 def pil_seeds() -> None:
@@ -229,6 +249,7 @@ def main(argv: list[str]) -> int:
     command_seeds(t)
     config_seeds()
     exec_seeds()
+    mekf_seeds()
     pil_seeds()
     return 0
 

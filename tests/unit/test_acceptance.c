@@ -10,6 +10,9 @@
  *  - the rows of acceptance.def (the clock's time rules) alone: names, the
  *    lockstep tolerance, the real-time HAL window;
  *  - validity for attitude laws, orbit laws and STANDBY (either rule);
+ *  - the needs of each estimator (determination.def NEEDS): passthrough
+ *    ATT|RATE (a unit q, a finite w), MEKF the gyro alone (flag, finite,
+ *    range); a star-tracker sample is never a need, good or bad;
  *  - NULL arguments.
  */
 #include "test_support.h"
@@ -20,6 +23,9 @@
 #include "aocs/hal.h"
 
 #define T_NS 100000000ull /* 0.1 s */
+/* the estimators' needs, from their rows (determination.def NEEDS) */
+#define PT_NEEDS aocs_det_needs(AOCS_DET_PASSTHROUGH)
+#define MEKF_NEEDS aocs_det_needs(AOCS_DET_MEKF)
 
 static aocs_exec_input_t att_sample(uint32_t tick, uint64_t t_ns)
 {
@@ -35,7 +41,7 @@ static aocs_exec_input_t att_sample(uint32_t tick, uint64_t t_ns)
 
 static void lockstep(aocs_accept_t *acc)
 {
-    aocs_accept_init(acc, AOCS_EXEC_CLOCK_LOCKSTEP, T_NS, 2u * T_NS, 3u);
+    aocs_accept_init(acc, AOCS_EXEC_CLOCK_LOCKSTEP, T_NS, 2u * T_NS, 3u, PT_NEEDS);
 }
 
 static aocs_status_t feed(aocs_accept_t *acc, uint32_t tick, uint64_t t_ns, uint32_t *missing)
@@ -124,7 +130,7 @@ static void test_real_time_sample_off_the_hal_clock_is_stale(void **state)
     aocs_accept_t acc;
     uint32_t missing = 0u;
     const uint64_t now = aocs_hal_time_ns();
-    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_REALTIME, T_NS, 2u * T_NS, 3u);
+    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_REALTIME, T_NS, 2u * T_NS, 3u, PT_NEEDS);
     /* far in the future (> T ahead) and far in the past (> the timeout) */
     assert_int_equal(feed(&acc, 0u, now + 100u * T_NS, &missing), AOCS_ERR_INPUT_STALE);
     assert_int_equal(acc.have_sample, 0);
@@ -140,31 +146,105 @@ static void test_validity_for_each_kind_of_law(void **state)
 {
     (void)state;
     aocs_exec_input_t in = att_sample(0u, T_NS);
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_OK);
     in.valid = AOCS_EXEC_VALID_ATT;
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, &in), AOCS_ERR_INPUT_INVALID);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
     in = att_sample(0u, T_NS);
     in.w_BN_B.v[1] = (real_t)NAN;
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, &in), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_ERR_INPUT_NOT_FINITE);
     in = att_sample(0u, T_NS);
     in.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.1));
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, &in), AOCS_ERR_QUAT_NOT_UNIT);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_ERR_QUAT_NOT_UNIT);
     /* the orbit law needs the orbit flag and finite pos/vel, nothing of the attitude */
     in = att_sample(0u, T_NS);
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, &in), AOCS_ERR_INPUT_INVALID);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, PT_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
     in.valid = AOCS_EXEC_VALID_ORBIT;
     in.q_BN.q[3] = (real_t)NAN;
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, PT_NEEDS, &in), AOCS_OK);
     in.vel_mps.v[2] = (real_t)INFINITY;
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, &in), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, PT_NEEDS, &in), AOCS_ERR_INPUT_NOT_FINITE);
     /* STANDBY: either rule; an orbit-only sample reports the orbit verdict */
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, &in), AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, PT_NEEDS, &in), AOCS_ERR_INPUT_NOT_FINITE);
     in.vel_mps.v[2] = AOCS_R(0.0);
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, PT_NEEDS, &in), AOCS_OK);
     in = att_sample(0u, T_NS);
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, PT_NEEDS, &in), AOCS_OK);
     in.valid = 0u;
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, &in), AOCS_ERR_INPUT_INVALID);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, PT_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
+}
+
+static aocs_exec_input_t gyro_sample(uint32_t tick, uint64_t t_ns)
+{
+    aocs_exec_input_t in;
+    (void)memset(&in, 0, sizeof(in));
+    in.tick = tick;
+    in.t_sensor_ns = t_ns;
+    in.valid = AOCS_EXEC_VALID_GYRO;
+    in.gyro_w_B = aocs_vec3_make(AOCS_R(0.01), AOCS_R(0.0), AOCS_R(-0.02));
+    return in;
+}
+
+static void test_needs_of_each_estimator(void **state)
+{
+    (void)state;
+    aocs_exec_input_t in = gyro_sample(0u, T_NS);
+    const real_t nan_value = (real_t)NAN;
+    assert_int_equal(PT_NEEDS, AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE);
+    assert_int_equal(MEKF_NEEDS, AOCS_EXEC_VALID_GYRO);
+    assert_int_equal(aocs_det_needs(AOCS_DET_COUNT), AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE);
+    /* the acceptance's gyro bound is the MEKF's own */
+    assert_true(!(AOCS_EXEC_GYRO_RATE_MAX_RADPS < AOCS_MEKF_RATE_MAX_RADPS) &&
+                !(AOCS_EXEC_GYRO_RATE_MAX_RADPS > AOCS_MEKF_RATE_MAX_RADPS));
+    /* MEKF: the gyro alone; q and w are not looked at */
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_OK);
+    in.q_BN.q[0] = nan_value;
+    in.w_BN_B.v[0] = nan_value;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_OK);
+    /* a hostile or absent star-tracker sample is the MEKF's business, never the acceptance's */
+    in.valid |= AOCS_EXEC_VALID_ST;
+    in.st_q_SN = aocs_quat_make(nan_value, AOCS_R(3.0), AOCS_R(0.0), AOCS_R(0.0));
+    in.st_t_meas_ns = 99u * T_NS; /* from the future */
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, MEKF_NEEDS, &in), AOCS_OK);
+    /* ... but the gyro is needed: flag, finite, range */
+    in = gyro_sample(0u, T_NS);
+    in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE | AOCS_EXEC_VALID_ST;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
+    in = gyro_sample(0u, T_NS);
+    in.gyro_w_B.v[2] = (real_t)INFINITY;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_ERR_INPUT_NOT_FINITE);
+    in.gyro_w_B.v[2] = nan_value;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_ERR_INPUT_NOT_FINITE);
+    in.gyro_w_B.v[2] = AOCS_EXEC_GYRO_RATE_MAX_RADPS;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_OK);
+    in.gyro_w_B.v[2] = -AOCS_R(1.01) * AOCS_EXEC_GYRO_RATE_MAX_RADPS;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_ERR_GYRO_RANGE);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, MEKF_NEEDS, &in), AOCS_ERR_GYRO_RANGE);
+    /* the orbit law keeps its own rule whatever the estimator */
+    in.valid = AOCS_EXEC_VALID_ORBIT;
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_ORBIT_LQR, MEKF_NEEDS, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_NONE, MEKF_NEEDS, &in), AOCS_OK);
+    /* passthrough: a gyro-only sample is not enough, a good q and w without a gyro is */
+    in = gyro_sample(0u, T_NS);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
+    in = att_sample(0u, T_NS);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, &in), AOCS_OK);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, MEKF_NEEDS, &in), AOCS_ERR_INPUT_INVALID);
+}
+
+/* The stage keeps the needs it was given: a sample stream for the MEKF passes on the gyro alone. */
+static void test_stage_applies_its_needs(void **state)
+{
+    (void)state;
+    aocs_accept_t acc;
+    uint32_t missing = 0u;
+    aocs_exec_input_t in = gyro_sample(0u, T_NS);
+    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_LOCKSTEP, T_NS, 2u * T_NS, 3u, MEKF_NEEDS);
+    assert_int_equal(acc.needs, AOCS_EXEC_VALID_GYRO);
+    assert_int_equal(aocs_accept_sample(&acc, AOCS_LAW_QUAT_PD, &in, &missing), AOCS_OK);
+    in = gyro_sample(1u, 2u * T_NS);
+    in.valid = 0u;
+    assert_int_equal(aocs_accept_sample(&acc, AOCS_LAW_QUAT_PD, &in, &missing), AOCS_ERR_INPUT_INVALID);
 }
 
 static void test_time_rule_rows(void **state)
@@ -190,7 +270,7 @@ static void test_time_rule_rows(void **state)
     assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS + T_NS / 4u + 1u, 2u), 0);
     assert_int_equal(aocs_accept_lockstep_continues(&acc, T_NS, 3u * T_NS - T_NS / 4u - 1u, 2u), 0);
     /* real time: the HAL window [now - timeout, now + T], any later time continues */
-    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_REALTIME, T_NS, 2u * T_NS, 3u);
+    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_REALTIME, T_NS, 2u * T_NS, 3u, PT_NEEDS);
     assert_int_equal(aocs_accept_realtime_on_clock(&acc, now), 1);
     assert_int_equal(aocs_accept_realtime_on_clock(&acc, now + 10u * T_NS), 0);
     assert_int_equal(aocs_accept_realtime_continues(&acc, T_NS, 900u * T_NS, 1u), 1);
@@ -207,10 +287,10 @@ static void test_null_arguments(void **state)
     assert_int_equal(missing, 0u);
     assert_int_equal(aocs_accept_sample(&acc, AOCS_LAW_QUAT_PD, NULL, NULL), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_accept_sample(&acc, AOCS_LAW_QUAT_PD, &in, NULL), AOCS_OK);
-    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, NULL), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_accept_validity(AOCS_LAW_QUAT_PD, PT_NEEDS, NULL), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_accept_no_sample(NULL), 0u);
     aocs_accept_done(NULL, AOCS_OK);
-    aocs_accept_init(NULL, AOCS_EXEC_CLOCK_LOCKSTEP, T_NS, T_NS, 1u);
+    aocs_accept_init(NULL, AOCS_EXEC_CLOCK_LOCKSTEP, T_NS, T_NS, 1u, PT_NEEDS);
 }
 
 int main(void)
@@ -222,6 +302,8 @@ int main(void)
         cmocka_unit_test(test_real_time_sample_off_the_hal_clock_is_stale),
         cmocka_unit_test(test_time_rule_rows),
         cmocka_unit_test(test_validity_for_each_kind_of_law),
+        cmocka_unit_test(test_needs_of_each_estimator),
+        cmocka_unit_test(test_stage_applies_its_needs),
         cmocka_unit_test(test_null_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

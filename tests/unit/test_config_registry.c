@@ -211,6 +211,63 @@ static void test_enum_names_are_the_enums_values(void **state)
     assert_int_equal(aocs_config_enum_value(ref_of("k_safe").field, "1", &v), 0);
 }
 
+/* "estimator" takes the names of the rows of estimation/determination.def, in id order */
+static void test_estimator_names_are_the_determination_rows(void **state)
+{
+    (void)state;
+    uint64_t v = 99u;
+    aocs_exec_config_t cfg;
+    const aocs_config_field_t *est = ref_of("estimator").field;
+    assert_int_equal(est->kind, AOCS_CONFIG_KIND_ENUM);
+    assert_int_equal(est->enum_count, (uint32_t)AOCS_DET_COUNT);
+    for (int i = 0; i < (int)AOCS_DET_COUNT; ++i) {
+        assert_int_equal(aocs_config_enum_value(est, aocs_det_name((aocs_det_id_t)i), &v), 1);
+        assert_int_equal(v, (uint64_t)i);
+    }
+    /* nothing but the rows: the names string has exactly AOCS_DET_COUNT names */
+    {
+        uint32_t commas = 0u;
+        for (const char *c = est->names; *c != '\0'; ++c) {
+            commas += (*c == ',') ? 1u : 0u;
+        }
+        assert_int_equal(commas + 1u, (uint32_t)AOCS_DET_COUNT);
+    }
+    assert_int_equal(aocs_config_enum_value(est, "kalman", &v), 0);
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(cfg.determination.estimator, (uint32_t)AOCS_DET_PASSTHROUGH);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("estimator"), (uint64_t)AOCS_DET_MEKF), AOCS_OK);
+    assert_int_equal(cfg.determination.estimator, (uint32_t)AOCS_DET_MEKF);
+    assert_int_equal(aocs_config_get_uint(&cfg, ref_of("estimator")), (uint64_t)AOCS_DET_MEKF);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("estimator"), (uint64_t)AOCS_DET_COUNT), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(cfg.determination.estimator, (uint32_t)AOCS_DET_MEKF);
+}
+
+/* The mekf.* rows: their members, rules, and the filter's defaults (aocs_mekf_config_default) */
+static void test_mekf_rows(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_mekf_config_t ref;
+    const double q[4] = {0.0, 0.0, 0.6, 0.8};
+    const double sig = 2.0e-5;
+    const double zero = 0.0;
+    const double b[3] = {1.0e-5, -2.0e-5, 3.0e-5};
+    aocs_exec_config_default(&cfg);
+    aocs_mekf_config_default(&ref);
+    assert_memory_equal(&cfg.determination.mekf, &ref, sizeof(ref));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mekf.st_q_SB"), q, 4u), AOCS_OK);
+    assert_true(same_r(cfg.determination.mekf.q_SB.q[2], (real_t)0.6));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mekf.st_sigma_cross_rad"), &sig, 1u), AOCS_OK);
+    assert_true(same_r(cfg.determination.mekf.st_sigma_cross_rad, (real_t)2.0e-5));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mekf.gyro_arw_radpsqrts"), &zero, 1u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mekf.bias0_radps"), b, 3u), AOCS_OK);
+    assert_true(same_r(cfg.determination.mekf.bias0_B_radps.v[2], (real_t)3.0e-5));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mekf.max_gap_s"), &sig, 1u), AOCS_OK);
+    assert_true(same_r(cfg.determination.mekf.max_gap_s, (real_t)2.0e-5));
+    assert_int_equal(ref_of("mekf.gate_chi2").field->status, AOCS_ERR_MEKF_GATE_INVALID);
+    assert_int_equal(ref_of("mekf.gyro_rrw_radps1p5").field->status, AOCS_ERR_MEKF_NOISE_NOT_POSITIVE);
+}
+
 static void test_the_default_config_holds_the_default_column(void **state)
 {
     (void)state;
@@ -237,6 +294,8 @@ int main(void)
         cmocka_unit_test(test_every_reader_gets_the_rows_rules),
         cmocka_unit_test(test_keys_and_pil_ids_name_the_same_rows),
         cmocka_unit_test(test_enum_names_are_the_enums_values),
+        cmocka_unit_test(test_estimator_names_are_the_determination_rows),
+        cmocka_unit_test(test_mekf_rows),
         cmocka_unit_test(test_the_default_config_holds_the_default_column),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

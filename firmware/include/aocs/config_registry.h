@@ -46,6 +46,9 @@ typedef enum {
 #define AOCS_CONFIG_ENUM_GUIDANCE_MODE_NAMES "step,slew"
 #define AOCS_CONFIG_ENUM_SLEW_PROFILE_T aocs_slew_profile_t
 #define AOCS_CONFIG_ENUM_SLEW_PROFILE_NAMES "bang_coast_bang,jerk_limited"
+/* the rows of estimation/determination.def, in id order (test_config_registry checks them against aocs_det_name) */
+#define AOCS_CONFIG_ENUM_ESTIMATOR_T uint32_t
+#define AOCS_CONFIG_ENUM_ESTIMATOR_NAMES "passthrough,mekf"
 
 /* Largest number of values of one field: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27). */
 #define AOCS_CONFIG_VALUES_MAX 27u

@@ -61,7 +61,7 @@ uint32_t aocs_budget_guidance_instructions(aocs_guidance_id_t mode, aocs_budget_
 }
 
 #define ESTIMATOR_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, INSTR_M4F, \
-                             INSTR_M7)                                                                         \
+                             INSTR_M7, ...)                                                                    \
     {(INSTR_M4F), (INSTR_M7)},
 
 uint32_t aocs_budget_estimator_instructions(aocs_det_id_t estimator, aocs_budget_target_t target)

@@ -19,10 +19,11 @@ static void accept_count(uint32_t *counter, uint32_t n)
 }
 
 void aocs_accept_init(aocs_accept_t *acc, aocs_exec_clock_t clock, uint64_t period_ns, uint64_t stale_timeout_ns,
-                      uint32_t missing_max_periods)
+                      uint32_t missing_max_periods, uint32_t needs)
 {
     if (acc != NULL) {
         acc->clock = clock;
+        acc->needs = needs;
         acc->period_ns = period_ns;
         acc->stale_timeout_ns = stale_timeout_ns;
         acc->missing_max_periods = missing_max_periods;
@@ -230,7 +231,7 @@ aocs_status_t aocs_accept_sample(aocs_accept_t *acc, aocs_law_id_t law, const ao
     } else {
         st = sample_timing_check(acc, in, &missing);
         if (st == AOCS_OK) {
-            st = aocs_accept_validity(law, in);
+            st = aocs_accept_validity(law, acc->needs, in);
         }
     }
     if (missing_out != NULL) {
@@ -276,17 +277,30 @@ static aocs_status_t orbit_validity(const aocs_exec_input_t *in)
     return st;
 }
 
-/* Attitude sample rule: attitude and rate flags set, finite, |q| = 1 within AOCS_QUAT_UNIT_TOL. */
-static aocs_status_t attitude_validity(const aocs_exec_input_t *in)
+/*
+ * Attitude sample rule, for an estimator that needs the flags `needs`
+ * (estimation/determination.def NEEDS): those flags set, then the values
+ * they stand for finite (q and w for ATT|RATE, the gyro rate for GYRO), then
+ * |q| = 1 within AOCS_QUAT_UNIT_TOL (ATT), then the gyro within
+ * AOCS_EXEC_GYRO_RATE_MAX_RADPS (GYRO). With needs ATT|RATE (passthrough)
+ * this is the rule of every attitude law before the estimators had needs.
+ */
+static aocs_status_t attitude_validity(const aocs_exec_input_t *in, uint32_t needs)
 {
     aocs_status_t st = AOCS_OK;
-    const uint32_t need = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
-    if ((in->valid & need) != need) {
+    const uint32_t need_att = needs & AOCS_EXEC_VALID_ATT;
+    const uint32_t need_rate = needs & AOCS_EXEC_VALID_RATE;
+    const uint32_t need_gyro = needs & AOCS_EXEC_VALID_GYRO;
+    if ((in->valid & needs) != needs) {
         st = AOCS_ERR_INPUT_INVALID;
-    } else if ((aocs_quat_is_finite(in->q_BN) == 0) || (aocs_vec3_is_finite(in->w_BN_B) == 0)) {
+    } else if (((need_att != 0u) && (aocs_quat_is_finite(in->q_BN) == 0)) ||
+               ((need_rate != 0u) && (aocs_vec3_is_finite(in->w_BN_B) == 0)) ||
+               ((need_gyro != 0u) && (aocs_vec3_is_finite(in->gyro_w_B) == 0))) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
-    } else if (accept_quat_is_unit(in->q_BN) == 0) {
+    } else if ((need_att != 0u) && (accept_quat_is_unit(in->q_BN) == 0)) {
         st = AOCS_ERR_QUAT_NOT_UNIT;
+    } else if ((need_gyro != 0u) && (aocs_vec3_norm_inf(in->gyro_w_B) > AOCS_EXEC_GYRO_RATE_MAX_RADPS)) {
+        st = AOCS_ERR_GYRO_RANGE;
     } else {
         st = AOCS_OK;
     }
@@ -298,10 +312,11 @@ static aocs_status_t attitude_validity(const aocs_exec_input_t *in)
  * With no law (STANDBY, control disabled) the executive does not know which
  * kind of vehicle state it is fed, so a sample is good when it passes either
  * rule. A sample that passes neither reports the orbit rule's verdict when
- * it carries only the orbit flag (it claims to be an orbit sample), else the
- * attitude rule's verdict (the behaviour before orbit samples were accepted).
+ * it carries only the orbit flag (none of the estimator's: it claims to be an
+ * orbit sample), else the attitude rule's verdict (the behaviour before orbit
+ * samples were accepted).
  */
-aocs_status_t aocs_accept_validity(aocs_law_id_t law, const aocs_exec_input_t *in)
+aocs_status_t aocs_accept_validity(aocs_law_id_t law, uint32_t needs, const aocs_exec_input_t *in)
 {
     aocs_status_t st = AOCS_OK;
     if (in == NULL) {
@@ -309,10 +324,10 @@ aocs_status_t aocs_accept_validity(aocs_law_id_t law, const aocs_exec_input_t *i
     } else if (aocs_law_is_orbit(law) != 0) {
         st = orbit_validity(in);
     } else if (law != AOCS_LAW_NONE) {
-        st = attitude_validity(in);
+        st = attitude_validity(in, needs);
     } else {
-        const uint32_t att_flags = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
-        st = attitude_validity(in);
+        const uint32_t att_flags = needs;
+        st = attitude_validity(in, needs);
         if (st != AOCS_OK) {
             const aocs_status_t st_orbit = orbit_validity(in);
             if ((st_orbit == AOCS_OK) ||

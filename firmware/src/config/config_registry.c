@@ -27,6 +27,7 @@
 #define CFG_KIND_LAW AOCS_CONFIG_KIND_LAW
 #define CFG_KIND_ENUM_GUIDANCE_MODE AOCS_CONFIG_KIND_ENUM
 #define CFG_KIND_ENUM_SLEW_PROFILE AOCS_CONFIG_KIND_ENUM
+#define CFG_KIND_ENUM_ESTIMATOR AOCS_CONFIG_KIND_ENUM
 #define CFG_COUNT_REAL 1u
 #define CFG_COUNT_VEC3 3u
 #define CFG_COUNT_QUAT 4u
@@ -37,6 +38,7 @@
 #define CFG_COUNT_LAW 1u
 #define CFG_COUNT_ENUM_GUIDANCE_MODE 1u
 #define CFG_COUNT_ENUM_SLEW_PROFILE 1u
+#define CFG_COUNT_ENUM_ESTIMATOR 1u
 #define CFG_ENUMS_REAL 0u, NULL
 #define CFG_ENUMS_VEC3 0u, NULL
 #define CFG_ENUMS_QUAT 0u, NULL
@@ -47,6 +49,7 @@
 #define CFG_ENUMS_LAW (uint32_t)AOCS_LAW_COUNT, NULL
 #define CFG_ENUMS_ENUM_GUIDANCE_MODE (uint32_t)AOCS_GUIDANCE_MODE_COUNT, AOCS_CONFIG_ENUM_GUIDANCE_MODE_NAMES
 #define CFG_ENUMS_ENUM_SLEW_PROFILE (uint32_t)AOCS_SLEW_PROFILE_COUNT, AOCS_CONFIG_ENUM_SLEW_PROFILE_NAMES
+#define CFG_ENUMS_ENUM_ESTIMATOR (uint32_t)AOCS_DET_COUNT, AOCS_CONFIG_ENUM_ESTIMATOR_NAMES
 
 #define CFG_GENERAL_ROW(NAME, KEY, MEMBER, KIND, RULE, DEFAULT, PIL_ID, STATUS, ALSO, HELP)                 \
     {KEY, PIL_ID, #NAME, CFG_KIND_##KIND, CFG_COUNT_##KIND, AOCS_CONFIG_RULE_##RULE, CFG_OFF(MEMBER), 0u, \
@@ -248,6 +251,7 @@ aocs_status_t aocs_config_set_reals(aocs_exec_config_t *cfg, aocs_config_ref_t r
 #define CFG_ENUM_SET_LAW(MEMBER) cfg->MEMBER = (aocs_law_id_t)(int32_t)value;
 #define CFG_ENUM_SET_ENUM_GUIDANCE_MODE(MEMBER) cfg->MEMBER = (AOCS_CONFIG_ENUM_GUIDANCE_MODE_T)(int32_t)value;
 #define CFG_ENUM_SET_ENUM_SLEW_PROFILE(MEMBER) cfg->MEMBER = (AOCS_CONFIG_ENUM_SLEW_PROFILE_T)(int32_t)value;
+#define CFG_ENUM_SET_ENUM_ESTIMATOR(MEMBER) cfg->MEMBER = (AOCS_CONFIG_ENUM_ESTIMATOR_T)value;
 #define CFG_ENUM_SET_CASE(NAME, KEY, MEMBER, KIND, ...) \
     case (uint32_t)AOCS_PIL_CFG_##NAME:                            \
         CFG_ENUM_SET_##KIND(MEMBER) break;
@@ -262,6 +266,7 @@ aocs_status_t aocs_config_set_reals(aocs_exec_config_t *cfg, aocs_config_ref_t r
 #define CFG_ENUM_GET_LAW(MEMBER) value = (uint64_t)(uint32_t)cfg->MEMBER;
 #define CFG_ENUM_GET_ENUM_GUIDANCE_MODE(MEMBER) value = (uint64_t)(uint32_t)cfg->MEMBER;
 #define CFG_ENUM_GET_ENUM_SLEW_PROFILE(MEMBER) value = (uint64_t)(uint32_t)cfg->MEMBER;
+#define CFG_ENUM_GET_ENUM_ESTIMATOR(MEMBER) value = (uint64_t)cfg->MEMBER;
 #define CFG_ENUM_GET_CASE(NAME, KEY, MEMBER, KIND, ...) \
     case (uint32_t)AOCS_PIL_CFG_##NAME:                            \
         CFG_ENUM_GET_##KIND(MEMBER) break;
@@ -418,7 +423,9 @@ uint64_t aocs_config_get_uint(const aocs_exec_config_t *cfg, aocs_config_ref_t r
 /* DEFAULT column: a REAL or integer row's value; the other kinds keep what the caller set */
 #define CFG_DEF_REAL(MEMBER, DEFAULT) cfg->MEMBER = AOCS_R(DEFAULT);
 #define CFG_DEF_VEC3(MEMBER, DEFAULT)
-#define CFG_DEF_QUAT(MEMBER, DEFAULT)
+#define CFG_DEF_QUAT(MEMBER, DEFAULT) CFG_DEF_QUAT_##DEFAULT(MEMBER)
+#define CFG_DEF_QUAT_0(MEMBER)
+#define CFG_DEF_QUAT_IDENTITY(MEMBER) cfg->MEMBER = aocs_quat_identity();
 #define CFG_DEF_U32(MEMBER, DEFAULT) cfg->MEMBER = (uint32_t)(DEFAULT);
 #define CFG_DEF_U64(MEMBER, DEFAULT) cfg->MEMBER = (uint64_t)(DEFAULT);
 #define CFG_DEF_NS(MEMBER, DEFAULT) cfg->MEMBER = (uint64_t)(DEFAULT);
@@ -426,6 +433,7 @@ uint64_t aocs_config_get_uint(const aocs_exec_config_t *cfg, aocs_config_ref_t r
 #define CFG_DEF_LAW(MEMBER, DEFAULT)
 #define CFG_DEF_ENUM_GUIDANCE_MODE(MEMBER, DEFAULT)
 #define CFG_DEF_ENUM_SLEW_PROFILE(MEMBER, DEFAULT)
+#define CFG_DEF_ENUM_ESTIMATOR(MEMBER, DEFAULT)
 #define CFG_DEFAULT_ROW(NAME, KEY, MEMBER, KIND, RULE, DEFAULT, ...) CFG_DEF_##KIND(MEMBER, DEFAULT)
 
 void aocs_config_apply_defaults(aocs_exec_config_t *cfg)

@@ -10,6 +10,8 @@
 
 #define DET_NAME_ROW(ID, NAME, ...) (NAME),
 #define DET_BUDGET_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (uint64_t)(BUDGET_NS),
+#define DET_NEEDS_ROW(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, INSTR_M4F, INSTR_M7, NEEDS) \
+    (NEEDS),
 
 static int det_id_in_range(aocs_det_id_t id)
 {
@@ -87,6 +89,7 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
                             aocs_det_output_t *out)
 {
     aocs_status_t st = AOCS_OK;
+    int dispatched = 0;
     if (out != NULL) {
         /* what an estimator does not write is zero (a passthrough has no covariance), no sample offered */
         (void)memset(out, 0, sizeof(*out));
@@ -100,21 +103,34 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
     } else if (det->initialised == 0) {
         st = AOCS_ERR_NOT_INITIALISED;
     } else {
+        dispatched = 1;
         switch (det->id) {
         AOCS_DETERMINATION_ROWS(DET_STEP_CASE)
         default:
             st = AOCS_ERR_ESTIMATOR_UNKNOWN;
+            dispatched = 0;
             break;
         }
     }
-    if ((out != NULL) && (st != AOCS_OK) && (st != accept_status)) {
-        /* an error of the stage itself: nothing usable */
+    if ((out != NULL) && (st != AOCS_OK) && (dispatched == 0)) {
+        /* an error of the stage itself: nothing usable (an estimator's own status stands with what it
+         * wrote: e.g. the MEKF waiting for its first tracker sample still gives SAFE a gyro rate) */
         out->q_BN = aocs_quat_identity();
         out->w_BN_B = aocs_vec3_zero();
         out->valid = 0u;
         out->status = st;
     }
     return st;
+}
+
+uint32_t aocs_det_needs(aocs_det_id_t id)
+{
+    static const uint32_t det_needs[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DET_NEEDS_ROW)};
+    uint32_t needs = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
+    if (det_id_in_range(id) != 0) {
+        needs = det_needs[id];
+    }
+    return needs;
 }
 
 uint64_t aocs_det_budget_ns(const aocs_det_t *det)

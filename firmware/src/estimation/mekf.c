@@ -365,7 +365,7 @@ void aocs_mekf_config_default(aocs_mekf_config_t *cfg)
         cfg->gyro_rrw_radps1p5 = AOCS_R(1.0e-9);
         cfg->bias0_B_radps = aocs_vec3_zero();
         cfg->p0_att_sigma_rad = AOCS_R(0.017453292519943295);          /* 1 deg */
-        cfg->p0_bias_sigma_radps = AOCS_R(0.017453292519943295) / AOCS_R(3600.0); /* 1 deg/h */
+        cfg->p0_bias_sigma_radps = AOCS_R(1.0) * arcsec; /* 1 deg/h = 1 arcsec/s */
         cfg->gate_chi2 = AOCS_MEKF_GATE_CHI2_3DOF_999;
         cfg->max_gap_s = AOCS_R(10.0);
     }
@@ -832,6 +832,8 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
                 /* spec 5.6.10: from the sample's time of measurement to now with this step's rate */
                 st = mekf_propagate_checked(f, in->w_meas_B_radps, in->t_ns);
             } else {
+                /* measured now: nothing to propagate, but the output rate is this step's gyro less b_hat */
+                f->w_meas_B_radps = in->w_meas_B_radps;
                 st = AOCS_OK;
             }
         }

@@ -132,7 +132,8 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
             exec->cfg = *cfg;
             exec->period_ns = period_ns;
             exec->law = cfg->law;
-            aocs_accept_init(&exec->accept, cfg->clock, period_ns, cfg->stale_timeout_ns, cfg->missing_max_periods);
+            aocs_accept_init(&exec->accept, cfg->clock, period_ns, cfg->stale_timeout_ns, cfg->missing_max_periods,
+                             aocs_det_needs(exec->det.id));
             aocs_guidance_init(&exec->guidance, &cfg->guidance, &cfg->target, cfg->target_rotation_rate_D,
                                cfg->target_t0_ns, cfg->u_max_axis, cfg->u_max_norm);
             exec->requested = (cfg->law == AOCS_LAW_NONE) ? AOCS_EXEC_MODE_STANDBY : AOCS_EXEC_MODE_NOMINAL;
@@ -315,6 +316,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         aocs_orbit_input_t orbit;
         const aocs_exec_target_t *target = &out->target; /* written by guidance, read by the law */
         aocs_det_output_t est;
+        aocs_status_t run_st;             /* the verdict the law runs on */
         uint32_t missing = 0u;
         uint64_t t_start;
         uint32_t c_start;
@@ -326,7 +328,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         in_st = aocs_accept_sample(&exec->accept, exec->law, in, &missing);
         aocs_exec_count(&exec->counters.missing, missing);
         if ((in_st == AOCS_ERR_INPUT_NOT_FINITE) || (in_st == AOCS_ERR_QUAT_NOT_UNIT) ||
-            (in_st == AOCS_ERR_INPUT_INVALID)) {
+            (in_st == AOCS_ERR_INPUT_INVALID) || (in_st == AOCS_ERR_GYRO_RANGE)) {
             aocs_exec_count(&exec->counters.invalid, 1u);
         } else if (in_st == AOCS_ERR_INPUT_STALE) {
             aocs_exec_count(&exec->counters.stale, 1u);
@@ -354,21 +356,24 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         orbit.vel_mps = in->vel_mps;
         orbit.dt_s = exec->cfg.period_s;
 
+        /* an attitude law runs on the estimate; an orbit law uses no attitude, only the accepted sample
+         * (with the passthrough the two verdicts are the same) */
+        run_st = (aocs_law_is_orbit(exec->law) != 0) ? in_st : est.status;
         /* a good sample now completes the recovery (if the law works): enter NOMINAL with a fresh law state */
-        if ((est.status == AOCS_OK) && (exec->mode == AOCS_EXEC_MODE_SAFE) &&
+        if ((run_st == AOCS_OK) && (exec->mode == AOCS_EXEC_MODE_SAFE) &&
             (exec->requested == AOCS_EXEC_MODE_NOMINAL) &&
             (exec->good_run >= (exec->cfg.recover_good_samples - 1u))) {
             law_reset(exec);
         }
         /* the law also runs in SAFE (output unused) so recovery needs a law that works */
-        if ((est.status == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
+        if ((run_st == AOCS_OK) && (exec->law != AOCS_LAW_NONE)) {
             law_st = aocs_exec_law_step(&exec->states, exec->law, &att, &orbit, &u_law);
             if (law_st != AOCS_OK) {
                 aocs_exec_count(&exec->counters.law_error, 1u);
             }
         }
         good = 0;
-        if ((est.status == AOCS_OK) && (law_st == AOCS_OK)) {
+        if ((run_st == AOCS_OK) && (law_st == AOCS_OK)) {
             good = 1;
         }
         update_mode(exec, good);

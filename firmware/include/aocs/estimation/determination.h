@@ -15,8 +15,15 @@
  * when its RATE flag is set and it is finite).
  *
  * PASSTHROUGH (passthrough.c): the measured q and w as they are, with the
- * input acceptance's verdict as status. An MEKF keeps its state here
- * (propagate with w and dt, update with q when accepted).
+ * input acceptance's verdict as status.
+ * MEKF (mekf_stage.c, the filter in mekf.c; docs/spec.md 5.6.11): propagates
+ * with the gyro, updates with a star-tracker sample when one is offered;
+ * status AOCS_OK once it holds an estimate, AOCS_ERR_MEKF_NO_ATTITUDE while
+ * it waits for its first tracker sample (SAFE, damping on the gyro rate
+ * minus the bias estimate), a rejected tracker sample only counted.
+ *
+ * Each row names the validity flags its sample must carry (NEEDS,
+ * aocs_det_needs): the input acceptance checks those for attitude laws.
  */
 #ifndef AOCS_ESTIMATION_DETERMINATION_H
 #define AOCS_ESTIMATION_DETERMINATION_H
@@ -75,6 +82,11 @@ aocs_status_t aocs_det_reset(aocs_det_t *det);
  */
 aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
                             aocs_det_output_t *out);
+
+/* The AOCS_EXEC_VALID_* flags an attitude sample must carry for estimator id (its row's NEEDS): what the
+ * input acceptance checks (exec/acceptance.h). ATT|RATE out of range (the passthrough's, the conservative
+ * choice). Total. */
+uint32_t aocs_det_needs(aocs_det_id_t id);
 
 /* Host budget the selected estimator adds to a step, ns (BUDGET_NS). Total (0 on NULL). */
 uint64_t aocs_det_budget_ns(const aocs_det_t *det);

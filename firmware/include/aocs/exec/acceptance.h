@@ -5,12 +5,18 @@
  * REALTIME), selected by the executive's clock. Two checks, in this order:
  *   - frame acceptance (below): the sample continues the tick/time
  *     reference (fresh), or it is stale; tick gaps count missing samples;
- *   - validity for the selected law: the validity flags it needs are set,
- *     its values finite, |q| = 1 within AOCS_QUAT_UNIT_TOL (attitude laws);
- *     orbit laws need the orbit flag and finite pos/vel; STANDBY reports
- *     the attitude verdict, or the orbit one for an orbit-only sample.
+ *   - validity for the selected law: an attitude law needs the flags of the
+ *     selected estimator (`needs`, the NEEDS column of
+ *     estimation/determination.def, aocs_det_needs): ATT|RATE (passthrough)
+ *     a finite q with |q| = 1 within AOCS_QUAT_UNIT_TOL and a finite w; GYRO
+ *     (MEKF) a finite gyro rate within AOCS_EXEC_GYRO_RATE_MAX_RADPS per axis.
+ *     A star-tracker sample (VALID_ST) is never a need: the estimator judges
+ *     it (the MEKF rejects and counts a bad one), so it cannot send the
+ *     executive to SAFE. Orbit laws need the orbit flag and finite pos/vel;
+ *     STANDBY reports the attitude verdict, or the orbit one for an
+ *     orbit-only sample.
  *
- *   aocs_accept_init(&acc, clock, period_ns, stale_timeout_ns, missing_max_periods)
+ *   aocs_accept_init(&acc, clock, period_ns, stale_timeout_ns, missing_max_periods, needs)
  *   loop: st = aocs_accept_sample(&acc, law, &in, &missing)   missing: samples newly found missing
  *         aocs_accept_done(&acc, st)                          after the step
  *   no sample in a period: aocs_accept_no_sample(&acc)
@@ -62,9 +68,15 @@
  * below T / 2 keeps tick and time unambiguous; T / 4 leaves room for the
  * plant's rounding (t_s = k dt in double, ns rounding) and nothing else. */
 #define AOCS_EXEC_LOCKSTEP_TOL_DIV 4u
+/* Largest gyro rate component an attitude sample may carry when its estimator needs the gyro, rad/s
+ * (AOCS_ERR_GYRO_RANGE beyond): the MEKF's own bound AOCS_MEKF_RATE_MAX_RADPS (test_acceptance checks they
+ * agree), 100 rad/s, far beyond any spacecraft's body rate and any gyro's range. */
+#define AOCS_EXEC_GYRO_RATE_MAX_RADPS AOCS_R(100.0)
+
 /* The state of the stage: the tick/time reference and the resynchronisation candidates. */
 typedef struct {
     aocs_exec_clock_t clock;
+    uint32_t needs;               /* AOCS_EXEC_VALID_* flags an attitude sample must carry (the estimator's) */
     uint64_t period_ns;
     uint64_t stale_timeout_ns;    /* real time: max age of a sample on the HAL clock */
     uint32_t missing_max_periods; /* N: a gap of >= N missed samples is AOCS_ERR_INPUT_MISSING */
@@ -78,14 +90,16 @@ typedef struct {
     uint32_t resyncs;             /* resynchronisations so far (saturates at UINT32_MAX) */
 } aocs_accept_t;
 
-/* Initialises the stage (no sample yet). Values as checked by aocs_exec_init. Total (no-op on NULL). */
+/* Initialises the stage (no sample yet). Values as checked by aocs_exec_init; needs: the selected
+ * estimator's (aocs_det_needs). Total (no-op on NULL). */
 void aocs_accept_init(aocs_accept_t *acc, aocs_exec_clock_t clock, uint64_t period_ns, uint64_t stale_timeout_ns,
-                      uint32_t missing_max_periods);
+                      uint32_t missing_max_periods, uint32_t needs);
 
 /*
  * The verdict on one sample for law: AOCS_OK, AOCS_ERR_INPUT_STALE,
  * AOCS_ERR_INPUT_MISSING (a gap of N or more), AOCS_ERR_INPUT_INVALID (flag
- * off), AOCS_ERR_INPUT_NOT_FINITE, AOCS_ERR_QUAT_NOT_UNIT; AOCS_ERR_NULL_ARG.
+ * off), AOCS_ERR_INPUT_NOT_FINITE, AOCS_ERR_QUAT_NOT_UNIT, AOCS_ERR_GYRO_RANGE;
+ * AOCS_ERR_NULL_ARG.
  * *missing_out = samples newly known missing (a tick gap, less those already
  * counted by aocs_accept_no_sample).
  */
@@ -98,8 +112,9 @@ void aocs_accept_done(aocs_accept_t *acc, aocs_status_t st);
 /* A period without a sample: one more missing period; returns the run so far. Total (0 on NULL). */
 uint32_t aocs_accept_no_sample(aocs_accept_t *acc);
 
-/* Validity of a sample for law (the second check above). AOCS_ERR_NULL_ARG on NULL. */
-aocs_status_t aocs_accept_validity(aocs_law_id_t law, const aocs_exec_input_t *in);
+/* Validity of a sample for law with an estimator that needs the flags `needs` (the second check above).
+ * AOCS_ERR_NULL_ARG on NULL. */
+aocs_status_t aocs_accept_validity(aocs_law_id_t law, uint32_t needs, const aocs_exec_input_t *in);
 
 /* Name of a time rule ("lockstep", "realtime"); "unknown" out of range. Total. */
 const char *aocs_accept_name(aocs_exec_clock_t clock);
