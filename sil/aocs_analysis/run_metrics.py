@@ -308,8 +308,11 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
     slew_ns = (int(paths.header_number("firmware/include/aocs/exec/timing.h", "AOCS_EXEC_SLEW_BUDGET_NS"))
                if cfg.get("guidance.mode") == "slew" else 0)
 
+    # the estimator runs in every mode: its budget is added to every step's (executive.c step_budget)
+    det_ns = registry.estimator_budget_ns(str(cfg.get("estimator", "passthrough")))
+
     def nominal(law: str) -> int:
-        b = registry.law_budget_ns(law)
+        b = registry.law_budget_ns(law) + det_ns
         attitude = law in registry.load().laws_of_input("attitude")
         return b + slew_ns if attitude else b
 
@@ -319,7 +322,7 @@ def _timing(out: dict, series: dict, cmd, meta: dict, cfg: dict, fsw: dict | Non
                                    return_inverse=True)
         nominal_mode = mode_value("nominal")
         per_pair = np.array([override or (nominal(_law_or_none(int(lid)))
-                                          if int(m) == nominal_mode else registry.law_budget_ns("none"))
+                                          if int(m) == nominal_mode else registry.law_budget_ns("none") + det_ns)
                              for lid, m in pairs], dtype=float)
         budgets = per_pair[inverse.reshape(-1)]
     else:

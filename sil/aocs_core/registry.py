@@ -26,7 +26,7 @@ from . import paths
 #: the registry file, relative to the build directory
 JSON_PATH = Path("registry") / "aocs_registry.json"
 #: the schema this module reads (aocs_registry_dump.c DUMP_SCHEMA)
-SCHEMA = 2
+SCHEMA = 3
 #: the PIL targets' names in the registry's instruction budgets
 TARGETS = ("cortex-m4f", "cortex-m7")
 
@@ -145,6 +145,9 @@ class Registry:
         #: guidance mode SLEW, and a reaction wheel array
         self.slew_instructions: dict[str, int] = dict(data["pil"]["slew_instructions"])
         self.wheels_instructions: dict[str, int] = dict(data["pil"]["wheels_instructions"])
+        #: the attitude-determination rows: name -> (host budget ns, {target: instructions}) each adds to every step
+        self.estimators: dict[str, tuple[int, dict[str, int]]] = {
+            e["name"]: (e["budget_ns"], dict(e["budget_instructions"])) for e in data["estimators"]}
         self.fields: tuple[Field, ...] = tuple(
             Field(f["key"], f["name"], f["law"], f["config"], f["member"], f["type"], f["count"], f["rule"],
                   f["unit"], f["pil_id"], f["variant"], f["ref"]) for f in data["fields"])
@@ -285,6 +288,12 @@ def law_name(law_id: int) -> str:
 def law_budget_ns(law: str) -> int:
     """Declared host step budget of a law (ns); the safe/standby budget for "none"."""
     return load().law(law).budget_ns
+
+
+def estimator_budget_ns(estimator: str) -> int:
+    """Host budget an estimator (the configuration key "estimator"; "passthrough" when absent) adds to every
+    step, ns (estimation/determination.def)."""
+    return load().estimators[estimator][0]
 
 
 def status_name(code: int) -> str:

@@ -37,6 +37,7 @@
 #include <string.h>
 
 #include "aocs/budget.h"
+#include "aocs/estimation/determination.h"
 #include "aocs/config_registry.h"
 #include "aocs/pil_frame.h"
 #include "aocs_registry.h"
@@ -47,7 +48,7 @@
 #define DUMP_REAL_NAME "double"
 #endif
 
-#define DUMP_SCHEMA 2
+#define DUMP_SCHEMA 3
 
 static void put_str(FILE *f, const char *s)
 {
@@ -223,6 +224,13 @@ static void dump_tables(FILE *f)
     (void)fputs("  ],\n", f);
 }
 
+#define DUMP_DET_BUDGET_NS(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, ...) (BUDGET_NS),
+#define DUMP_DET_INSTR_M4F(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, M4F, ...) (M4F),
+#define DUMP_DET_INSTR_M7(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, M4F, M7, ...) (M7),
+static const unsigned long long det_budget_ns[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_BUDGET_NS)};
+static const unsigned det_instr_m4f[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_INSTR_M4F)};
+static const unsigned det_instr_m7[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_INSTR_M7)};
+
 static void dump_enums(FILE *f)
 {
     (void)fputs("  \"status\": [\n", f);
@@ -240,6 +248,14 @@ static void dump_enums(FILE *f)
         (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
         put_str(f, aocs_exec_mode_name((aocs_exec_mode_t)i));
         (void)fputc('}', f);
+    }
+    /* the attitude-determination rows (estimation/determination.def): the budget each adds to every step */
+    (void)fputs("],\n  \"estimators\": [", f);
+    for (int i = 0; i < (int)AOCS_DET_COUNT; ++i) {
+        (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
+        put_str(f, aocs_det_name((aocs_det_id_t)i));
+        (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}}",
+                      (unsigned long long)det_budget_ns[i], (unsigned)det_instr_m4f[i], (unsigned)det_instr_m7[i]);
     }
     (void)fputs("],\n  \"pil_exec_fields\": [\n", f);
     for (size_t i = 0u; i < aocs_registry_exec_field_count; ++i) {

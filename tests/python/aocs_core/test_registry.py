@@ -126,3 +126,12 @@ def test_a_missing_registry_says_how_to_build_it(monkeypatch, tmp_path):
     monkeypatch.setenv("AOCS_BUILD_DIR", str(tmp_path))
     with pytest.raises(paths.SetupError, match="aocs_registry.json is missing; build it first"):
         registry.load()
+
+
+def test_estimators_are_the_rows_of_determination_def(reg):
+    """The determination rows (their budgets, for the run's timing) are the names the key `estimator` takes,
+    in the same order: two expansions of the firmware that must agree; passthrough costs nothing."""
+    assert tuple(reg.estimators) == reg.config_field("estimator").names
+    assert reg.estimators["passthrough"] == (0, {"cortex-m4f": 0, "cortex-m7": 0})
+    for name, (ns, instr) in reg.estimators.items():
+        assert ns >= 0 and set(instr) == {"cortex-m4f", "cortex-m7"}, name

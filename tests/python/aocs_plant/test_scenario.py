@@ -13,8 +13,9 @@ from aocs_plant import ScenarioError, law_names, list_scenarios, load
 SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3b",
             "landsat8_q1", "landsat8_q01", "landsat8_q10", "landsat8_srp", "landsat8_debris",
             "irassi_large", "irassi_small", "geo_hinf", "gao_mrp"]
-# SPEC 5: beyond the references (5.3: the IRASSI slew on the reference wheel array, and one wheel failed)
-SPEC5_IDS = ["irassi_rw", "irassi_rw_failed"]
+# SPEC 5: beyond the references (5.3: the IRASSI slew on the reference wheel array, and one wheel failed;
+# 5.6: the IRASSI hold on a star tracker and a gyro through the MEKF, issue 20)
+SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf"]
 
 
 def test_every_spec_scenario_has_a_file_and_nothing_else():
