@@ -9,7 +9,7 @@ period whether or not a fault hides the sample, so a fault never shifts later no
 from __future__ import annotations
 
 import math
-from itertools import chain
+from operator import itemgetter
 
 
 class SensorSuite:
@@ -25,6 +25,10 @@ class SensorSuite:
         else:
             self._snapshot = lambda: tuple([f() for f in sources])
         self._now = [(s, s.source(plant)) for s in self.sensors if not s.delayed]
+        # what each sensor measures, from the period's recorded truth: a delayed sensor its entry of the
+        # history's oldest period, a current one its source now (one loop in sample, no per-step generator)
+        self._measured = ([(s, itemgetter(i)) for i, s in enumerate(self._delayed)]
+                          + [(s, lambda _truth, src=src: src()) for s, src in self._now])
         # sensors with their own timing (the star tracker): their own record, flags and extra fields
         self._recorders = [(s, s.source(plant)) for s in self.sensors if s.records]
         self._flagged = [s for s in self.sensors if s.own_validity or s.extra_fields]
@@ -51,9 +55,8 @@ class SensorSuite:
         ok = True
         truth = self.history[0]  # period k - latency, or period 0 early in the run
         faulty = bool(self.faults)
-        delayed = ((s, s.measure(truth[i])) for i, s in enumerate(self._delayed))
-        now = ((s, s.measure(src())) for s, src in self._now)
-        for s, value in chain(delayed, now):   # in this order: the delayed sensors, then the current ones
+        for s, get in self._measured:   # the delayed sensors, then the current ones
+            value = s.measure(get(truth))
             if faulty:
                 ok = self._fault(s, value, t, out) and ok
             else:
