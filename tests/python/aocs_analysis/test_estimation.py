@@ -1,0 +1,432 @@
+"""Estimation metrics (aocs_analysis/estimation.py, SPEC 5.7) against models written out here: quaternion
+algebra from SPEC 1's formulas, a synthetic run whose error has a known covariance and a known AR(1) time
+correlation, and the per-axis two-state Kalman filter of Farrenkopf (gyro ARW + RRW, star-tracker angles)
+simulated step by step, whose steady state must match estimation_bounds."""
+from __future__ import annotations
+
+import json
+import math
+import struct
+
+import numpy as np
+import pytest
+
+from aocs_analysis import estimation as E
+from aocs_analysis import estimation_plots
+from aocs_analysis.estimation_bounds import between_updates, steady_state_per_axis
+
+ARCSEC = 180.0 * 3600.0 / math.pi        # arcsec per rad
+DEG_H = math.pi / 180.0 / 3600.0         # 1 deg/h in rad/s
+
+
+# --------------------------------------------------------------------------- the test's own quaternion algebra
+def qmul(q, p):
+    """SPEC 1: q (x) p = [q4 pv + p4 qv - qv x pv ; q4 p4 - qv . pv], row-wise."""
+    q, p = np.broadcast_arrays(np.asarray(q, float), np.asarray(p, float))
+    qv, q4, pv, p4 = q[..., :3], q[..., 3:], p[..., :3], p[..., 3:]
+    return np.concatenate([q4 * pv + p4 * qv - np.cross(qv, pv), q4 * p4 - np.sum(qv * pv, -1, keepdims=True)], -1)
+
+
+def qexp(v):
+    """Quaternion of the rotation vector v: [v/|v| sin(|v|/2); cos(|v|/2)], row-wise."""
+    v = np.atleast_2d(np.asarray(v, float))
+    a = np.linalg.norm(v, axis=1, keepdims=True)
+    k = np.where(a > 0, np.sin(a / 2) / np.where(a > 0, a, 1), 0.5)
+    return np.concatenate([v * k, np.cos(a / 2)], 1)
+
+
+def dcm(q):
+    """A(q) = (q4^2 - |v|^2) I + 2 v v^T - 2 q4 [v x] (maps N to B)."""
+    v, s = q[:3], q[3]
+    sk = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return (s * s - v @ v) * np.eye(3) + 2 * np.outer(v, v) - 2 * s * sk
+
+
+def random_attitudes(rng, n):
+    q = rng.standard_normal((n, 4))
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+# --------------------------------------------------------------------------- conventions
+def test_the_covariance_is_the_row_major_upper_triangle():
+    up = np.arange(21.0)[None, :]
+    p = E.covariance_from_upper(up)[0]
+    assert p[0, 0] == 0 and p[0, 5] == 5 and p[1, 1] == 6 and p[1, 5] == 10 and p[2, 2] == 11
+    assert p[4, 5] == 19 and p[5, 5] == 20 and p[5, 0] == 5 and p[3, 1] == 8
+    assert np.array_equal(p, p.T)
+    with pytest.raises(ValueError):
+        E.covariance_from_upper(np.zeros((1, 20)))
+
+
+def test_a_known_rotation_about_x_shows_up_on_x_with_its_sign_in_b():
+    """q_est = dq(-a x) (x) q_true: the truth is the estimate turned by +a about x, dth = (+a, 0, 0). From
+    the matrices: A(q_true) A(q_est)^T = A(dq(dth)) ~ I - [dth x], whose (1, 2) element is +dth_x."""
+    rng = np.random.default_rng(3)
+    q_true = random_attitudes(rng, 5)
+    for axis in range(3):
+        a = 7.0 / ARCSEC
+        v = np.zeros(3)
+        v[axis] = -a
+        q_est = qmul(qexp(v), q_true)
+        dth = E.knowledge_error_rad(q_true, q_est)
+        expect = np.zeros((5, 3))
+        expect[:, axis] = a
+        assert np.allclose(dth, expect, rtol=0, atol=1e-15)
+        m = dcm(q_true[0]) @ dcm(q_est[0]).T
+        dth_from_matrix = 0.5 * np.array([m[1, 2] - m[2, 1], m[2, 0] - m[0, 2], m[0, 1] - m[1, 0]])
+        assert np.allclose(dth_from_matrix, expect[0], rtol=0, atol=1e-14)
+        # the quaternions' sign and norm do not matter
+        assert np.allclose(E.knowledge_error_rad(-2.0 * q_true, 0.5 * q_est), expect, rtol=0, atol=1e-15)
+
+
+def test_a_large_error_is_its_exact_rotation_vector():
+    rng = np.random.default_rng(4)
+    q_true = random_attitudes(rng, 200)
+    v = rng.normal(0.0, 1.0, (200, 3))
+    v *= (rng.uniform(0.0, 3.1, 200) / np.linalg.norm(v, axis=1))[:, None]     # angles up to 3.1 rad
+    q_est = qmul(qexp(-v), q_true)
+    assert np.allclose(E.knowledge_error_rad(q_true, q_est), v, rtol=0, atol=1e-12)
+    assert np.allclose(E.angle_rad(E.knowledge_error_rad(q_true, q_est)), np.linalg.norm(v, axis=1), atol=1e-12)
+    assert np.array_equal(E.knowledge_error_rad(q_true, q_true), np.zeros((200, 3)))
+
+
+def test_control_and_pointing_errors_are_the_angles_to_the_reference():
+    """qd; the estimate 30 arcsec off about z (control error), the truth a further 4 arcsec about z
+    (knowledge error): pointing error 34 arcsec; per axis 2 qe_z."""
+    qd = random_attitudes(np.random.default_rng(5), 1)
+    q_est = qmul(qexp([0.0, 0.0, 30.0 / ARCSEC]), qd)
+    q_true = qmul(qexp([0.0, 0.0, 4.0 / ARCSEC]), q_est)
+    ce, pe = E.control_error_arcsec(q_est, qd), E.pointing_error_arcsec(q_true, qd)
+    assert ce["true_angle"][0] == pytest.approx(30.0, rel=1e-9)
+    assert pe["true_angle"][0] == pytest.approx(34.0, rel=1e-9)
+    assert pe["per_axis"][0, 2] == pytest.approx(34.0, rel=1e-6)
+    assert E.knowledge_error_rad(q_true, q_est)[0, 2] * ARCSEC == pytest.approx(4.0, rel=1e-9)
+
+
+def test_bias_error_is_estimate_minus_truth_in_deg_per_hour():
+    est, true = np.array([[3.0, 0.0, -1.0]]) * DEG_H, np.array([[1.0, 0.5, 0.0]]) * DEG_H
+    assert np.allclose(E.bias_error_deg_h(est, true), [[2.0, -0.5, -1.0]], rtol=1e-12)
+    assert np.allclose(E.error_state(np.zeros((1, 3)), est, true)[0, 3:], (true - est)[0])
+
+
+def test_the_nees_band_is_the_chi_square_table():
+    """chi2 0.025 / 0.975 quantiles with 30 dof: 16.791, 46.979 (any chi-square table); 60 dof: 40.482, 83.298."""
+    lo, hi = E.nees_band(3, 10)
+    assert (lo, hi) == (pytest.approx(1.6791, abs=1e-4), pytest.approx(4.6979, abs=1e-4))
+    lo, hi = E.nees_band(6, 10)
+    assert (lo, hi) == (pytest.approx(4.0482, abs=1e-4), pytest.approx(8.3298, abs=1e-4))
+
+
+def test_nees_of_a_known_error_and_a_broken_covariance():
+    p = np.array([np.diag([4.0, 1.0, 1.0]), np.diag([1.0, -1.0, 1.0]), np.full((3, 3), np.nan)])
+    e = np.array([[2.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    eps = E.nees(e, p)
+    assert eps[0] == pytest.approx(2.0) and np.isnan(eps[1]) and np.isnan(eps[2])
+    pc = np.array([[[2.0, 1.0], [1.0, 2.0]]])       # e^T P^-1 e by hand: P^-1 = [[2, -1], [-1, 2]] / 3
+    assert E.nees(np.array([[1.0, 1.0]]), pc)[0] == pytest.approx(2.0 / 3.0)
+
+
+def test_steady_state_window_and_convergence_time():
+    t = np.arange(100) * 0.5
+    ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
+    ang[30] = 0.1                                       # dips inside, then out again
+    assert E.convergence_time_s(t, ang, 1.0, k=1.0) == pytest.approx(t[np.flatnonzero(ang > 1.0)[-1] + 1])
+    assert E.convergence_time_s(t, ang, 1.0, k=1.0, valid=t < 49.0) is None   # invalid at the end: never
+    m = E.steady_state_mask(t)
+    assert t[m][0] == 25.0 and m[-1]          # t >= 49.5 - 24.75
+    m = E.steady_state_mask(t, window_s=10.0, start_s=45.0, valid=t != 47.0)
+    assert t[m][0] == 45.0 and 47.0 not in t[m] and np.count_nonzero(m) == 9
+
+
+def test_bounds_in_b_follow_the_mounting():
+    """A tracker turned 90 deg about x (q_SB): its boresight z_S is -y_B, so the about-boresight bound lands on
+    y of B and a cross-boresight one on z."""
+    cross, about = 2.0, 15.0
+    s = np.sqrt(0.5)
+    base = dict(noise_cross_arcsec=cross, noise_about_arcsec=about, rate_hz=4.0, arw_rad_sqrt_s=1e-6,
+                rrw_rad_s_sqrt_s=1e-9)
+    plain = E.steady_state_bounds(E.SensorSet(**base))
+    turned = E.steady_state_bounds(E.SensorSet(**base, mounting_q=(s, 0.0, 0.0, s)))
+    ref = steady_state_per_axis(cross, about, 4.0, 1e-6, 1e-9)
+    assert np.allclose(plain["post_arcsec"], ref, rtol=1e-12)
+    assert np.allclose(turned["post_arcsec"], [ref[0], ref[2], ref[1]], rtol=1e-12)
+    assert E.steady_state_bounds(E.SensorSet(**{**base, "noise_about_arcsec": 0.0})) is None
+
+
+# --------------------------------------------------------------------------- synthetic run: known covariance, AR(1)
+DT = 0.1
+SIGMA = np.r_[np.array([2.0, 3.0, 8.0]) / ARCSEC, np.array([1.0, 2.0, 1.5]) * 1e-6]
+
+
+def _covariance():
+    r = np.eye(6)
+    for i in range(3):
+        r[i, i + 3] = r[i + 3, i] = -0.8          # attitude and bias errors strongly anti-correlated
+    r[0, 1] = r[1, 0] = 0.3
+    return np.outer(SIGMA, SIGMA) * r
+
+
+def _synthetic_run(tau_s=5.0, n=200_000, seed=11):
+    """e_k = a e_{k-1} + sqrt(1 - a^2) L w_k (stationary from k = 0), a = exp(-dt / tau): covariance C,
+    correlation exp(-|lag| / tau). q_est = dq(-dth) (x) q_true, bias_est = bias_true - db."""
+    rng = np.random.default_rng(seed)
+    c = _covariance()
+    w = rng.standard_normal((n, 6)) @ np.linalg.cholesky(c).T
+    a = math.exp(-DT / tau_s)
+    e = np.empty((n, 6))
+    e[0] = w[0]
+    b = math.sqrt(1.0 - a * a)
+    for k in range(1, n):               # written out (no filter routine), 0.2 s
+        e[k] = a * e[k - 1] + b * w[k]
+    t = np.arange(n) * DT
+    q_true = qmul(qexp(np.outer(t, [1e-4, -2e-4, 5e-5])), random_attitudes(rng, 1))   # a slow rotation
+    q_est = qmul(qexp(-e[:, :3]), q_true)
+    bias_true = np.array([1.0, -2.0, 0.5]) * DEG_H + np.outer(np.sin(t / 500.0), [1e-6, 0.0, 0.0])
+    bias_est = bias_true - e[:, 3:]
+    qd = q_true
+    return t, e, q_true, q_est, bias_true, bias_est, qd, c
+
+
+@pytest.fixture(scope="module")
+def synthetic():
+    return _synthetic_run()
+
+
+def _upper(p):
+    iu = np.triu_indices(6)
+    return np.broadcast_to(p, (1, 6, 6))[:, iu[0], iu[1]]
+
+
+def test_synthetic_run_rms_max_and_three_sigma(synthetic):
+    t, e, q_true, q_est, bias_true, bias_est, qd, c = synthetic
+    n = t.size
+    est_p = np.repeat(_upper(c), n, axis=0)
+    s = E.summary(t, q_true, q_est, bias_est, bias_true, est_p, qd)
+    w = t >= t[-1] - 0.5 * (t[-1] - t[0])           # the default window: the last half
+    ke = s["knowledge_error_arcsec"]
+    assert ke["frame"] == "B"
+    assert np.allclose(ke["rms_per_axis"], np.sqrt(np.mean(e[w, :3] ** 2, axis=0)) * ARCSEC, rtol=1e-9)
+    assert ke["max"] == pytest.approx(np.max(np.linalg.norm(e[w, :3], axis=1)) * ARCSEC, rel=1e-9)
+    # the sample rms is the model's sigma (10^5 samples, ~10^4 independent: a few 0.1 %)
+    assert np.allclose(ke["rms_per_axis"], SIGMA[:3] * ARCSEC, rtol=0.04)
+    assert np.allclose(s["bias_error_deg_h"]["rms_per_axis"], SIGMA[3:] / DEG_H, rtol=0.04)
+    assert s["three_sigma_fraction"] == pytest.approx(0.9973, abs=0.002)
+    assert s["samples"] == {"total": n, "valid": n, "in_window": int(np.count_nonzero(w)),
+                            "covariance_not_positive_definite": 0}
+    # P four times too small: 3 sigma of the filter is 1.5 true sigma, 2 Phi(1.5) - 1 = 0.866
+    s4 = E.summary(t, q_true, q_est, bias_est, bias_true, est_p / 4.0, qd)
+    assert s4["three_sigma_fraction"] == pytest.approx(0.8664, abs=0.01)
+    # the truth is the reference: the pointing error is 0, the control error is the knowledge error
+    assert s["pointing_error_arcsec"]["max"] == pytest.approx(0.0, abs=1e-6)
+    assert s["control_error_arcsec"]["max"] == pytest.approx(ke["max"], rel=1e-6)
+
+
+def test_synthetic_run_nees_consistent_and_over_confident(synthetic):
+    t, e, q_true, q_est, bias_true, bias_est, qd, c = synthetic
+    est_p = np.repeat(_upper(c), t.size, axis=0)
+    good = E.summary(t, q_true, q_est, bias_est, bias_true, est_p, qd)
+    assert good["nees"]["mean"] == pytest.approx(6.0, rel=0.05)
+    assert good["nees_attitude"]["mean"] == pytest.approx(3.0, rel=0.05)
+    assert good["nees_in_band_fraction"] >= 0.9
+    assert good["nees_attitude_in_band_fraction"] >= 0.9
+    # the NEES of an AR(1) error of time constant tau decorrelates as exp(-2 |lag| / tau): its integrated
+    # autocorrelation time is (1 + a^2) / (1 - a^2) dt ~ tau = 5 s; the spacing is twice that
+    assert good["nees"]["autocorrelation_time_s"] == pytest.approx(5.0, rel=0.25)
+    assert good["nees"]["autocorrelation_reliable"] is True
+    assert good["nees"]["spacing_s"] == pytest.approx(2.0 * good["nees"]["autocorrelation_time_s"], abs=DT)
+    assert good["nees"]["independent_windows"] >= 50
+    for scale in (0.25, 4.0):          # over-confident (P / 4) and under-confident (P x 4) both fail
+        bad = E.summary(t, q_true, q_est, bias_est, bias_true, est_p * scale, qd)
+        assert bad["nees_in_band_fraction"] <= 0.5 and bad["nees_attitude_in_band_fraction"] <= 0.5
+    # the bias error's sign matters: with the attitude-bias correlation of -0.8, the wrong sign is inconsistent
+    flipped = E.summary(t, q_true, q_est, 2 * bias_true - bias_est, bias_true, est_p, qd)
+    assert flipped["nees"]["mean"] > 20.0 and flipped["nees_in_band_fraction"] <= 0.5
+
+
+def test_consecutive_samples_are_not_independent_draws(synthetic):
+    """The same consistent run, tested as if consecutive samples were independent (spacing one sample):
+    the band of 10 samples is far too narrow for 10 correlated values, and most windows fail."""
+    t, e, q_true, q_est, bias_true, bias_est, qd, c = synthetic
+    eps = E.nees(e, np.broadcast_to(c, (t.size, 6, 6)))
+    naive = E.nees_window_test(t, eps, 6, spacing_s=DT)
+    honest = E.nees_window_test(t, eps, 6)
+    assert naive.in_band_fraction < 0.6 < 0.9 <= honest.in_band_fraction
+
+
+def test_invalid_samples_are_left_out(synthetic):
+    t, e, q_true, q_est, bias_true, bias_est, qd, c = synthetic
+    n = t.size
+    est_p = np.repeat(_upper(c), n, axis=0)
+    valid = np.ones(n, bool)
+    bad = slice(int(0.7 * n), int(0.72 * n))
+    valid[bad] = False
+    q_junk = q_est.copy()
+    q_junk[bad] = [0.0, 0.0, 1.0, 0.0]                         # 180 deg off where invalid
+    s = E.summary(t, q_true, q_junk, bias_est, bias_true, est_p, qd, valid)
+    w = (t >= t[-1] - 0.5 * (t[-1] - t[0])) & valid
+    assert s["samples"]["in_window"] == int(np.count_nonzero(w))
+    assert np.allclose(s["knowledge_error_arcsec"]["rms_per_axis"], np.sqrt(np.mean(e[w, :3] ** 2, 0)) * ARCSEC)
+    assert s["knowledge_error_arcsec"]["max"] < 100.0
+    assert s["three_sigma_fraction"] == pytest.approx(0.9973, abs=0.002)
+    assert s["nees_in_band_fraction"] >= 0.9
+
+
+# --------------------------------------------------------------------------- Farrenkopf's filter, simulated
+def _farrenkopf_filter_runs(runs, duration_s, dt, every, sigma_n, sv, su, seed=7):
+    """Per axis (3 axes x `runs` runs at once), the two-state (angle, bias) Kalman filter of a gyro with
+    ARW sv and RRW su and an angle measurement of white noise sigma_n[axis] every `every` control periods
+    dt; the body holds (true angle 0). The truth over a period, exactly: bias increment su dt^0.5 N1, its
+    integral beta dt + su dt^1.5 (N1 / 2 + N2 / (2 sqrt 3)), ARW sv dt^0.5 N3. Returns t (n,), the error
+    truth - estimate (n, runs, 6) as [angle x y z, bias x y z] and P (n, 6, 6) after each period."""
+    rng = np.random.default_rng(seed)
+    n = int(round(duration_s / dt))
+    shape = (runs, 3)
+    p11, p12, p22 = np.full(3, (60.0 / ARCSEC) ** 2), np.zeros(3), np.full(3, (2e-5) ** 2)
+    th_hat = rng.normal(0.0, 60.0 / ARCSEC, shape)       # initial errors drawn from P0
+    beta = rng.normal(0.0, 2e-5, shape)
+    b_hat = np.zeros(shape)
+    q11, q12, q22 = sv * sv * dt + su * su * dt ** 3 / 3, -su * su * dt * dt / 2, su * su * dt
+    err = np.empty((n, runs, 6))
+    cov = np.zeros((n, 6, 6))
+    for k in range(n):
+        n1, n2, n3 = rng.standard_normal((3,) + shape)
+        integral = beta * dt + su * dt ** 1.5 * (n1 / 2 + n2 / (2 * math.sqrt(3)))
+        beta = beta + su * math.sqrt(dt) * n1
+        th_hat = th_hat + (integral + sv * math.sqrt(dt) * n3) - b_hat * dt      # gyro angle minus the bias
+        p11, p12, p22 = p11 - 2 * dt * p12 + dt * dt * p22 + q11, p12 - dt * p22 + q12, p22 + q22
+        if (k + 1) % every == 0:
+            y = sigma_n * rng.standard_normal(shape) - th_hat                   # z = 0 + noise
+            s = p11 + sigma_n ** 2
+            k1, k2 = p11 / s, p12 / s
+            th_hat, b_hat = th_hat + k1 * y, b_hat + k2 * y
+            p11, p12, p22 = (1 - k1) * p11, (1 - k1) * p12, p22 - k2 * p12
+        err[k, :, :3], err[k, :, 3:] = -th_hat, beta - b_hat
+        i = np.arange(3)
+        cov[k, i, i], cov[k, i, i + 3], cov[k, i + 3, i], cov[k, i + 3, i + 3] = p11, p12, p12, p22
+    return np.arange(1, n + 1) * dt, err, cov, beta
+
+
+FK = dict(dt=0.25, every=2, cross=5.0, about=20.0, sv=1e-5, su=5e-7)
+
+
+def _farrenkopf_analysis():
+    """8 runs of 4000 s: each run's (estimation section, the same with P / 4, the plot series)."""
+    sn = np.array([FK["cross"], FK["cross"], FK["about"]]) / ARCSEC
+    runs = 8
+    t, err, cov, _ = _farrenkopf_filter_runs(runs, 4000.0, FK["dt"], FK["every"], sn, FK["sv"], FK["su"])
+    rng = np.random.default_rng(8)
+    sensors = E.SensorSet(FK["cross"], FK["about"], 1.0 / (FK["dt"] * FK["every"]), FK["sv"], FK["su"])
+    out = []
+    for r in range(runs):
+        q_true = qmul(qexp(np.outer(t, [2e-4, 0.0, -1e-4])), random_attitudes(rng, 1))
+        q_est = qmul(qexp(-err[:, r, :3]), q_true)
+        bias_true = np.full((t.size, 3), 0.3 * DEG_H) + err[:, r, 3:]          # any truth: only the error counts
+        bias_est = bias_true - err[:, r, 3:]
+        est_p = cov[:, np.triu_indices(6)[0], np.triu_indices(6)[1]]
+        sec, series = E.analyse(t, q_true, q_est, bias_est, bias_true, est_p, q_true, sensors=sensors,
+                                control_rate_hz=1.0 / FK["dt"])
+        over = E.summary(t, q_true, q_est, bias_est, bias_true, est_p / 4.0, q_true, sensors=sensors,
+                         control_rate_hz=1.0 / FK["dt"])
+        out.append((sec, over, series))
+    return t, err, out
+
+
+@pytest.fixture(scope="module")
+def farrenkopf_runs():
+    return _farrenkopf_analysis()
+
+
+def test_farrenkopf_filter_steady_state_matches_the_bound(farrenkopf_runs):
+    """Pooled over 8 runs x 2000 s of steady state, the knowledge error's rms per axis is estimation_bounds'
+    rms over the control periods of an update interval (between_updates) within 3 %; the filter's own
+    sigma is the bound (the simulated filter is the bound's filter); post- and pre-update bounds bracket it."""
+    t, err, out = farrenkopf_runs
+    sn = np.array([FK["cross"], FK["cross"], FK["about"]]) / ARCSEC
+    log_rms = np.array([between_updates(s, FK["sv"], FK["su"], FK["dt"] * FK["every"], FK["every"]) for s in sn])
+    rms = np.sqrt(np.mean([np.square(sec["knowledge_error_arcsec"]["rms_per_axis"]) for sec, _, _ in out], axis=0))
+    assert np.allclose(rms, log_rms * ARCSEC, rtol=0.03)
+    sec = out[0][0]
+    assert np.allclose(sec["steady_state_bound_log_rms_arcsec"], log_rms * ARCSEC, rtol=1e-12)
+    assert np.allclose(sec["knowledge_error_arcsec"]["filter_sigma_rms_per_axis"], log_rms * ARCSEC, rtol=1e-3)
+    post = steady_state_per_axis(FK["cross"], FK["about"], 2.0, FK["sv"], FK["su"])
+    assert np.allclose(sec["steady_state_bound_arcsec"], post, rtol=1e-12)
+    assert np.all(np.array(post) < rms) and np.all(rms < np.array(sec["steady_state_bound_pre_arcsec"]))
+    bias_rms = np.sqrt(np.mean([np.square(s["bias_error_deg_h"]["rms_per_axis"]) for s, _, _ in out], axis=0))
+    assert np.allclose(bias_rms, sec["bias_error_deg_h"]["steady_state_bound"], rtol=0.12)
+    assert sec["convergence_time_s"] is not None and sec["convergence_time_s"] < 200.0
+    assert sec["window"]["start_s"] == pytest.approx(t[-1] / 2, abs=FK["dt"])
+
+
+def test_farrenkopf_filter_is_consistent_and_its_over_confident_twin_is_not(farrenkopf_runs):
+    _, _, out = farrenkopf_runs
+    for key in ("nees_in_band_fraction", "nees_attitude_in_band_fraction"):
+        assert np.mean([sec[key] for sec, _, _ in out]) >= 0.9, key
+        assert max(over[key] for _, over, _ in out) <= 0.5, key
+    assert np.mean([sec["nees"]["mean"] for sec, _, _ in out]) == pytest.approx(6.0, rel=0.05)
+    assert np.mean([sec["nees_attitude"]["mean"] for sec, _, _ in out]) == pytest.approx(3.0, rel=0.05)
+    assert np.mean([sec["three_sigma_fraction"] for sec, _, _ in out]) == pytest.approx(0.9973, abs=0.002)
+    assert max(over["three_sigma_fraction"] for _, over, _ in out) < 0.9
+
+
+def test_the_section_has_the_names_scripts_look_for(farrenkopf_runs):
+    sec = farrenkopf_runs[2][0][0]
+    assert {"knowledge_error_arcsec", "steady_state_bound_arcsec", "nees_in_band_fraction", "three_sigma_fraction",
+            "sensors"} <= set(sec)
+    assert {"rms_per_axis", "frame", "max"} <= set(sec["knowledge_error_arcsec"])
+    assert len(sec["knowledge_error_arcsec"]["rms_per_axis"]) == 3 and len(sec["steady_state_bound_arcsec"]) == 3
+    assert sec["sensors"] == {"star_tracker": {"noise_cross_arcsec": 5.0, "noise_about_arcsec": 20.0, "rate_hz": 2.0,
+                                               "mounting_q": [0.0, 0.0, 0.0, 1.0]},
+                              "gyro": {"arw_rad_sqrt_s": 1e-5, "rrw_rad_s_sqrt_s": 5e-7}}
+    json.dumps(sec, allow_nan=False)         # JSON-safe as it is
+
+
+# --------------------------------------------------------------------------- plots
+def _png_size_and_dpi(path):
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    w, h = struct.unpack(">II", data[16:24])
+    dpi, off = None, 8
+    while off < len(data):
+        n, kind = struct.unpack(">I4s", data[off:off + 8])
+        if kind == b"pHYs":
+            ppm_x, _, unit = struct.unpack(">IIB", data[off + 8:off + 17])
+            dpi = ppm_x * 0.0254 if unit == 1 else None
+        off += 12 + n
+    return w, h, dpi
+
+
+def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
+    series = farrenkopf_runs[2][0][2]
+    seen = {}
+    real_save = estimation_plots.save
+
+    def spy(fig, path):
+        seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
+                           for ax in fig.axes]
+        return real_save(fig, path)
+
+    monkeypatch.setattr(estimation_plots, "save", spy)
+    files = estimation_plots.run_plots(series, tmp_path, "test")
+    assert [f.name for f in files] == ["knowledge_error.png", "bias_estimate.png", "nees.png"]
+    for f in files:
+        w, h, dpi = _png_size_and_dpi(f)
+        assert w >= 1200 and h >= 1000 and dpi is not None and dpi >= 150, (f.name, w, h, dpi)
+    ke = seen["knowledge_error.png"]
+    assert [y for y, _, _ in ke] == ["dth_x (arcsec)", "dth_y (arcsec)", "dth_z (arcsec)"] and ke[-1][1] == "t (s)"
+    assert all("filter +-3 sigma (P)" in lab and any(s.startswith("analytic +-3 sigma") for s in lab)
+               and any(s.startswith("converged at") for s in lab) for _, _, lab in ke)
+    assert [y for y, _, _ in seen["bias_estimate.png"]] == ["b_x (deg/h)", "b_y (deg/h)", "b_z (deg/h)"]
+    assert all({"estimate b_" + a, "truth b_" + a} <= set(lab) for a, (_, _, lab) in zip("xyz", seen["bias_estimate.png"]))
+    nees = seen["nees.png"]
+    assert [y for y, _, _ in nees] == ["NEES, 6 dof (-)", "NEES, 3 dof (-)"]
+    assert all(any(s.startswith("95 % band of the mean") for s in lab) and any(s.startswith("expected") for s in lab)
+               for _, _, lab in nees)
+
+
+def test_a_run_too_short_for_its_correlation_time_gives_no_fraction():
+    """tau = 200 s and a 1000 s window: 5 correlation times, not the 50 the autocorrelation estimate needs."""
+    t, e, q_true, q_est, bias_true, bias_est, qd, c = _synthetic_run(tau_s=200.0, n=20_000, seed=12)
+    s = E.summary(t, q_true, q_est, bias_est, bias_true, np.repeat(_upper(c), t.size, axis=0), qd)
+    assert s["nees_in_band_fraction"] is None and s["nees_attitude_in_band_fraction"] is None
+    assert s["nees"]["autocorrelation_reliable"] is False and "50 autocorrelation times" in s["nees"]["none_because"]
+    assert s["three_sigma_fraction"] is not None      # still counted: it needs no independence
