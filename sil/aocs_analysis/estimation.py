@@ -403,9 +403,10 @@ class SensorSet:
 
     @classmethod
     def from_configs(cls, star_tracker, gyro) -> SensorSet:
-        """From the plant's StarTrackerConfig and GyroConfig (or anything with those attributes)."""
+        """From the plant's StarTrackerConfig and GyroConfig (aocs_plant.sensors: the gyro's arw, rrw are
+        the scenario's arw_rad_sqrt_s, rrw_rad_s_sqrt_s)."""
         return cls(float(star_tracker.noise_cross_arcsec), float(star_tracker.noise_about_arcsec),
-                   float(star_tracker.rate_hz), float(gyro.arw_rad_sqrt_s), float(gyro.rrw_rad_s_sqrt_s),
+                   float(star_tracker.rate_hz), float(gyro.arw), float(gyro.rrw),
                    tuple(float(v) for v in getattr(star_tracker, "mounting_q", (0.0, 0.0, 0.0, 1.0))))
 
     def as_dict(self) -> dict:

@@ -19,6 +19,7 @@ from aocs_core.conventions import quat_from_rotvec_rows as quat_from_rotvec
 from aocs_core.limits import UNLIMITED
 from aocs_core.modes import mode_value
 
+from . import estimation as E
 from . import metrics as M
 from . import wheels
 from .gain_tables import designed_gamma
@@ -175,8 +176,32 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     _counters(out, log, sc.dt)
     _hinf(out, log, sc, cfg)
     out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
+    out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     return out, series
+
+
+def _estimation(log, sc) -> tuple[dict | None, dict | None]:
+    """The `estimation` section (docs/spec.md 5.7) of a run whose flight software flew a filter
+    ([estimator] type other than passthrough): the estimate of actuator_cmd_t against the truth of the same
+    tick (truth_t: the state at t_k the tick's sensors measured), the reference qd(t_k), the filter's own
+    covariance, the sensor figures of the scenario's [sensors.star_tracker] and [sensors.gyro]."""
+    est = getattr(sc, "estimator", None)
+    if est is None or est.type == "passthrough" or sc.kind != "attitude":
+        return None, None
+    tr, cmd = log.truth, log.cmd
+    rows = {int(k): i for i, k in enumerate(tr["tick"])}
+    pairs = [(rows[int(k)], j) for j, k in enumerate(cmd["tick"]) if int(k) in rows]
+    if not pairs:
+        return None, None
+    it, ic = (np.asarray(x, dtype=np.int64) for x in zip(*pairs))
+    t = tr["t_s"][it]
+    names = sc.sensors.sensors
+    sensors = (E.SensorSet.from_configs(names["star_tracker"], names["gyro"])
+               if "star_tracker" in names and "gyro" in names else None)
+    return E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it], cmd["est_p"][ic],
+                     qd=target_quat(sc, t), valid=cmd["est_status"][ic] == 0, sensors=sensors,
+                     control_rate_hz=sc.control_rate_hz)   # steady state: the last half of the run
 
 
 def _guidance(out: dict, sc, fsw: dict | None) -> None:

@@ -20,9 +20,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from aocs_analysis import estimation_plots, verdict
 from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
-from aocs_analysis import verdict
 from aocs_core import paths
 from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import load
@@ -376,6 +376,8 @@ def draw_plots(opts: RunOptions, plan: RunPlan, metrics: dict, series: dict) -> 
     plots = plotmod.run_plots(series, plan.out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
                               settle=metrics["settle_criterion"]["criteria"],
                               settle_time_s=metrics["settle_time_s"])
+    if series.get("estimation") is not None:   # a filter flew: knowledge error with its 3 sigma, bias, NEES
+        plots = list(plots) + list(estimation_plots.run_plots(series["estimation"], plan.out, title))
     metrics["plots"] = [p.name for p in plots]
     return plots
 
