@@ -453,6 +453,8 @@ def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> N
         }
     # the plant's own estimate (aocs_plant.integration_error), None when the plant did not report
     out["integration_error"] = (plant or {}).get("integration_error")
+    # the plant's udpm reader: fragments, garbage and the partial messages it dropped (udpm.Udpm.counters)
+    out["udpm"] = (plant or {}).get("udpm")
     if fsw:
         out["fsw_node"] = fsw
     out["wall_s"] = _f(wall_s) if wall_s is not None else None

@@ -261,6 +261,8 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "wake_jitter_ns_max": loop.jitter_max_ns,
         "handle_calls": loop.handle_calls,
         "integration_error": check.summary(),
+        # what the direct udpm reader dropped (fragments beyond its bounds, garbage): udpm.Udpm.counters
+        "udpm": getattr(link.lc, "counters", None),
     }
     print(json.dumps({"plant_node": summary}), flush=True)
     link.record_until_end_marker(args.done_file)

@@ -116,6 +116,7 @@ class Recorder:
         self.error: BaseException | None = None
         self._thread = threading.Thread(target=self._run, name="aocs-recorder", daemon=True)
         self._markers = 0
+        self._last_counters: dict | None = None
 
     @property
     def count(self) -> int:
@@ -151,12 +152,19 @@ class Recorder:
         finally:
             self._release_reader()
 
+    @property
+    def udpm_counters(self) -> dict | None:
+        """The reader's udpm.Udpm.counters (fragments, garbage, what the bounded reassembly dropped)."""
+        link = self._link
+        return link.counters if link is not None else self._last_counters
+
     def _release_reader(self):
         """Close the sockets: called by the thread that reads them, once it has stopped reading (or by
         stop() when that thread never started), so no socket is closed under a read. A campaign worker
         records hundreds of runs in one process: every recorder gives its descriptors back."""
         link, self._link = self._link, None
         if link is not None:
+            self._last_counters = link.counters
             link.close()
 
     def marker(self, what: str, timeout: float = 5.0, **info) -> None:

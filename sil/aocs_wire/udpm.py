@@ -12,7 +12,10 @@ the fragmented form ("LC03") is never sent; received fragments are counted
 and, for a catch-all subscription (the run's recorder), put back together
 (the library's format: a 20-byte header magic | sequence | message size |
 fragment offset | uint16 fragment number | uint16 fragment count, the channel
-and its NUL in fragment 0 only).
+and its NUL in fragment 0 only). The reassembly is bounded (issue 25): a
+message of at most max_message bytes (BOUND_MARGIN x the largest aocs_lcm
+type), at most MAX_PARTIAL partial messages, each for at most
+PARTIAL_MAX_AGE_S; what it drops is counted (counters).
 
 Why: the LCM library receives on a background thread and hands each message
 to the caller's thread through a pipe, two thread switches per message on a
@@ -24,17 +27,46 @@ using the library; they cannot tell the difference.
 """
 from __future__ import annotations
 
+import functools
 import select
 import socket
 import struct
+import time
 from urllib.parse import parse_qs, urlparse
 
 MAGIC_SHORT = 0x4C433032   # "LC02"
 MAGIC_LONG = 0x4C433033    # "LC03" (fragment)
 _HEAD = struct.Struct(">II")
 _FRAG = struct.Struct(">IIIIHH")
-#: messages being put together from fragments at once (older ones are dropped, counted as incomplete)
+#: messages being put together from fragments at once (the oldest is dropped when a 17th starts, counted
+#: as incomplete)
 MAX_PARTIAL = 16
+#: a partial message whose first fragment came longer ago than this is dropped (counted as expired): LCM
+#: sends a message's fragments back to back, so a real one completes within milliseconds
+PARTIAL_MAX_AGE_S = 1.0
+#: the largest message reassembled is BOUND_MARGIN times the largest aocs_lcm message (max_message_size):
+#: room for the wire contract to grow and for other LCM traffic on the group, and above LCM's
+#: fragmentation threshold (a message is fragmented only from ~65,500 bytes on), so a real fragmented
+#: message still goes through (the recorder's test records a 256 kB one); a fragment claiming more is
+#: dropped before anything is allocated. 1024 x 575 bytes (actuator_cmd_t, protocol 3) = 588,800 bytes;
+#: at most MAX_PARTIAL of them held: ~9.4 MB, where a forger could make the reader hold 16 x 4 GiB
+BOUND_MARGIN = 1024
+
+
+@functools.lru_cache(maxsize=None)
+def largest_wire_message() -> int:
+    """Encoded size in bytes of the largest aocs_lcm type (every one is fixed size: aocs_wire.wire.Codec)."""
+    from aocs_core import paths
+
+    from .wire import Codecs
+
+    c = Codecs(paths.import_bindings())
+    return max(x.size for x in (c.sensors, c.actuator, c.truth, c.command, c.status))
+
+
+def max_message_size() -> int:
+    """The bound on a reassembled message's size, bytes: BOUND_MARGIN x largest_wire_message()."""
+    return BOUND_MARGIN * largest_wire_message()
 
 
 def parse_url(url: str) -> tuple[str, int, int]:
@@ -49,8 +81,10 @@ def parse_url(url: str) -> tuple[str, int, int]:
 class Udpm:
     """Publish and receive LCM messages on one udpm group, in the caller's thread."""
 
-    def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024, receive: bool = True):
-        """receive=False: a publisher only (no socket joins the group, so no message is queued for it)."""
+    def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024, receive: bool = True,
+                 max_message: int | None = None):
+        """receive=False: a publisher only (no socket joins the group, so no message is queued for it).
+        max_message: the largest fragmented message put back together, bytes (default max_message_size())."""
         group, port, ttl = parse_url(url)
         self.dest = (group, port)
         rx = None
@@ -74,10 +108,25 @@ class Udpm:
             self._poll.register(rx, select.POLLIN)
         self.fragments = 0     # LC03 datagrams received (never sent by aocs types)
         self.garbage = 0       # datagrams that are not LCM at all
-        self.incomplete = 0    # fragmented messages abandoned before their last fragment
+        self.incomplete = 0    # partial messages dropped for MAX_PARTIAL newer ones
+        self.expired = 0       # partial messages dropped PARTIAL_MAX_AGE_S after their first fragment
+        self.oversize = 0      # fragments claiming a message above max_message (nothing allocated)
+        self.max_message = (max_message if max_message is not None
+                            else max_message_size() if receive else 0)
         self._handlers: dict[bytes, object] = {}
         self._every = None     # handler(channel bytes, data) of every message, whatever its channel
         self._partial: dict[tuple, list] = {}
+
+    @property
+    def counters(self) -> dict:
+        """What the reader received outside the short-message path, and what it dropped."""
+        return {"fragments": self.fragments, "garbage": self.garbage, "incomplete": self.incomplete,
+                "expired": self.expired, "oversize": self.oversize, "partial": len(self._partial)}
+
+    @property
+    def partial_bytes(self) -> int:
+        """Bytes held by the partial messages."""
+        return sum(len(p[1]) for p in self._partial.values())
 
     def fileno(self) -> int:
         return self._rx.fileno()
@@ -112,28 +161,42 @@ class Udpm:
             return None
         _, seq, size, offset, no, count = _FRAG.unpack_from(d)
         body = d[_FRAG.size:]
+        if size > self.max_message:          # checked before anything is allocated
+            self.oversize += 1
+            return None
+        if no >= count or (no != 0 and offset + len(body) > size):
+            self.garbage += 1
+            return None
+        now = time.monotonic()
+        partial = self._partial
+        while partial:                       # oldest first (insertion order)
+            k = next(iter(partial))
+            if now - partial[k][3] <= PARTIAL_MAX_AGE_S:
+                break
+            del partial[k]
+            self.expired += 1
         key = (seq, size, count)
-        part = self._partial.get(key)
+        part = partial.get(key)
         if no == 0:
             end = body.find(b"\0")
             if end < 0:
                 self.garbage += 1
                 return None
-            part = self._partial.setdefault(key, [None, bytearray(size), 0])
+            if offset + len(body) - (end + 1) > size:
+                self.garbage += 1
+                return None
+        if part is None:
+            part = partial[key] = [None, bytearray(size), 0, now]
+        if no == 0:
             part[0] = body[:end]
             body = body[end + 1:]
-        elif part is None:
-            part = self._partial.setdefault(key, [None, bytearray(size), 0])
-        if offset + len(body) > size:
-            self.garbage += 1
-            return None
         part[1][offset:offset + len(body)] = body
         part[2] += 1
-        if len(self._partial) > MAX_PARTIAL:
-            del self._partial[next(iter(self._partial))]
+        if len(partial) > MAX_PARTIAL:
+            del partial[next(iter(partial))]
             self.incomplete += 1
-        if part[2] == count and part[0] is not None:
-            del self._partial[key]
+        if part[2] == count and part[0] is not None and key in partial:
+            del partial[key]
             return part[0], bytes(part[1])
         return None
 
