@@ -175,6 +175,10 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     _timing(out, series, log.cmd, meta, cfg, fsw)
     _counters(out, log, sc.dt)
     _hinf(out, log, sc, cfg)
+    tr = log.truth
+    qw = [np.asarray(tr[k], float).reshape(len(tr["t_s"]), -1) for k in ("q", "w", "pos", "vel") if k in tr]
+    out["truth_not_finite"] = (int(np.count_nonzero(~np.all(np.isfinite(np.hstack(qw)), axis=1)))
+                               if qw and len(tr["t_s"]) else 0)
     out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
@@ -398,7 +402,8 @@ def _counters(out: dict, log, dt: float) -> None:
         "sensor_ticks_unanswered": len(ticks_sent - ticks_answered),
         "longest_unanswered_run": _longest_false_run(answered),
     }
-    out["commands"] = [{"request": int(r), "law_id": int(lid), "mode": int(m), "set_target": bool(st)}
+    out["commands"] = [{"request": int(r), "law_id": int(lid), "mode": int(m), "set_target": bool(st),
+                        "mode_name": registry.mode_name(int(m)) if int(m) >= 0 else None}
                        for r, lid, m, st in zip(log.command["request"], log.command["law_id"],
                                                 log.command["mode"], log.command["set_target"])]
     if stt["steps"].size:

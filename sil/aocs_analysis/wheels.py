@@ -73,6 +73,12 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
     within = all(p["peak_motor_torque_nm"] is None or p["peak_motor_torque_nm"] <= p["torque_limit_nm"] * (1 + tol)
                  for p in per) and all(p["peak_speed_rad_s"] is None or
                                        p["peak_speed_rad_s"] <= p["speed_limit_rad_s"] * (1 + 1e-3) for p in per)
+    # every wheel torque command (actuator_cmd_t.u_wheels) against that wheel's limit, and finite
+    uw = np.asarray(cmd["u_wheels"], float)[:, :n] if cmd["tick"].size else np.zeros((0, n))
+    umax = np.asarray(w.torque_limit_nm, float)
+    with np.errstate(invalid="ignore"):
+        over = int(np.count_nonzero(np.any(np.abs(uw) > umax * (1 + tol), axis=1))) if uw.size else 0
+    nan = int(np.count_nonzero(~np.all(np.isfinite(uw), axis=1))) if uw.size else 0
     margin = np.asarray(cmd["wheel_speed_margin"]) if cmd["tick"].size else np.zeros(0)
     scale = np.asarray(cmd["wheel_scale"]) if cmd["tick"].size else np.zeros(0)
     out = {
@@ -84,6 +90,7 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
         "min_speed_margin": _f(margin.min()) if margin.size else None,
         "time_scaled_s": _f(np.count_nonzero(scale < 1.0) * dt) if scale.size else 0.0,
         "within_limits": bool(within),
+        "commands_over_limit": over, "commands_not_finite": nan,
         "envelope": envelope(scenario),
     }
     series = {"t": np.asarray(tr["t_s"]), "speed": speed, "speed_limit": list(w.speed_limit_rad_s),

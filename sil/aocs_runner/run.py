@@ -342,7 +342,9 @@ def judge(opts: RunOptions, plan: RunPlan, wall: float, plant_sum: dict | None, 
         metrics["gain"] = plan.gains[plan.law].to_json()
     log_problems = log_completeness(opts, plan, log)
     metrics["log_complete"] = not log_problems
-    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow)
+    metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow,
+                                       injected=sum(e.kind in verdict.FRAME_FAULTS
+                                                    for e in evmod.parse_all(opts.events)))
     plots = draw_plots(opts, plan, metrics, series) if opts.plots else []
     text = json.dumps(metrics, indent=1) + "\n"
     (plan.out / "metrics.json").write_text(text)

@@ -106,6 +106,34 @@ def test_a_law_refused_throughout_fails_the_run(tmp_path):
     assert "crp_linear was refused on every one of the 100 steps" in line and "AOCS_ERR_CRP_SINGULAR" in line
 
 
+def test_a_diverged_run_fails_and_allow_accepts_it(tmp_path):
+    """issue 25, item 3: gains past the sampled loop's gain margin blow the plant up; it used to pass."""
+    cmd = CLI + ["run", "irassi_small", "--law", "quat_pd", "--set", "laws.quat_pd.kp=21200",
+                 "--set", "laws.quat_pd.kd=42400", "-q", "--no-plots", "--out", str(tmp_path / "d")]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 1, res.stderr
+    line = _failed_line(res.stderr)
+    for reason in ("the plant diverged", "ended in SAFE although no command asked for it",
+                   "rejected as invalid", "integration error"):
+        assert reason in line, line
+    allow = sum((["--allow", c] for c in ("non-finite", "unrequested-safe", "invalid-inputs",
+                                          "integration-error")), [])
+    res = subprocess.run(cmd + allow + ["--json", str(tmp_path / "m.json")], capture_output=True, text=True,
+                         timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert set(json.loads((tmp_path / "m.json").read_text())["verdict"]["allowed"]) == {
+        "non-finite", "unrequested-safe", "invalid-inputs", "integration-error"}
+
+
+def test_nan_wheel_torques_fail_the_run(tmp_path):
+    """issue 25, item 3: the verdict checked only the body command."""
+    cmd = CLI + ["run", "irassi_rw", "--duration", "5", "--set", "wheels.spin_inertia_kg_m2=10",
+                 "--set", "wheels.tach_noise_rad_s=1e308", "-q", "--no-plots", "--out", str(tmp_path / "w")]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 1, res.stderr
+    assert "wheel torque commands" in _failed_line(res.stderr) and "not finite" in _failed_line(res.stderr)
+
+
 @pytest.fixture(scope="module")
 def recorded_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("rec") / "run"

@@ -38,8 +38,49 @@ def test_thresholds_are_where_they_are_stated():
     assert verdict.judge(at_limit, [], realtime=True)["passed"]
     # lockstep: the plant itself stops the run on a missing reply, so silence is not judged here
     assert verdict.judge(_metrics(counters={"longest_unanswered_run": 50}), [], realtime=False)["passed"]
-    assert verdict.judge(_metrics(counters={"law_error": 99}), [], realtime=False)["passed"]
+    # 99 of 100 is not "every step" (law-refused) but far more than 1 % (law-errors)
+    most = verdict.judge(_metrics(counters={"law_error": 99}), [], realtime=False)
+    assert [f["check"] for f in most["failures"]] == ["law-errors"]
     assert verdict.judge(_metrics(limits={"commands_not_finite": 1}), [], realtime=False)["failures"]
     standby = _metrics(counters={"law_error": 100})
     standby["law"] = "none"
     assert verdict.judge(standby, [], realtime=False)["passed"]
+
+
+def _diverged(**extra):
+    m = _metrics()
+    m.update(extra)
+    return m
+
+
+def test_a_run_that_did_not_fly_fails_with_its_reason():
+    """issue 25, item 3: each of these failed to fail before."""
+    cases = {
+        "non-finite": _diverged(truth_not_finite=5),
+        "unrequested-safe": _diverged(final_mode="safe", commands=[{"mode": -1, "mode_name": None}]),
+        "invalid-inputs": _diverged(counters={"invalid": 2, "law_error": 0, "status": {},
+                                              "longest_unanswered_run": 0}),
+        "law-errors": _diverged(counters={"invalid": 0, "law_error": 2, "status": {},
+                                          "longest_unanswered_run": 0}),
+        "integration-error": _diverged(integration_error={"attitude_arcsec_sum": 1e9, "tolerance_arcsec": 1.0}),
+        "over-limit": _diverged(wheels={"commands_over_limit": 0, "commands_not_finite": 3}),
+    }
+    for check, m in cases.items():
+        v = verdict.judge(m, [], realtime=False)
+        assert not v["passed"] and [f["check"] for f in v["failures"]] == [check], (check, v)
+        assert "\n" not in verdict.summary(v) and verdict.summary(v)
+        assert verdict.judge(m, [], realtime=False, allow=[check])["passed"]
+    nan_pointing = _diverged(pointing_error_arcsec={"initial": 10.0, "final_max": None, "final_rms": None})
+    assert [f["check"] for f in verdict.judge(nan_pointing, [], realtime=False)["failures"]] == ["non-finite"]
+
+
+def test_requested_safe_injected_faults_and_small_errors_pass():
+    assert verdict.judge(_diverged(final_mode="safe", commands=[{"mode": 2, "mode_name": "safe"}]), [],
+                         realtime=False)["passed"]
+    one_pct = _diverged(counters={"invalid": 1, "law_error": 1, "status": {}, "longest_unanswered_run": 0})
+    assert verdict.judge(one_pct, [], realtime=False)["passed"]
+    injected = _diverged(counters={"invalid": 4, "law_error": 0, "status": {}, "longest_unanswered_run": 0})
+    assert not verdict.judge(injected, [], realtime=False)["passed"]
+    assert verdict.judge(injected, [], realtime=False, injected=3)["passed"]
+    ie = {"attitude_arcsec_sum": 50.0, "tolerance_arcsec": 1.0}
+    assert verdict.judge(_diverged(integration_error=ie), [], realtime=False)["passed"]   # only a warning
