@@ -88,6 +88,12 @@ static int build_config(fuzz_reader_t *r, aocs_exec_config_t *cfg)
     }
     if ((flags & 32u) != 0u) {
         fuzz_wheels(&cfg->wheels, (flags & 64u) != 0u);
+        if ((flags & 16u) != 0u) {
+            /* heavy wheels: Js Omega of a wild tachometer reading overflows unless it is rejected (issue 25) */
+            for (uint32_t i = 0u; i < 4u; ++i) {
+                cfg->wheels.js_kgm2[i] = AOCS_R(10.0);
+            }
+        }
     }
     if ((flags & 128u) != 0u) {
         cfg->determination.estimator = (uint32_t)AOCS_DET_MEKF;

@@ -214,12 +214,14 @@ static inline void fuzz_wheels(aocs_wheels_config_t *w, int failed)
     w->inertia_B_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(2059.5), AOCS_R(5954.2), AOCS_R(5974.3)));
 }
 
-/* every wheel command finite and within its motor limit (the compensation included), none to a failed wheel */
+/* every wheel command finite and within its motor limit exactly (the compensation included; not even 1 ulp
+ * over, issue 25 item 6; docs/spec.md 5.3.3), zero for an absent wheel, none to a failed wheel */
 static inline void fuzz_check_wheels(const aocs_exec_config_t *cfg, const aocs_exec_output_t *out)
 {
-    for (uint32_t i = 0u; i < cfg->wheels.n; ++i) {
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
         const real_t u = out->wheels.u_s_nm[i];
-        if (!AOCS_IS_FINITE(u) || !(AOCS_FABS(u) <= (cfg->wheels.u_max_nm[i] * (AOCS_R(1.0) + AOCS_R(16.0) * AOCS_REAL_EPS)))) {
+        const real_t lim = (i < cfg->wheels.n) ? cfg->wheels.u_max_nm[i] : AOCS_R(0.0);
+        if (!AOCS_IS_FINITE(u) || !(AOCS_FABS(u) <= lim)) {
             fuzz_fail("wheel command not finite or beyond its motor limit", cfg, out->u_cmd);
         }
         if (((cfg->wheels.failed_mask >> i) & 1u) != 0u) {

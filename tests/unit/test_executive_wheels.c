@@ -134,6 +134,32 @@ static void test_bad_tachometer_speeds_give_a_zero_command(void **state)
     }
 }
 
+/* issue 25 item 1: Js = 10, the null-space management on and one frame with a tachometer reading of 1e308
+ * gave NaN wheel commands with every status OK */
+static void test_a_tachometer_of_1e308_gives_finite_commands_and_says_so(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    aocs_exec_input_t in = sample(0u);
+    config(&cfg, 1);
+    for (int i = 0; i < 4; ++i) {
+        cfg.wheels.js_kgm2[i] = AOCS_R(10.0);
+    }
+    cfg.wheels.null_gain_per_s = AOCS_R(1.0);
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    in.wheel_speed_radps[1] = TEST_WHEEL_TACH_HUGE;
+    (void)aocs_exec_step(&exec, &in, &out);
+    assert_int_equal(out.wheels_status, AOCS_ERR_WHEEL_SPEED_RANGE);
+    assert_true(aocs_vec3_is_finite(out.u_cmd) != 0);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        assert_true(isfinite((double)out.wheels.u_s_nm[i]));
+        assert_true(AOCS_FABS(out.wheels.u_s_nm[i]) <= ((i < 4u) ? cfg.wheels.u_max_nm[i] : AOCS_R(0.0)));
+    }
+    assert_true(aocs_vec3_is_finite(out.momentum.h_total_B_Nms) != 0);
+}
+
 static void test_a_wheel_at_its_speed_limit_is_not_driven_further(void **state)
 {
     (void)state;
@@ -229,6 +255,7 @@ int main(void)
         cmocka_unit_test(test_the_law_torque_is_allocated_and_keeps_its_direction),
         cmocka_unit_test(test_a_failed_wheel_gets_nothing_and_a_bad_array_is_refused),
         cmocka_unit_test(test_bad_tachometer_speeds_give_a_zero_command),
+        cmocka_unit_test(test_a_tachometer_of_1e308_gives_finite_commands_and_says_so),
         cmocka_unit_test(test_a_wheel_at_its_speed_limit_is_not_driven_further),
         cmocka_unit_test(test_no_input_holds_through_the_wheels),
         cmocka_unit_test(test_standby_commands_no_motor_torque_even_with_the_friction_model),

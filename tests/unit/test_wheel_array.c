@@ -691,10 +691,100 @@ static void test_every_friction_and_null_space_error_has_its_code(void **state)
     expect_init(&cfg, AOCS_ERR_WHEEL_NULL_SPEED_INVALID);
 }
 
+/* issue 25 item 1: Js = 10 and one tachometer reading of 1e308 overflowed the null-space term into NaN
+ * commands reported as OK. A speed beyond AOCS_WHEEL_SPEED_RANGE_FACTOR Omega_max is rejected. */
+static void test_a_tachometer_far_beyond_its_range_is_rejected(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    for (int i = 0; i < 4; ++i) {
+        cfg.js_kgm2[i] = AOCS_R(10.0);
+    }
+    cfg.null_gain_per_s = AOCS_R(1.0);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    const aocs_vec3_t uc = aocs_vec3_make(AOCS_R(0.01), AOCS_R(-0.02), AOCS_R(0.03));
+    const real_t bad[3] = {TEST_WHEEL_TACH_HUGE, -AOCS_REAL_MAX, AOCS_R(2.0 * WMAX) * AOCS_R(1.0001)};
+    for (int b = 0; b < 3; ++b) {
+        real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(-20.0), AOCS_R(30.0), AOCS_R(0.0), 0, 0};
+        om[b] = bad[b];
+        aocs_wheels_alloc_t al;
+        assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_ERR_WHEEL_SPEED_RANGE);
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            assert_true(isfinite((double)al.u_s_nm[i]));
+            assert_close(al.u_s_nm[i], 0.0, 0.0);
+        }
+        assert_true(aocs_vec3_is_finite(al.u_body_B_nm) != 0);
+        aocs_wheels_momentum_t mom;
+        assert_int_equal(aocs_wheels_momentum(&wa, aocs_vec3_zero(), om, &mom), AOCS_ERR_WHEEL_SPEED_RANGE);
+        assert_true(aocs_vec3_is_finite(mom.h_total_B_Nms) != 0);
+    }
+    /* exactly twice the limit is still a reading */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(2.0 * WMAX), AOCS_R(-2.0 * WMAX), 0, 0, 0, 0};
+    aocs_wheels_alloc_t al;
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    for (int i = 0; i < 4; ++i) {
+        assert_true(AOCS_FABS(al.u_s_nm[i]) <= cfg.u_max_nm[i]);
+    }
+}
+
+/* issue 25 item 6: with one failed wheel the scaled command plus the friction feedforward could land 1 ulp
+ * above u_s,max. 10^6 random commands and speeds: never above the limit, compared exactly. */
+static void test_no_motor_command_exceeds_its_limit_even_by_one_ulp(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    pyramid(&cfg);
+    with_friction(&cfg);
+    cfg.failed_mask = 1u;
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    uint32_t seed = 20251u;
+    for (long k = 0; k < 1000000L; ++k) {
+        real_t om[AOCS_WHEELS_MAX] = {0};
+        for (int i = 0; i < 4; ++i) {
+            om[i] = (real_t)(1.2 * WMAX * rnd(&seed));
+        }
+        const double mag = (k % 2 == 0) ? 1.0 : 0.3;
+        const aocs_vec3_t uc =
+            aocs_vec3_make((real_t)(mag * rnd(&seed)), (real_t)(mag * rnd(&seed)), (real_t)(mag * rnd(&seed)));
+        aocs_wheels_alloc_t al;
+        assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+        for (int i = 0; i < 4; ++i) {
+            if (!(isfinite((double)al.u_s_nm[i]) && (al.u_s_nm[i] <= cfg.u_max_nm[i]) &&
+                  (al.u_s_nm[i] >= -cfg.u_max_nm[i]))) {
+                fail_msg("allocation %ld wheel %d: %.17g against %.17g", k, i, (double)al.u_s_nm[i],
+                         (double)cfg.u_max_nm[i]);
+            }
+        }
+    }
+}
+
+static int same(real_t a, real_t b)
+{
+    return (!(a < b) && !(a > b)) ? 1 : 0;
+}
+
+static void test_the_final_clamp_is_exact(void **state)
+{
+    (void)state;
+    const real_t lim = AOCS_R(0.25);
+    assert_true(same(aocs_wheels_clamp_cmd(TEST_NEXT_UP(lim), lim), lim));
+    assert_true(same(aocs_wheels_clamp_cmd(-TEST_NEXT_UP(lim), lim), -lim));
+    assert_true(same(aocs_wheels_clamp_cmd(AOCS_R(0.1), lim), AOCS_R(0.1)));
+    assert_true(same(aocs_wheels_clamp_cmd(AOCS_R(INFINITY), lim), lim));
+    assert_true(same(aocs_wheels_clamp_cmd(AOCS_R(NAN), lim), AOCS_R(0.0)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_minimum_norm_allocation_of_the_pyramid),
+        cmocka_unit_test(test_a_tachometer_far_beyond_its_range_is_rejected),
+        cmocka_unit_test(test_no_motor_command_exceeds_its_limit_even_by_one_ulp),
+        cmocka_unit_test(test_the_final_clamp_is_exact),
         cmocka_unit_test(test_a_failed_wheel_is_removed_and_three_still_control_every_axis),
         cmocka_unit_test(test_the_uniform_scale_keeps_the_direction),
         cmocka_unit_test(test_no_torque_drives_a_wheel_beyond_its_speed_limit),

@@ -15,6 +15,16 @@
 #define TEST_WHEEL_U_MAX_NM 0.25
 #define TEST_WHEEL_OMEGA_MAX_RADPS 600.0
 
+/* A tachometer reading far beyond any wheel (issue 25 item 1): 1e308 in double, the largest float in float
+ * (1e308 is not a float). */
+#if defined(AOCS_REAL_IS_FLOAT)
+#define TEST_WHEEL_TACH_HUGE AOCS_REAL_MAX
+#define TEST_NEXT_UP(x) nextafterf((x), INFINITY)
+#else
+#define TEST_WHEEL_TACH_HUGE 1e308
+#define TEST_NEXT_UP(x) nextafter((x), INFINITY)
+#endif
+
 static inline void test_wheels_pyramid(aocs_wheels_config_t *w)
 {
     const double beta = acos(1.0 / sqrt(3.0));

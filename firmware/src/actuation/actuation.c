@@ -92,6 +92,31 @@ void aocs_act_body_apply(aocs_act_t *act, int standby, const real_t *omega_radps
     (void)saturated;
 }
 
+/* The output guard of the wheel path (docs/spec.md 5.3.3): every motor command finite and within exactly
+ * +-u_s,max and the body torque finite, else the whole allocation is replaced by zero and reported
+ * (AOCS_ERR_WHEEL_CMD_INVALID). The allocation builds them so; this is the independent check. */
+static void act_wheels_guard(const aocs_wheels_t *wa, aocs_exec_output_t *out)
+{
+    int ok = aocs_vec3_is_finite(out->wheels.u_body_B_nm);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        const real_t lim = (i < wa->cfg.n) ? wa->cfg.u_max_nm[i] : AOCS_R(0.0);
+        if (!(AOCS_FABS(out->wheels.u_s_nm[i]) <= lim)) {
+            ok = 0; /* also a NaN */
+        }
+    }
+    if (ok == 0) {
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            out->wheels.u_s_nm[i] = AOCS_R(0.0);
+            out->wheels.friction_nm[i] = AOCS_R(0.0);
+            out->wheels.null_nm[i] = AOCS_R(0.0);
+        }
+        out->wheels.u_body_B_nm = aocs_vec3_zero();
+        out->wheels.scale = AOCS_R(0.0);
+        out->wheels.null_scale = AOCS_R(0.0);
+        out->wheels_status = AOCS_ERR_WHEEL_CMD_INVALID;
+    }
+}
+
 void aocs_act_wheels_apply(aocs_act_t *act, int standby, const real_t *omega_radps, aocs_vec3_t w_BN_B,
                            aocs_exec_output_t *out, int *saturated)
 {
@@ -106,6 +131,7 @@ void aocs_act_wheels_apply(aocs_act_t *act, int standby, const real_t *omega_rad
                 out->wheels.null_nm[i] = AOCS_R(0.0);
             }
         }
+        act_wheels_guard(&act->wheels, out);
         /* what the wheels deliver: u_cmd scaled (same direction), zero when the allocation failed */
         out->u_cmd = out->wheels.u_body_B_nm;
         if ((out->wheels_status != AOCS_OK) || (out->wheels.scale < AOCS_R(1.0))) {

@@ -217,6 +217,19 @@ static int wheels_speeds_finite(const aocs_wheels_t *wa, const real_t *omega_rad
     return ok;
 }
 
+/* Every tachometer speed finite and |Omega_i| <= AOCS_WHEEL_SPEED_RANGE_FACTOR Omega_max,i (docs/spec.md
+ * 5.3.3): beyond it the reading is not physical, and Js Omega could overflow (issue 25 item 1). */
+static int wheels_speeds_in_range(const aocs_wheels_t *wa, const real_t *omega_radps)
+{
+    int ok = 1;
+    for (uint32_t i = 0u; i < wa->cfg.n; ++i) {
+        if (!(AOCS_FABS(omega_radps[i]) <= (AOCS_WHEEL_SPEED_RANGE_FACTOR * wa->cfg.omega_max_radps[i]))) {
+            ok = 0; /* also a NaN */
+        }
+    }
+    return ok;
+}
+
 /* The friction model (docs/spec.md 5.3.2, the plant's f of 5.3.1): b w + c tanh(w / Omega_eps), the speed
  * clamped to the limit so |f^| <= b Omega_max + c < u_s,max (checked at init). */
 static real_t wheels_friction(const aocs_wheels_config_t *cfg, uint32_t i, real_t omega)
@@ -293,6 +306,23 @@ static real_t wheels_fit(wheel_room_t room, real_t base, real_t d, real_t r_in, 
     return r;
 }
 
+real_t aocs_wheels_clamp_cmd(real_t u_nm, real_t u_max_nm)
+{
+    /* the scaling keeps u_s within +-u_s,max only to rounding (n + f^ can be 1 ulp over, issue 25 item 6):
+     * the command is clamped to exactly +-u_max; a NaN gives 0 (the actuation stage's guard reports it) */
+    real_t u = AOCS_R(0.0);
+    if (u_nm > u_max_nm) {
+        u = u_max_nm;
+    } else if (u_nm < -u_max_nm) {
+        u = -u_max_nm;
+    } else if (AOCS_IS_FINITE(u_nm)) {
+        u = u_nm;
+    } else {
+        u = AOCS_R(0.0);
+    }
+    return u;
+}
+
 aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, const real_t *omega_radps,
                                    aocs_wheels_alloc_t *out)
 {
@@ -303,6 +333,8 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
         st = AOCS_ERR_NOT_INITIALISED;
     } else if ((aocs_vec3_is_finite(u_c_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else if (wheels_speeds_in_range(wa, omega_radps) == 0) {
+        st = AOCS_ERR_WHEEL_SPEED_RANGE;
     } else {
         st = AOCS_OK;
     }
@@ -318,6 +350,7 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
         real_t r = AOCS_R(1.0);
         uint32_t limiter = AOCS_WHEELS_MAX;
         int limiter_by_speed = 0;
+        int invalid = 0;
         for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
             /* tau = -Gs^+ u_c: the net axial torques whose reaction -Gs tau on the body is Gs Gs^+ u_c = u_c */
             tau[i] = -((wa->pinv[i][0] * u_c_B.v[0]) + (wa->pinv[i][1] * u_c_B.v[1]) + (wa->pinv[i][2] * u_c_B.v[2]));
@@ -366,8 +399,12 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
         for (uint32_t i = 0u; i < cfg->n; ++i) {
             if (wheel_healthy(cfg, i) != 0) {
                 const real_t net = (s * tau[i]) + (r * un[i]);
+                const real_t u = net + out->friction_nm[i];
+                if (!AOCS_IS_FINITE(u)) {
+                    invalid = 1;
+                }
                 out->null_nm[i] = r * un[i];
-                out->u_s_nm[i] = net + out->friction_nm[i];
+                out->u_s_nm[i] = aocs_wheels_clamp_cmd(u, cfg->u_max_nm[i]);
             }
         }
         /* -Gs (u_s - f^) = -Gs (s tau + r u_n) = s Gs Gs^+ u_c = s u_c, reported as s u_c itself: the sum over
@@ -383,6 +420,11 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
                 out->torque_limited_mask = wheel_bit(limiter);
             }
         }
+        if (invalid != 0) {
+            /* not reachable with accepted speeds; a non-finite command is no command: zero, reported */
+            wheels_zero_alloc(out);
+            st = AOCS_ERR_WHEEL_CMD_INVALID;
+        }
     }
     return st;
 }
@@ -397,6 +439,8 @@ aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, 
         st = AOCS_ERR_NOT_INITIALISED;
     } else if ((aocs_vec3_is_finite(w_BN_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else if (wheels_speeds_in_range(wa, omega_radps) == 0) {
+        st = AOCS_ERR_WHEEL_SPEED_RANGE;
     } else {
         st = AOCS_OK;
     }

@@ -38,6 +38,12 @@
 #define AOCS_WHEELS_MAX 6u   /* largest array (a 6-wheel skew configuration) */
 #define AOCS_WHEELS_MIN 3u   /* three wheels at least to control three axes */
 
+/* A tachometer speed with |Omega| above this multiple of the wheel's speed limit Omega_max (or not finite)
+ * is not a physical reading: the allocation and the momentum reject it (AOCS_ERR_WHEEL_SPEED_RANGE,
+ * docs/spec.md 5.3.3). The speed protection keeps |Omega| below Omega_max; twice leaves room for any
+ * overshoot and tachometer noise a real wheel shows. */
+#define AOCS_WHEEL_SPEED_RANGE_FACTOR AOCS_R(2.0)
+
 typedef struct {
     uint32_t n;                                /* wheels configured, AOCS_WHEELS_MIN .. AOCS_WHEELS_MAX */
     aocs_vec3_t axis_B[AOCS_WHEELS_MAX];       /* unit spin axis g_i in B */
@@ -124,6 +130,12 @@ aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cf
  */
 aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, const real_t *omega_radps,
                                    aocs_wheels_alloc_t *out);
+
+/*
+ * u_nm clamped to exactly [-u_max_nm, u_max_nm] (u_max_nm > 0); 0 for a NaN.
+ * The last step of every wheel motor command (docs/spec.md 5.3.3). Total.
+ */
+real_t aocs_wheels_clamp_cmd(real_t u_nm, real_t u_max_nm);
 
 /*
  * Total momentum and the margins to the speed limits (healthy wheels).
