@@ -37,8 +37,8 @@ def step_payload(f: SensorFrame) -> bytes:
 
 def step_status(r: frame.StepReply) -> int:
     """The status of a step as fsw_node reports it (step_status()): the step's return code, else the input
-    status, else the law status."""
-    return r.step_status or r.input_status or r.law_status
+    status, else the law status, else the wheel allocation's status."""
+    return r.step_status or r.input_status or r.law_status or r.wheel_status
 
 
 def estimate_of(r: frame.StepReply) -> Estimate:

@@ -278,7 +278,7 @@ class Bridge:
         m.saturated = bool(r.saturated)
         m.step_ns = step_ns
         m.overrun = bool(r.overrun)
-        # fsw_node step_status(): the step's return code, else the input status, else the law status
+        # fsw_node step_status(): the step's return code, else the input status, else the law status, else the wheel allocation's
         m.status = step_status(r)
         c = r.counters
         m.n_invalid, m.n_stale, m.n_missing, m.n_law_error = c["invalid"], c["stale"], c["missing"], c["law_error"]

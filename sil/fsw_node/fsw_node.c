@@ -107,6 +107,9 @@ static int32_t step_status(aocs_status_t step_rc, const aocs_exec_output_t *out)
     if (st == AOCS_OK) {
         st = out->law_status;
     }
+    if (st == AOCS_OK) {
+        st = out->wheels_status; /* an allocation refused or replaced by the output guard (docs/spec.md 5.3.3) */
+    }
     return (int32_t)st;
 }
 

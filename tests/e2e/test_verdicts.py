@@ -125,13 +125,15 @@ def test_a_diverged_run_fails_and_allow_accepts_it(tmp_path):
         "non-finite", "unrequested-safe", "invalid-inputs", "integration-error"}
 
 
-def test_nan_wheel_torques_fail_the_run(tmp_path):
-    """issue 25, item 3: the verdict checked only the body command."""
+def test_a_wild_tachometer_fails_the_run(tmp_path):
+    """issue 25, items 1 and 3: a tachometer of 1e308 gave NaN wheel commands and the run passed. Now every
+    such frame is rejected as an invalid input (no command is allocated on it) and the run fails on that."""
     cmd = CLI + ["run", "irassi_rw", "--duration", "5", "--set", "wheels.spin_inertia_kg_m2=10",
                  "--set", "wheels.tach_noise_rad_s=1e308", "-q", "--no-plots", "--out", str(tmp_path / "w")]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert res.returncode == 1, res.stderr
-    assert "wheel torque commands" in _failed_line(res.stderr) and "not finite" in _failed_line(res.stderr)
+    line = _failed_line(res.stderr)
+    assert "inputs were rejected as invalid" in line and "SAFE" in line, line
 
 
 @pytest.fixture(scope="module")

@@ -127,6 +127,9 @@ static void test_bad_tachometer_speeds_give_a_zero_command(void **state)
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     in.wheel_speed_radps[2] = NAN;
     assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    /* rejected like every invalid input (issue 25: "rejected like other invalid inputs") */
+    assert_int_equal(out.input_status, AOCS_ERR_INPUT_NOT_FINITE);
+    assert_int_equal(out.counters.invalid, 1u);
     assert_int_equal(out.wheels_status, AOCS_ERR_INPUT_NOT_FINITE);
     assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
     for (int i = 0; i < 6; ++i) {
@@ -151,6 +154,9 @@ static void test_a_tachometer_of_1e308_gives_finite_commands_and_says_so(void **
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     in.wheel_speed_radps[1] = TEST_WHEEL_TACH_HUGE;
     (void)aocs_exec_step(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_WHEEL_SPEED_RANGE);
+    assert_int_equal(out.counters.invalid, 1u);
+    assert_int_equal(out.law_status, AOCS_OK); /* the law did not run on it */
     assert_int_equal(out.wheels_status, AOCS_ERR_WHEEL_SPEED_RANGE);
     assert_true(aocs_vec3_is_finite(out.u_cmd) != 0);
     for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
@@ -158,6 +164,27 @@ static void test_a_tachometer_of_1e308_gives_finite_commands_and_says_so(void **
         assert_true(AOCS_FABS(out.wheels.u_s_nm[i]) <= ((i < 4u) ? cfg.wheels.u_max_nm[i] : AOCS_R(0.0)));
     }
     assert_true(aocs_vec3_is_finite(out.momentum.h_total_B_Nms) != 0);
+}
+
+/* a reading just inside the physical range is a reading: the range is AOCS_WHEEL_SPEED_RANGE_FACTOR Omega_max */
+static void test_a_tachometer_at_the_edge_of_its_range_is_accepted(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    aocs_exec_input_t in = sample(0u);
+    config(&cfg, 1);
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    in.wheel_speed_radps[3] = -AOCS_WHEEL_SPEED_RANGE_FACTOR * cfg.wheels.omega_max_radps[3];
+    (void)aocs_exec_step(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_OK);
+    assert_int_equal(out.counters.invalid, 0u);
+    in = sample(1u);
+    in.wheel_speed_radps[3] = -AOCS_WHEEL_SPEED_RANGE_FACTOR * cfg.wheels.omega_max_radps[3] * AOCS_R(1.001);
+    (void)aocs_exec_step(&exec, &in, &out);
+    assert_int_equal(out.input_status, AOCS_ERR_WHEEL_SPEED_RANGE);
+    assert_int_equal(out.counters.invalid, 1u);
 }
 
 static void test_a_wheel_at_its_speed_limit_is_not_driven_further(void **state)
@@ -256,6 +283,7 @@ int main(void)
         cmocka_unit_test(test_a_failed_wheel_gets_nothing_and_a_bad_array_is_refused),
         cmocka_unit_test(test_bad_tachometer_speeds_give_a_zero_command),
         cmocka_unit_test(test_a_tachometer_of_1e308_gives_finite_commands_and_says_so),
+        cmocka_unit_test(test_a_tachometer_at_the_edge_of_its_range_is_accepted),
         cmocka_unit_test(test_a_wheel_at_its_speed_limit_is_not_driven_further),
         cmocka_unit_test(test_no_input_holds_through_the_wheels),
         cmocka_unit_test(test_standby_commands_no_motor_torque_even_with_the_friction_model),

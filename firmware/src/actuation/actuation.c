@@ -53,6 +53,19 @@ const aocs_wheels_t *aocs_act_wheels(const aocs_act_t *act)
     return w;
 }
 
+aocs_status_t aocs_act_check_sample(const aocs_act_t *act, const real_t *omega_radps)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((act == NULL) || (omega_radps == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (aocs_act_has_wheels(act) != 0) {
+        st = aocs_wheels_check_speeds(&act->wheels, omega_radps);
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
 #define ACT_APPLY_CASE(ID, NAME, APPLY)                                  \
     case AOCS_ACT_##ID:                                                  \
         APPLY(act, standby, omega_radps, w_BN_B, out, saturated);        \

@@ -230,6 +230,23 @@ static int wheels_speeds_in_range(const aocs_wheels_t *wa, const real_t *omega_r
     return ok;
 }
 
+aocs_status_t aocs_wheels_check_speeds(const aocs_wheels_t *wa, const real_t *omega_radps)
+{
+    aocs_status_t st = AOCS_OK;
+    if ((wa == NULL) || (omega_radps == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (wa->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if (wheels_speeds_finite(wa, omega_radps) == 0) {
+        st = AOCS_ERR_INPUT_NOT_FINITE;
+    } else if (wheels_speeds_in_range(wa, omega_radps) == 0) {
+        st = AOCS_ERR_WHEEL_SPEED_RANGE;
+    } else {
+        st = AOCS_OK;
+    }
+    return st;
+}
+
 /* The friction model (docs/spec.md 5.3.2, the plant's f of 5.3.1): b w + c tanh(w / Omega_eps), the speed
  * clamped to the limit so |f^| <= b Omega_max + c < u_s,max (checked at init). */
 static real_t wheels_friction(const aocs_wheels_config_t *cfg, uint32_t i, real_t omega)
@@ -329,14 +346,10 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
     aocs_status_t st = AOCS_OK;
     if ((wa == NULL) || (omega_radps == NULL) || (out == NULL)) {
         st = AOCS_ERR_NULL_ARG;
-    } else if (wa->initialised == 0) {
-        st = AOCS_ERR_NOT_INITIALISED;
-    } else if ((aocs_vec3_is_finite(u_c_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
+    } else if (aocs_vec3_is_finite(u_c_B) == 0) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
-    } else if (wheels_speeds_in_range(wa, omega_radps) == 0) {
-        st = AOCS_ERR_WHEEL_SPEED_RANGE;
     } else {
-        st = AOCS_OK;
+        st = aocs_wheels_check_speeds(wa, omega_radps);
     }
     if (out != NULL) {
         wheels_zero_alloc(out);
@@ -435,14 +448,10 @@ aocs_status_t aocs_wheels_momentum(const aocs_wheels_t *wa, aocs_vec3_t w_BN_B, 
     aocs_status_t st = AOCS_OK;
     if ((wa == NULL) || (omega_radps == NULL) || (out == NULL)) {
         st = AOCS_ERR_NULL_ARG;
-    } else if (wa->initialised == 0) {
-        st = AOCS_ERR_NOT_INITIALISED;
-    } else if ((aocs_vec3_is_finite(w_BN_B) == 0) || (wheels_speeds_finite(wa, omega_radps) == 0)) {
+    } else if (aocs_vec3_is_finite(w_BN_B) == 0) {
         st = AOCS_ERR_INPUT_NOT_FINITE;
-    } else if (wheels_speeds_in_range(wa, omega_radps) == 0) {
-        st = AOCS_ERR_WHEEL_SPEED_RANGE;
     } else {
-        st = AOCS_OK;
+        st = aocs_wheels_check_speeds(wa, omega_radps);
     }
     if (out != NULL) {
         out->h_total_B_Nms = aocs_vec3_zero();

@@ -326,9 +326,15 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         out->tick = in->tick;
         /* 1. input acceptance */
         in_st = aocs_accept_sample(&exec->accept, exec->law, in, &missing);
+        if (in_st == AOCS_OK) {
+            /* the actuators' sensors too: a tachometer beyond its physical range is an invalid input
+             * (docs/spec.md 5.3.3), not a reading to allocate on */
+            in_st = aocs_act_check_sample(&exec->act, in->wheel_speed_radps);
+        }
         aocs_exec_count(&exec->counters.missing, missing);
         if ((in_st == AOCS_ERR_INPUT_NOT_FINITE) || (in_st == AOCS_ERR_QUAT_NOT_UNIT) ||
-            (in_st == AOCS_ERR_INPUT_INVALID) || (in_st == AOCS_ERR_GYRO_RANGE)) {
+            (in_st == AOCS_ERR_INPUT_INVALID) || (in_st == AOCS_ERR_GYRO_RANGE) ||
+            (in_st == AOCS_ERR_WHEEL_SPEED_RANGE)) {
             aocs_exec_count(&exec->counters.invalid, 1u);
         } else if (in_st == AOCS_ERR_INPUT_STALE) {
             aocs_exec_count(&exec->counters.stale, 1u);

@@ -83,6 +83,15 @@ int aocs_act_has_wheels(const aocs_act_t *act);
 const aocs_wheels_t *aocs_act_wheels(const aocs_act_t *act);
 
 /*
+ * The actuators' own sensors in a sample, checked like the other inputs
+ * (input acceptance): on the WHEELS path the tachometers
+ * (aocs_wheels_check_speeds: AOCS_ERR_INPUT_NOT_FINITE,
+ * AOCS_ERR_WHEEL_SPEED_RANGE); AOCS_OK on a path without any;
+ * AOCS_ERR_NULL_ARG.
+ */
+aocs_status_t aocs_act_check_sample(const aocs_act_t *act, const real_t *omega_radps);
+
+/*
  * One step: out->u_cmd = the saturated u_unsat, then the path's APPLY
  * (standby: STANDBY mode; omega_radps: tachometer speeds, AOCS_WHEELS_MAX of
  * them; w_BN_B: body rate for the momentum). *saturated = 1 when anything

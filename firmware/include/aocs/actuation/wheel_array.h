@@ -132,6 +132,15 @@ aocs_status_t aocs_wheels_allocate(const aocs_wheels_t *wa, aocs_vec3_t u_c_B, c
                                    aocs_wheels_alloc_t *out);
 
 /*
+ * The tachometer readings of the array's n wheels (rad/s, relative to the
+ * body) are a physical measurement: AOCS_OK when every one is finite and
+ * |Omega_i| <= AOCS_WHEEL_SPEED_RANGE_FACTOR Omega_max,i (docs/spec.md 5.3.3);
+ * AOCS_ERR_INPUT_NOT_FINITE, AOCS_ERR_WHEEL_SPEED_RANGE otherwise;
+ * AOCS_ERR_NULL_ARG; AOCS_ERR_NOT_INITIALISED.
+ */
+aocs_status_t aocs_wheels_check_speeds(const aocs_wheels_t *wa, const real_t *omega_radps);
+
+/*
  * u_nm clamped to exactly [-u_max_nm, u_max_nm] (u_max_nm > 0); 0 for a NaN.
  * The last step of every wheel motor command (docs/spec.md 5.3.3). Total.
  */
