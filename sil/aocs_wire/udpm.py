@@ -56,9 +56,9 @@ BOUND_MARGIN = 1024
 @functools.lru_cache(maxsize=None)
 def largest_wire_message() -> int:
     """Encoded size in bytes of the largest aocs_lcm type (every one is fixed size: aocs_wire.wire.Codec)."""
-    from aocs_core import paths
+    from aocs_core import paths  # deferred: the generated bindings are imported only when a reader is built
 
-    from .wire import Codecs
+    from .wire import Codecs  # deferred: wire imports the bindings too; udpm stays importable without a build
 
     c = Codecs(paths.import_bindings())
     return max(x.size for x in (c.sensors, c.actuator, c.truth, c.command, c.status))
