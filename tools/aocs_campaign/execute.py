@@ -53,17 +53,45 @@ def row_path(out: Path, index: int) -> Path:
     return runs_dir(out) / f"{index:06d}.json"
 
 
-def finished_indices(out: Path) -> set[int]:
+def load_row(out: Path, index: int) -> dict | None:
+    """Run index's row, or None when there is none that counts: a file that cannot be read, is not JSON,
+    is empty (`{}`), or is not a finished row of that run (its index, a known status); such a run is flown
+    again and its file replaced."""
+    try:
+        row = json.loads(row_path(out, index).read_bytes())
+    except (OSError, ValueError, RecursionError):
+        return None
+    if not isinstance(row, dict) or row.get("index") != index or row.get("status") not in W.STATUSES:
+        return None
+    return row
+
+
+def _row_files(out: Path) -> dict[int, Path]:
     d = runs_dir(out)
     if not d.is_dir():
-        return set()
-    got = set()
+        return {}
+    got = {}
     for p in d.glob("*.json"):
-        try:
-            got.add(int(p.stem))
-        except ValueError:
-            continue
+        if len(p.stem) == 6 and p.stem.isdigit():
+            got[int(p.stem)] = p
     return got
+
+
+def finished_indices(out: Path) -> set[int]:
+    """The runs of OUT with a row that counts (load_row)."""
+    return {i for i in _row_files(out) if load_row(out, i) is not None}
+
+
+def resumable(out: Path, indices, retry_errors: bool = False) -> set[int]:
+    """Those of indices whose run is done in OUT: a row that counts, and with retry_errors not an error."""
+    files = _row_files(out)
+    done = set()
+    for i in indices:
+        if i in files:
+            row = load_row(out, i)
+            if row is not None and not (retry_errors and row["status"] == W.STATUS_ERROR):
+                done.add(i)
+    return done
 
 
 def _write_atomic(path: Path, text: str) -> None:
@@ -73,18 +101,25 @@ def _write_atomic(path: Path, text: str) -> None:
 
 
 def prepare_dir(c: P.Campaign, out: Path) -> None:
-    """Creates OUT or checks that it holds this campaign (same scenario, law, seed, --set, dispersions)."""
+    """Creates OUT or checks that it holds this campaign (P.Campaign.identity: scenario and its content,
+    law, seed, --set, dispersions); a folder with rows but no readable plan is refused (whose rows?)."""
     if out.exists() and not out.is_dir():
         raise P.CampaignError(f"--out {out}: exists and is not a folder")
-    fp = c.fingerprint()
-    old = P.load_campaign_dir_plan(out)
-    if old is not None and old.get("fingerprint") != fp:
+    ident = c.identity()
+    old, why = P.load_campaign_dir_plan(out)
+    if old is None and _row_files(out):
+        raise P.CampaignError(f"--out {out}: holds {len(_row_files(out))} run rows but its campaign-plan.json is "
+                              f"{why}: it cannot be told which campaign they belong to; choose another folder "
+                              "(or move runs/ away)")
+    if old is not None and old.get("fingerprint") != ident["fingerprint"]:
+        diff = [k for k in ("scenario", "scenario_sha256", "law", "seed", "sets", "disperse")
+                if old.get(k) != ident[k]] or ["fingerprint"]
         raise P.CampaignError(f"--out {out}: holds another campaign (scenario {old.get('scenario')}, law "
-                              f"{old.get('law')}, seed {old.get('seed')}, dispersions {old.get('disperse')}); "
-                              "choose another folder")
+                              f"{old.get('law')}, seed {old.get('seed')}, dispersions {old.get('disperse')}; "
+                              f"differs in {', '.join(diff)}); choose another folder")
     runs_dir(out).mkdir(parents=True, exist_ok=True)
-    meta = {"fingerprint": fp, "scenario": c.scenario, "law": c.law, "runs": max(c.runs, (old or {}).get("runs", 0)),
-            "seed": c.seed, "sets": list(c.sets), "disperse": list(c.disperse)}
+    old_runs = old.get("runs", 0) if old is not None else 0
+    meta = {**ident, "runs": max(c.runs, old_runs if isinstance(old_runs, int) else 0)}
     _write_atomic(out / "campaign-plan.json", json.dumps(meta, indent=1) + "\n")
 
 
@@ -115,9 +150,9 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
     from dask.distributed import as_completed  # deferred: see _cluster
 
     prepare_dir(c, out)
-    done0 = finished_indices(out) & set(range(c.runs))
-    if retry_errors:   # runs that did not complete (crash, timeout, refused) are flown again
-        done0 = {i for i in done0 if json.loads(row_path(out, i).read_text()).get("status") != W.STATUS_ERROR}
+    # a row that does not count (corrupt, empty) is flown again; with retry_errors so is a run that did not
+    # complete (crash, timeout, refused)
+    done0 = resumable(out, range(c.runs), retry_errors)
     todo = [i for i in range(c.runs) if i not in done0]
     if not todo:
         say(f"aocs campaign: all {c.runs} runs already in {out}/ (nothing to run)")
@@ -208,8 +243,11 @@ def record(out: Path, spec: P.RunSpec, row: dict) -> None:
 
 
 def read_rows(out: Path, runs: int) -> list[dict]:
+    """The rows that count (load_row) of runs 0 .. runs - 1, by index."""
     rows = []
-    for i in sorted(finished_indices(out)):
+    for i in sorted(_row_files(out)):
         if i < runs:
-            rows.append(json.loads(row_path(out, i).read_text()))
+            row = load_row(out, i)
+            if row is not None:
+                rows.append(row)
     return rows

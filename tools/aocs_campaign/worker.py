@@ -42,6 +42,7 @@ SERIES_POINTS = 500
 #: files of a run folder kept for a run that passed when --keep-logs is not given: none (the row has
 #: every metric); a run that failed or errored keeps its whole folder (log, config, node output)
 STATUS_PASSED, STATUS_FAILED, STATUS_ERROR = "passed", "failed", "error"
+STATUSES = (STATUS_PASSED, STATUS_FAILED, STATUS_ERROR)
 #: lockstep wait for each command, s: `aocs run`'s 2 s is too short on a machine loaded by a campaign's
 #: parallel runs (the flight is the same: a wait bounds the run, it does not enter it)
 REPLY_TIMEOUT_S = 10.0
