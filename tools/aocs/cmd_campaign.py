@@ -109,6 +109,10 @@ def run(args) -> int:
         disps = P.check(c)
         if args.workers is not None and not 1 <= args.workers <= 256:
             raise P.CampaignError(f"--workers {args.workers}: must be in [1, 256]")
+        if args.scheduler is not None:
+            from aocs_campaign import scheduler_probe  # deferred: see above
+
+            scheduler_probe.parse_address(args.scheduler)
         if args.workers is not None and args.scheduler:
             raise P.CampaignError("--workers: not with --scheduler (the cluster has its own workers)")
         if args.timeout is not None and not (args.timeout > 0 and args.timeout < 1e6):
@@ -123,7 +127,7 @@ def run(args) -> int:
         print(f"aocs campaign: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     why = _userns_reexec(args)
-    if why is None and not args.scheduler:
+    if why is None and args.scheduler is None:
         why = W.netns_check()
     if why is not None:
         print(f"aocs campaign: error: cannot give each run a private network namespace: {why}", file=sys.stderr)

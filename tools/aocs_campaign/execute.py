@@ -127,7 +127,10 @@ def _cluster(workers: int | None, scheduler: str | None):
     from dask.distributed import Client, LocalCluster  # deferred: ~1 s, only a campaign needs Dask
 
     if scheduler:
-        client = Client(scheduler, timeout="10s")
+        from .scheduler_probe import HANDSHAKE_TIMEOUT_S, probe  # deferred: only with --scheduler
+
+        probe(scheduler)          # one line within HANDSHAKE_TIMEOUT_S when the peer is not a Dask scheduler
+        client = Client(scheduler, timeout=f"{HANDSHAKE_TIMEOUT_S:g}s")
         return client, None
     n = workers or os.cpu_count() or 1
     # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a
