@@ -140,14 +140,18 @@ def check(c: Campaign) -> list[D.Dispersion]:
     return disps
 
 
-def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
+def iter_plan(c: Campaign, disps: list[D.Dispersion], indices=None):
+    """The RunSpec of each run of indices (default: all), one at a time (a campaign of a million runs
+    submits a few at once: execute.run)."""
     doc = document(c)
     base = scenario_opts.parse_sets(c.sets)
-    out = []
     for i in (range(c.runs) if indices is None else indices):
         ov, inputs = D.sample(disps, doc, c.seed, i)
-        out.append(RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs))
-    return out
+        yield RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs)
+
+
+def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
+    return list(iter_plan(c, disps, indices))
 
 
 def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
