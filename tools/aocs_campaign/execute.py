@@ -104,8 +104,12 @@ def resumable(out: Path, indices, retry_errors: bool = False) -> set[int]:
 
 def _write_atomic(path: Path, text: str) -> None:
     tmp = path.with_suffix(".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    except OSError as exc:      # a full disk fails in write(), whose error names no file: name it
+        tmp.unlink(missing_ok=True)
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
 
 
 def prepare_dir(c: P.Campaign, out: Path) -> None:
@@ -138,7 +142,10 @@ def _cluster(workers: int | None, scheduler: str | None):
         from .scheduler_probe import HANDSHAKE_TIMEOUT_S, probe  # deferred: only with --scheduler
 
         probe(scheduler)          # one line within HANDSHAKE_TIMEOUT_S when the peer is not a Dask scheduler
-        client = Client(scheduler, timeout=f"{HANDSHAKE_TIMEOUT_S:g}s")
+        try:
+            client = Client(scheduler, timeout=f"{HANDSHAKE_TIMEOUT_S:g}s")
+        except OSError as exc:   # not an I/O failure of ours (cmd_campaign): the scheduler's
+            raise P.CampaignError(f"--scheduler {scheduler}: {str(exc).splitlines()[0]}") from None
         return client, None
     n = workers or os.cpu_count() or 1
     # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a

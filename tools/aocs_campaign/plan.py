@@ -133,10 +133,14 @@ def check(c: Campaign) -> list[D.Dispersion]:
     # every dispersed key goes through the loader once (a key the loader does not know is named by it)
     ov, _ = D.sample(disps, doc, c.seed, 0)
     try:
-        scmod.load(c.scenario, {**base, **ov})
+        sc = scmod.load(c.scenario, {**base, **ov})
     except scmod.ScenarioError as exc:
         names = ", ".join(d.text for d in disps) or "(none)"
         raise D.DispersionError(f"--disperse {names}: the scenario refuses run 0's values: {exc}") from None
+    try:
+        scenario_opts.resolve_law(sc, c.law)      # a law the scenario cannot fly: refused before any cluster
+    except ValueError as exc:
+        raise CampaignError(str(exc)) from None
     return disps
 
 

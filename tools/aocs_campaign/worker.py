@@ -160,6 +160,8 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
                 if wd.fired:
                     raise RunFailed(f"timed out after {timeout_s:g} s (killed); {exc}") from None
                 raise
+            if wd.fired:   # fired before the run had a process to kill (a tiny --timeout): still over time
+                raise RunFailed(f"timed out after {timeout_s:g} s (the run took {time.monotonic() - t0:.3g} s)")
         m = res.metrics
         row["metrics"] = m
         row["series"] = _decimate(res.series)
