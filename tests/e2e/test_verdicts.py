@@ -134,13 +134,17 @@ def test_nan_wheel_torques_fail_the_run(tmp_path):
     assert "wheel torque commands" in _failed_line(res.stderr) and "not finite" in _failed_line(res.stderr)
 
 
-@pytest.fixture(scope="module")
-def recorded_run(tmp_path_factory):
+def _record(tmp_path_factory, duration_s: str):
     out = tmp_path_factory.mktemp("rec") / "run"
-    res = subprocess.run(CLI + ["run", "irassi_small", "--duration", "20", "-q", "--no-plots", "--out", str(out)],
+    res = subprocess.run(CLI + ["run", "irassi_small", "--duration", duration_s, "-q", "--no-plots", "--out", str(out)],
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
     return out
+
+
+@pytest.fixture(scope="module")
+def recorded_run(tmp_path_factory):
+    return _record(tmp_path_factory, "20")
 
 
 def _event_bounds(data: bytes) -> list[int]:
@@ -235,11 +239,7 @@ def test_play_refuses_bad_speed_and_damaged_logs(recorded_run, tmp_path, private
 
 @pytest.fixture(scope="module")
 def short_recorded_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("rec2") / "run"
-    res = subprocess.run(CLI + ["run", "irassi_small", "--duration", "2", "-q", "--no-plots", "--out", str(out)],
-                         capture_output=True, text=True, timeout=60)
-    assert res.returncode == 0, res.stderr
-    return out
+    return _record(tmp_path_factory, "2")
 
 
 #: bit-flipped copies of a log given to `aocs replay` (issue 25, item 9: one of four gave a traceback)
