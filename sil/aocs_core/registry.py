@@ -17,6 +17,7 @@ paths.SetupError saying how to build it.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -99,13 +100,26 @@ class ConfigField:
     per_wheel: bool
     kind: str             # reals, inertia, u32, u64, ns, budget, law, enum, table
     count: int            # values on the wire
-    rule: str             # any, pos, nonneg
+    rule: str             # any, pos, nonneg, or a physical range (config_fields.def AOCS_CONFIG_RULE_ROWS)
     names: tuple[str, ...]  # enum: its value names in order
     law: str | None       # a law field: the law
     status: str | None    # the aocs_exec_init status that names it
     help: str             # unit and meaning
     default: object = None  # aocs_exec_config_default's value: a list of reals, an integer (enum, law: its
     #                         index; ns), None for a table
+    rule_lo: float = -math.inf     # the rule's range: [rule_lo, rule_hi] ((lo, hi] when rule_lo_open), or 0
+    rule_lo_open: bool = False     # when rule_zero_ok
+    rule_hi: float = math.inf
+    rule_zero_ok: bool = False
+    rule_text: str = "finite"      # the range as the flight software's messages say it
+
+    def holds(self, x: float) -> bool:
+        """The rule on one value, as the flight software's aocs_config_rule_holds applies it."""
+        if not math.isfinite(x):
+            return False
+        if self.rule_zero_ok and x == 0.0:
+            return True
+        return (x > self.rule_lo if self.rule_lo_open else x >= self.rule_lo) and x <= self.rule_hi
 
 
 @dataclass(frozen=True)
@@ -164,7 +178,8 @@ class Registry:
         self.config_fields: tuple[ConfigField, ...] = tuple(
             ConfigField(x["key"], x["pil_name"], x["pil_id"], x["per_wheel"], x["kind"], x["count"], x["rule"],
                         tuple((x["names"] or "").split(",")) if x["names"] else (), x["law"], x["status"], x["help"],
-                        x["default"])
+                        x["default"], x["rule_lo"], x["rule_lo_open"], x["rule_hi"], x["rule_zero_ok"],
+                        x["rule_text"])
             for x in data["config_fields"])
         #: the fixed PIL payloads by name, and the counters of a STEP_REPLY (their rows, in wire order)
         self.pil_payloads: dict[str, Payload] = {

@@ -645,6 +645,10 @@ def _read_guidance(root: _Section, kind: str, target) -> GuidanceConfig:
         sec.fail(sec.key("jerk_time_s"), "profile jerk_limited needs a ramp time > 0 s")
     if profile == "bang_coast_bang" and jerk > 0.0:
         sec.fail(sec.key("jerk_time_s"), "must be 0 with profile bang_coast_bang (or set profile = \"jerk_limited\")")
+    for name, v in (("margin", margin), ("rate_limit_radps", rate), ("jerk_time_s", jerk)):
+        if not fields[name].holds(v):     # the registry's range, as fsw_node applies it (config_fields.def)
+            sec.fail(sec.key(name), f"{v!r} must be {fields[name].rule_text} (the flight software's range, "
+                                    f"configuration registry row {fields[name].key})")
     sec.done()
     if mode == "slew" and target is not None and any(x != 0.0 for x in target.wd):
         root.fail("guidance.mode", "a slew needs a fixed target: [target] wd must be 0")

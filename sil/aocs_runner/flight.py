@@ -9,6 +9,7 @@ explains with the log's last ticks (run.py).
 """
 from __future__ import annotations
 
+import json
 import sys
 import time
 from dataclasses import dataclass
@@ -64,6 +65,7 @@ class Failure:
     name: str
     rc: int | None
     proc: object
+    why: str | None = None     # how it failed, when not its exit code (e.g. a plant that froze)
 
 
 @dataclass
@@ -146,11 +148,33 @@ def _watch(plant: orchestrate.Proc, fc: orchestrate.Proc, f: Flight) -> Failure 
             return None   # the last tick is flown; the plant records on until the end marker
         if rc_f is not None:
             plant.stop()
+            if rc_f == 0 and f.mode == "lockstep" and _fc_end_reason(f) == "idle":
+                # the flight computer ended because no sensor frame came for its idle timeout: the plant,
+                # alive but not sending (frozen, stopped, starved), is what failed
+                return Failure("plant_node", None, plant, why="stopped sending sensor frames (alive, but the "
+                               "flight computer received none for its idle timeout and ended: frozen or starved)")
             return Failure(f.fc_name, rc_f, fc)
         if hard_end is not None and time.monotonic() > hard_end:
             plant.stop()
             return Failure("plant_node", None, plant)
         time.sleep(0.005)
+
+
+def _fc_end_reason(f: Flight) -> str | None:
+    """The reason the flight computer gave for its end (the "reason" of its last JSON line), or None."""
+    try:
+        lines = (f.out / "fsw_node.stdout").read_text(errors="replace").splitlines()
+    except OSError:
+        return None
+    for line in reversed(lines):
+        try:
+            doc = json.loads(line)
+        except ValueError:
+            continue
+        node = next(iter(doc.values()), None) if isinstance(doc, dict) and len(doc) == 1 else doc
+        if isinstance(node, dict) and isinstance(node.get("reason"), str):
+            return node["reason"]
+    return None
 
 
 def _end_recording(rec: _Recording, plant: orchestrate.Proc, f: Flight) -> int | None:

@@ -186,15 +186,7 @@ def prepare(opts: RunOptions):
         if base.metrics.window_s > opts.duration:
             ov["metrics.window_s"] = float(opts.duration)
     sc = load(opts.scenario, ov)
-    if not sc.control.enabled:
-        if opts.law not in (None, "none"):
-            raise ValueError(f"--law {opts.law}: control is disabled (control.enabled = false)")
-        law = "none"
-    else:
-        law = opts.law or sc.control.law
-        if law not in sc.control.laws:
-            raise ValueError(f"--law {law}: scenario {sc.id} has no gains for it "
-                             f"(applicable: {', '.join(sc.control.laws)})")
+    law = scenario_opts.resolve_law(sc, opts.law)
     if sc.n_steps < 1:
         raise ValueError(f"scenario {sc.id}: a run of {sc.duration_s:g} s is shorter than one control "
                          f"period ({sc.dt:g} s)")
@@ -324,7 +316,8 @@ def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
 def failure_message(failure: Failure, plan: RunPlan) -> str:
     """Which process failed and how, the log's last ticks, and what it said last."""
     last = _last_ticks(plan.log_path)
-    why = orchestrate.describe_exit(failure.rc) if failure.rc is not None else "did not finish in time"
+    why = failure.why or (orchestrate.describe_exit(failure.rc) if failure.rc is not None
+                          else "did not finish in time")
     if failure.name == "plant_node" and failure.rc in PLANT_EXITS:
         why += f" ({PLANT_EXITS[failure.rc]})"
     tail = failure.proc.stderr_tail()

@@ -68,3 +68,17 @@ def toml_value(v: Any) -> str:
     if isinstance(v, dict):
         return "{" + ", ".join(f"{k} = {toml_value(x)}" for k, x in v.items()) + "}"
     raise TypeError(f"cannot write {v!r} as TOML")
+
+
+def resolve_law(sc, law: str | None) -> str:
+    """The law a run of scenario sc flies with --law law (None: the scenario's; "none" with control disabled);
+    ValueError naming --law when the scenario cannot fly it (aocs run and aocs campaign alike)."""
+    if not sc.control.enabled:
+        if law not in (None, "none"):
+            raise ValueError(f"--law {law}: control is disabled (control.enabled = false)")
+        return "none"
+    law = law or sc.control.law
+    if law not in sc.control.laws:
+        raise ValueError(f"--law {law}: scenario {sc.id} has no gains for it "
+                         f"(applicable: {', '.join(sc.control.laws)})")
+    return law

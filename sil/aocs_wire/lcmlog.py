@@ -324,6 +324,22 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
                markers, counts, raw)
 
 
+def _events(log, path: Path):
+    """The events of lcm.EventLog log; LogIntegrityError for one the reader cannot decode (a damaged channel
+    name that is not UTF-8 text: lcm raises UnicodeDecodeError)."""
+    n = 0
+    while True:
+        try:
+            ev = next(log)
+        except StopIteration:
+            return
+        except UnicodeDecodeError:
+            raise LogIntegrityError(f"{path}: log corrupt after event {n} (a channel name that is not text)") \
+                from None
+        n += 1
+        yield ev
+
+
 def _read_eventlog(path: Path, keep_raw: bool = False) -> Log:
     """The reference reader: lcm.EventLog and one Codec.unpack per event (lcm's resynchronisation over
     damage included). read() uses it for any file that is not a clean sequence of events."""
@@ -335,7 +351,7 @@ def _read_eventlog(path: Path, keep_raw: bool = False) -> Log:
     raw = [] if keep_raw else None
     log = lcm.EventLog(str(path), "r")
     try:
-        for ev in log:
+        for ev in _events(log, path):
             ch, data = ev.channel, ev.data
             counts[ch] = counts.get(ch, 0) + 1
             if raw is not None:

@@ -144,9 +144,9 @@ static int read_numbers(const char *key, const char *help, const char *value, un
         return fail(err, err_size, "key '%s': %d value(s) given, %u expected (%s)", key, n, want, help);
     }
     for (i = 0u; i < want; ++i) {
-        if ((rule != AOCS_CONFIG_RULE_ANY) && !((rule == AOCS_CONFIG_RULE_POS) ? (vals[i] > 0.0) : (vals[i] >= 0.0))) {
-            return fail(err, err_size, "key '%s': value %g %s (%s)", key, vals[i],
-                        (rule == AOCS_CONFIG_RULE_POS) ? "must be > 0" : "must be >= 0", help);
+        if (aocs_config_rule_holds(rule, vals[i]) == 0) { /* the registry's rule: sign or physical range */
+            return fail(err, err_size, "key '%s': value %g must be %s (%s)", key, vals[i],
+                        aocs_config_rule_info(rule)->text, help);
         }
     }
     return 0;

@@ -178,6 +178,9 @@ def test_a_run_that_times_out_is_recorded_and_the_campaign_goes_on(dask_cluster,
     (["--runs", "0", "--seed", "1"], "--runs 0"),
     (["--seed", "1"], "--runs: missing"),
     (["--runs", "3", "--seed", "1", "--disperse", "plant.inertia[2][2]=normal:1e5:1"], "no physical inertia"),
+    (["--runs", "3", "--seed", "1", "--law", "nonexistent"], "--law nonexistent: scenario irassi_large has no gains"),
+    (["--runs", "3", "--seed", "1", "--disperse", "plant.w0=uniform:-1e308:1e308"], "hi - lo is not finite"),
+    (["--runs", "3", "--seed", "1", "--scheduler", "tcp://127.0.0.1:x"], "--scheduler 'tcp://127.0.0.1:x'"),
 ])
 def test_bad_campaign_input_is_one_line_and_exit_2(argv, message):
     p = aocs("campaign", "irassi_large", *argv, "--out", os.devnull + "-never")
@@ -273,3 +276,91 @@ def test_two_runs_at_once_in_one_worker_a_timeout_kills_only_its_own(private_net
         if W.PLANT_SERVER._proc is not None:
             W.PLANT_SERVER._proc.kill()
             W.PLANT_SERVER._proc.wait(10)
+
+
+def _scheduler_tasks(client) -> int:
+    return client.run_on_scheduler(lambda dask_scheduler: sum(str(k).startswith("aocs-run-")
+                                                              for k in dask_scheduler.tasks))
+
+
+def _finished_before(client, prefix: str, t_wall: float) -> set:
+    """Keys of the runs of one campaign (key prefix) the scheduler saw finish (to memory) before t_wall."""
+    def f(dask_scheduler, prefix, t_wall):
+        return sorted({str(tr.key) for tr in dask_scheduler.transition_log
+                       if str(tr.key).startswith(prefix) and tr.finish == "memory" and tr.timestamp < t_wall})
+    return set(client.run_on_scheduler(f, prefix=prefix, t_wall=t_wall))
+
+
+def test_a_million_runs_are_submitted_a_few_at_a_time_and_ctrl_c_keeps_every_finished_run(dask_cluster, tmp_path):
+    """Bounded submission (issue 25, item 8): `--runs 1000000` on the two-worker cluster keeps at most
+    in_flight_bound = 2 x 2 threads runs on the scheduler, writes rows as runs complete, and a Ctrl-C keeps
+    every run the scheduler had finished before it; the folder resumes with those rows."""
+    import signal
+
+    from dask.distributed import Client
+
+    from aocs_campaign import execute as E
+
+    out = tmp_path / "mc"
+    cmd = [sys.executable, "-m", "aocs.cli", "campaign", "irassi_large", "--law", "quat_pd", "--runs", "1000000",
+           "--seed", "3", "--set", "duration_s=1.0", "--set", "metrics.window_s=0.5",
+           "--disperse", "plant.w0=normal:0:1e-5", "--scheduler", dask_cluster, "--out", str(out), "-q", "--no-plots"]
+    bound = E.IN_FLIGHT_PER_THREAD * 2
+    with Client(dask_cluster, timeout="30s") as watch:
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        most = 0
+        t_first = None
+        t0 = time.monotonic()
+        try:
+            while True:
+                most = max(most, _scheduler_tasks(watch))
+                rows = len(list((out / "runs").glob("*.json"))) if (out / "runs").is_dir() else 0
+                if rows and t_first is None:
+                    t_first = time.monotonic() - t0
+                if rows >= 4:
+                    break
+                assert proc.poll() is None, proc.communicate()[1]
+                assert time.monotonic() - t0 < 180, f"{rows} rows after 180 s; {most} tasks on the scheduler"
+                time.sleep(0.1)
+            t_int = time.time()
+            proc.send_signal(signal.SIGINT)
+            _, err = proc.communicate(timeout=180)          # bounded: it stops by itself (a loaded machine)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+        print(f"first row after {t_first:.1f} s of a 1,000,000-run campaign; at most {most} runs on the scheduler")
+        assert proc.returncode == 130, err
+        assert f"at most {bound} in flight" in err, err
+        assert 1 <= most <= bound, most            # the old client submitted all 1,000,000 at once
+        c = P.Campaign("irassi_large", "quat_pd", 1000000, 3, ["duration_s=1.0", "metrics.window_s=0.5"],
+                       ["plant.w0=normal:0:1e-5"])
+        done = _finished_before(watch, f"aocs-run-{c.fingerprint()}-", t_int)   # this campaign's runs only
+    rows = {int(f.stem) for f in (out / "runs").glob("*.json")}
+    indices = {int(k.rsplit("-", 1)[1]) for k in done}
+    assert len(indices) >= 4, done          # the 4 rows seen before the Ctrl-C at least
+    assert indices <= rows, sorted(indices - rows)  # no run finished before the Ctrl-C is lost
+    kept = int(err.split("interrupted; ")[1].split()[0])
+    assert kept == len(rows) and "Traceback" not in err
+    assert all(E.load_row(out, i) is not None for i in rows)
+
+
+def test_a_timeout_that_fires_before_the_run_has_processes_never_passes(private_netns, fsw_node_bin, tmp_path,
+                                                                         monkeypatch):
+    """--timeout 1e-9 (issue 25, item 9): the watchdog fires before the run has started a process, so it
+    kills nothing; the run that then flies to its end is still one that exceeded its time: an error."""
+    import threading
+
+    from aocs_campaign import worker as W
+    from aocs_wire import netns
+
+    monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 1.0, "metrics.window_s": 0.5}}
+    rows = []
+    t = threading.Thread(target=lambda: rows.append(W.run_task(spec, str(tmp_path / "r"), timeout_s=1e-9,
+                                                               fork=False)))
+    t.start()
+    t.join(120)
+    assert rows and rows[0]["status"] == W.STATUS_ERROR, rows
+    assert "timed out after 1e-09 s" in rows[0]["error"], rows[0]["error"]

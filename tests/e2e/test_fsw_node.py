@@ -476,8 +476,14 @@ def test_realtime_rate_and_safe_mode_when_plant_stops(fsw_node, lcm_link):
         # the per-wheel keys wheel<i>.<field>: wheels 0 to 5, the fields of WHEEL_KEYS, their own sign rules
         ({"wheel6.js_kgm2": "0.08"}, "unknown key 'wheel6.js_kgm2'"),
         ({"wheel0.spin": "1"}, "unknown key 'wheel0.spin'"),
-        ({"wheel2.coulomb_nm": "-1e-3"}, ("'wheel2.coulomb_nm'", ">= 0")),
-        ({"wheel5.coulomb_width_radps": "0"}, ("'wheel5.coulomb_width_radps'", "> 0")),
+        ({"wheel2.coulomb_nm": "-1e-3"}, ("'wheel2.coulomb_nm'", "must be in [0, 10] N m")),
+        ({"wheel5.coulomb_width_radps": "0"}, ("'wheel5.coulomb_width_radps'", "must be in [1e-6, 1e4] rad/s")),
+        # the physical ranges of the registry (issue 25, item 7: these were accepted)
+        ({"wheel0.js_kgm2": "1e300"}, ("'wheel0.js_kgm2'", "must be in [1e-7, 10] kg m^2")),
+        ({"wheel3.u_max_nm": "1e300"}, ("'wheel3.u_max_nm'", "must be in [1e-6, 10] N m")),
+        ({"wheel1.u_max_nm": "1e-300"}, ("'wheel1.u_max_nm'", "must be in [1e-6, 10] N m")),
+        ({"guidance.margin": "1e-300"}, ("'guidance.margin'", "must be in [0.01, 1]")),
+        ({"guidance.jerk_time_s": "1e-300"}, ("'guidance.jerk_time_s'", "must be 0 (none) or in [1e-3, 1000] s")),
         ({"wheel1.axis_B": "1 0"}, "'wheel1.axis_B'"),
         ({"wheels.null_gain": "-0.1"}, "'wheels.null_gain'"),
         ({"target_rotation_rate": "0 -7.292115e-5 0", "target_w": "0 0 1e-3"},

@@ -319,6 +319,8 @@ def _find_child(pid, needle):
     (b"fsw_node", signal.SIGKILL, "fsw_node killed by SIGKILL"),
     (b"plant_node", signal.SIGKILL, "plant_node killed by SIGKILL"),
     (b"fsw_node", signal.SIGSTOP, "plant_node exit code 4 (the flight computer stopped answering)"),
+    # a frozen plant is the plant's failure, not the flight computer's (issue 25, item 9)
+    (b"plant_node", signal.SIGSTOP, "plant_node stopped sending sensor frames"),
 ])
 def test_a_dead_or_silent_process_ends_the_run_with_a_clear_message(tmp_path, fsw_node_bin, victim, action, expect):
     env = dict(os.environ)
@@ -345,8 +347,10 @@ def test_a_dead_or_silent_process_ends_the_run_with_a_clear_message(tmp_path, fs
     assert expect in err, err
     last = int(err.split("last tick answered ")[1].split()[0])
     assert 5999 <= last < 30000                              # at or after the 20 % line
-    if action == signal.SIGSTOP:
+    if action == signal.SIGSTOP and victim == b"fsw_node":
         assert "stopped answering" in err
+    if victim == b"plant_node":
+        assert "FAILED: fsw_node" not in err
     assert not os.path.exists(f"/proc/{victim_pid}")         # reaped: nothing left behind
 
 

@@ -82,8 +82,12 @@ static void test_every_row_round_trips_and_touches_only_its_member(void **state)
             aocs_exec_config_default(&before);
             after = before;
             if ((f->kind == AOCS_CONFIG_KIND_REALS) || (f->kind == AOCS_CONFIG_KIND_INERTIA)) {
+                const aocs_config_rule_info_t *r = aocs_config_rule_info(f->rule);
                 for (uint32_t k = 0u; k < f->count; ++k) {
                     v[k] = 0.5 + (double)k + (double)i;
+                    if (v[k] > r->hi) { /* a bounded row: a value inside its range */
+                        v[k] = r->lo + ((r->hi - r->lo) * (double)(k + 1u) / (double)(f->count + 2u));
+                    }
                 }
                 assert_int_equal(aocs_config_set_reals(&after, ref, v, f->count), AOCS_OK);
                 assert_int_equal(aocs_config_get_reals(&after, ref, back, AOCS_CONFIG_VALUES_MAX), f->count);
@@ -148,6 +152,66 @@ static void test_every_reader_gets_the_rows_rules(void **state)
     /* nothing of it reached the config but the one accepted zero */
     kept.u_max_norm = AOCS_R(0.0);
     assert_memory_equal(&cfg, &kept, sizeof(cfg));
+}
+
+/* issue 25, item 7: the physical ranges of the RULE column, applied by the setter every reader calls */
+static void expect_rule(const char *key, double x, aocs_status_t want)
+{
+    aocs_exec_config_t cfg;
+    aocs_exec_config_t kept;
+    aocs_exec_config_default(&cfg);
+    kept = cfg;
+    if (aocs_config_set_reals(&cfg, ref_of(key), &x, 1u) != want) {
+        fail_msg("%s = %g: status %d, expected %d", key, x, (int)aocs_config_set_reals(&cfg, ref_of(key), &x, 1u),
+                 (int)want);
+    }
+    if (want != AOCS_OK) {
+        assert_memory_equal(&cfg, &kept, sizeof(cfg));
+    }
+}
+
+static void test_physical_ranges_of_wheel_and_guidance_values(void **state)
+{
+    (void)state;
+    static const char *const absurd[] = {"wheel0.js_kgm2", "wheel3.js_kgm2", "wheel0.u_max_nm", "wheel5.u_max_nm",
+                                         "wheel0.omega_max_radps", "wheel0.coulomb_width_radps",
+                                         "wheel0.viscous_nms", "wheel0.coulomb_nm", "wheel0.null_speed_radps",
+                                         "guidance.margin", "guidance.jerk_time_s", "guidance.rate_limit_radps",
+                                         "wheels.null_gain"};
+    for (size_t i = 0u; i < (sizeof(absurd) / sizeof(absurd[0])); ++i) {
+        expect_rule(absurd[i], 1e300, AOCS_ERR_CONFIG_RULE);
+    }
+    /* a tiny positive value of a quantity that is > 0 or off (0) */
+    static const char *const tiny[] = {"wheel0.js_kgm2", "wheel0.u_max_nm", "wheel0.omega_max_radps",
+                                       "wheel0.coulomb_width_radps", "guidance.margin", "guidance.jerk_time_s",
+                                       "guidance.rate_limit_radps", "wheels.null_gain"};
+    for (size_t i = 0u; i < (sizeof(tiny) / sizeof(tiny[0])); ++i) {
+        expect_rule(tiny[i], 1e-300, AOCS_ERR_CONFIG_RULE);
+    }
+    /* the reference values (SPEC 5.3's wheel, the slew defaults) and the "0 = off" values pass */
+    expect_rule("wheel0.js_kgm2", 0.08, AOCS_OK);
+    expect_rule("wheel0.u_max_nm", 0.25, AOCS_OK);
+    expect_rule("wheel0.omega_max_radps", 600.0, AOCS_OK);
+    expect_rule("wheel0.null_speed_radps", -300.0, AOCS_OK);
+    expect_rule("guidance.margin", 0.8, AOCS_OK);
+    expect_rule("guidance.margin", 1.0, AOCS_OK);
+    expect_rule("guidance.jerk_time_s", 0.0, AOCS_OK);
+    expect_rule("guidance.jerk_time_s", 5.0, AOCS_OK);
+    expect_rule("guidance.rate_limit_radps", 0.0, AOCS_OK);
+    expect_rule("wheels.null_gain", 0.0, AOCS_OK);
+    expect_rule("wheel0.viscous_nms", 0.0, AOCS_OK);
+    expect_rule("guidance.margin", 0.0, AOCS_ERR_CONFIG_RULE);   /* no "off" for a margin */
+    expect_rule("guidance.margin", 1.0000001, AOCS_ERR_CONFIG_RULE);
+    /* each rule's info: its text, and the edges inside */
+    for (int r = 0; r < (int)AOCS_CONFIG_RULE_COUNT; ++r) {
+        const aocs_config_rule_info_t *info = aocs_config_rule_info((aocs_config_rule_t)r);
+        assert_non_null(info->name);
+        assert_non_null(info->text);
+        assert_true(info->lo <= info->hi);
+        assert_int_equal(aocs_config_rule_holds((aocs_config_rule_t)r, info->hi), 1);
+        assert_int_equal(aocs_config_rule_holds((aocs_config_rule_t)r, info->lo), (info->lo_open != 0) ? 0 : 1);
+        assert_int_equal(aocs_config_rule_holds((aocs_config_rule_t)r, (double)NAN), 0);
+    }
 }
 
 static void test_keys_and_pil_ids_name_the_same_rows(void **state)
@@ -292,6 +356,7 @@ int main(void)
         cmocka_unit_test(test_a_value_lands_in_the_member_its_row_names),
         cmocka_unit_test(test_every_row_round_trips_and_touches_only_its_member),
         cmocka_unit_test(test_every_reader_gets_the_rows_rules),
+        cmocka_unit_test(test_physical_ranges_of_wheel_and_guidance_values),
         cmocka_unit_test(test_keys_and_pil_ids_name_the_same_rows),
         cmocka_unit_test(test_enum_names_are_the_enums_values),
         cmocka_unit_test(test_estimator_names_are_the_determination_rows),

@@ -505,6 +505,9 @@ static void test_config_wheel_fields_apply(void **state)
             if (f == 4u || f == 5u) {
                 v = (real_t)(1e-5 * (double)v); /* viscous, Coulomb: small against the motor limit */
             }
+            if (f == 1u) {
+                v = (real_t)(1e-2 * (double)v); /* spin inertia: inside its range [1e-7, 10] kg m^2 */
+            }
             if (f == 2u) {
                 v = AOCS_R(0.25);
             }
@@ -523,7 +526,7 @@ static void test_config_wheel_fields_apply(void **state)
     assert_same_real(cfg.wheels.null_gain_per_s, gain);
     for (uint32_t i = 0u; i < 4u; ++i) {
         assert_same_real(cfg.wheels.axis_B[i].v[0], (real_t)cos(beta));
-        assert_same_real(cfg.wheels.js_kgm2[i], (real_t)(2.0 + 10.0 * (double)i));
+        assert_same_real(cfg.wheels.js_kgm2[i], (real_t)(1e-2 * (double)(real_t)(2.0 + 10.0 * (double)i)));
         assert_same_real(cfg.wheels.u_max_nm[i], AOCS_R(0.25));
         assert_same_real(cfg.wheels.omega_max_radps[i], AOCS_R(600.0));
         assert_same_real(cfg.wheels.viscous_nms[i], (real_t)(1e-5 * (5.0 + 10.0 * (double)i)));

@@ -7,8 +7,9 @@ SCENARIO is a scenario id or file, or a campaign file whose [campaign] table
 gives the same options (docs/campaigns.md). The campaign is aocs_campaign
 (dispersions, plan, execute on Dask, report); this module is its command line.
 Exit: 0 every run completed and passed its verdict, 1 some run did not
-(each recorded with its error), 2 bad input, 130 interrupted (what finished
-is kept; the same command resumes).
+(each recorded with its error), 2 bad input, 3 an I/O failure (a full disk:
+io_failure.py), 130 interrupted (what finished is kept; the same command
+resumes).
 """
 from __future__ import annotations
 
@@ -23,6 +24,8 @@ from aocs_campaign import dispersions as D
 from aocs_campaign import plan as P
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
+
+from . import io_failure
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 #: set in the environment of a campaign re-executed in a user namespace of its own (non-root)
@@ -109,6 +112,10 @@ def run(args) -> int:
         disps = P.check(c)
         if args.workers is not None and not 1 <= args.workers <= 256:
             raise P.CampaignError(f"--workers {args.workers}: must be in [1, 256]")
+        if args.scheduler is not None:
+            from aocs_campaign import scheduler_probe  # deferred: see above
+
+            scheduler_probe.parse_address(args.scheduler)
         if args.workers is not None and args.scheduler:
             raise P.CampaignError("--workers: not with --scheduler (the cluster has its own workers)")
         if args.timeout is not None and not (args.timeout > 0 and args.timeout < 1e6):
@@ -123,7 +130,7 @@ def run(args) -> int:
         print(f"aocs campaign: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     why = _userns_reexec(args)
-    if why is None and not args.scheduler:
+    if why is None and args.scheduler is None:
         why = W.netns_check()
     if why is not None:
         print(f"aocs campaign: error: cannot give each run a private network namespace: {why}", file=sys.stderr)
@@ -134,13 +141,18 @@ def run(args) -> int:
         outcome = execute.run(c, disps, out, workers=args.workers, scheduler=args.scheduler,
                               keep_logs=args.keep_logs, timeout_s=args.timeout, progress=not args.quiet,
                               retry_errors=args.retry_errors)
-    except (P.CampaignError, OSError) as exc:
+        rows = execute.read_rows(out, c.runs)
+        doc = report.build(out, c, rows, outcome=outcome, command=command, commit=_commit(),
+                           plots=not args.no_plots)
+        if args.json:
+            Path(args.json).write_text((out / "campaign.json").read_text())
+    except P.CampaignError as exc:
         print(f"aocs campaign: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    rows = execute.read_rows(out, c.runs)
-    doc = report.build(out, c, rows, outcome=outcome, command=command, commit=_commit(), plots=not args.no_plots)
-    if args.json:
-        Path(args.json).write_text((out / "campaign.json").read_text())
+    except OSError as exc:   # a full disk, a vanished folder: the machine's failure, not bad input
+        print(f"aocs campaign: error: {io_failure.message(exc, out)}; what finished is kept in {out}/runs/",
+              file=sys.stderr)
+        return io_failure.EXIT_IO
     _print_summary(doc, out)
     if outcome.interrupted or not doc["complete"]:
         print(f"aocs campaign: INCOMPLETE: {doc['rows']} of {c.runs} runs recorded; the same command resumes",

@@ -107,9 +107,9 @@ def replay(log_path: Path, target: str = "host", config: str | None = None, repl
     # a damaged or partial log is refused, never compared as far as it goes
     try:
         lcmlog.scan(log_path)
+        log = lcmlog.read(log_path, keep_raw=True)
     except lcmlog.LogIntegrityError as exc:
         raise ReplayError(str(exc)) from None
-    log = lcmlog.read(log_path, keep_raw=True)
     dropped = (evmod.dropped_ticks(meta.get("events"), meta["dt"], meta["n_steps"])
                if "dt" in meta and "n_steps" in meta else ())
     problems = lcmlog.completeness_problems(log, meta.get("n_steps"), dropped_ticks=dropped)

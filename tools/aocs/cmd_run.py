@@ -19,7 +19,9 @@ from aocs_runner import orchestrate
 from aocs_runner.run import RECORDERS, TARGETS, RunFailed, RunOptions, execute
 from aocs_wire import netns
 
-EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+from . import io_failure
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2   # and io_failure.EXIT_IO = 3
 
 
 def add_arguments(p) -> None:
@@ -80,6 +82,9 @@ def run(args) -> int:
     except (RunFailed, orchestrate.RunAborted) as exc:
         print(f"aocs run: FAILED: {exc}", file=sys.stderr)
         return EXIT_FAILED
+    except OSError as exc:      # after the ValueErrors: a full disk, a vanished folder (not bad input)
+        print(f"aocs run: error: {io_failure.message(exc, opts.out or 'out/')}", file=sys.stderr)
+        return io_failure.EXIT_IO
     print(res.table)
     if res.plots:
         print(f"  plots, log, config and metrics.json in {res.out_dir}/")

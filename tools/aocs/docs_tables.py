@@ -37,7 +37,7 @@ def _num(x: float) -> str:
 
 def _values(f: registry.ConfigField) -> str:
     """What a key takes: the count and rule of its values, or its names."""
-    rule = {"pos": " > 0", "nonneg": " >= 0", "any": ""}[f.rule]
+    rule = {"pos": " > 0", "nonneg": " >= 0", "any": ""}.get(f.rule, f", {f.rule_text}")   # else a physical range
     if f.kind == "reals":
         return f"{f.count}{rule}" + (" each" if f.count > 1 and rule else "")
     if f.kind == "inertia":

@@ -118,6 +118,11 @@ def parse(spec: str) -> Dispersion:
         raise DispersionError(f"--disperse {spec}: sigma {params[1]!r} is negative")
     if kind == "uniform" and params[0] > params[1]:
         raise DispersionError(f"--disperse {spec}: lo {params[0]!r} is above hi {params[1]!r}")
+    if kind == "uniform" and not math.isfinite(params[1] - params[0]):
+        raise DispersionError(f"--disperse {spec}: hi - lo is not finite (the range overflows a double)")
+    if kind == "normal" and not (math.isfinite(params[0] + 10.0 * params[1])
+                                 and math.isfinite(params[0] - 10.0 * params[1])):
+        raise DispersionError(f"--disperse {spec}: draws beyond 10 sigma are not finite (they overflow a double)")
     if kind == "rotation":
         if params[0] < 0:
             raise DispersionError(f"--disperse {spec}: sigma_deg {params[0]!r} is negative")

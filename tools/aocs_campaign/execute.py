@@ -14,8 +14,13 @@
   error (worker.py); a worker process that dies is replaced by its nanny and
   Dask retries the run elsewhere, and a run that kills workers
   ALLOWED_FAILURES times is recorded with Dask's error;
-- Ctrl-C (SIGINT) or SIGTERM cancels what has not finished, closes the
-  cluster and returns with interrupted=True; what finished is kept.
+- bounded submission: at most in_flight_bound runs submitted and not yet
+  recorded (IN_FLIGHT_PER_THREAD per worker thread); the next is submitted as
+  a row is written, so a campaign of a million runs writes its first row as
+  soon as a run completes and the client's memory does not grow with --runs;
+- Ctrl-C (SIGINT) or SIGTERM records every run the scheduler holds as
+  finished, cancels the rest, closes the cluster and returns with
+  interrupted=True.
 """
 from __future__ import annotations
 
@@ -33,6 +38,9 @@ from . import worker as W
 
 #: how often Dask retries a run whose worker process died, before the run is recorded as failed
 ALLOWED_FAILURES = 2
+#: runs submitted and not yet recorded, per worker thread (in_flight_bound): 2 keeps every thread busy
+#: while the client records a row and submits the next, and bounds the client's and scheduler's memory
+IN_FLIGHT_PER_THREAD = 2
 
 
 @dataclass
@@ -53,38 +61,77 @@ def row_path(out: Path, index: int) -> Path:
     return runs_dir(out) / f"{index:06d}.json"
 
 
-def finished_indices(out: Path) -> set[int]:
+def load_row(out: Path, index: int) -> dict | None:
+    """Run index's row, or None when there is none that counts: a file that cannot be read, is not JSON,
+    is empty (`{}`), or is not a finished row of that run (its index, a known status); such a run is flown
+    again and its file replaced."""
+    try:
+        row = json.loads(row_path(out, index).read_bytes())
+    except (OSError, ValueError, RecursionError):
+        return None
+    if not isinstance(row, dict) or row.get("index") != index or row.get("status") not in W.STATUSES:
+        return None
+    return row
+
+
+def _row_files(out: Path) -> dict[int, Path]:
     d = runs_dir(out)
     if not d.is_dir():
-        return set()
-    got = set()
+        return {}
+    got = {}
     for p in d.glob("*.json"):
-        try:
-            got.add(int(p.stem))
-        except ValueError:
-            continue
+        if len(p.stem) == 6 and p.stem.isdigit():
+            got[int(p.stem)] = p
     return got
+
+
+def finished_indices(out: Path) -> set[int]:
+    """The runs of OUT with a row that counts (load_row)."""
+    return {i for i in _row_files(out) if load_row(out, i) is not None}
+
+
+def resumable(out: Path, indices, retry_errors: bool = False) -> set[int]:
+    """Those of indices whose run is done in OUT: a row that counts, and with retry_errors not an error."""
+    files = _row_files(out)
+    done = set()
+    for i in indices:
+        if i in files:
+            row = load_row(out, i)
+            if row is not None and not (retry_errors and row["status"] == W.STATUS_ERROR):
+                done.add(i)
+    return done
 
 
 def _write_atomic(path: Path, text: str) -> None:
     tmp = path.with_suffix(".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    except OSError as exc:      # a full disk fails in write(), whose error names no file: name it
+        tmp.unlink(missing_ok=True)
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
 
 
 def prepare_dir(c: P.Campaign, out: Path) -> None:
-    """Creates OUT or checks that it holds this campaign (same scenario, law, seed, --set, dispersions)."""
+    """Creates OUT or checks that it holds this campaign (P.Campaign.identity: scenario and its content,
+    law, seed, --set, dispersions); a folder with rows but no readable plan is refused (whose rows?)."""
     if out.exists() and not out.is_dir():
         raise P.CampaignError(f"--out {out}: exists and is not a folder")
-    fp = c.fingerprint()
-    old = P.load_campaign_dir_plan(out)
-    if old is not None and old.get("fingerprint") != fp:
+    ident = c.identity()
+    old, why = P.load_campaign_dir_plan(out)
+    if old is None and _row_files(out):
+        raise P.CampaignError(f"--out {out}: holds {len(_row_files(out))} run rows but its campaign-plan.json is "
+                              f"{why}: it cannot be told which campaign they belong to; choose another folder "
+                              "(or move runs/ away)")
+    if old is not None and old.get("fingerprint") != ident["fingerprint"]:
+        diff = [k for k in ("scenario", "scenario_sha256", "law", "seed", "sets", "disperse")
+                if old.get(k) != ident[k]] or ["fingerprint"]
         raise P.CampaignError(f"--out {out}: holds another campaign (scenario {old.get('scenario')}, law "
-                              f"{old.get('law')}, seed {old.get('seed')}, dispersions {old.get('disperse')}); "
-                              "choose another folder")
+                              f"{old.get('law')}, seed {old.get('seed')}, dispersions {old.get('disperse')}; "
+                              f"differs in {', '.join(diff)}); choose another folder")
     runs_dir(out).mkdir(parents=True, exist_ok=True)
-    meta = {"fingerprint": fp, "scenario": c.scenario, "law": c.law, "runs": max(c.runs, (old or {}).get("runs", 0)),
-            "seed": c.seed, "sets": list(c.sets), "disperse": list(c.disperse)}
+    old_runs = old.get("runs", 0) if old is not None else 0
+    meta = {**ident, "runs": max(c.runs, old_runs if isinstance(old_runs, int) else 0)}
     _write_atomic(out / "campaign-plan.json", json.dumps(meta, indent=1) + "\n")
 
 
@@ -92,7 +139,13 @@ def _cluster(workers: int | None, scheduler: str | None):
     from dask.distributed import Client, LocalCluster  # deferred: ~1 s, only a campaign needs Dask
 
     if scheduler:
-        client = Client(scheduler, timeout="10s")
+        from .scheduler_probe import HANDSHAKE_TIMEOUT_S, probe  # deferred: only with --scheduler
+
+        probe(scheduler)          # one line within HANDSHAKE_TIMEOUT_S when the peer is not a Dask scheduler
+        try:
+            client = Client(scheduler, timeout=f"{HANDSHAKE_TIMEOUT_S:g}s")
+        except OSError as exc:   # not an I/O failure of ours (cmd_campaign): the scheduler's
+            raise P.CampaignError(f"--scheduler {scheduler}: {str(exc).splitlines()[0]}") from None
         return client, None
     n = workers or os.cpu_count() or 1
     # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a
@@ -108,34 +161,89 @@ def check_workers(client) -> list[str]:
     return [f"worker {addr}: {why}" for addr, why in sorted(res.items()) if why]
 
 
+def in_flight_bound(client) -> int:
+    """Most runs submitted and not yet recorded: IN_FLIGHT_PER_THREAD per worker thread of the cluster."""
+    threads = sum(w.get("nthreads", 1) for w in client.scheduler_info(n_workers=-1)["workers"].values())
+    return max(2, IN_FLIGHT_PER_THREAD * threads)
+
+
+def _scheduler_finished(client, futures) -> set:
+    """Keys of futures the scheduler holds as finished (their result in a worker's memory), even when
+    this client has not yet heard of it (an interrupt keeps those runs too)."""
+    keys = [f.key for f in futures]
+
+    def finished(dask_scheduler, keys):
+        return [k for k in keys if (ts := dask_scheduler.tasks.get(k)) is not None and ts.state == "memory"]
+    try:
+        return set(client.run_on_scheduler(finished, keys=keys))
+    except Exception:  # noqa: BLE001 - a scheduler that forbids run_on_scheduler or is gone: what we know
+        return {f.key for f in futures if f.status == "finished"}
+
+
 def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, scheduler: str | None = None,
         keep_logs: bool = False, timeout_s: float | None = None, progress: bool = True, retry_errors: bool = False,
         say=lambda msg: print(msg, file=sys.stderr, flush=True)) -> Outcome:
+    """Flies the runs of c not yet in OUT. Bounded submission: at most in_flight_bound(client) runs are
+    submitted and not yet recorded; each row is written as its run completes and the next run is submitted
+    then, so the first row, the client's memory and an interrupt do not wait for the last submission. On
+    Ctrl-C or SIGTERM every run the scheduler holds as finished is recorded before the rest is cancelled."""
     from dask import config as dask_config  # deferred: see _cluster
     from dask.distributed import as_completed  # deferred: see _cluster
 
     prepare_dir(c, out)
-    done0 = finished_indices(out) & set(range(c.runs))
-    if retry_errors:   # runs that did not complete (crash, timeout, refused) are flown again
-        done0 = {i for i in done0 if json.loads(row_path(out, i).read_text()).get("status") != W.STATUS_ERROR}
+    # a row that does not count (corrupt, empty) is flown again; with retry_errors so is a run that did not
+    # complete (crash, timeout, refused)
+    done0 = resumable(out, range(c.runs), retry_errors)
     todo = [i for i in range(c.runs) if i not in done0]
     if not todo:
         say(f"aocs campaign: all {c.runs} runs already in {out}/ (nothing to run)")
         return Outcome(len(done0), len(done0), 0, False, 0.0, 0)
-    specs = P.plan(c, disps, todo)
+    specs = P.iter_plan(c, disps, todo)
+    fingerprint = c.fingerprint()
     dask_config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES})
-    interrupted = False
+    state = {"recording": False, "stop": False}
     old_handlers = {}
 
     def on_signal(signum, frame):  # noqa: ARG001
-        raise KeyboardInterrupt
+        state["stop"] = True
+        if not state["recording"]:     # a row being written is finished first (checked after it)
+            raise KeyboardInterrupt
 
     for sig in (signal.SIGINT, signal.SIGTERM):
         old_handlers[sig] = signal.signal(sig, on_signal)
     client = cluster = None
     finished = 0
     bar = None
+    inflight: dict = {}
     t0 = time.monotonic()
+
+    def submit_next(ac) -> bool:
+        s = next(specs, None)
+        if s is None:
+            return False
+        f = client.submit(W.run_task, s.to_dict(), str(runs_dir(out) / f"{s.index:06d}"), keep_logs,
+                          timeout_s, key=f"aocs-run-{fingerprint}-{s.index}", pure=False)
+        inflight[f] = s
+        ac.add(f)
+        return True
+
+    def take(fut) -> None:
+        nonlocal finished
+        s = inflight.pop(fut)
+        try:
+            row = fut.result(timeout=60)
+        except Exception as exc:  # noqa: BLE001 - a run that killed its workers (KilledWorker) or lost
+            row = {"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
+                   "error": f"crashed: the run ended its worker process {ALLOWED_FAILURES + 1} times "
+                            f"({type(exc).__name__}: {exc})", "wall_s": None, "worker_pid": None}
+        record(out, s, row)
+        finished += 1
+        if bar is not None:
+            bar.update(1)
+            if row["status"] != W.STATUS_PASSED:
+                bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
+                          file=sys.stderr)
+
     try:
         client, cluster = _cluster(workers, scheduler)
         problems = check_workers(client)
@@ -144,47 +252,51 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
                                   + " (start the workers as root or under `unshare --user --map-root-user`, "
                                   "docs/campaigns.md)")
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+        bound = in_flight_bound(client)
         say(f"aocs campaign: {len(todo)} runs of {c.runs} ({len(done0)} already done) on {n_workers} Dask "
-            f"workers ({scheduler or 'local cluster'}); results in {out}/")
-        futures = {}
-        t0 = time.monotonic()
-        for s in specs:
-            f = client.submit(W.run_task, s.to_dict(), str(runs_dir(out) / f"{s.index:06d}"), keep_logs,
-                              timeout_s, key=f"aocs-run-{c.fingerprint()}-{s.index}", pure=False)
-            futures[f] = s
+            f"workers ({scheduler or 'local cluster'}), at most {bound} in flight; results in {out}/")
         if progress:
             from tqdm import tqdm  # deferred: only with a progress bar
 
             bar = tqdm(total=c.runs, initial=len(done0), unit="run", desc="aocs campaign", file=sys.stderr,
                        dynamic_ncols=True, smoothing=0.1)
-        for fut in as_completed(list(futures)):
-            s = futures[fut]
-            try:
-                row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - a run that killed its workers (KilledWorker) or lost
-                row = {"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
-                       "error": f"crashed: the run ended its worker process {ALLOWED_FAILURES + 1} times "
-                                f"({type(exc).__name__}: {exc})", "wall_s": None, "worker_pid": None}
-            record(out, s, row)
-            finished += 1
-            if bar is not None:
-                bar.update(1)
-                if row["status"] != W.STATUS_PASSED:
-                    bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
-                              file=sys.stderr)
+        t0 = time.monotonic()
+        ac = as_completed()
+        while len(inflight) < bound and submit_next(ac):
+            pass
+        for fut in ac:
+            state["recording"] = True
+            take(fut)
+            state["recording"] = False
+            del fut           # released before the next is submitted: at most `bound` on the scheduler
+            if state["stop"]:
+                raise KeyboardInterrupt
+            submit_next(ac)
     except KeyboardInterrupt:
-        interrupted = True
+        state["recording"] = True     # a second Ctrl-C does not break the keeping of what finished
+        done_keys = _scheduler_finished(client, list(inflight)) if client is not None and inflight else set()
+        for fut in [f for f in inflight if f.key in done_keys]:
+            try:
+                take(fut)
+            except Exception:  # noqa: BLE001 - its result is gone with the cluster: flown again on resume
+                pass
+        state["stop"] = True
     finally:
         wall = time.monotonic() - t0
         if bar is not None:
             bar.close()
-        if interrupted:
+        if state["stop"]:
             say(f"aocs campaign: interrupted; {finished} runs finished in this call are kept in {out}/runs/")
         for sig, h in old_handlers.items():
             signal.signal(sig, h)
+        if client is not None and inflight:
+            try:
+                client.cancel(list(inflight))
+            except Exception:  # noqa: BLE001 - closing after an interrupt or a lost scheduler
+                pass
         _close(client, cluster)
     n_workers_final = locals().get("n_workers", 0)
-    return Outcome(len(done0) + finished, len(done0), finished, interrupted, wall, n_workers_final)
+    return Outcome(len(done0) + finished, len(done0), finished, state["stop"], wall, n_workers_final)
 
 
 def _close(client, cluster) -> None:
@@ -208,8 +320,11 @@ def record(out: Path, spec: P.RunSpec, row: dict) -> None:
 
 
 def read_rows(out: Path, runs: int) -> list[dict]:
+    """The rows that count (load_row) of runs 0 .. runs - 1, by index."""
     rows = []
-    for i in sorted(finished_indices(out)):
+    for i in sorted(_row_files(out)):
         if i < runs:
-            rows.append(json.loads(row_path(out, i).read_text()))
+            row = load_row(out, i)
+            if row is not None:
+                rows.append(row)
     return rows

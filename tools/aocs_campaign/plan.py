@@ -50,11 +50,19 @@ class Campaign:
     sets: list = field(default_factory=list)
     disperse: list = field(default_factory=list)
 
+    def identity(self) -> dict:
+        """What defines the campaign's rows, recorded in its folder (campaign-plan.json): the scenario file and
+        the digest of its parsed content (an edited file is another campaign, a comment is not), the law, the
+        seed, the --set and the dispersions; fingerprint is their digest. A resumed folder must hold the same."""
+        doc = scmod.document(self.scenario)
+        d = {"scenario": str(scmod.resolve(self.scenario)),
+             "scenario_sha256": hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest(),
+             "law": self.law, "seed": self.seed, "sets": list(self.sets), "disperse": list(self.disperse)}
+        return {"fingerprint": hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16], **d}
+
     def fingerprint(self) -> str:
-        """What makes two campaigns the same (a resumed campaign folder must hold this one)."""
-        d = {"scenario": str(scmod.resolve(self.scenario)), "law": self.law, "seed": self.seed,
-             "sets": list(self.sets), "disperse": list(self.disperse)}
-        return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
+        """What makes two campaigns the same (identity()'s digest)."""
+        return self.identity()["fingerprint"]
 
 
 @dataclass
@@ -125,21 +133,29 @@ def check(c: Campaign) -> list[D.Dispersion]:
     # every dispersed key goes through the loader once (a key the loader does not know is named by it)
     ov, _ = D.sample(disps, doc, c.seed, 0)
     try:
-        scmod.load(c.scenario, {**base, **ov})
+        sc = scmod.load(c.scenario, {**base, **ov})
     except scmod.ScenarioError as exc:
         names = ", ".join(d.text for d in disps) or "(none)"
         raise D.DispersionError(f"--disperse {names}: the scenario refuses run 0's values: {exc}") from None
+    try:
+        scenario_opts.resolve_law(sc, c.law)      # a law the scenario cannot fly: refused before any cluster
+    except ValueError as exc:
+        raise CampaignError(str(exc)) from None
     return disps
 
 
-def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
+def iter_plan(c: Campaign, disps: list[D.Dispersion], indices=None):
+    """The RunSpec of each run of indices (default: all), one at a time (a campaign of a million runs
+    submits a few at once: execute.run)."""
     doc = document(c)
     base = scenario_opts.parse_sets(c.sets)
-    out = []
     for i in (range(c.runs) if indices is None else indices):
         ov, inputs = D.sample(disps, doc, c.seed, i)
-        out.append(RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs))
-    return out
+        yield RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs)
+
+
+def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
+    return list(iter_plan(c, disps, indices))
 
 
 def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
@@ -152,14 +168,20 @@ def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
     return shlex.join(words)
 
 
-def load_campaign_dir_plan(out: Path) -> dict | None:
+def load_campaign_dir_plan(out: Path) -> tuple[dict | None, str]:
+    """OUT's campaign-plan.json, or None and why not (missing, unreadable, not JSON, no fingerprint)."""
     p = out / "campaign-plan.json"
-    if not p.is_file():
-        return None
+    if not p.exists():
+        return None, "missing"
     try:
-        return json.loads(p.read_text())
-    except json.JSONDecodeError:
-        return None
+        d = json.loads(p.read_bytes())
+    except OSError as exc:
+        return None, f"unreadable ({exc.strerror or exc})"
+    except (ValueError, RecursionError):
+        return None, "corrupt (not JSON)"
+    if not isinstance(d, dict) or not isinstance(d.get("fingerprint"), str):
+        return None, "corrupt (no campaign fingerprint)"
+    return d, "ok"
 
 
 #: metrics of a run that measure the machine, not the flight (wall and step times, the log's path,

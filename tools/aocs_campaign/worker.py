@@ -42,6 +42,7 @@ SERIES_POINTS = 500
 #: files of a run folder kept for a run that passed when --keep-logs is not given: none (the row has
 #: every metric); a run that failed or errored keeps its whole folder (log, config, node output)
 STATUS_PASSED, STATUS_FAILED, STATUS_ERROR = "passed", "failed", "error"
+STATUSES = (STATUS_PASSED, STATUS_FAILED, STATUS_ERROR)
 #: lockstep wait for each command, s: `aocs run`'s 2 s is too short on a machine loaded by a campaign's
 #: parallel runs (the flight is the same: a wait bounds the run, it does not enter it)
 REPLY_TIMEOUT_S = 10.0
@@ -159,6 +160,8 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
                 if wd.fired:
                     raise RunFailed(f"timed out after {timeout_s:g} s (killed); {exc}") from None
                 raise
+            if wd.fired:   # fired before the run had a process to kill (a tiny --timeout): still over time
+                raise RunFailed(f"timed out after {timeout_s:g} s (the run took {time.monotonic() - t0:.3g} s)")
         m = res.metrics
         row["metrics"] = m
         row["series"] = _decimate(res.series)

@@ -281,9 +281,24 @@ static const char *kind_name(aocs_config_kind_t kind)
     return ((unsigned)kind < (sizeof(names) / sizeof(names[0]))) ? names[kind] : "unknown";
 }
 
-static const char *rule_name(aocs_config_rule_t rule)
+/* "rule": the rule's name in lower case, then its range (config_fields.def AOCS_CONFIG_RULE_ROWS):
+ * "rule_lo", "rule_lo_open", "rule_hi", "rule_zero_ok", "rule_text". */
+static void put_rule(FILE *f, aocs_config_rule_t rule)
 {
-    return (rule == AOCS_CONFIG_RULE_POS) ? "pos" : ((rule == AOCS_CONFIG_RULE_NONNEG) ? "nonneg" : "any");
+    const aocs_config_rule_info_t *r = aocs_config_rule_info(rule);
+    char name[32];
+    size_t i = 0u;
+    for (; (r->name[i] != '\0') && (i + 1u < sizeof(name)); ++i) {
+        const char c = r->name[i];
+        name[i] = ((c >= 'A') && (c <= 'Z')) ? (char)(c - 'A' + 'a') : c;
+    }
+    name[i] = '\0';
+    put_key(f, "rule");
+    put_str(f, name);
+    (void)fprintf(f, ", \"rule_lo\": %.17g, \"rule_lo_open\": %s, \"rule_hi\": %.17g, \"rule_zero_ok\": %s, ",
+                  r->lo, (r->lo_open != 0) ? "true" : "false", r->hi, (r->zero_ok != 0) ? "true" : "false");
+    put_key(f, "rule_text");
+    put_str(f, r->text);
 }
 
 /* Every row of the configuration registry (aocs/config_registry.h), in its order: how Python learns each key,
@@ -327,8 +342,7 @@ static void dump_config_fields(FILE *f)
         put_key(f, "kind");
         put_str(f, kind_name(x->kind));
         (void)fprintf(f, ", \"count\": %u, ", (unsigned)x->count);
-        put_key(f, "rule");
-        put_str(f, rule_name(x->rule));
+        put_rule(f, x->rule);
         (void)fputs(", ", f);
         put_key(f, "names");
         put_str(f, x->names);

@@ -14,6 +14,7 @@
 #ifndef AOCS_CONFIG_REGISTRY_H
 #define AOCS_CONFIG_REGISTRY_H
 
+#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,12 +35,21 @@ typedef enum {
     AOCS_CONFIG_KIND_TABLE      /* a compiled gain table's design name, copied into the law's gain */
 } aocs_config_kind_t;
 
-/* The sign rule of a value (RULE column): every component must be finite and ... */
-typedef enum {
-    AOCS_CONFIG_RULE_ANY = 0, /* nothing more */
-    AOCS_CONFIG_RULE_POS,     /* > 0 */
-    AOCS_CONFIG_RULE_NONNEG   /* >= 0 */
-} aocs_config_rule_t;
+/* The rule of a value (RULE column, the rows of AOCS_CONFIG_RULE_ROWS in config_fields.def): every
+ * component finite and within the rule's range (ANY: nothing more, POS: > 0, NONNEG: >= 0, the others a
+ * physical range). */
+#define AOCS_CONFIG_RULE_ENUM(NAME, ...) AOCS_CONFIG_RULE_##NAME,
+typedef enum { AOCS_CONFIG_RULE_ROWS(AOCS_CONFIG_RULE_ENUM) AOCS_CONFIG_RULE_COUNT } aocs_config_rule_t;
+#undef AOCS_CONFIG_RULE_ENUM
+
+typedef struct {
+    const char *name; /* the row's NAME */
+    double lo;        /* lowest value (excluded when lo_open) */
+    int lo_open;
+    double hi;        /* highest value */
+    int zero_ok;      /* 0 is also allowed (the row's "none") */
+    const char *text; /* the range as the error messages say it ("in [0.01, 1]") */
+} aocs_config_rule_info_t;
 
 /* The enumerated kinds: their C type, number of values, and value names in enum order. */
 #define AOCS_CONFIG_ENUM_GUIDANCE_MODE_T aocs_guidance_mode_t
@@ -95,6 +105,11 @@ typedef enum {
 #define AOCS_CONFIG_WHEEL_KEY_PREFIX "wheel"
 
 /* The rows: the general ones (config_fields.def), then the per-wheel ones, then the laws' (laws.def). Total. */
+/* The rule's row (an out-of-range rule: ANY's). */
+const aocs_config_rule_info_t *aocs_config_rule_info(aocs_config_rule_t rule);
+/* 1 when x obeys the rule (finite, in its range or a permitted 0), else 0. */
+int aocs_config_rule_holds(aocs_config_rule_t rule, double x);
+
 uint32_t aocs_config_field_count(void);
 /* Row i (NULL out of range). Total. */
 const aocs_config_field_t *aocs_config_field_at(uint32_t i);

@@ -190,16 +190,27 @@ static const unsigned char *value_at_const(const aocs_exec_config_t *cfg, aocs_c
     return &bytes[value_offset(ref)];
 }
 
-/* The row's sign rule on one finite value. */
-static int rule_holds(aocs_config_rule_t rule, double x)
+#define CFG_RULE_ROW(NAME, LO, LO_OPEN, HI, ZERO_OK, TEXT) {#NAME, (LO), (LO_OPEN), (HI), (ZERO_OK), TEXT},
+static const aocs_config_rule_info_t k_rules[AOCS_CONFIG_RULE_COUNT] = {AOCS_CONFIG_RULE_ROWS(CFG_RULE_ROW)};
+#undef CFG_RULE_ROW
+
+const aocs_config_rule_info_t *aocs_config_rule_info(aocs_config_rule_t rule)
 {
-    int ok = 1;
-    if ((rule == AOCS_CONFIG_RULE_POS) && !(x > 0.0)) {
+    return ((unsigned)rule < (unsigned)AOCS_CONFIG_RULE_COUNT) ? &k_rules[rule] : &k_rules[AOCS_CONFIG_RULE_ANY];
+}
+
+int aocs_config_rule_holds(aocs_config_rule_t rule, double x)
+{
+    const aocs_config_rule_info_t *r = aocs_config_rule_info(rule);
+    int ok = 0;
+    if (isfinite(x) == 0) {
         ok = 0;
-    } else if ((rule == AOCS_CONFIG_RULE_NONNEG) && !(x >= 0.0)) {
+    } else if ((r->zero_ok != 0) && !(x < 0.0) && !(x > 0.0)) { /* exactly 0 */
+        ok = 1;
+    } else if ((r->lo_open != 0) ? !(x > r->lo) : !(x >= r->lo)) {
         ok = 0;
     } else {
-        ok = 1;
+        ok = (x <= r->hi) ? 1 : 0;
     }
     return ok;
 }
@@ -223,7 +234,7 @@ aocs_status_t aocs_config_set_reals(aocs_exec_config_t *cfg, aocs_config_ref_t r
         for (uint32_t i = 0u; (st == AOCS_OK) && (i < n); ++i) {
             if (isfinite(values[i]) == 0) {
                 st = AOCS_ERR_PARAM_NOT_FINITE;
-            } else if (rule_holds(ref.field->rule, values[i]) == 0) {
+            } else if (aocs_config_rule_holds(ref.field->rule, values[i]) == 0) {
                 st = AOCS_ERR_CONFIG_RULE;
             } else {
                 st = AOCS_OK;

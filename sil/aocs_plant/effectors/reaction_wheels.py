@@ -93,6 +93,41 @@ def _per_wheel(sec, k, n, positive=True, required=True, default=None):
     return None if v is None else tuple(v)
 
 
+#: [wheels] key -> the configuration registry's row of the flight software's value (config_fields.def): the
+#: range of each is the registry's, one place for fsw_node, the PIL bridge and this loader (issue 25, item 7)
+REGISTRY_ROWS = {"spin_inertia_kg_m2": "js_kgm2", "torque_limit_nm": "u_max_nm", "speed_limit_rad_s": "omega_max_radps",
+                 "viscous_nms": "viscous_nms", "coulomb_nm": "coulomb_nm", "coulomb_width_rad_s": "coulomb_width_radps",
+                 "null_speed_rad_s": "null_speed_radps", "null_gain_per_s": "wheels.null_gain"}
+
+
+def _check_registry_ranges(sec, values: dict) -> None:
+    """Each value inside its registry row's range (what fsw_node would refuse is refused here, by key)."""
+    from aocs_core import registry  # deferred: the registry JSON of the build, only for a [wheels] section
+
+    rows = {f.key: f for f in registry.load().config_fields}
+    for key, vals in values.items():
+        f = rows[REGISTRY_ROWS[key]]
+        for i, v in enumerate(vals):
+            if not f.holds(v):
+                where = f"wheel {i}: " if len(vals) > 1 else ""
+                sec.fail(sec.key(key), f"{where}{v!r} must be {f.rule_text} (the flight software's range, "
+                                       f"configuration registry row {f.key})")
+
+
+def _check_plant_inertia(sec, ctx, axes, js) -> None:
+    """The body inertia less the wheels' spin inertia about their axes, J - sum Js_i g_i g_i^T, must stay
+    positive definite (the plant integrates with it, RigidBody); else the loader refuses, by key."""
+    J = getattr(ctx.plant, "inertia", None)
+    if J is None:
+        return
+    import numpy as np  # deferred: only with a [wheels] section
+
+    less = np.array(J, float) - sum(j * np.outer(g, g) for j, g in zip(js, axes))
+    if not np.all(np.linalg.eigvalsh(less) > 0.0):
+        sec.fail(sec.key("spin_inertia_kg_m2"), f"{max(js)!r} kg m^2: the body inertia less the wheels' spin "
+                 "inertia (J - sum Js g g^T) is not positive definite: the wheels are heavier than the spacecraft")
+
+
 def _rank3(axes) -> bool:
     """The axes span 3 dimensions: det(Gs Gs^T) well away from 0 (relative to its scale)."""
     m = [[sum(g[i] * g[j] for g in axes) for j in range(3)] for i in range(3)]
@@ -153,6 +188,9 @@ class ReactionWheels(Effector):
         b = sec.number("viscous_nms", required=False, default=0.0, nonneg=True)
         c = sec.number("coulomb_nm", required=False, default=0.0, nonneg=True)
         eps = sec.number("coulomb_width_rad_s", required=False, default=0.1, positive=True)
+        # each value in the flight software's range before the checks across values name another key
+        _check_registry_ranges(sec, {"spin_inertia_kg_m2": js, "torque_limit_nm": umax, "speed_limit_rad_s": wmax,
+                                     "viscous_nms": (b,), "coulomb_nm": (c,), "coulomb_width_rad_s": (eps,)})
         noise = sec.number("torque_noise_nm", required=False, default=0.0, nonneg=True)
         s0 = sec.scalar_or_vector("speed0_rad_s", n=n, required=False, default=(0.0,) * n)
         for i, (s, m) in enumerate(zip(s0, wmax)):
@@ -177,12 +215,14 @@ class ReactionWheels(Effector):
                          f"limit, {fs!r} x (b Omega_max + c) = {fs * (b * m + c)!r} N m, is not below the torque "
                          f"limit {jm} (the friction feedforward needs motor torque left)")
         kn = sec.number("null_gain_per_s", required=False, default=0.0, nonneg=True)
+        ns = sec.scalar_or_vector("null_speed_rad_s", n=n, required=False, default=(0.0,) * n)
+        _check_registry_ranges(sec, {"null_gain_per_s": (kn,), "null_speed_rad_s": ns})
         if kn * ctx.dt > 1.0:
             sec.fail(sec.key("null_gain_per_s"), f"{kn} 1/s times the control period {ctx.dt} s is above 1")
-        ns = sec.scalar_or_vector("null_speed_rad_s", n=n, required=False, default=(0.0,) * n)
         for i, (v, m) in enumerate(zip(ns, wmax)):
             if not abs(v) < m:
                 sec.fail(sec.key("null_speed_rad_s"), f"wheel {i}: |{v}| rad/s is not below its speed limit {m}")
+        _check_plant_inertia(sec, ctx, axes, js)
         return WheelsConfig(axes, js, umax, wmax, b, c, eps, noise, tuple(s0), failed, tn, tq, array,
                             kn, tuple(float(v) for v in ns), fs)
 

@@ -31,6 +31,9 @@ def campaign(disperse, sets=("actuator.axis_limit=0.5",), runs=50, seed=11):
     ("plant.w0=uniform:2:1", "lo 2.0 is above hi 1.0"),
     ("plant.w0[1]=rotation:1", "not to one element"),
     ("plant..w0=normal:0:1", "is not a scenario key"),
+    ("plant.w0=uniform:-1e308:1e308", "hi - lo is not finite"),              # issue 25, item 9
+    ("plant.w0=normal:0:1e308", "draws beyond 10 sigma are not finite"),
+    ("plant.w0=normal:-1.7e308:1e307", "draws beyond 10 sigma are not finite"),
 ])
 def test_malformed_dispersions_name_the_key(spec, message):
     with pytest.raises(D.DispersionError) as exc:

@@ -32,10 +32,14 @@ def test_cli_shorthand():
 @pytest.mark.parametrize("ov, key, words", [
     ({"guidance.mode": "glide"}, "guidance.mode", "unknown value 'glide'"),
     ({"guidance.profile": "s_curve"}, "guidance.profile", "unknown value"),
-    ({"guidance.margin": 0.0}, "guidance.margin", "> 0"),
+    ({"guidance.margin": 0.0}, "guidance.margin", "must be in [0.01, 1]"),
+    ({"guidance.margin": 1e-300}, "guidance.margin", "must be in [0.01, 1]"),      # issue 25, item 7
     ({"guidance.margin": 1.2}, "guidance.margin", "above 1"),
     ({"guidance.margin": float("nan")}, "guidance.margin", ""),
-    ({"guidance.rate_limit_radps": -0.1}, "guidance.rate_limit_radps", ">= 0"),
+    ({"guidance.rate_limit_radps": -0.1}, "guidance.rate_limit_radps", "must be 0 (none) or in [1e-6, 10] rad/s"),
+    ({"guidance.rate_limit_radps": 1e-300}, "guidance.rate_limit_radps", "must be 0 (none) or in [1e-6, 10]"),
+    ({"guidance.profile": "jerk_limited", "guidance.jerk_time_s": 1e-300}, "guidance.jerk_time_s",
+     "must be 0 (none) or in [1e-3, 1000] s"),
     ({"guidance.rate_limit_radps": 50.0}, "guidance.rate_limit_radps", "above 10"),
     ({"guidance.jerk_time_s": 2.0}, "guidance.jerk_time_s", "bang_coast_bang"),
     ({"guidance.profile": "jerk_limited"}, "guidance.jerk_time_s", "needs a ramp time"),
