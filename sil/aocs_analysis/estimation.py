@@ -56,6 +56,7 @@ from scipy.stats import chi2
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_to_dcm
 
 from . import metrics as M
+from . import estimation_transients as T
 from .estimation_bounds import between_updates, farrenkopf, steady_state_per_axis
 
 DEG_H_PER_RAD_S = 180.0 / math.pi * 3600.0        # 1 rad/s in deg/h
@@ -468,7 +469,8 @@ def _max(a):
 def analyse(t_s, q_true, q_est, bias_est_radps, bias_true_radps, est_p, qd=None, valid=None, *,
             sensors: SensorSet | None = None, control_rate_hz: float | None = None,
             window_s: float | None = None, steady_fraction: float = 0.5, convergence_k: float = 5.0,
-            samples_per_window: int = 10, nees_spacing_s: float | None = None) -> tuple[dict, dict]:
+            samples_per_window: int = 10, nees_spacing_s: float | None = None, outages=(),
+            start: dict | None = None) -> tuple[dict, dict]:
     """(the run JSON's `estimation` section, the series for estimation_plots).
 
     Inputs, one row per control step: t_s (n,), q_true = q_BN and q_est (n, 4) scalar last, bias_est and
@@ -479,7 +481,12 @@ def analyse(t_s, q_true, q_est, bias_est_radps, bias_true_radps, est_p, qd=None,
     Steady-state window: the last window_s seconds, or the last steady_fraction of the run, from the
     convergence time on when the run converged; convergence: the knowledge angle stays within
     convergence_k x the analytic rms angle sqrt(sum pre_i^2) (before an update, the largest) to the end
-    (needs sensors). Every statistic except the convergence time is over the valid samples of that window."""
+    (needs sensors). Every statistic except the convergence time is over the valid samples of that window.
+
+    With sensors, `transients` (estimation_transients): the convergence of the trailing rms per axis into
+    3 times the steady state, measured, and predicted from the filter's own equations when `start` gives
+    the filter's start {"p0_att_rad", "p0_bias_radps", "e0_att_B_rad" (3), "e0_bias_B_radps" (3)}; and one
+    entry per star-tracker outage [start_s, end_s) of `outages` inside the run."""
     t = np.asarray(t_s, float)
     n = t.size
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool).copy()
@@ -548,6 +555,7 @@ def analyse(t_s, q_true, q_est, bias_est_radps, bias_true_radps, est_p, qd=None,
         "samples": {"total": n, "valid": int(np.count_nonzero(valid)), "in_window": ns,
                     "covariance_not_positive_definite": not_pd},
         "sensors": sensors.as_dict() if sensors is not None else None,
+        "transients": _transients(t, dth, p, valid, sensors, control_rate_hz, outages, start),
     }
     series = {"t": t, "valid": valid, "steady": steady, "knowledge_arcsec": ke_as,
               "sigma_arcsec": sig[:, :3] * ARCSEC_PER_RAD, "bias_est_deg_h": np.asarray(bias_est_radps, float)
@@ -567,6 +575,24 @@ def analyse(t_s, q_true, q_est, bias_est_radps, bias_true_radps, est_p, qd=None,
     else:
         out["control_error_arcsec"] = out["pointing_error_arcsec"] = None
     return out, series
+
+
+def _transients(t, dth, p, valid, sensors, control_rate_hz, outages, start) -> dict | None:
+    """The `transients` subsection (analyse); None without sensors or a control rate."""
+    if sensors is None or not control_rate_hz or steady_state_bounds(sensors) is None:
+        return None
+    conv = T.convergence(t, dth, sensors, control_rate_hz, valid=valid)
+    pred = None
+    if start is not None:
+        pc = T.predicted_convergence(sensors, control_rate_hz, start["p0_att_rad"], start["p0_bias_radps"],
+                                    start["e0_att_B_rad"], start["e0_bias_B_radps"], t[-1] - t[0] + 1.0 / control_rate_hz,
+                                    k=T.PREDICTION_K)
+        pred = _f(pc["time_s"])
+    conv["time_s"] = _f(conv["time_s"] - t[0]) if conv["time_s"] is not None else None
+    return {"convergence": {**conv, "predicted_time_s": pred, "predicted_k": T.PREDICTION_K, "measured_from_s": _f(t[0]),
+                            "start": None if start is None else {k: (_fl(v) if np.ndim(v) else _f(v))
+                                                                 for k, v in start.items()}},
+            "outages": T.outage_report(t, dth, p[:, :3, :3], outages, sensors, control_rate_hz, valid=valid)}
 
 
 def summary(*args, **kwargs) -> dict:
