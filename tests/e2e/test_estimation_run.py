@@ -158,3 +158,19 @@ def test_a_600_s_star_tracker_outage_stays_inside_3_sigma_and_recovers_within_60
     assert o["recovery_time_s"] is not None and o["recovery_time_s"] <= 60.0, o
     for ratio in o["rms_over_bound"]:
         assert 0.7 <= ratio <= 1.3, o["rms_over_bound"]
+
+
+def test_the_2000_s_hold_is_consistent(tmp_path):
+    """Issue 20's consistency on irassi_hold_mekf as it is (2000 s, seed 0): the +-3 sigma fraction in [99 %,
+    99.9 %]; the attitude NEES windows, spaced by the slowest error component's correlation time (the
+    about-boresight axis, about 9 s; docs/spec.md 5.7), inside their 95 % band for at least 95 % of the windows
+    (measured 0.962; the old spacing, by the NEES's own shorter time, gave 0.935); the 6-dof NEES has no
+    fraction in one run, and says why: the bias error decorrelates in hours (sigma_v / sigma_u = 1.45e4 s)."""
+    e, _ = _run(tmp_path, "hold", 2000, {})
+    assert 0.99 <= e["three_sigma_fraction"] <= 0.999
+    na = e["nees_attitude"]
+    assert na["spacing_s"] >= 2.0 * 8.0 and na["independent_windows"] >= 5
+    assert e["nees_attitude_in_band_fraction"] >= 0.95
+    assert e["nees_attitude"]["mean"] == pytest.approx(3.0, rel=0.1)
+    assert e["nees_in_band_fraction"] is None and "autocorrelation" in e["nees"]["none_because"]
+    assert e["nees"]["mean"] == pytest.approx(6.0, rel=0.15)
