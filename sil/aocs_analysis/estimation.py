@@ -388,6 +388,25 @@ def nees_window_test(t_s, eps, dof: int, mask=None, *, samples_per_window: int =
         window_t_s=np.asarray(indep_t, float), window_mean=np.asarray(indep_m, float))
 
 
+def nees_ensemble_test(eps_runs, dof: int, confidence: float = 0.95) -> dict:
+    """Bar-Shalom, Li & Kirubarajan 2001, ch. 5.4.2: R independent runs (Monte Carlo, other seeds) of the same
+    case, eps_runs (R, n) their NEES at the same n instants: the ensemble mean eps_bar_k = sum_r eps_k^r / R
+    of a consistent filter has R eps_bar_k ~ chi2(R dof) at every k, whatever the correlation in time, so
+    the fraction of instants with eps_bar_k in [chi2.ppf((1 - c)/2, R dof), chi2.ppf((1 + c)/2, R dof)] / R
+    is about c. Instants where a run has no NEES are left out. {"in_band_fraction" (None without an
+    instant), "band", "runs", "instants", "mean"}."""
+    e = np.asarray(eps_runs, float)
+    if e.ndim != 2 or e.shape[0] < 1:
+        raise ValueError(f"eps_runs must be (runs, n), got {e.shape}")
+    r = e.shape[0]
+    ok = np.all(np.isfinite(e), axis=0)
+    m = np.mean(e[:, ok], axis=0)
+    band = nees_band(dof, r, confidence)
+    inside = (m >= band[0]) & (m <= band[1])
+    return {"in_band_fraction": float(np.mean(inside)) if m.size else None, "band": [band[0], band[1]],
+            "runs": r, "instants": int(m.size), "mean": float(np.mean(m)) if m.size else math.nan}
+
+
 # --------------------------------------------------------------------------- windows in time
 def steady_state_mask(t_s, valid=None, *, window_s: float | None = None, fraction: float = 0.5,
                       start_s: float | None = None) -> np.ndarray:

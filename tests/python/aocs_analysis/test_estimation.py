@@ -471,3 +471,15 @@ def test_the_spacing_follows_the_slowest_component_of_the_nees():
     assert 0.935 <= np.mean(fractions) <= 0.965, fractions
     assert np.mean(old) < np.mean(fractions) - 0.01, (old, fractions)
     assert max(bad) < 0.3, bad
+
+
+def test_the_ensemble_nees_of_independent_runs_is_in_its_band_95_percent_of_the_time():
+    """Bar-Shalom's Monte Carlo test: 8 independent runs of a consistent error (own generator, correlated in
+    time within a run): the ensemble mean at each instant is in the chi2(8 n) / 8 band at about 95 % of the
+    instants; errors 1.5 times too large (an over-confident filter) almost never."""
+    runs = [_mixed_time_scale_errors(20_000, (1.0, 1.0, 8.5, 300.0, 300.0, 300.0), seed) for seed in range(8)]
+    eps = np.array([np.sum(e * e, axis=1) for e in runs])           # P = I: the NEES is |e|^2
+    good = E.nees_ensemble_test(eps, 6)
+    assert good["band"] == pytest.approx(list(E.nees_band(6, 8)))
+    assert 0.92 <= good["in_band_fraction"] <= 0.98, good
+    assert E.nees_ensemble_test(2.25 * eps, 6)["in_band_fraction"] < 0.2
