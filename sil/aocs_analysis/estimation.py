@@ -60,8 +60,8 @@ from scipy.stats import chi2
 
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_to_dcm
 
-from . import metrics as M
 from . import estimation_transients as T
+from . import metrics as M
 from .estimation_bounds import between_updates, farrenkopf, steady_state_per_axis
 
 DEG_H_PER_RAD_S = 180.0 / math.pi * 3600.0        # 1 rad/s in deg/h

@@ -24,8 +24,14 @@ from typing import Any, Mapping
 import numpy as np
 
 from aocs_core import limits, paths, registry
-from aocs_core.conventions import (crp_to_quat, euler321_deg_to_quat, mrp_to_quat, quat_from_rotvec, quat_mul,
-                                   quat_normalize)
+from aocs_core.conventions import (
+    crp_to_quat,
+    euler321_deg_to_quat,
+    mrp_to_quat,
+    quat_from_rotvec,
+    quat_mul,
+    quat_normalize,
+)
 
 from . import effectors, environment, sensors
 from .effectors.actuator import ActuatorConfig

@@ -179,6 +179,7 @@ def test_the_2000_s_hold_is_consistent(tmp_path):
 def _nees6_of_run(out):
     """The 6-dof NEES per control step of a run, from its log: the truth and the estimate of the same tick."""
     import numpy as np
+
     from aocs_analysis import estimation as E
     from aocs_wire import lcmlog
     log = lcmlog.read(out / "run.lcmlog")
@@ -198,6 +199,7 @@ def test_the_6_dof_nees_of_an_ensemble_of_holds_is_consistent(tmp_path):
     ensemble mean NEES at every instant of the last half inside its 95 % band chi2(36) / 6 for at least 90 %
     of the instants (a consistent filter: about 95 %, with the scatter of an ensemble correlated in time)."""
     import numpy as np
+
     from aocs_analysis import estimation as E
     runs = []
     for seed in range(1, 7):

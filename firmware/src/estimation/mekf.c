@@ -418,7 +418,10 @@ aocs_status_t aocs_mekf_init(aocs_mekf_t *f, const aocs_mekf_config_t *cfg)
             f->cfg = *cfg;
             (void)aocs_quat_normalize(cfg->q_SB, &f->cfg.q_SB);
             (void)aocs_quat_normalize(cfg->q0_BN, &f->cfg.q0_BN);
-            f->configured_start = (cfg->init_mode == AOCS_MEKF_INIT_CONFIGURED) ? 1u : 0u;
+            f->configured_start = 0u;
+            if (cfg->init_mode == AOCS_MEKF_INIT_CONFIGURED) {
+                f->configured_start = 1u;
+            }
             f->r_S[0] = sc * sc;
             f->r_S[1] = sc * sc;
             f->r_S[2] = sa * sa;
@@ -863,6 +866,8 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
                 st = AOCS_OK;
             }
         }
+    } else {
+        /* started already, or the step failed: nothing to start */
     }
     if (out != NULL) {
         if ((f == NULL) || (f->initialised != MEKF_INIT_MAGIC)) {

@@ -138,6 +138,7 @@ def test_a_configured_start_is_the_initial_attitude_turned_by_the_stated_error()
     """init_error_deg = dth0 gives init_q_BN = dq(-dth0) (x) q_BN(0): the knowledge error of the truth against
     it (aocs_analysis.estimation, written independently) is dth0; fsw_node reads the keys back."""
     import numpy as np
+
     from aocs_analysis import estimation as E
     sc = load(ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_error_deg": [0.3, -0.5, 0.8]})
     e = sc.estimator
