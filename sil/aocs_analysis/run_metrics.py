@@ -203,9 +203,23 @@ def _estimation(log, sc) -> tuple[dict | None, dict | None]:
     names = sc.sensors.sensors
     sensors = (E.SensorSet.from_configs(names["star_tracker"], names["gyro"])
                if "star_tracker" in names and "gyro" in names else None)
+    outages = getattr(names.get("star_tracker"), "outages", ()) or ()
     return E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it], cmd["est_p"][ic],
                      qd=target_quat(sc, t), valid=cmd["est_status"][ic] == 0, sensors=sensors,
-                     control_rate_hz=sc.control_rate_hz)   # steady state: the last half of the run
+                     control_rate_hz=sc.control_rate_hz, outages=outages,
+                     start=_filter_start(sc, tr["q"][it][0], tr["gyro_bias"][it][0]))   # steady state: last half
+
+
+def _filter_start(sc, q_true0, bias_true0) -> dict | None:
+    """The configured start of the filter (init_mode "configured", docs/spec.md 5.6.10): its P0 and its
+    initial errors, truth minus estimate (the knowledge error of the configured q0_BN against the first
+    logged truth, the true bias less the prior bias0); None for a start from the star tracker."""
+    est = sc.estimator
+    if getattr(est, "init_mode", "first_star_tracker") != "configured":
+        return None
+    e0 = E.knowledge_error_rad(np.asarray(q_true0, float)[None, :], np.asarray(est.init_q_BN, float)[None, :])[0]
+    return {"p0_att_rad": est.p0_att_sigma_rad, "p0_bias_radps": est.p0_bias_sigma_radps,
+            "e0_att_B_rad": e0, "e0_bias_B_radps": np.asarray(bias_true0, float) - np.asarray(est.bias0_radps, float)}
 
 
 def _guidance(out: dict, sc, fsw: dict | None) -> None:

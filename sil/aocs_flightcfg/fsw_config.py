@@ -38,7 +38,7 @@ What comes from where (docs/sil.md):
   cross / about noise arcsec -> rad, the gyro's ARW and RRW), each noise
   times [estimator] noise_scale (1: the filter knows its sensors; else a
   mistuned filter), and the filter's tuning from [estimator] (gate, P0,
-  max gap, bias prior);
+  max gap, bias prior, and the start: `mekf.init_mode`, `mekf.init_q_BN`);
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
 """
@@ -150,7 +150,10 @@ def estimator_keys(scenario) -> dict[str, str]:
         "mekf.p0_bias_sigma_radps": _num(e.p0_bias_sigma_radps),
         "mekf.gate_chi2": _num(e.gate_chi2),
         "mekf.max_gap_s": _num(e.max_gap_s),
+        "mekf.init_mode": e.init_mode,
     }
+    if e.init_mode == "configured":
+        out["mekf.init_q_BN"] = _vec(e.init_q_BN)
     keys = {f.key for f in registry.load().config_fields}
     unknown = sorted(set(out) - keys)
     if unknown:

@@ -24,7 +24,14 @@ from typing import Any, Mapping
 import numpy as np
 
 from aocs_core import limits, paths, registry
-from aocs_core.conventions import crp_to_quat, euler321_deg_to_quat, mrp_to_quat
+from aocs_core.conventions import (
+    crp_to_quat,
+    euler321_deg_to_quat,
+    mrp_to_quat,
+    quat_from_rotvec,
+    quat_mul,
+    quat_normalize,
+)
 
 from . import effectors, environment, sensors
 from .effectors.actuator import ActuatorConfig
@@ -167,7 +174,8 @@ class GuidanceConfig:
 #: prefix; the sensor figures the filter uses are not among them: they come from [sensors.star_tracker] and
 #: [sensors.gyro] (aocs_flightcfg.fsw_config), the same description that builds the plant's sensors
 MEKF_PREFIX = "mekf."
-ESTIMATOR_TUNING_KEYS = ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s", "bias0_radps")
+ESTIMATOR_TUNING_KEYS = ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s", "bias0_radps",
+                         "init_mode", "init_q_BN")
 #: the mekf.* keys written from the sensor sections, never from [estimator]
 ESTIMATOR_SENSOR_KEYS = ("st_q_SB", "st_sigma_cross_rad", "st_sigma_about_rad", "gyro_arw_radpsqrts",
                          "gyro_rrw_radps1p5")
@@ -186,6 +194,11 @@ class EstimatorConfig:
     max_gap_s: float = 10.0
     bias0_radps: tuple = (0.0, 0.0, 0.0)
     noise_scale: float = 1.0     # the filter's sensor noise figures = the sensors' x this
+    # how the filter starts (docs/spec.md 5.6.10): "first_star_tracker" (its first valid sample) or
+    # "configured" (at init_q_BN, given as it is or as the plant's initial attitude turned by init_error_deg)
+    init_mode: str = "first_star_tracker"
+    init_q_BN: tuple = (0.0, 0.0, 0.0, 1.0)
+    init_error_deg: tuple | None = None   # the knowledge error dth at the start, deg, B (when given)
 
 
 @dataclass(frozen=True)
@@ -661,7 +674,37 @@ _MEKF_SENSOR_FIGURES = (("star_tracker", "noise_cross_arcsec", "noise_cross_arcs
                         ("gyro", "arw_rad_sqrt_s", "arw"), ("gyro", "rrw_rad_s_sqrt_s", "rrw"))
 
 
-def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig) -> EstimatorConfig:
+def _initial_estimate(sec: _Section, fields: dict, att: AttitudePlantConfig | None, mode: str):
+    """(init_q_BN, init_error_deg) of [estimator]: init_q_BN as given (unit), or init_error_deg (deg, the
+    knowledge error at the start, B): q0_BN = dq(-dth) (x) q_BN(0), so that q_BN(0) = dq(dth) (x) q0_BN, the
+    knowledge error of aocs_analysis.estimation. Either only with init_mode = "configured"."""
+    q0 = tuple(float(x) for x in fields["init_q_BN"].default)
+    has_q, has_err = sec.has("init_q_BN"), sec.has("init_error_deg")
+    for k, present in (("init_q_BN", has_q), ("init_error_deg", has_err)):
+        if present and mode != "configured":
+            sec.fail(sec.key(k), f'applies to init_mode = "configured" only (init_mode is "{mode}")')
+    if has_q and has_err:
+        sec.fail(sec.key("init_error_deg"), "give init_q_BN or init_error_deg, not both")
+    if has_q:
+        q0 = sec.vector("init_q_BN", n=4)
+        tol = paths.header_number("firmware/include/aocs/estimation/mekf.h", "AOCS_MEKF_QUAT_UNIT_TOL")
+        if not abs(math.sqrt(sum(x * x for x in q0)) - 1.0) <= tol:
+            sec.fail(sec.key("init_q_BN"), f"is not a unit quaternion (|q| - 1 beyond {tol:g})")
+        return q0, None
+    if has_err:
+        err = sec.vector("init_error_deg")
+        if not math.sqrt(sum(x * x for x in err)) < 180.0:
+            sec.fail(sec.key("init_error_deg"), "the error angle must be below 180 deg")
+        q_true = att.q0 if att is not None else (0.0, 0.0, 0.0, 1.0)
+        dq = quat_from_rotvec(tuple(-math.radians(x) for x in err))
+        return tuple(float(x) for x in quat_normalize(quat_mul(dq, q_true))), err
+    if mode == "configured":
+        sec.fail(sec.key("init_mode"), '"configured" needs init_q_BN or init_error_deg')
+    return q0, None
+
+
+def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig,
+                    att: AttitudePlantConfig | None = None) -> EstimatorConfig:
     """[estimator], bounded as fsw_node and the MEKF's init bound it (the registry's rules; mekf.h)."""
     sec = root.table("estimator", required=False)
     if sec is None:
@@ -691,6 +734,9 @@ def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig) -> 
         sec.fail(sec.key("max_gap_s"), f"{gap:g} s is above {gap_max:g} s")
     bias0 = sec.vector("bias0_radps", required=False, default=tuple(fields["bias0_radps"].default))
     scale = sec.number("noise_scale", required=False, default=1.0, positive=True)
+    mode = sec.string("init_mode", required=False, default=fields["init_mode"].names[0],
+                      choices=fields["init_mode"].names)
+    q0, err0 = _initial_estimate(sec, fields, att, mode)
     sec.done()
     for name in ("star_tracker", "gyro"):
         if name not in sensor_config.sensors:
@@ -699,7 +745,7 @@ def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig) -> 
     for name, key, attr in _MEKF_SENSOR_FIGURES:
         if not getattr(sensor_config[name], attr) > 0.0:
             root.fail(f"sensors.{name}.{key}", 'must be > 0 with estimator type "mekf" (the filter\'s noise model)')
-    return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale)
+    return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale, mode, q0, err0)
 
 
 def _read_effectors(root: _Section, kind: str, duration: float, rate: float, substeps: int, plant) -> dict:
@@ -797,7 +843,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
                                  if effectors.REGISTRY[k].group == "disturbances"})
     actuator = configs["actuator"]
     sensor_config = _read_sensors(root, kind, duration, rate, configs)
-    estimator = _read_estimator(root, kind, sensor_config)
+    estimator = _read_estimator(root, kind, sensor_config, att)
     env = environment.read(root, kind, orb)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)

@@ -10,7 +10,7 @@
  * back (but on a reset); the step's return is the estimate's status.
  *
  * Input layout (reads past the end give zeros):
- *   u8  config mode (fuzz_mekf_config: bit0 tuning magnitudes, bit1 mounting) and its bytes
+ *   u8  config mode (fuzz_mekf_config: bit0 tuning magnitudes, bit1 mounting, bit2 configured start) and its bytes
  *   then ops until the end, each one u8 op then its fields:
  *     0-6  step: u8 verdict (OK mostly; STALE, MISSING, INVALID), u8 time mode (+ raw u64 when asked),
  *          u8 valid (bits 0-4: the AOCS_EXEC_VALID_* flags; bit5 raw gyro f64s, else 3 x u16 within

@@ -107,9 +107,10 @@ static inline void fuzz_all_law_configs(aocs_exec_law_configs_t *laws)
 /*
  * A configuration of the MEKF from the fuzz bytes: its defaults (aocs_mekf_config_default, the mekf.* rows'
  * DEFAULT) with, when `mode` asks, plausible magnitudes of every noise and tuning figure (bit0) and a tracker
- * mounting from 3 bytes (bit1). Always one the init accepts (an init failure would end the input early).
+ * mounting from 3 bytes (bit1), a configured start (mekf.init_mode configured) at an initial estimate from
+ * 3 bytes (bit2). Always one the init accepts (an init failure would end the input early).
  *   reads (bit0): 6 x u16 magnitudes (cross, about, ARW, RRW, P0 att, P0 bias), u16 gate, u16 max gap;
- *         (bit1): 3 x u8 mounting
+ *         (bit1): 3 x u8 mounting; (bit2): 3 x u8 initial estimate q0_BN
  */
 static inline void fuzz_mekf_config(fuzz_reader_t *r, uint8_t mode, aocs_mekf_config_t *c)
 {
@@ -130,6 +131,14 @@ static inline void fuzz_mekf_config(fuzz_reader_t *r, uint8_t mode, aocs_mekf_co
         const double d = (double)fuzz_u8(r) / 40.0;
         const double n = sqrt(1.0 + (a * a) + (b * b) + (d * d));
         c->q_SB = aocs_quat_make((real_t)(a / n), (real_t)(b / n), (real_t)(d / n), (real_t)(1.0 / n));
+    }
+    if ((mode & 4u) != 0u) {
+        const double a = ((double)fuzz_u8(r) - 128.0) / 40.0;
+        const double b = ((double)fuzz_u8(r) - 128.0) / 40.0;
+        const double d = ((double)fuzz_u8(r) - 128.0) / 40.0;
+        const double n = sqrt(1.0 + (a * a) + (b * b) + (d * d));
+        c->init_mode = AOCS_MEKF_INIT_CONFIGURED;
+        c->q0_BN = aocs_quat_make((real_t)(a / n), (real_t)(b / n), (real_t)(d / n), (real_t)(1.0 / n));
     }
 }
 

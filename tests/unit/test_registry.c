@@ -61,7 +61,7 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     /* the MEKF's configuration (estimation/mekf.h), ids from 69 */
     {"MEKF_ST_Q_SB", 69u}, {"MEKF_ST_SIGMA_CROSS", 70u}, {"MEKF_ST_SIGMA_ABOUT", 71u}, {"MEKF_GYRO_ARW", 72u},
     {"MEKF_GYRO_RRW", 73u}, {"MEKF_BIAS0", 74u}, {"MEKF_P0_ATT_SIGMA", 75u}, {"MEKF_P0_BIAS_SIGMA", 76u},
-    {"MEKF_GATE_CHI2", 77u}, {"MEKF_MAX_GAP", 78u},
+    {"MEKF_GATE_CHI2", 77u}, {"MEKF_MAX_GAP", 78u}, {"MEKF_INIT_MODE", 79u}, {"MEKF_INIT_Q_BN", 80u},
     /* per wheel i: 100 + 8 i + field (pil_frame.h AOCS_PIL_WHEEL_FIELD_ROWS); wheel 0 and the last one here,
      * the rest by the rule in test_pil_ids_are_the_wire_values_and_unique */
     {"WHEEL0_AXIS", 100u}, {"WHEEL0_JS", 101u}, {"WHEEL0_U_MAX", 102u}, {"WHEEL0_OMEGA_MAX", 103u},

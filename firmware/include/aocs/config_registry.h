@@ -59,6 +59,8 @@ typedef struct {
 /* the rows of estimation/determination.def, in id order (test_config_registry checks them against aocs_det_name) */
 #define AOCS_CONFIG_ENUM_ESTIMATOR_T uint32_t
 #define AOCS_CONFIG_ENUM_ESTIMATOR_NAMES "passthrough,mekf"
+#define AOCS_CONFIG_ENUM_MEKF_INIT_MODE_T uint32_t
+#define AOCS_CONFIG_ENUM_MEKF_INIT_MODE_NAMES "first_star_tracker,configured"
 
 /* Largest number of values of one field: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27). */
 #define AOCS_CONFIG_VALUES_MAX 27u

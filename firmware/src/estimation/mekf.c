@@ -304,6 +304,7 @@ static void mekf_clear_history(aocs_mekf_t *f)
 static void mekf_restart(aocs_mekf_t *f)
 {
     f->started = 0u;
+    f->configured_start = 0u; /* only the first start after init is from q0_BN */
     f->have_meas = 0u;
     f->q_BN_hat = qd_identity();
     f->bias_B_hat = aocs_vec3_zero();
@@ -368,6 +369,8 @@ void aocs_mekf_config_default(aocs_mekf_config_t *cfg)
         cfg->p0_bias_sigma_radps = AOCS_R(1.0) * arcsec; /* 1 deg/h = 1 arcsec/s */
         cfg->gate_chi2 = AOCS_MEKF_GATE_CHI2_3DOF_999;
         cfg->max_gap_s = AOCS_R(10.0);
+        cfg->init_mode = AOCS_MEKF_INIT_FIRST_ST;
+        cfg->q0_BN = aocs_quat_identity();
     }
 }
 
@@ -378,9 +381,10 @@ static aocs_status_t mekf_check_config(const aocs_mekf_config_t *c)
                            c->gyro_rrw_radps1p5,  c->p0_att_sigma_rad,   c->p0_bias_sigma_radps};
     const real_t other[2] = {c->gate_chi2, c->max_gap_s};
     if ((mekf_all_finite(sig, 6) == 0) || (mekf_all_finite(other, 2) == 0) || (aocs_quat_is_finite(c->q_SB) == 0) ||
-        (aocs_vec3_is_finite(c->bias0_B_radps) == 0)) {
+        (aocs_vec3_is_finite(c->bias0_B_radps) == 0) || (aocs_quat_is_finite(c->q0_BN) == 0)) {
         st = AOCS_ERR_PARAM_NOT_FINITE;
-    } else if (!(AOCS_FABS(aocs_quat_norm(c->q_SB) - AOCS_R(1.0)) <= AOCS_MEKF_QUAT_UNIT_TOL)) {
+    } else if (!(AOCS_FABS(aocs_quat_norm(c->q_SB) - AOCS_R(1.0)) <= AOCS_MEKF_QUAT_UNIT_TOL) ||
+               !(AOCS_FABS(aocs_quat_norm(c->q0_BN) - AOCS_R(1.0)) <= AOCS_MEKF_QUAT_UNIT_TOL)) {
         st = AOCS_ERR_QUAT_NOT_UNIT;
     } else if (mekf_all_positive(sig, 6) == 0) {
         st = AOCS_ERR_MEKF_NOISE_NOT_POSITIVE;
@@ -388,6 +392,8 @@ static aocs_status_t mekf_check_config(const aocs_mekf_config_t *c)
         st = AOCS_ERR_MEKF_GATE_INVALID;
     } else if (!(c->max_gap_s > AOCS_R(0.0)) || (c->max_gap_s > AOCS_MEKF_MAX_GAP_LIMIT_S)) {
         st = AOCS_ERR_DT_INVALID;
+    } else if (c->init_mode >= AOCS_MEKF_INIT_COUNT) {
+        st = AOCS_ERR_MEKF_INIT_MODE_INVALID;
     } else {
         st = AOCS_OK;
     }
@@ -411,6 +417,11 @@ aocs_status_t aocs_mekf_init(aocs_mekf_t *f, const aocs_mekf_config_t *cfg)
             const real_t fb = MEKF_FLOOR_BIAS_FRAC * cfg->p0_bias_sigma_radps;
             f->cfg = *cfg;
             (void)aocs_quat_normalize(cfg->q_SB, &f->cfg.q_SB);
+            (void)aocs_quat_normalize(cfg->q0_BN, &f->cfg.q0_BN);
+            f->configured_start = 0u;
+            if (cfg->init_mode == AOCS_MEKF_INIT_CONFIGURED) {
+                f->configured_start = 1u;
+            }
             f->r_S[0] = sc * sc;
             f->r_S[1] = sc * sc;
             f->r_S[2] = sa * sa;
@@ -725,6 +736,25 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st_s
 
 /* ---- initialisation from a sample (spec 5.6.10) and the step ---- */
 
+/* the start of spec 5.6.10 at q_hat, time t_ns: b_hat = bias0, P = diag(p0_att^2 I, p0_bias^2 I), no sample yet */
+static void mekf_start_at(aocs_mekf_t *f, aocs_mekf_quatd_t q_hat, uint64_t t_ns)
+{
+    const real_t pa = f->cfg.p0_att_sigma_rad * f->cfg.p0_att_sigma_rad;
+    const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
+    f->q_BN_hat = q_hat;
+    f->bias_B_hat = f->cfg.bias0_B_radps;
+    (void)memset(&f->P, 0, sizeof(f->P));
+    for (int i = 0; i < 3; ++i) {
+        f->P.m[i][i] = pa;
+        f->P.m[i + 3][i + 3] = pb;
+    }
+    mekf_clear_history(f);
+    f->t_ns = t_ns;
+    f->have_meas = 0u;
+    f->started = 1u;
+    f->configured_start = 0u;
+}
+
 static aocs_status_t mekf_start(aocs_mekf_t *f, const aocs_mekf_st_sample_t *s, uint64_t t_now_ns)
 {
     aocs_quat_t q_SN = aocs_quat_identity();
@@ -735,21 +765,10 @@ static aocs_status_t mekf_start(aocs_mekf_t *f, const aocs_mekf_st_sample_t *s, 
     if (st != AOCS_OK) {
         mekf_count(&f->n_hostile);
     } else {
-        const real_t pa = f->cfg.p0_att_sigma_rad * f->cfg.p0_att_sigma_rad;
-        const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
         /* q_BN = q_SB^-1 (x) q_SN (A(q_SN) = A(q_SB) A(q_BN)) */
-        f->q_BN_hat = qd_unit(qd_mul(qd_conj(qd_of(f->cfg.q_SB)), qd_of(q_SN)));
-        f->bias_B_hat = f->cfg.bias0_B_radps;
-        (void)memset(&f->P, 0, sizeof(f->P));
-        for (int i = 0; i < 3; ++i) {
-            f->P.m[i][i] = pa;
-            f->P.m[i + 3][i + 3] = pb;
-        }
-        mekf_clear_history(f);
-        f->t_ns = s->t_meas_ns;
+        mekf_start_at(f, qd_unit(qd_mul(qd_conj(qd_of(f->cfg.q_SB)), qd_of(q_SN))), s->t_meas_ns);
         f->t_last_meas_ns = s->t_meas_ns;
         f->have_meas = 1u;
-        f->started = 1u;
     }
     return st;
 }
@@ -821,7 +840,17 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
             /* the propagation's error stands; the sample, if any, is not looked at */
         }
     }
-    if ((st == AOCS_OK) && (f->started == 0u)) {
+    if ((st == AOCS_OK) && (f->started == 0u) && (f->configured_start != 0u)) {
+        /* spec 5.6.10, init_mode configured: start at q0_BN now, then take this step's sample as any other */
+        mekf_start_at(f, qd_of(f->cfg.q0_BN), in->t_ns);
+        f->w_meas_B_radps = in->w_meas_B_radps;
+        if (in->st.valid != 0u) {
+            st_status = aocs_mekf_update(f, &in->st);
+            if (st_status == AOCS_ERR_MEKF_COV_INVALID) {
+                st = st_status;
+            }
+        }
+    } else if ((st == AOCS_OK) && (f->started == 0u)) {
         if (in->st.valid == 0u) {
             st = AOCS_ERR_MEKF_NO_ATTITUDE;
         } else {
@@ -837,6 +866,8 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
                 st = AOCS_OK;
             }
         }
+    } else {
+        /* started already, or the step failed: nothing to start */
     }
     if (out != NULL) {
         if ((f == NULL) || (f->initialised != MEKF_INIT_MAGIC)) {

@@ -113,9 +113,41 @@ def test_fsw_node_parser_takes_the_mekf_configuration(tmp_path):
     (ST_GYRO, {**MEKF, "estimator.bias0_radps": [0.0, float("nan"), 0.0]}, "estimator.bias0_radps[1]", "finite"),
     (ST_GYRO, {**MEKF, "estimator.gain": 1.0}, "estimator.gain", "unknown key"),
     ("landsat8_srp", MEKF, "estimator.type", "attitude scenarios only"),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "guess"}, "estimator.init_mode", "unknown value 'guess'"),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "configured"}, "estimator.init_mode",
+     "needs init_q_BN or init_error_deg"),
+    (ST_GYRO, {**MEKF, "estimator.init_error_deg": [1.0, 0.0, 0.0]}, "estimator.init_error_deg",
+     'applies to init_mode = "configured" only'),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_q_BN": [0.0, 0.0, 0.0, 1.0],
+               "estimator.init_error_deg": [1.0, 0.0, 0.0]}, "estimator.init_error_deg", "not both"),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_q_BN": [0.0, 0.0, 0.0, 1.1]},
+     "estimator.init_q_BN", "is not a unit quaternion"),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_q_BN": [0.0, float("nan"), 0.0, 1.0]},
+     "estimator.init_q_BN[1]", "finite"),
+    (ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_error_deg": [200.0, 0.0, 0.0]},
+     "estimator.init_error_deg", "below 180 deg"),
 ])
 def test_bad_values_name_the_key(src, ov, key, words):
     with pytest.raises(ScenarioError) as ei:
         load(src, ov)
     msg = str(ei.value)
     assert f": {key}:" in msg and words in msg and "\n" not in msg
+
+
+def test_a_configured_start_is_the_initial_attitude_turned_by_the_stated_error():
+    """init_error_deg = dth0 gives init_q_BN = dq(-dth0) (x) q_BN(0): the knowledge error of the truth against
+    it (aocs_analysis.estimation, written independently) is dth0; fsw_node reads the keys back."""
+    import numpy as np
+
+    from aocs_analysis import estimation as E
+    sc = load(ST_GYRO, {**MEKF, "estimator.init_mode": "configured", "estimator.init_error_deg": [0.3, -0.5, 0.8]})
+    e = sc.estimator
+    assert e.init_mode == "configured" and e.init_error_deg == (0.3, -0.5, 0.8)
+    dth = E.knowledge_error_rad(np.array([sc.attitude.q0]), np.array([e.init_q_BN]))[0]
+    assert np.allclose(np.degrees(dth), [0.3, -0.5, 0.8], atol=1e-12)
+    cfg = fsw_config.node_config(sc, sc.law.name)
+    assert cfg["mekf.init_mode"] == "configured"
+    assert [float(x) for x in cfg["mekf.init_q_BN"].split()] == pytest.approx(list(e.init_q_BN), abs=1e-15)
+    # the default start writes its mode and no estimate
+    cfg0 = fsw_config.node_config(load(ST_GYRO, MEKF), sc.law.name)
+    assert cfg0["mekf.init_mode"] == "first_star_tracker" and "mekf.init_q_BN" not in cfg0

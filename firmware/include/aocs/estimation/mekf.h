@@ -44,6 +44,11 @@
 /* |(|q_SN| - 1)| above this: the sample is not a unit quaternion (AOCS_ERR_QUAT_NOT_UNIT), both precisions */
 #define AOCS_MEKF_QUAT_UNIT_TOL AOCS_R(1.0e-4)
 
+/* how the filter takes its first estimate after aocs_mekf_init (spec 5.6.10, mekf.init_mode) */
+#define AOCS_MEKF_INIT_FIRST_ST 0u    /* from the first valid star-tracker sample (the default) */
+#define AOCS_MEKF_INIT_CONFIGURED 1u  /* from the configured q0_BN at the first step with a gyro rate */
+#define AOCS_MEKF_INIT_COUNT 2u
+
 /* chi-square, 3 degrees of freedom, 99.9 % quantile: the default gate (spec 5.6.7) */
 #define AOCS_MEKF_GATE_CHI2_3DOF_999 AOCS_R(16.266236196238129)
 
@@ -58,6 +63,9 @@ typedef struct {
     real_t p0_bias_sigma_radps;  /* initial bias 1-sigma per axis, rad/s, > 0 */
     real_t gate_chi2;            /* innovation gate on d^2 = y^T S^-1 y, > 0 (default 3 dof 99.9 %) */
     real_t max_gap_s;            /* longest propagation step accepted, s, > 0 (AOCS_ERR_MEKF_GAP beyond) */
+    uint32_t init_mode;          /* AOCS_MEKF_INIT_FIRST_ST or AOCS_MEKF_INIT_CONFIGURED (< AOCS_MEKF_INIT_COUNT) */
+    aocs_quat_t q0_BN;           /* AOCS_MEKF_INIT_CONFIGURED: the attitude estimate the filter starts from,
+                                    unit within AOCS_MEKF_QUAT_UNIT_TOL (checked in both modes) */
 } aocs_mekf_config_t;
 
 /* A quaternion in double (scalar last): the reference attitude of both builds (spec 5.6.9). */
@@ -126,7 +134,8 @@ typedef struct {
     uint32_t hist_head;          /* index of the newest entry */
     uint64_t t_ns;               /* time of the estimate */
     uint64_t t_last_meas_ns;     /* time of measurement of the last sample used */
-    uint32_t started;            /* 1 once initialised from a star-tracker sample */
+    uint32_t started;            /* 1 once initialised from a star-tracker sample (or q0_BN) */
+    uint32_t configured_start;   /* 1 from init until the first start when init_mode is AOCS_MEKF_INIT_CONFIGURED */
     uint32_t have_meas;          /* 1 once a sample was used (t_last_meas_ns meaningful) */
     uint32_t n_updates;
     uint32_t n_gated;
@@ -138,19 +147,23 @@ typedef struct {
 } aocs_mekf_t;
 
 /* Defaults: identity mounting, 1 / 8 arcsec tracker, ARW 1e-6 rad/s^0.5, RRW 1e-9 rad/s^1.5, zero bias
- * prior, P0 1 deg and 1 deg/h, gate AOCS_MEKF_GATE_CHI2_3DOF_999, max_gap_s 10. Total (NULL: nothing). */
+ * prior, P0 1 deg and 1 deg/h, gate AOCS_MEKF_GATE_CHI2_3DOF_999, max_gap_s 10, init_mode
+ * AOCS_MEKF_INIT_FIRST_ST, q0_BN identity. Total (NULL: nothing). */
 void aocs_mekf_config_default(aocs_mekf_config_t *cfg);
 
 /*
  * Validates and copies cfg, then resets. First failure wins: AOCS_ERR_NULL_ARG;
  * a non-finite value -> AOCS_ERR_PARAM_NOT_FINITE; q_SB not unit within
- * AOCS_MEKF_QUAT_UNIT_TOL -> AOCS_ERR_QUAT_NOT_UNIT; a sigma <= 0 ->
+ * AOCS_MEKF_QUAT_UNIT_TOL -> AOCS_ERR_QUAT_NOT_UNIT (also q0_BN); a sigma <= 0 ->
  * AOCS_ERR_MEKF_NOISE_NOT_POSITIVE; gate_chi2 <= 0 -> AOCS_ERR_MEKF_GATE_INVALID;
- * max_gap_s <= 0 or > AOCS_MEKF_MAX_GAP_LIMIT_S -> AOCS_ERR_DT_INVALID. Not initialised on failure.
+ * max_gap_s <= 0 or > AOCS_MEKF_MAX_GAP_LIMIT_S -> AOCS_ERR_DT_INVALID; init_mode >= AOCS_MEKF_INIT_COUNT
+ * -> AOCS_ERR_MEKF_INIT_MODE_INVALID. Not initialised on failure. With AOCS_MEKF_INIT_CONFIGURED the
+ * first step with a gyro rate starts the filter at q0_BN (spec 5.6.10); every later start (after a
+ * restart or aocs_mekf_reset) is from a star-tracker sample.
  */
 aocs_status_t aocs_mekf_init(aocs_mekf_t *f, const aocs_mekf_config_t *cfg);
 
-/* Back to waiting for the first star-tracker sample; counters and history cleared. AOCS_ERR_NULL_ARG,
+/* Back to waiting for the first star-tracker sample (whatever init_mode); counters and history cleared. AOCS_ERR_NULL_ARG,
  * AOCS_ERR_NOT_INITIALISED. */
 aocs_status_t aocs_mekf_reset(aocs_mekf_t *f);
 
@@ -180,7 +193,8 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st);
 /*
  * One step: when started, propagate to in->t_ns then update with in->st
  * when valid; when not started, initialise from in->st (spec 5.6.10) and
- * propagate from its t_meas_ns to in->t_ns. Returns AOCS_OK when *out holds a
+ * propagate from its t_meas_ns to in->t_ns, or (the first start of
+ * AOCS_MEKF_INIT_CONFIGURED) start at q0_BN at in->t_ns and update with in->st when valid. Returns AOCS_OK when *out holds a
  * usable estimate (a rejected star-tracker sample does not make the step
  * fail: its verdict is out->st_status), else the error with *out zeroed
  * (out->st_status still the sample's verdict, counters still reported).
