@@ -15,11 +15,10 @@ import re
 
 import numpy as np
 import pytest
+from test_compare import aocs_compare, by_row
 
 from aocs_analysis import estimation_bounds
 from aocs_wire import lcmlog
-
-from test_compare import aocs_compare, by_row
 
 AS_PER_RAD = 180.0 / math.pi * 3600.0
 DURATION_S = 80.0     # the small slew settles in 14-23 s for these laws; the last 80 s window is the metric window
