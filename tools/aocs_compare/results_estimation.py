@@ -151,8 +151,10 @@ def requirement_statement(sc, rows) -> Section:
         "of the reference tables is the double-precision floor of a loop fed the true attitude, not a pointing "
         f"capability. With the max at {max_over_rms:.2f} times the rms as measured here, a {req:g} arcsec max needs "
         f"a knowledge rms of about {req / max_over_rms:.3g} arcsec: with the same gyro, a star tracker about "
-        f"{f:.3g} times better on both axes (Farrenkopf bound, estimation_bounds), or a second tracker head across "
-        "the first so that no axis is seen only about a boresight, before the control loop adds its own share."))
+        f"{f:.2g} times better on both axes (the Farrenkopf bound of estimation_bounds solved for the tracker noise; "
+        "the bound falls more slowly than the tracker noise once the gyro's random walk between samples matters), "
+        "or a second tracker head across the first so that no axis is seen only about a boresight, and that before "
+        "the control loop adds its own share (below)."))
 
 
 def integral_laws(sc, rows, stiff) -> Section:
