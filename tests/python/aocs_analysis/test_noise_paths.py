@@ -9,7 +9,7 @@ J = 5974.3
 
 
 def test_a_constant_torque_leaves_d_over_half_kq_without_integral_action_and_nothing_with_it():
-    t = np.arange(0.0, 3000.0, 0.1)
+    t = np.arange(0.0, 3000.0, 0.5)
     zero = np.zeros((t.size, 3))
     d = (1.18e-3, -2e-3, 5e-4)
     pd = NP.paths(t, zero, zero, [J] * 3, [NP.AxisGains(4000.0, 8000.0)] * 3, d)
@@ -22,7 +22,7 @@ def test_a_constant_torque_leaves_d_over_half_kq_without_integral_action_and_not
 def test_a_constant_attitude_error_is_followed_one_to_one_and_a_rate_bias_is_not():
     """T(0) = 1: a constant estimate offset n moves the truth by -n; a constant rate error is rejected by the
     integral (a P-D law holds theta = -2 kw n_w / kq instead)."""
-    t = np.arange(0.0, 4000.0, 0.1)
+    t = np.arange(0.0, 4000.0, 0.5)
     n = np.tile([2e-6, -1e-6, 3e-6], (t.size, 1))
     g = NP.AxisGains(400.0, 2000.0, 12.0)
     r = NP.paths(t, n, np.zeros_like(n), [J] * 3, [g] * 3)
