@@ -29,9 +29,15 @@ uint32_t aocs_pil_icount_sync(void)
 
 uint32_t aocs_pil_icount_sync_window(uint32_t window_ticks)
 {
-    const uint32_t window = (window_ticks > AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS) ? AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS
-                                                                                : window_ticks;
+    uint32_t window = window_ticks;
     uint32_t left = PIL_SYST_CVR; /* ticks to the next reload (the counter runs down to 0) */
+    /* never less than the default window, never more than a period holds */
+    if (window < AOCS_PIL_ICOUNT_WINDOW_TICKS) {
+        window = AOCS_PIL_ICOUNT_WINDOW_TICKS;
+    }
+    if (window > AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS) {
+        window = AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS;
+    }
     if (left < window) {
         /* too little of this period left for a window: run it out, mostly without touching the counter */
         const uint32_t instr = aocs_pil_icount_from_ticks(left);

@@ -45,8 +45,8 @@
 uint32_t aocs_pil_icount_sync(void);
 
 /*
- * The same for a window of window_ticks (at most AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS;
- * a larger value is taken as that).
+ * The same for a window of window_ticks, taken within [AOCS_PIL_ICOUNT_WINDOW_TICKS,
+ * AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS].
  */
 uint32_t aocs_pil_icount_sync_window(uint32_t window_ticks);
 
