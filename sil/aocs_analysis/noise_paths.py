@@ -27,6 +27,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
+from aocs_core.conventions import ARCSEC_PER_RAD
+
+from . import estimation as E
+from . import metrics as M
+from .run_metrics import target_quat
+
 
 @dataclass(frozen=True)
 class AxisGains:
@@ -75,11 +81,6 @@ def noises_from_log(log, sc) -> dict:
     """From a run's LCM log (aocs_wire.lcmlog.read) of a scenario that flew a filter, the ticks both sides
     logged: t (n,), n_att_rad = -(knowledge error) (estimate - truth, B), n_rate_radps = w_est - w_true (B),
     pointing_rad = 2 qe_i of the truth against the reference (the per-axis pointing, SPEC 1.7)."""
-    from aocs_core.conventions import ARCSEC_PER_RAD
-
-    from . import estimation as E  # the run-analysis modules, not needed by the model above
-    from . import metrics as M
-    from .run_metrics import target_quat
     tr, cmd = log.truth, log.cmd
     rows = {int(k): i for i, k in enumerate(tr["tick"])}
     pairs = [(rows[int(k)], j) for j, k in enumerate(cmd["tick"]) if int(k) in rows]
