@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report results demo clean bench-campaign build-host-sanitize build-fuzz fuzz fuzz-smoke
+        pil-test pil-report pil-mekf results demo clean bench-campaign build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -98,11 +98,16 @@ results: build-host
 
 # processor in the loop: the flight image on emulated Cortex-M4F / M7
 pil-test: build-host build-cortex-m4f build-cortex-m7
-	$(PY) -m pytest -q tests/python/aocs_pil tests/e2e/test_pil_image.py tests/e2e/test_pil_bridge.py
+	$(PY) -m pytest -q tests/python/aocs_pil tests/e2e/test_pil_image.py tests/e2e/test_pil_bridge.py \
+		tests/e2e/test_pil_mekf.py
 
 # instructions per step, equivalence and float accuracy figures (docs/pil.md)
 pil-report: build-host build-cortex-m4f build-cortex-m7
 	$(PY) -m aocs_pil.harness
+
+# the MEKF on the images (irassi_hold_mekf, 2000 s): M4F float against the host double, instructions (docs/pil.md)
+pil-mekf: build-host build-cortex-m4f build-cortex-m7
+	$(PY) -m aocs_pil.mekf_check --json build/host/pil_mekf.json
 
 clean:
 	rm -rf build

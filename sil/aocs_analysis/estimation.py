@@ -652,3 +652,22 @@ def _transients(t, dth, p, valid, sensors, control_rate_hz, outages, start) -> d
 def summary(*args, **kwargs) -> dict:
     """The run JSON's `estimation` section (analyse's first value; the same arguments)."""
     return analyse(*args, **kwargs)[0]
+
+
+def window_errors(t_s, q_true, q_est, qd, valid=None, *, window_s: float) -> dict:
+    """Knowledge, control and pointing error (true angles 2 asin|qe_vec|, arcsec) over the last window_s
+    seconds (metrics.window_mask, the window of the run's pointing figures), valid samples only: rms and max
+    of each. Knowledge: q_true against q_est; control: q_est against qd (what the law acts on); pointing:
+    q_true against qd (what the mission gets). `aocs compare` and docs/results.md report these."""
+    t = np.asarray(t_s, float)
+    mask = steady_state_mask(t, valid, window_s=window_s)
+    ns = int(np.count_nonzero(mask))
+    series = {"knowledge_arcsec": angle_rad(knowledge_error_rad(q_true, q_est)) * ARCSEC_PER_RAD,
+              "control_arcsec": control_error_arcsec(q_est, qd)["true_angle"],
+              "pointing_arcsec": pointing_error_arcsec(q_true, qd)["true_angle"]}
+    out = {"window_s": _f(window_s), "samples": ns,
+           "start_s": _f(t[mask][0]) if ns else None, "end_s": _f(t[mask][-1]) if ns else None}
+    for key, a in series.items():
+        a = np.asarray(a, float)[mask]
+        out[key] = {"rms": _f(math.sqrt(float(np.mean(a ** 2)))) if ns else None, "max": _f(_max(a))}
+    return out

@@ -204,10 +204,16 @@ def _estimation(log, sc) -> tuple[dict | None, dict | None]:
     sensors = (E.SensorSet.from_configs(names["star_tracker"], names["gyro"])
                if "star_tracker" in names and "gyro" in names else None)
     outages = getattr(names.get("star_tracker"), "outages", ()) or ()
-    return E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it], cmd["est_p"][ic],
-                     qd=target_quat(sc, t), valid=cmd["est_status"][ic] == 0, sensors=sensors,
-                     control_rate_hz=sc.control_rate_hz, outages=outages,
-                     start=_filter_start(sc, tr["q"][it][0], tr["gyro_bias"][it][0]))   # steady state: last half
+    qd, valid = target_quat(sc, t), cmd["est_status"][ic] == 0
+    section, series = E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it],
+                                cmd["est_p"][ic], qd=qd, valid=valid, sensors=sensors,
+                                control_rate_hz=sc.control_rate_hz, outages=outages,
+                                start=_filter_start(sc, tr["q"][it][0], tr["gyro_bias"][it][0]))
+    # steady state: the last half of the run; the same three errors over the run's metric window (the last
+    # 100 s of an IRASSI run), as `aocs compare` and docs/results.md report them beside the pointing figures
+    section["metric_window"] = E.window_errors(t, tr["q"][it], cmd["q_est"][ic], qd, valid,
+                                               window_s=sc.metrics.window_s)
+    return section, series
 
 
 def _filter_start(sc, q_true0, bias_true0) -> dict | None:

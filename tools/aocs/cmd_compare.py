@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from aocs_compare import sweep as sweep_mod
-from aocs_compare.compare import compare, comparison_table_for
+from aocs_compare.compare import compare, comparison_table_for, estimation_table
 from aocs_core import paths
 from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
@@ -100,6 +100,10 @@ def run(args) -> int:
         print(f"eigenaxis bang-bang bound (SPEC 5.1, margin 1, no rate limit): "
               f"{', '.join(f'{b:.1f} s' for b in sorted(bounds - {None}))}")
     print(text.table(table))
+    est = estimation_table(rows, sc.metrics.requirement_arcsec if sc.kind == "attitude" else None)
+    if est is not None:   # the runs flew a filter: what it knew, what the law saw, what the mission got
+        print("attitude knowledge (truth - estimate), control (estimate - reference), pointing (truth - reference):")
+        print(text.table(est))
     print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}")
     return EXIT_FAILED if any(r.error for r in rows) else EXIT_OK
 

@@ -101,6 +101,10 @@ def budgets() -> str:
                  "-"))
     rows.append(("wheel array (added)", "-", reg.wheels_instructions["cortex-m4f"],
                  reg.wheels_instructions["cortex-m7"], "-"))
+    # the estimators' allowances (estimation/determination.def), added to every step; the pass-through adds none
+    for name, (ns, instr) in reg.estimators.items():
+        if instr.get("cortex-m4f") or instr.get("cortex-m7"):
+            rows.append((f"estimator `{name}` (added)", ns, instr["cortex-m4f"], instr["cortex-m7"], "-"))
     return _table(("law", "host budget, ns", "Cortex-M4F, instructions", "Cortex-M7, instructions",
                    "reference scenario"), rows)
 

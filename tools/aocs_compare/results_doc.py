@@ -5,7 +5,8 @@ Runs every reference scenario of SPEC 4 with its laws and reference gains
 network namespace; aocs_compare.compare), plus irassi_large with
 realistic reaction-wheel limits (1, 0.5 and 0.2 N m per axis, 3000 s so the
 slow ones can finish; --quick: 500 s), the same with the slew guidance
-(`--guidance slew`, 1000 s), the H-infinity disturbance-to-output
+(`--guidance slew`, 1000 s), the IRASSI scenarios on a star tracker and a gyro
+through the MEKF (results_estimation), the H-infinity disturbance-to-output
 gain measured from a run, and writes the tables, the figures and a short
 discussion. Run logs go to --runs (default out/results), never into docs.
 """
@@ -26,6 +27,7 @@ from aocs_report.document import BulletList, Document, Figure, Paragraph, Sectio
 from aocs_wire import lcmlog
 
 from . import compare as C
+from . import results_estimation
 from . import results_notes as notes
 from . import sweep as S
 from .compare import IRASSI_DIST_NM, designed_gamma, gain_matrix, steady_error_arcsec
@@ -114,6 +116,7 @@ def plan_steps(quick: bool) -> int:
     n += sum(2 * _steps(load(sid)) for sid in LANDSAT_DIST)
     g = load("geo_hinf")
     n += sum(_steps(g, S.sweep_duration(g, S.slowest_pole(g), w)) for w in S.FREQUENCIES)
+    n += results_estimation.plan_steps(_steps)
     return n
 
 
@@ -225,6 +228,9 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) 
                      requirement=0.3, goal=0.05, limit=lim))
         doc.add(sec)
     sec.add(guidance_summary(limited, guided, lim_dur))   # after the last guided table, about all of them
+
+    # ---- IRASSI on a star tracker and a gyro through the MEKF (issue 20)
+    doc.add(results_estimation.section(R))
 
     # ---- rtc
     rtc_rows = []

@@ -18,10 +18,27 @@
 /* the poll never reads the counter more often than a whole period's worth of ticks */
 #define PIL_SYNC_READS_MAX PIL_PERIOD_TICKS
 
+#if (AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS >= PIL_PERIOD_TICKS)
+#error "AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS must be shorter than a SysTick period"
+#endif
+
 uint32_t aocs_pil_icount_sync(void)
 {
+    return aocs_pil_icount_sync_window(AOCS_PIL_ICOUNT_WINDOW_TICKS);
+}
+
+uint32_t aocs_pil_icount_sync_window(uint32_t window_ticks)
+{
+    uint32_t window = window_ticks;
     uint32_t left = PIL_SYST_CVR; /* ticks to the next reload (the counter runs down to 0) */
-    if (left < AOCS_PIL_ICOUNT_WINDOW_TICKS) {
+    /* never less than the default window, never more than a period holds */
+    if (window < AOCS_PIL_ICOUNT_WINDOW_TICKS) {
+        window = AOCS_PIL_ICOUNT_WINDOW_TICKS;
+    }
+    if (window > AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS) {
+        window = AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS;
+    }
+    if (left < window) {
         /* too little of this period left for a window: run it out, mostly without touching the counter */
         const uint32_t instr = aocs_pil_icount_from_ticks(left);
         uint32_t prev;

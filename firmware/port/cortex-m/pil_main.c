@@ -69,6 +69,7 @@ typedef struct {
     uint32_t steps;
     uint32_t overruns;
     uint32_t instructions_max;
+    uint32_t window_ticks;      /* SysTick ticks left before a measured step (pil_icount.h) */
     uint32_t frame_errors;
     int link_failed;            /* 0, PIL_EXIT_EOF or PIL_EXIT_LINK */
 } pil_state_t;
@@ -237,6 +238,10 @@ static void pil_on_config(const aocs_pil_header_t *hdr)
         /* the executive's ns check is replaced by the instruction budget (file comment) */
         cfg.budget_ns = UINT64_MAX;
         pil.budget_override = budget;
+        /* an MEKF step is longer than the default window: the longest one a SysTick period holds */
+        pil.window_ticks = (cfg.determination.estimator == (uint32_t)AOCS_DET_MEKF)
+                               ? AOCS_PIL_ICOUNT_WINDOW_LONG_TICKS
+                               : AOCS_PIL_ICOUNT_WINDOW_TICKS;
         st = aocs_exec_init(&pil_exec, &cfg);
         if (st == AOCS_OK) {
             pil.configured = 1;
@@ -259,7 +264,7 @@ static void pil_on_step(const aocs_pil_header_t *hdr)
         uint32_t c0;
         uint32_t c1;
         uint32_t window;
-        const uint32_t left = aocs_pil_icount_sync();
+        const uint32_t left = aocs_pil_icount_sync_window(pil.window_ticks);
         c0 = aocs_hal_cycles();
         rp.step_status = aocs_exec_step(&pil_exec, &in, &out);
         c1 = aocs_hal_cycles();

@@ -14,8 +14,10 @@ SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3
             "landsat8_q1", "landsat8_q01", "landsat8_q10", "landsat8_srp", "landsat8_debris",
             "irassi_large", "irassi_small", "geo_hinf", "gao_mrp"]
 # SPEC 5: beyond the references (5.3: the IRASSI slew on the reference wheel array, and one wheel failed;
-# 5.6: the IRASSI hold on a star tracker and a gyro through the MEKF, issue 20)
-SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf"]
+# 5.6: the IRASSI hold on a star tracker and a gyro through the MEKF, issue 20, and the slews and wheel
+# scenarios on the same suite)
+MEKF_IDS = ["irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf", "irassi_rw_failed_mekf"]
+SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS]
 
 
 def test_every_spec_scenario_has_a_file_and_nothing_else():
@@ -34,6 +36,21 @@ def test_the_wheel_scenarios_fly_the_spec_5_3_reference_array(sid, failed):
     # the rest of the problem is irassi_large's
     ref = load("irassi_large")
     assert sc.attitude == ref.attitude and sc.target == ref.target and sc.control == ref.control
+
+
+@pytest.mark.parametrize("sid", MEKF_IDS)
+def test_the_realistic_suite_scenarios_are_their_reference_with_the_holds_sensors(sid):
+    """Each *_mekf file is its reference scenario (plant, target, disturbances, laws, gains, wheels) flown on
+    irassi_hold_mekf's sensors and filter; the wheel ones with the slew guidance."""
+    sc, ref, hold = load(sid), load(sid.removesuffix("_mekf")), load("irassi_hold_mekf")
+    assert (sc.attitude, sc.target, sc.control, sc.disturbances, sc.effectors, sc.duration_s, sc.metrics) == \
+        (ref.attitude, ref.target, ref.control, ref.disturbances, ref.effectors, ref.duration_s, ref.metrics)
+    for name in ("star_tracker", "gyro"):
+        assert sc.sensors.sensors[name] == hold.sensors.sensors[name]
+        assert name not in ref.sensors.sensors
+    assert sc.estimator == hold.estimator and sc.estimator.type == "mekf"
+    assert ref.estimator is None or ref.estimator.type == "passthrough"
+    assert sc.guidance.mode == ("slew" if sc.effectors.get("wheels") else "step")
 
 
 @pytest.mark.parametrize("sid", SPEC_IDS)

@@ -1,0 +1,43 @@
+"""aocs_analysis.noise_paths against closed-form results of the per-axis linear loop J theta'' = u + d,
+u = -kq theta/2 - kw theta' - kz z, z' = theta/2 (written out here, not taken from the module)."""
+import numpy as np
+import pytest
+
+from aocs_analysis import noise_paths as NP
+
+J = 5974.3
+
+
+def test_a_constant_torque_leaves_d_over_half_kq_without_integral_action_and_nothing_with_it():
+    t = np.arange(0.0, 3000.0, 0.5)
+    zero = np.zeros((t.size, 3))
+    d = (1.18e-3, -2e-3, 5e-4)
+    pd = NP.paths(t, zero, zero, [J] * 3, [NP.AxisGains(4000.0, 8000.0)] * 3, d)
+    # steady state of J theta'' = -kq theta / 2 - kw theta' + d: theta = 2 d / kq
+    np.testing.assert_allclose(pd["disturbance"][-1], 2.0 * np.array(d) / 4000.0, rtol=1e-6)
+    pid = NP.paths(t, zero, zero, [J] * 3, [NP.AxisGains(400.0, 2000.0, 12.0)] * 3, d)
+    assert np.all(np.abs(pid["disturbance"][-1]) < 1e-3 * np.abs(2.0 * np.array(d) / 400.0))
+
+
+def test_a_constant_attitude_error_is_followed_one_to_one_and_a_rate_bias_is_not():
+    """T(0) = 1: a constant estimate offset n moves the truth by -n; a constant rate error is rejected by the
+    integral (a P-D law holds theta = -2 kw n_w / kq instead)."""
+    t = np.arange(0.0, 4000.0, 0.5)
+    n = np.tile([2e-6, -1e-6, 3e-6], (t.size, 1))
+    g = NP.AxisGains(400.0, 2000.0, 12.0)
+    r = NP.paths(t, n, np.zeros_like(n), [J] * 3, [g] * 3)
+    np.testing.assert_allclose(r["attitude"][-1], -n[-1], rtol=1e-5)
+    pd = NP.paths(t, np.zeros_like(n), n, [J] * 3, [NP.AxisGains(4000.0, 8000.0)] * 3)
+    np.testing.assert_allclose(pd["rate"][-1], -2.0 * 8000.0 * n[-1] / 4000.0, rtol=1e-6)
+    pid = NP.paths(t, np.zeros_like(n), n, [J] * 3, [g] * 3)
+    assert np.all(np.abs(pid["rate"][-1]) < 1e-3 * np.abs(n[-1]))
+
+
+def test_the_peak_of_t_is_one_for_pd_and_above_one_for_the_reference_pid():
+    """quat_pid's reference gains (SPEC 5.2, J33): its zeros kq/2 s + kz/2 below its poles make |T| peak above 1;
+    a critically damped P-D loop's |T| = |wn^2 / (wn^2 - w^2 + 2 j wn w)| never exceeds 1."""
+    peak_pid, w_pid = NP.t_peak(J, NP.AxisGains(400.0, 2000.0, 12.0))
+    assert peak_pid > 1.1 and 0.01 < w_pid < 0.2
+    kq = 2.0 * 2000.0 ** 2 / (4.0 * J)    # kw^2 = 4 J kq/2: critically damped
+    peak_pd, _ = NP.t_peak(J, NP.AxisGains(kq, 2000.0))
+    assert peak_pd == pytest.approx(1.0, abs=1e-3)
