@@ -169,27 +169,33 @@ class PlantPort:
     def sense(self, tick: int, t_s: float | None = None) -> SensorFrame:
         """The plant's measurement of this period (Plant.sense) as the frame of `tick`; t_s defaults to
         tick * dt (a stale-frame fault gives the previous tick's)."""
+        return SensorFrame(*self.fields(tick, t_s))
+
+    def fields(self, tick: int, t_s: float | None = None) -> tuple:
+        """sense() without the object: the SensorFrame's fields in their order (tick, t_s, valid, q, w, pos, vel,
+        wheel_speed, st_q, st_t_meas_s, gyro_w), what LcmCodec.pack_fields takes (plant_node's loop, one
+        sensors_t per tick)."""
         s = self.plant.sense()
         if t_s is None:
             t_s = tick * self.dt
-        if self.attitude:
-            valid = (self._att if s["q_valid"] else 0) | (self._rate if s["w_valid"] else 0) | self._wheels
-            ws = s["wheel_speed"] if self._wheels else ()
-            if not (self._st or self._gyro):
-                return SensorFrame(tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws)
-            st_q, st_t, gyro_w = _Q1, 0.0, _Z3
-            if self._st:
-                st_q, st_t = s["st_q"], s["st_t_meas"]
-                if s["st_new"] and s["st_valid"]:   # a new sample, usable: the flag of this period only
-                    valid |= self._st
-            if self._gyro:
-                dt = self.dt
-                gyro_w = tuple(x / dt for x in s["gyro_dtheta"]) if self._gyro_angle else s["gyro_w"]
-                if s["gyro_valid"]:
-                    valid |= self._gyro
-            return SensorFrame(tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, tuple(st_q), st_t, tuple(gyro_w))
-        return SensorFrame(tick, t_s, (self._pos if s["pos_valid"] else 0) | (self._vel if s["vel_valid"] else 0),
-                           _Q1, _Z3, s["pos"], s["vel"])
+        if not self.attitude:
+            return (tick, t_s, (self._pos if s["pos_valid"] else 0) | (self._vel if s["vel_valid"] else 0),
+                    _Q1, _Z3, s["pos"], s["vel"], (), _Q1, 0.0, _Z3)
+        valid = (self._att if s["q_valid"] else 0) | (self._rate if s["w_valid"] else 0) | self._wheels
+        ws = s["wheel_speed"] if self._wheels else ()
+        if not (self._st or self._gyro):
+            return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, _Q1, 0.0, _Z3
+        st_q, st_t, gyro_w = _Q1, 0.0, _Z3
+        if self._st:
+            st_q, st_t = tuple(s["st_q"]), s["st_t_meas"]
+            if s["st_new"] and s["st_valid"]:   # a new sample, usable: the flag of this period only
+                valid |= self._st
+        if self._gyro:
+            dt = self.dt
+            gyro_w = tuple(x / dt for x in s["gyro_dtheta"]) if self._gyro_angle else tuple(s["gyro_w"])
+            if s["gyro_valid"]:
+                valid |= self._gyro
+        return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, st_q, st_t, gyro_w
 
     def command(self, cmd: Command) -> dict:
         """Plant.apply's mapping of a Command: the body field, and the wheel torques when the plant has a

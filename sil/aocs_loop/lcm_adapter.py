@@ -24,9 +24,11 @@ class LcmCodec:
         self.version = st.PROTOCOL_VERSION
         self.max_wheels = wmax = st.MAX_WHEELS
         self._pads = tuple((0.0,) * (wmax - n) for n in range(wmax + 1))   # unused wheel_speed slots
-        self._pack = codecs.sensors.pack
+        self._pack_v = codecs.sensors.packer(self.version)   # this protocol version's frames: one call each
         a = codecs.actuator
         self.unpack = a.unpack
+        #: unpack of actuator_cmd_t's head only, through u_wheels: what command() reads (plant_node's loop)
+        self.unpack_command = a.unpacker("u_wheels")
         self.i_tick = a.index("tick")
         self.i_u = a.index("u_sat")
         self.i_uw = a.index("u_wheels")
@@ -46,15 +48,21 @@ class LcmCodec:
     def pack_sensors(self, f: SensorFrame, frame_no: int | None = None, version: int | None = None) -> bytes:
         """sensors_t of a frame: frame counter = tick unless given, utime = t_s in us, n_wheels = the
         tachometers it carries (the other slots zero), then the star tracker's and the gyro's fields."""
-        ws = f.wheel_speed
+        return self.pack_fields(f.tick, f.t_s, f.valid, f.q, f.w, f.pos, f.vel, f.wheel_speed, f.st_q, f.st_t_meas_s,
+                                f.gyro_w, frame_no, version)
+
+    def pack_fields(self, tick, t_s, valid, q, w, pos, vel, ws, st_q, st_t_meas_s, gyro_w, frame_no=None,
+                    version=None) -> bytes:
+        """pack_sensors of a frame given as its fields (PlantPort.fields: plant_node's loop packs them without
+        making a SensorFrame)."""
         n = len(ws)
-        tick, t_s = f.tick, f.t_s
-        return self._pack(self.version if version is None else version, tick if frame_no is None else frame_no,
-                          int(round(t_s * 1e6)), tick, t_s, f.valid, *f.q, *f.w, *f.pos, *f.vel, n, *ws,
-                          *self._pads[n], *f.st_q, f.st_t_meas_s, *f.gyro_w)
+        pack = self._pack_v if version is None else self.codecs.sensors.packer(version)
+        return pack(tick if frame_no is None else frame_no, int(round(t_s * 1e6)), tick, t_s, valid, *q, *w, *pos,
+                    *vel, n, *ws, *self._pads[n], *st_q, st_t_meas_s, *gyro_w)
 
     def command(self, v: tuple) -> Command:
-        """The Command of actuator_cmd_t values (Codec.unpack): u_sat and the first n_wheels wheel torques."""
+        """The Command of actuator_cmd_t values (unpack, or unpack_command's head): u_sat and the first n_wheels
+        wheel torques."""
         i, iw, n = self.i_u, self.i_uw, v[self.i_nw]
         if not 0 <= n <= self.max_wheels:
             n = min(max(n, 0), self.max_wheels)

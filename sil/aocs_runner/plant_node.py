@@ -284,13 +284,14 @@ class _Loop:
         self.frame_truth = 0
         c = link.codecs
         self.v = link.t.sensors_t.PROTOCOL_VERSION
-        self.pack_t = c.truth.pack
+        self.pack_t = c.truth.packer(self.v)   # truth_t after its protocol version, one call per tick
         # the closed loop's one definition of the sensor frame and of the command (aocs_loop.frames): the
         # frame made from the plant and the command applied to it by the PlantPort, the frame packed into
         # sensors_t and the command read from actuator_cmd_t by the LcmCodec; this loop is hand-tuned around
         # them (truth, recording, events) instead of aocs_loop.core.fly
         self.port = PlantPort(plant)
         self.codec = link.codec
+        self.sense_fields, self.pack_fields = self.port.fields, self.codec.pack_fields   # sensors(): no SensorFrame
         self.attitude = sc.kind == "attitude"
         # the wheel array (SPEC 5.3), when the scenario has one: tachometers in sensors_t, its state in
         # truth_t, the flight computer's wheel torques (actuator_cmd_t.u_wheels) applied to it
@@ -302,6 +303,9 @@ class _Loop:
         # what an attitude estimate is judged against (truth_t, protocol version 3): the gyro's true bias, from
         # its truth fields (Plant.truth()["sensors"]["gyro.bias_rad_s"]); zero without a gyro
         self.gyro = next((s for s in plant.sensors if s.name == "gyro"), None)
+        # truth_t's wheel and estimation fields when both are constant (no wheel array, no gyro): built once
+        self._truth_tail = (self._zero_wheel_truth + (0.0, 0.0, 0.0)
+                            if self.wheels is None and self.gyro is None else None)
         if self.attitude:
             self.qd0 = sc.target.qd0
             self.fixed_target = not any(sc.target.wd)
@@ -321,13 +325,14 @@ class _Loop:
             # qe = q (x) qd^-1 (SPEC 1), one product for both error figures
             e1, e2, e3, _ = quat_mul(q, (-qd[0], -qd[1], -qd[2], qd[3]))
             ang = 2.0 * math.asin(min(1.0, math.sqrt(e1 * e1 + e2 * e2 + e3 * e3))) * ARCSEC_PER_RAD
-            data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
+            tail = self._truth_tail or (*self.truth_wheels(), *self.truth_estimation())
+            data = self.pack_t(self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                *q, *w, *z3, *z3, *applied, *z3, *dist, *z3,
                                ang, abs(e1) * ARCSEC_PER_RAD, abs(e2) * ARCSEC_PER_RAD, abs(e3) * ARCSEC_PER_RAD,
-                               *self.truth_wheels(), *self.truth_estimation())
+                               *tail)
         else:
             x = plant.orbit.x
-            data = self.pack_t(self.v, self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
+            data = self.pack_t(self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
                                0.0, 0.0, 0.0, 1.0, *z3, x[3], x[4], x[5], x[0], x[1], x[2],
                                *z3, *applied, *z3, *dist, 0.0, *z3, *self.truth_wheels(), *z3)
         self.frame_truth += 1
@@ -362,8 +367,7 @@ class _Loop:
 
     def sensors(self, tick, stale=False):
         """sensors_t of tick k (stale: with the sensor time of tick k - 1)."""
-        f = self.port.sense(tick, (tick - 1) * self.sc.dt if stale else None)
-        return self.codec.pack_sensors(f)
+        return self.pack_fields(*self.sense_fields(tick, (tick - 1) * self.sc.dt if stale else None))
 
     def fire(self, tick, evs):
         """Events before this tick's sensors; returns (drop, duplicate, stale)."""
@@ -408,7 +412,7 @@ class _Loop:
         n = self.sc.n_steps
         k0 = self.args.start_tick
         timeout = self.args.reply_timeout
-        unpack, i_tick = self.codec.unpack, self.codec.i_tick
+        unpack, i_tick = self.codec.unpack_command, self.codec.i_tick
         command, apply = self.codec.command, self.port.apply
         box = [None]
         want = [k0]
@@ -430,9 +434,15 @@ class _Loop:
 
         lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
         flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
+        progress_every = self.progress_every
         waits = 0
+        # the integration check of the last period (StepDoubling: the command to its shadow plant, the period
+        # again at twice the substeps, the difference) needs the plant at t_k only: it runs while the flight
+        # computer computes tick k, off the path from its reply to the next sensors_t: (its command,) or None
+        checking = None
         for k in range(n):
             if _stop:
+                self._check_end(checking)
                 return "signal", EXIT_SIGNAL
             tick = k0 + k
             drop = dup = stale = False
@@ -441,14 +451,16 @@ class _Loop:
             data = self.sensors(tick, stale)
             self.last_tick = tick
             if drop:
+                checking = self._check_end(checking)
                 self.truth(tick)
             else:
                 want[0] = tick
                 box[0] = None
                 t0 = perf()
                 publish("AOCS_SENSORS", data)
-                # the truth of this tick is published, and what the plant recorded written (one write per
-                # tick: a plant killed loses one tick at most), while the flight computer computes
+                # the last period's check, the truth of this tick and what the plant recorded written (one
+                # write per tick: a plant killed loses one tick at most), while the flight computer computes
+                checking = self._check_end(checking)
                 self.truth(tick)
                 flush_log()
                 while box[0] is None:
@@ -471,17 +483,27 @@ class _Loop:
                     cmd = apply(command(v))   # Plant.apply's mapping, applied
                 except WheelMismatch as exc:
                     return self.wheels_disagree(exc)
-                check.apply(cmd)
                 if dup:
                     publish("AOCS_SENSORS", data)
             check.begin(plant)
             plant.advance()
-            check.end(plant)
+            checking = (None if drop else cmd,)
             self.steps += 1
-            self.progress(k, flush_log)
+            if (k + 1) % progress_every == 0:
+                self.progress(k, flush_log)
+        self._check_end(checking)
         self.truth(k0 + n)
         self.handle_calls = waits
         return "done", EXIT_OK
+
+    def _check_end(self, checking):
+        """The integration check of the period just flown, if one is pending (checking: (its command,), None
+        when no command came); returns None (nothing pending)."""
+        if checking is not None:
+            if checking[0] is not None:
+                self.check.apply(checking[0])
+            self.check.end(self.plant)
+        return None
 
     # -------------------------------------------------------------- real time
     def run_realtime(self):
@@ -490,7 +512,7 @@ class _Loop:
         n = self.sc.n_steps
         k0 = self.args.start_tick
         dt = self.sc.dt
-        unpack, i_tick = self.codec.unpack, self.codec.i_tick
+        unpack, i_tick = self.codec.unpack_command, self.codec.i_tick
         command, apply = self.codec.command, self.port.apply
         latest = [None]
 

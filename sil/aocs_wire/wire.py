@@ -12,6 +12,7 @@ checks byte equality with the generated encode/decode.
 """
 from __future__ import annotations
 
+import functools
 import struct
 
 _FMT = {"int8_t": "b", "int16_t": "h", "int32_t": "i", "int64_t": "q", "float": "f",
@@ -27,38 +28,54 @@ class Codec:
 
     def __init__(self, cls):
         self.cls = cls
-        fmt = ">8s"
         self.fields: list[tuple[str, int | None]] = []
+        self._formats: list[str] = []   # each field's struct code, after the fingerprint
         for name, typ, dims in zip(cls.__slots__, cls.__typenames__, cls.__dimensions__):
             if typ not in _FMT:
                 raise TypeError(f"{cls.__name__}.{name}: type {typ} not supported by the fast codec")
             if dims is None:
-                fmt += _FMT[typ]
+                self._formats.append(_FMT[typ])
                 self.fields.append((name, None))
             else:
                 if len(dims) != 1 or not isinstance(dims[0], int):
                     raise TypeError(f"{cls.__name__}.{name}: only fixed 1-D arrays are supported")
-                fmt += f"{dims[0]}{_FMT[typ]}"
+                self._formats.append(f"{dims[0]}{_FMT[typ]}")
                 self.fields.append((name, dims[0]))
-        self.struct = struct.Struct(fmt)
+        self.struct = struct.Struct(">8s" + "".join(self._formats))
         self.size = self.struct.size
         self.fingerprint = cls._get_packed_fingerprint()
-        self._pack = self.struct.pack
-        self._unpack = self.struct.unpack
+        #: pack(*values) -> bytes: the struct's own pack with the fingerprint bound (no Python frame per message)
+        self.pack = self.packer()
+        self._values = struct.Struct(">8x" + "".join(self._formats)).unpack   # the fingerprint skipped
         self._index = {}
         i = 0
         for name, n in self.fields:
             self._index[name] = (i, n)
             i += 1 if n is None else n
 
-    def pack(self, *values) -> bytes:
-        return self._pack(self.fingerprint, *values)
+    def packer(self, *head):
+        """pack with its first values bound (a hot loop's constant fields, e.g. the protocol version):
+        packer(v)(*rest) == pack(v, *rest)."""
+        return functools.partial(self.struct.pack, self.fingerprint, *head)
 
     def unpack(self, data: bytes) -> tuple | None:
         """Field values (flattened), or None if the payload is not exactly this type."""
-        if len(data) != self.size or data[:8] != self.fingerprint:
+        if len(data) != self.size or not data.startswith(self.fingerprint):
             return None
-        return self._unpack(data)[1:]
+        return self._values(data)
+
+    def unpacker(self, last: str):
+        """unpack that decodes the fields up to `last` only (a hot loop reading the head of a message): the same
+        check of the whole payload, the values a prefix of unpack's (index() holds), or None."""
+        i = [name for name, _ in self.fields].index(last)
+        head = struct.Struct(">8x" + "".join(self._formats[:i + 1])).unpack_from
+        size, fingerprint = self.size, self.fingerprint
+
+        def unpack_head(data: bytes) -> tuple | None:
+            if len(data) != size or not data.startswith(fingerprint):
+                return None
+            return head(data)
+        return unpack_head
 
     def index(self, field: str) -> int:
         """Position of a field in the flattened tuple (first element for arrays)."""

@@ -49,3 +49,22 @@ def test_fast_codec_is_byte_identical_to_the_generated_bindings(aocs_lcm, name):
     assert codec.unpack(data[:-1]) is None
     assert codec.unpack(data + b"\0") is None
     assert codec.unpack(b"\xff" * 8 + data[8:]) is None
+
+
+@pytest.mark.parametrize("name, last", [("actuator_cmd_t", "u_wheels"), ("sensors_t", "tick"), ("truth_t", "q")])
+def test_the_head_unpacker_and_the_bound_packer_agree_with_the_whole_codec(aocs_lcm, name, last):
+    """unpacker(last) gives a prefix of unpack through `last` (index() holds) with the same checks; packer(*head)
+    packs as pack with those values first."""
+    cls = getattr(aocs_lcm, name)
+    codec = wire.Codec(cls)
+    rng = random.Random(5)
+    flat = []
+    for field, typ, dims in zip(cls.__slots__, cls.__typenames__, cls.__dimensions__):
+        flat += [_random_value(typ, rng) for _ in range(1 if dims is None else dims[0])]
+    data = codec.pack(*flat)
+    assert codec.packer(*flat[:3])(*flat[3:]) == data
+    head = codec.unpacker(last)(data)
+    n = codec.index(last) + (dict(codec.fields)[last] or 1)   # the values through `last`
+    assert head == codec.unpack(data)[:n] == tuple(flat[:n])
+    for bad in (data[:-1], data + b"\0", b"\xff" * 8 + data[8:]):
+        assert codec.unpacker(last)(bad) is None
