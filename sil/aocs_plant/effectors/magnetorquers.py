@@ -6,12 +6,14 @@ command is the dipole along each rod (A m^2), clipped per rod and held over the 
     m_i = min(max_i, max(-max_i, u_i)),   m_B = sum_i m_i a_i
     tau_B = m_B x B_B,   B_B = A(q) B_N(t)                (Wertz 1978; Markley & Crassidis 2014, ch. 3 and 7)
 
-B_N(t) is the environment's field model along the orbit (environment.magnetic_field.FieldAlongOrbit),
-frozen at the midpoint of each substep (an ATTITUDE-form term of q, evaluated at every RK4 stage, so
-the torque is perpendicular to the field the body is in at that stage). Without a field model or an
-orbit the field is zero and so is the torque. Truth: the rod dipoles (after the clip), m_B, the field
-in B and the torque now, which rods are saturated, and the dipole-seconds flown (the integral of
-|m_i| per rod, the unloading's effort, with the held dipole over each period).
+B_N(t) is the environment's field model along the orbit (environment.magnetic_field.FieldAlongOrbit, linear
+between the control periods' grid values) at the time of each RK4 stage, rotated by the stage's q: the
+torque is perpendicular to the field the body is in at that stage. A GENERAL-form effector whose state is
+the angular impulse it gave, integral of tau_B dt (N m s, B components), so that its mean torque over a
+period, the state's change over dt, is exactly what the body received (`applied`, as the wheels'). Without
+a field model or an orbit the field is zero and so is the torque. Truth: the rod dipoles (after the clip),
+m_B, the field in B and the torque now, which rods are saturated, and the dipole-seconds flown (the
+integral of |m_i| per rod, the unloading's effort, with the held dipole over each period).
 """
 from __future__ import annotations
 
@@ -46,26 +48,26 @@ def read_axes(sec, key: str, n: int) -> tuple:
     return tuple(out)
 
 
-def dipole_torque_term(field, m_b):
-    """(term, b_n_at): term(q1..q4) = m x (A(q) b_N) with m_b() the dipole (B) and b_N frozen by
-    b_n_at(t) (the field function's value at t; None: zero field)."""
-    b = [0.0, 0.0, 0.0]
+def cross(a, b) -> tuple:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
-    def b_n_at(t):
-        v = field(t)
-        b[0], b[1], b[2] = (0.0, 0.0, 0.0) if v is None else v
+
+def dipole_torque(m_b, b_n, q) -> tuple:
+    """m_B x A(q) b_N (N m): a dipole fixed in B in the field b_N (T, N); zero without a field (None)."""
+    return ZERO3 if b_n is None else cross(m_b, quat_rotate(q, b_n))
+
+
+def dipole_torque_term(field, m_b):
+    """(term, at_time) of an ATTITUDE-form effector: term(q1..q4) = m_b x A(q) b_N with b_N frozen by
+    at_time(t) at field(t) (None: zero field)."""
+    b = [None]
+
+    def at_time(t):
+        b[0] = field(t)
 
     def term(q1, q2, q3, q4):
-        d1, d2, d3 = b
-        s = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3)
-        vd = 2.0 * (q1 * d1 + q2 * d2 + q3 * d3)
-        k = 2.0 * q4
-        b1 = s * d1 + vd * q1 - k * (q2 * d3 - q3 * d2)
-        b2 = s * d2 + vd * q2 - k * (q3 * d1 - q1 * d3)
-        b3 = s * d3 + vd * q3 - k * (q1 * d2 - q2 * d1)
-        m1, m2, m3 = m_b()
-        return (m2 * b3 - m3 * b2, m3 * b1 - m1 * b3, m1 * b2 - m2 * b1)
-    return term, b_n_at
+        return dipole_torque(m_b, b[0], (q1, q2, q3, q4))
+    return term, at_time
 
 
 def field_b(field, t, q) -> tuple:
@@ -74,18 +76,14 @@ def field_b(field, t, q) -> tuple:
     return ZERO3 if v is None else quat_rotate(q, v)
 
 
-def cross(a, b) -> tuple:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
 @register
 class Magnetorquers(Effector):
     kind = "magnetorquers"
     group = None                     # a top-level section [magnetorquers]
     applies_to = (ATTITUDE,)
     role = "actuator"
-    form = Form.ATTITUDE
-    time_varying = True
+    form = Form.GENERAL              # state: its angular impulse, N m s (B components)
+    state_size = 3
     period_hooks = True
 
     @classmethod
@@ -111,7 +109,8 @@ class Magnetorquers(Effector):
         self.m_b = ZERO3
         self.saturated = (False, False, False)
         self.dipole_s = [0.0, 0.0, 0.0]     # integral of |m_i| dt, A m^2 s
-        self._term, self.at_time = dipole_torque_term(self.field, lambda: self.m_b)
+        self._x0 = ZERO3
+        self._applied = ZERO3
 
     def command(self, cmd) -> None:
         u = cmd.get(U_DIPOLE)
@@ -124,15 +123,30 @@ class Magnetorquers(Effector):
         self.saturated = tuple(abs(float(u[i])) > mx[i] for i in range(3))
         self.m_b = tuple(a[0][k] * m[0] + a[1][k] * m[1] + a[2][k] * m[2] for k in range(3))
 
-    def term(self):
-        return self._term
+    def initial_state(self) -> tuple:
+        return ZERO3
+
+    def derivative(self, t, body, x):
+        tau = dipole_torque(self.m_b, self.field(t), body[:4])
+        return tau, tau
+
+    def begin_period(self, t, x) -> None:
+        self._x0 = x
 
     def end_period(self, t, x) -> None:
+        """The mean torque of the period: the angular impulse's change over dt (RK4 sums its stages
+        linearly, so it is exactly what the body received)."""
+        x0, dt = self._x0, self.dt
+        self._applied = ((x[0] - x0[0]) / dt, (x[1] - x0[1]) / dt, (x[2] - x0[2]) / dt)
         for i in range(3):
-            self.dipole_s[i] += abs(self.m_rods[i]) * self.dt
+            self.dipole_s[i] += abs(self.m_rods[i]) * dt
+
+    @property
+    def applied(self) -> tuple:
+        return self._applied
 
     def truth(self, t, body, x) -> dict:
         b = field_b(self.field, t, body[:4])
         return {"dipole_am2": self.m_rods, "dipole_b_am2": self.m_b, "field_b_t": b,
                 "torque_nm": cross(self.m_b, b), "saturated": self.saturated,
-                "dipole_s_am2s": tuple(self.dipole_s)}
+                "dipole_s_am2s": tuple(self.dipole_s), "impulse_b_nms": tuple(x)}

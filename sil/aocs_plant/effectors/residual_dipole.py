@@ -42,8 +42,8 @@ class ResidualDipole(Effector):
         super().__init__(config, body)
         self.field = FieldAlongOrbit(body.environment, body.dt)
         self.field(0.0)
-        m = config.dipole_am2
-        self._term, self.at_time = dipole_torque_term(self.field, lambda: m)
+        m = tuple(config.dipole_am2)
+        self._term, self.at_time = dipole_torque_term(self.field, m)
 
     def term(self):
         return self._term

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from .. import rng
 from ..rng import NormalStream
 from .base import ATTITUDE, ZERO3, Effector, Form, register
+from .magnetorquers import cross
 
 THRUSTER_ON = "thruster_on_s"
 G0 = 9.80665                     # standard gravity, m/s^2 (the definition of Isp)
@@ -67,10 +68,6 @@ def _flat3(sec, key: str) -> tuple:
         sec.fail(sec.key(key), "expected a flat array of 3 N numbers (x, y, z of each thruster)")
     flat = sec.vector(key, n=len(raw))
     return tuple(flat[i:i + 3] for i in range(0, len(flat), 3))
-
-
-def cross(a, b) -> tuple:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
 def quantise_on_time(c: float, dt: float, quantum: float, min_on: float) -> float:

@@ -4,6 +4,9 @@ minimum impulse bit on hand-picked values, the propellant and impulse integrals,
 misalignment, and the momentum of body plus wheels with the thrusters off (issue 21 acceptance).
 """
 import math
+import re
+import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -58,6 +61,16 @@ def test_the_example_layout_gives_a_pure_couple_about_each_axis():
         want = np.zeros(3)
         want[axis] = sign * 2 * L
         np.testing.assert_allclose(np.cross(r[a], d[a]) + np.cross(r[b], d[b]), want, atol=1e-15)
+
+
+def test_the_example_of_docs_scenarios_is_this_layout_and_loads():
+    """docs/scenarios.md's [thrusters] example, parsed from the page: the layout tested here."""
+    text = (Path(__file__).resolve().parents[3] / "docs" / "scenarios.md").read_text()
+    block = re.search(r"```toml\n(\[thrusters\]\n.*?)```", text, re.S).group(1)
+    sec = tomllib.loads(block)["thrusters"]
+    assert sec["positions_m"] == POSITIONS and sec["directions"] == DIRECTIONS and sec["thrust_n"] == 1.0
+    p = Plant(load("irassi_large", {"thrusters": sec}))
+    assert p.command_fields["thruster_on_s"] == 12
 
 
 def test_force_and_torque_against_a_hand_evaluation():
