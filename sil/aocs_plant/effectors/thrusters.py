@@ -36,6 +36,7 @@ from .base import ATTITUDE, ZERO3, Effector, Form, register
 from .magnetorquers import cross
 
 THRUSTER_ON = "thruster_on_s"
+ZERO4 = (0.0, 0.0, 0.0, 0.0)
 G0 = 9.80665                     # standard gravity, m/s^2 (the definition of Isp)
 MAX_THRUSTERS = 24
 NOISE_CHANNEL, MISALIGNMENT_CHANNEL = "thrust_noise", "thruster_misalignment"
@@ -150,7 +151,8 @@ class Thrusters(Effector):
         self.noise = NormalStream(body.seed, NOISE_CHANNEL, config.thrust_noise_frac, width=n) \
             if config.thrust_noise_frac > 0.0 else None
         self.on_cmd = (0.0,) * n
-        self.on = (0.0,) * n                         # on-times flown this period
+        self._off = (0.0,) * n
+        self.on = self._off                          # on-times flown this period
         self.thrust = tuple(config.thrust_n)         # actual thrust of the period
         self.force_b = ZERO3
         self.torque_b = ZERO3
@@ -159,15 +161,18 @@ class Thrusters(Effector):
         self.on_total = [0.0] * n
 
     def initial_state(self) -> tuple:
-        return (0.0, 0.0, 0.0, 0.0)
+        return ZERO4
 
     def command(self, cmd) -> None:
         c = cmd.get(THRUSTER_ON)
         if c is None:
             return
+        self.on_cmd = c = tuple(c)          # Plant.apply hands finite floats
+        if not any(c):
+            self.on = self._off
+            return
         cfg = self.config
-        self.on_cmd = tuple(float(v) for v in c)
-        self.on = tuple(quantise_on_time(v, self.dt, cfg.on_time_quantum_s, cfg.min_on_time_s) for v in self.on_cmd)
+        self.on = tuple(quantise_on_time(v, self.dt, cfg.on_time_quantum_s, cfg.min_on_time_s) for v in c)
 
     def begin_period(self, t, x) -> None:
         """The thrust of the period (noise drawn in every period) and the held force and torque."""
@@ -175,6 +180,10 @@ class Thrusters(Effector):
         if self.noise is not None:
             z = self.noise.next()
             self.thrust = tuple(max(0.0, f * (1.0 + z[i])) for i, f in enumerate(nom))
+        if not any(self.on):
+            self.force_b = self.torque_b = ZERO3
+            self.mdot = 0.0
+            return
         fx = fy = fz = tx = ty = tz = 0.0
         flow = 0.0
         inv = 1.0 / self.dt
@@ -202,6 +211,8 @@ class Thrusters(Effector):
                 self.on_total[i] += self.on[i]
 
     def derivative(self, t, body, x):
+        if self.mdot == 0.0:             # no thruster fires this period (most periods)
+            return ZERO3, ZERO4
         q1, q2, q3, q4 = body[0], body[1], body[2], body[3]
         f1, f2, f3 = self.force_b
         # A(q)^T f: the force in N (the transpose of quat_rotate's A(q))

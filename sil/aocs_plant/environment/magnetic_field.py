@@ -9,8 +9,8 @@ at the spacecraft, registered in MODELS under its scenario name:
   method, the IAGA V-MOD 2024 release for the coefficients), with the Gauss coefficients of the
   ppigrf package (its IGRF14.shc, read by ppigrf.ppigrf.read_shc; no coefficient is typed here) and
   ppigrf's linear-in-time interpolation between the 5-year model epochs. The synthesis is written out
-  below in plain Python (ppigrf's igrf_gc reads and interpolates its coefficient file on every call,
-  43 ms; this is ~0.1 ms) and tested against ppigrf.igrf_gc itself and against two independent
+  below in plain Python (ppigrf's igrf_gc reads and interpolates its coefficient file with pandas on
+  every call, far too slow for one call per control period) and tested against ppigrf.igrf_gc itself and against two independent
   implementations (tests/python/aocs_plant/test_environment_igrf.py).
 
 The field at a position r_N (m, N) at Julian date jd (UTC taken as UT1):
@@ -94,22 +94,38 @@ class Igrf:
     """The IGRF through ppigrf's coefficient file: field_n_t(jd, r_n_m) in tesla, N."""
 
     name = "igrf"
-    _table = None          # read once per process (13 ms)
+    _table = None          # read once per process
     CACHE = 8              # answers kept: the effectors and sensors of one period ask for the same point
 
     def __init__(self):
         if Igrf._table is None:
             Igrf._table = _igrf_table()
         self.epochs_jd, self.keys, self._g, self._h, self.source = Igrf._table
-        self.nmax = max(n for n, _ in self.keys)
-        # Schmidt factors S_nm (ppigrf.get_legendre / Wertz app. H) and the recursion's K_nm
+        self.nmax = nmax = max(n for n, _ in self.keys)
+        # Schmidt factors S_nm (ppigrf.get_legendre / Wertz app. H), folded into the coefficients
         S = {(0, 0): 1.0}
-        for n in range(1, self.nmax + 1):
+        for n in range(1, nmax + 1):
             for m in range(n + 1):
                 S[n, m] = S[n - 1, 0] * (2.0 * n - 1.0) / n if m == 0 else \
                     S[n, m - 1] * math.sqrt((n - m + 1) * (2.0 if m == 1 else 1.0) / (n + m))
-        self._S = S
-        self._index = {k: i for i, k in enumerate(self.keys)}
+        self._S = tuple(S[k] for k in self.keys)
+        # the recursion's plan, row by row: (n, m, slot, slot of (n-1, m-1) or (n-1, m), slot of (n-2, m)
+        # or -1, K_nm, index of (n, m) in keys or -1); P and dP are flat lists over the slots
+        index = {k: i for i, k in enumerate(self.keys)}
+
+        def slot(n, m):
+            return n * (n + 1) // 2 + m
+        plan = []
+        for n in range(1, nmax + 1):
+            for m in range(n + 1):
+                if n == m:
+                    plan.append((n, m, slot(n, m), slot(n - 1, m - 1), -1, 0.0, index.get((n, m), -1)))
+                else:
+                    two = slot(n - 2, m) if n >= 2 and m <= n - 2 else -1
+                    k = ((n - 1) ** 2 - m * m) / ((2 * n - 1) * (2 * n - 3)) if n >= 2 else 0.0
+                    plan.append((n, m, slot(n, m), slot(n - 1, m), two, k, index.get((n, m), -1)))
+        self._plan = tuple(plan)
+        self._slots = slot(nmax, nmax) + 1
         self._coef_jd = None
         self._coef = None
         self._cache: dict = {}
@@ -127,8 +143,8 @@ class Igrf:
         i = min(len(e) - 2, bisect.bisect_right(e, jd) - 1)     # e[i] <= jd < e[i + 1] (the last: <=)
         f = (jd - e[i]) / (e[i + 1] - e[i])
         g0, g1, h0, h1 = self._g[i], self._g[i + 1], self._h[i], self._h[i + 1]
-        g = tuple(a + f * (b - a) for a, b in zip(g0, g1))
-        h = tuple(a + f * (b - a) for a, b in zip(h0, h1))
+        g = tuple([a + f * (b - a) for a, b in zip(g0, g1)])
+        h = tuple([a + f * (b - a) for a, b in zip(h0, h1)])
         self._coef_jd, self._coef = jd, (g, h)
         return g, h
 
@@ -136,47 +152,47 @@ class Igrf:
     def field_spherical_nt(self, jd: float, r_km: float, colat_rad: float, lon_rad: float) -> tuple:
         """(B_r, B_theta, B_phi) in nT at geocentric radius r_km, colatitude, east longitude (rad)."""
         g, h = self.coefficients(jd)
-        idx, S, nmax = self._index, self._S, self.nmax
+        S = self._S
         st, ct = math.sin(colat_rad), math.cos(colat_rad)
         if abs(st) < POLE_SIN_MIN:
             st = POLE_SIN_MIN
             ct = math.copysign(math.sqrt(1.0 - st * st), ct)
         cp, sp = math.cos(lon_rad), math.sin(lon_rad)
         cm, sm = [1.0], [0.0]
-        for m in range(1, nmax + 1):
+        for m in range(1, self.nmax + 1):
             cm.append(cm[-1] * cp - sm[-1] * sp)
             sm.append(sm[-1] * cp + cm[-2] * sp)
         # Gauss-normalised P^{n,m} and dP/dtheta (Wertz app. H), row by row
-        P = {(0, 0): 1.0}
-        dP = {(0, 0): 0.0}
+        P = [0.0] * self._slots
+        dP = [0.0] * self._slots
+        P[0] = 1.0
         ar = REFERENCE_RADIUS_KM / r_km
         arn = ar * ar        # (a/r)^(n+2) at n = 0
+        last = 0
         br = bt = bp = 0.0
-        for n in range(1, nmax + 1):
-            arn *= ar
-            for m in range(n + 1):
-                if n == m:
-                    p = st * P[n - 1, m - 1]
-                    dp = st * dP[n - 1, m - 1] + ct * P[n - 1, m - 1]
-                elif n == 1:
-                    p = ct * P[0, m]
-                    dp = ct * dP[0, m] - st * P[0, m]
-                else:
-                    k = ((n - 1) ** 2 - m * m) / ((2 * n - 1) * (2 * n - 3))
-                    pm2 = P.get((n - 2, m), 0.0)
-                    dpm2 = dP.get((n - 2, m), 0.0)
-                    p = ct * P[n - 1, m] - k * pm2
-                    dp = ct * dP[n - 1, m] - st * P[n - 1, m] - k * dpm2
-                P[n, m], dP[n, m] = p, dp
-                i = idx.get((n, m))
-                if i is None:
-                    continue
-                s = S[n, m]
-                gnm, hnm = g[i] * s, h[i] * s
-                a = gnm * cm[m] + hnm * sm[m]
-                br += (n + 1) * arn * a * p
-                bt -= arn * a * dp
-                bp -= arn * m * (hnm * cm[m] - gnm * sm[m]) * p
+        for n, m, k, one, two, K, i in self._plan:
+            if n != last:
+                arn *= ar
+                last = n
+            if n == m:
+                p = st * P[one]
+                dp = st * dP[one] + ct * P[one]
+            elif two < 0:
+                p = ct * P[one]
+                dp = ct * dP[one] - st * P[one]
+            else:
+                p = ct * P[one] - K * P[two]
+                dp = ct * dP[one] - st * P[one] - K * dP[two]
+            P[k] = p
+            dP[k] = dp
+            if i < 0:
+                continue
+            s = S[i]
+            gnm, hnm = g[i] * s, h[i] * s
+            a = gnm * cm[m] + hnm * sm[m]
+            br += (n + 1) * arn * a * p
+            bt -= arn * a * dp
+            bp -= arn * m * (hnm * cm[m] - gnm * sm[m]) * p
         return br, bt, bp / st
 
     def field_e_nt(self, jd: float, r_e_m) -> tuple:
