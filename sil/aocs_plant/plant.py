@@ -75,7 +75,10 @@ class Plant:
             ctx = BodyContext(self.kind, self.dt, self.substeps, sc.seed, mass_kg=sc.orbit.mass_kg, environment=env)
         self.effectors = effs = effectors.build(sc.effectors, ctx)
         self.actuators = [e for e in effs if e.role == "actuator"]
-        self.actuator = self.actuators[0] if self.actuators else None
+        # the body actuator (u_body / u_orbit: [actuator], or the wheels standing in for it) is the one whose
+        # command truth()["commanded"] reports; magnetorquers and thrusters read fields of their own
+        self.actuator = next((a for a in self.actuators if {"u_body", "u_orbit"} & set(a.command_fields)),
+                             self.actuators[0] if self.actuators else None)
         self._command_sizes = self._command_fields(self.actuators)
         self._compose(effs)
         if attitude:

@@ -69,8 +69,8 @@ def test_epoch_as_a_toml_datetime_or_a_string():
      "environment.orbit.inclination_deg: 181 deg is outside [0, 180] deg"),
     ("landsat8_q1", {"environment.orbit": {"radius_m": 7e6}}, "environment.orbit.radius_m: an orbit scenario's "
                                                               "reference orbit is its chief's"),
-    ("irassi_large", {"environment.magnetic_field": {"model": "igrf"}},
-     "environment.magnetic_field.model: unknown value 'igrf', expected one of none"),
+    ("irassi_large", {"environment.magnetic_field": {"model": "wmm"}},
+     "environment.magnetic_field.model: unknown value 'wmm', expected one of none, igrf"),
     ("irassi_large", {"environment.sun": True}, "environment.sun: unknown key"),
 ])
 def test_section_errors_name_the_key(sid, ov, what):

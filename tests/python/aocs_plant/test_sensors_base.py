@@ -137,7 +137,8 @@ def test_docs_extending_shows_this_sensor_verbatim():
 # ----------------------------------------------------------------- the registry
 
 #: the seeded stream of every sensor, by hand: renumbering one would change every seeded run
-STREAMS = {"attitude": 0, "rate": 1, "position": 2, "velocity": 3, "tachometer": 5, "star_tracker": 6, "gyro": 7}
+STREAMS = {"attitude": 0, "rate": 1, "position": 2, "velocity": 3, "tachometer": 5, "star_tracker": 6, "gyro": 7,
+           "magnetometer": 8}
 
 
 def test_every_module_registers_its_sensor_with_its_fixed_stream():
