@@ -49,6 +49,12 @@ typedef enum {
 /* the rows of estimation/determination.def, in id order (test_config_registry checks them against aocs_det_name) */
 #define AOCS_CONFIG_ENUM_ESTIMATOR_T uint32_t
 #define AOCS_CONFIG_ENUM_ESTIMATOR_NAMES "passthrough,mekf"
+/* the rows of momentum/momentum.def, in id order (test_config_registry checks them against aocs_mom_name) */
+#define AOCS_CONFIG_ENUM_MOM_POLICY_T uint32_t
+#define AOCS_CONFIG_ENUM_MOM_POLICY_NAMES "none,magnetorquers,thrusters"
+/* aocs_mom_trigger_t, in value order */
+#define AOCS_CONFIG_ENUM_MOM_TRIGGER_T uint32_t
+#define AOCS_CONFIG_ENUM_MOM_TRIGGER_NAMES "threshold,continuous"
 
 /* Largest number of values of one field: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27). */
 #define AOCS_CONFIG_VALUES_MAX 27u

@@ -294,7 +294,8 @@ def test_config_fields_of_the_registry_are_the_rows_of_the_def_files():
         (f["key"], f["pil_id"], f["rule"].lower(), f["help"]) for f in registry_text.field_rows()]
     assert {x.pil_name: x.names for x in general if x.kind == "enum"} == {
         "GUIDANCE_MODE": ("step", "slew"), "GUIDANCE_PROFILE": ("bang_coast_bang", "jerk_limited"),
-        "ESTIMATOR": ("passthrough", "mekf")}
+        "ESTIMATOR": ("passthrough", "mekf"), "MOM_POLICY": ("none", "magnetorquers", "thrusters"),
+        "MOM_TRIGGER": ("threshold", "continuous")}
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
