@@ -101,6 +101,9 @@ def budgets() -> str:
                  "-"))
     rows.append(("wheel array (added)", "-", reg.wheels_instructions["cortex-m4f"],
                  reg.wheels_instructions["cortex-m7"], "-"))
+    for name, (ns, instr) in reg.momentum_policies.items():
+        if name != "none":
+            rows.append((f"momentum `{name}` (added)", ns, instr["cortex-m4f"], instr["cortex-m7"], "-"))
     return _table(("law", "host budget, ns", "Cortex-M4F, instructions", "Cortex-M7, instructions",
                    "reference scenario"), rows)
 

@@ -283,10 +283,14 @@ static void guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det
 }
 
 /* The momentum-management stage's step: the wheels' momentum from the tachometers (valid with an array whose
- * speeds are all finite), the magnetometer, enabled while NOMINAL with an attitude law. */
-static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_exec_output_t *out)
+ * speeds are all finite), the magnetometer, enabled while NOMINAL with an attitude law. Policy NONE costs
+ * nothing: its output is the zero of zero_output (no unloading torque to take off the wheels). */
+static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in)
 {
     aocs_mom_input_t mi;
+    if (exec->momentum.id == AOCS_MOM_NONE) {
+        return;
+    }
     mi.h_valid = (exec->cfg.wheels.n > 0u) ? 1 : 0;
     for (uint32_t i = 0u; (i < exec->cfg.wheels.n) && (i < AOCS_WHEELS_MAX); ++i) {
         if (!AOCS_IS_FINITE(in->wheel_speed_radps[i])) {
@@ -300,7 +304,6 @@ static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs
                   (aocs_law_is_orbit(exec->law) == 0)) ? 1 : 0;
     mi.dt_s = exec->cfg.period_s;
     (void)aocs_mom_step(&exec->momentum, &mi);
-    out->mom = aocs_mom_output(&exec->momentum);
 }
 
 /* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE. */
@@ -416,11 +419,12 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         }
         /* 5. momentum management: the unloading commands; the torque they apply is taken off the wheels'
          * command, so the wheels absorb it and the body sees the law's torque (docs/spec.md 5.7) */
-        manage_momentum(exec, in, out);
+        manage_momentum(exec, in);
         /* 6. actuation */
         aocs_act_step(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0,
-                      aocs_vec3_sub(out->u_unsat, out->mom.u_unload_B_Nm), in->wheel_speed_radps, est.w_BN_B, out,
-                      &sat);
+                      (exec->momentum.id == AOCS_MOM_NONE) ? out->u_unsat
+                                                            : aocs_vec3_sub(out->u_unsat, exec->momentum.out.u_unload_B_Nm),
+                      in->wheel_speed_radps, est.w_BN_B, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
@@ -458,12 +462,11 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
             set_mode(exec, AOCS_EXEC_MODE_SAFE);
             out->u_unsat = aocs_vec3_zero(); /* no fresh rate to damp */
         }
-        {
+        if (exec->momentum.id != AOCS_MOM_NONE) {
             /* no sample: no momentum measured, an unload in progress stops (nothing fires) */
             aocs_mom_input_t mi;
             (void)memset(&mi, 0, sizeof(mi));
             (void)aocs_mom_step(&exec->momentum, &mi);
-            out->mom = aocs_mom_output(&exec->momentum);
         }
         aocs_act_step_held(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0, out->u_unsat, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
@@ -484,6 +487,11 @@ aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns)
         aocs_guidance_set_epoch(&exec->guidance, t0_ns);
     }
     return st;
+}
+
+aocs_mom_output_t aocs_exec_momentum(const aocs_exec_t *exec)
+{
+    return aocs_mom_output((exec != NULL) && (exec->initialised != 0) ? &exec->momentum : NULL);
 }
 
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec)

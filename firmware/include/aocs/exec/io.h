@@ -13,7 +13,6 @@
 #include "aocs/exec/law_dispatch.h"
 #include "aocs/exec/modes.h"
 #include "aocs/estimation/estimate.h"
-#include "aocs/momentum/momentum.h"
 
 /* Validity flags of aocs_exec_input_t.valid (set by the sensor adapter). */
 #define AOCS_EXEC_VALID_ATT   (1u << 0) /* q_BN usable */
@@ -86,9 +85,7 @@ typedef struct {
     aocs_wheels_momentum_t momentum; /* total momentum and speed margin (zero without an array) */
     aocs_status_t wheels_status;  /* AOCS_OK, or why the allocation gave a zero command */
     aocs_det_output_t estimate;   /* the attitude-determination stage's estimate and its telemetry this step */
-    aocs_mom_output_t mom;        /* the momentum-management stage's commands and telemetry this step; its
-                                   * u_unload_B_Nm was taken off the wheels' command (u_cmd = what the wheels
-                                   * deliver = the law's torque - u_unload, before saturation) */
+    /* the momentum-management stage's output: aocs_exec_momentum() (exec/pipeline.h) */
 } aocs_exec_output_t;
 
 #endif /* AOCS_EXEC_IO_H */
