@@ -39,7 +39,7 @@ What comes from where (docs/sil.md):
   times [estimator] noise_scale (1: the filter knows its sensors; else a
   mistuned filter), and the filter's tuning from [estimator] (gate, P0,
   max gap, bias prior);
-- the momentum management, from the scenario's [momentum] (docs/spec.md 5.7):
+- the momentum management, from the scenario's [momentum] (docs/spec.md 5.9):
   policy "none" (the default, every reference scenario) writes nothing; else
   `mom.policy`, `mom.trigger`, `mom.h_target_nms`, `mom.h_start_nms`,
   `mom.h_stop_nms` from [momentum], and the actuators' figures from the SAME

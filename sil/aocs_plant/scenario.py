@@ -190,7 +190,7 @@ class EstimatorConfig:
 
 @dataclass(frozen=True)
 class MomentumConfig:
-    """[momentum]: the flight software's momentum management (docs/spec.md 5.7; fsw_node's mom.* keys). The
+    """[momentum]: the flight software's momentum management (docs/spec.md 5.9; fsw_node's mom.* keys). The
     actuators' figures come from [thrusters] / [magnetorquers], the sections that build the plant's (one
     description, both sides); here only the policy and its tuning. policy "none" (default) unloads nothing."""
     policy: str = "none"                 # none | thrusters | magnetorquers (momentum.def rows)

@@ -12,6 +12,9 @@ import math
 
 import pytest
 
+from thruster_layout import arms as thruster_arms
+from thruster_layout import couples
+from thruster_layout import cross as _cross
 
 JS = 0.1
 WHEELS = {"wheels.count": "3", **{f"wheel{i}.{k}": v for i in range(3) for k, v in (
@@ -19,26 +22,8 @@ WHEELS = {"wheels.count": "3", **{f"wheel{i}.{k}": v for i in range(3) for k, v 
     ("omega_max_radps", "600"))}, "inertia": "10 10 10", "u_max_axis": "2 2 2"}
 
 
-def _cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
 def _dot(a, b):
     return sum(x * y for x, y in zip(a, b))
-
-
-def _thrusters():
-    """12 thrusters: for each body axis k and sign s two at +-1.2 m along j firing along -+l (a couple about s e_k)."""
-    pos, dirs = [], []
-    for k in range(3):
-        j, m = (k + 1) % 3, (k + 2) % 3
-        for s in (1.0, -1.0):
-            for side in (1.0, -1.0):
-                r, d = [0.0] * 3, [0.0] * 3
-                r[j], d[m] = 1.2 * side, s * side
-                pos.append(tuple(r))
-                dirs.append(tuple(d))
-    return pos, dirs
 
 
 def _send(link, aocs_lcm, tick, speeds, mag=None):
@@ -53,8 +38,7 @@ def _send(link, aocs_lcm, tick, speeds, mag=None):
 
 
 def test_thruster_dumping_on_the_wire(fsw_node, lcm_link, aocs_lcm):
-    pos, dirs = _thrusters()
-    arms = [_cross(r, d) for r, d in zip(pos, dirs)]
+    arms = thruster_arms(*couples(1.2))
     thrust, dt, quantum, min_on = 1.0, 0.1, 0.001, 0.01
     cfg = dict(WHEELS)
     cfg.update({"mom.policy": "thrusters", "mom.trigger": "threshold", "mom.h_start_nms": "5",

@@ -18,29 +18,16 @@ import pytest
 from aocs_core import registry
 from aocs_pil import frame
 from pil_support import TARGETS, configure, start
+from thruster_layout import arms as thruster_arms
+from thruster_layout import couples
 
 QD = (0.0, 0.0, 0.0, 1.0)
 STEPS = 40
 
 
-def _thruster_arms():
-    """12 thrusters, couples about each signed axis, canted 8 deg (as tests/unit/test_momentum.c)."""
-    cant = math.radians(8.0)
-    arms = []
-    for k in range(3):
-        j, l = (k + 1) % 3, (k + 2) % 3
-        for sg in (1.0, -1.0):
-            for sd in (1.0, -1.0):
-                r, d = [0.0] * 3, [0.0] * 3
-                r[j], r[k] = 1.2 * sd, 0.3 * sd
-                d[l], d[k] = sg * sd * math.cos(cant), math.sin(cant)
-                arms.append((r[1] * d[2] - r[2] * d[1], r[2] * d[0] - r[0] * d[2], r[0] * d[1] - r[1] * d[0]))
-    return arms
-
-
 def _config(q, policy: int):
     reg = registry.load()
-    arms = _thruster_arms()
+    arms = thruster_arms(*couples(1.2, 0.3, 8.0))   # canted 8 deg, as tests/unit/test_momentum.c
     fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=list(QD), quat_pd_kp=4.0, quat_pd_kd=8.0,
                   u_max_axis=[2.0, 2.0, 2.0], k_safe=2.0, wheels_count=3, inertia=[10.0, 0, 0, 0, 10.0, 0, 0, 0, 10.0])
     for i in range(3):

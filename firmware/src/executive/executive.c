@@ -1,8 +1,8 @@
 /*
  * The fixed-rate executive (aocs/exec/pipeline.h): config validation,
  * run-time selection, and the control step, which sequences the stages
- * (accept the input, determine the attitude, guide, run the law, actuate,
- * manage momentum), owns the modes and times the step.
+ * (accept the input, determine the attitude, guide, run the law, manage
+ * momentum, actuate), owns the modes and times the step.
  */
 #include <stddef.h>
 #include <string.h>
@@ -418,7 +418,7 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
             out->u_unsat = aocs_vec3_zero();
         }
         /* 5. momentum management: the unloading commands; the torque they apply is taken off the wheels'
-         * command, so the wheels absorb it and the body sees the law's torque (docs/spec.md 5.7) */
+         * command, so the wheels absorb it and the body sees the law's torque (docs/spec.md 5.9) */
         manage_momentum(exec, in);
         /* 6. actuation */
         aocs_act_step(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0,

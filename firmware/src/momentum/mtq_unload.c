@@ -1,6 +1,6 @@
 /*
  * Momentum policy MAGNETORQUERS (row of aocs/momentum/momentum.def;
- * docs/spec.md 5.7.2): the cross-product law
+ * docs/spec.md 5.9.2): the cross-product law
  *
  *     m_B = k (dh x B) / |B|^2,        torque  m_B x B = -k (dh - (dh . b) b) = -k dh_perp,  b = B / |B|
  *

@@ -1,6 +1,6 @@
 /*
  * Momentum policy THRUSTERS (row of aocs/momentum/momentum.def; docs/spec.md
- * 5.7.3): a dumping torque opposing the wheel momentum error dh,
+ * 5.9.3): a dumping torque opposing the wheel momentum error dh,
  *
  *     tau_d = -(dh / |dh|) min(dump_torque_nm, |dh| / dt)      (never more than dh in one period),
  *
@@ -9,8 +9,8 @@
  * (the rows mom.thr_arm_*_m hold r_i x d_i). At init, for each signed body
  * axis s e_k the least-propellant non-negative duty vector c with
  * sum_i c_i t_i = s e_k (per N m) is found among the basic solutions of that
- * linear programme: every invertible triple of thruster torques (Wie 2008,
- * sec. 7.3 on thruster selection logic). A step's duties are
+ * linear programme: every invertible triple of thruster torques (the torque
+ * mapping of Basilisk's thrForceMapping, non-negative by construction). A step's duties are
  * f = sum_k |tau_k| c_(sign tau_k, k), scaled down together when one exceeds 1
  * (the direction of tau kept), on-times t_i = f_i dt quantised to
  * thr_quantum_s and dropped below thr_min_on_s (the minimum impulse bit); what

@@ -16,6 +16,7 @@ import pytest
 
 from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import MomentumConfig, ScenarioError, list_scenarios, load
+from thruster_layout import couples
 
 
 def _vals(text):
@@ -23,17 +24,9 @@ def _vals(text):
 
 
 def _l2_thrusters(thrust=1.0):
-    """12 thrusters: for each body axis k and sign, two at +-1.1 m along j firing along -+l (a couple)."""
-    pos, dirs = [], []
-    for k in range(3):
-        j, m = (k + 1) % 3, (k + 2) % 3
-        for s in (1.0, -1.0):
-            for side in (1.0, -1.0):
-                r, d = [0.0] * 3, [0.0] * 3
-                r[j], r[k], d[m] = 1.1 * side, 0.2, s * side
-                pos.append(tuple(r))
-                dirs.append(tuple(d))
-    return SimpleNamespace(positions_m=tuple(pos), directions=tuple(dirs), thrust_n=thrust, min_on_time_s=0.02,
+    """The 12 thrusters of tests/thruster_layout.py (couples 1.1 m from the centre of mass, offset 0.2 m)."""
+    pos, dirs = couples(1.1, 0.2)
+    return SimpleNamespace(positions_m=pos, directions=dirs, thrust_n=thrust, min_on_time_s=0.02,
                            on_time_quantum_s=0.001)
 
 

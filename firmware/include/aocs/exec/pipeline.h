@@ -118,7 +118,7 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
 aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns);
 
 /*
- * The momentum-management stage's commands and telemetry of the last step (docs/spec.md 5.7): its
+ * The momentum-management stage's commands and telemetry of the last step (docs/spec.md 5.9): its
  * u_unload_B_Nm was taken off that step's wheel command (out->u_cmd, what the wheels deliver, is the law's
  * torque minus it, before saturation). All zero with policy NONE, and for NULL or an executive not
  * initialised. Kept out of aocs_exec_output_t so a step without momentum management costs nothing more.

@@ -1,6 +1,6 @@
 /*
  * The momentum-management stage (ARCHITECTURE.md "The flight pipeline";
- * docs/spec.md 5.7): from the wheel array's momentum, the unloading commands
+ * docs/spec.md 5.9): from the wheel array's momentum, the unloading commands
  * (magnetorquer dipoles, thruster on-times) and the body torque they are
  * expected to apply, which the executive feeds forward into the wheel
  * command so the wheels absorb it and the body sees none (the law's torque
