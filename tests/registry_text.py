@@ -122,7 +122,8 @@ def wheel_field_rows() -> list[dict]:
 
 
 #: a general row's KIND -> (its PIL value kind, count)
-_GENERAL_KIND = {"REAL": ("REAL", 1), "VEC3": ("REAL", 3), "QUAT": ("REAL", 4)}
+_GENERAL_KIND = {"REAL": ("REAL", 1), "VEC3": ("REAL", 3), "QUAT": ("REAL", 4), "MAT3": ("REAL", 9),
+                 "THR": ("REAL", 12)}
 
 
 def exec_field_rows() -> list[dict]:

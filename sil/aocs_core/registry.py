@@ -162,6 +162,9 @@ class Registry:
         #: the attitude-determination rows: name -> (host budget ns, {target: instructions}) each adds to every step
         self.estimators: dict[str, tuple[int, dict[str, int]]] = {
             e["name"]: (e["budget_ns"], dict(e["budget_instructions"])) for e in data["estimators"]}
+        #: momentum.def rows: name -> (host budget ns, {target: instructions}) each adds to every step
+        self.momentum_policies: dict[str, tuple[int, dict[str, int]]] = {
+            e["name"]: (e["budget_ns"], dict(e["budget_instructions"])) for e in data.get("momentum_policies", ())}
         self.fields: tuple[Field, ...] = tuple(
             Field(f["key"], f["name"], f["law"], f["config"], f["member"], f["type"], f["count"], f["rule"],
                   f["unit"], f["pil_id"], f["variant"], f["ref"]) for f in data["fields"])

@@ -39,6 +39,17 @@ What comes from where (docs/sil.md):
   times [estimator] noise_scale (1: the filter knows its sensors; else a
   mistuned filter), and the filter's tuning from [estimator] (gate, P0,
   max gap, bias prior, and the start: `mekf.init_mode`, `mekf.init_q_BN`);
+- the momentum management, from the scenario's [momentum] (docs/spec.md 5.9):
+  policy "none" (the default, every reference scenario) writes nothing; else
+  `mom.policy`, `mom.trigger`, `mom.h_target_nms`, `mom.h_start_nms`,
+  `mom.h_stop_nms` from [momentum], and the actuators' figures from the SAME
+  sections that build the plant's: thrusters from [thrusters] (nominal
+  geometry: no misalignment, no thrust noise; `mom.thr_arm_*_m` = r_i x d_i
+  scaled by thrust_i / the largest thrust, `mom.thr_thrust_n` = that thrust,
+  `mom.thr_min_on_s` = min_on_time_s, `mom.thr_quantum_s` =
+  on_time_quantum_s, padded with zeros to 12) with [momentum] dump_torque_nm;
+  magnetorquers from [magnetorquers] (`mom.mtq_axes`, `mom.mtq_max_dipole_am2`)
+  with [momentum] k_mtq_per_s;
 - k_safe: 0.1 * mean principal inertia (N m s/rad), i.e. a 10 s damping
   time constant in safe mode (attitude); orbit safe mode is zero force.
 """
@@ -161,6 +172,49 @@ def estimator_keys(scenario) -> dict[str, str]:
     return out
 
 
+#: AOCS_MOM_THRUSTERS_MAX (momentum.h): the mom.thr_arm_*_m rows hold this many values
+MOM_THRUSTERS_MAX = 12
+
+
+def momentum_keys(scenario) -> dict[str, str]:
+    """fsw_node's momentum-management keys from the scenario's [momentum] and the actuator sections (empty for
+    policy none)."""
+    m = getattr(scenario, "momentum", None)
+    if m is None or m.policy == "none":
+        return {}
+    out = {"mom.policy": m.policy, "mom.trigger": m.trigger, "mom.h_target_nms": _vec(m.h_target_nms),
+           "mom.h_start_nms": _num(m.h_start_nms), "mom.h_stop_nms": _num(m.h_stop_nms)}
+    if m.policy == "thrusters":
+        t = scenario.effectors["thrusters"]
+        n = len(t.positions_m)
+        if n > MOM_THRUSTERS_MAX:
+            raise ConfigError(f"{n} thrusters: the flight software allocates at most {MOM_THRUSTERS_MAX}")
+        thrust = tuple(t.thrust_n) if isinstance(t.thrust_n, (tuple, list)) else (t.thrust_n,) * n
+        f_max = max(thrust)
+        arms = []
+        for r, d, f in zip(t.positions_m, t.directions, thrust):
+            c = np.cross(np.asarray(r, float), np.asarray(d, float)) * (f / f_max)   # nominal geometry
+            arms.append(tuple(float(x) for x in c))
+        arms += [(0.0, 0.0, 0.0)] * (MOM_THRUSTERS_MAX - n)
+        out.update({"mom.thr_count": str(n), "mom.thr_thrust_n": _num(f_max),
+                    "mom.thr_min_on_s": _num(t.min_on_time_s), "mom.thr_quantum_s": _num(t.on_time_quantum_s),
+                    "mom.dump_torque_nm": _num(m.dump_torque_nm)})
+        for c, axis in enumerate("xyz"):
+            out[f"mom.thr_arm_{axis}_m"] = _vec([a[c] for a in arms])
+    elif m.policy == "magnetorquers":
+        g = scenario.effectors["magnetorquers"]
+        out.update({"mom.k_mtq_per_s": _num(m.k_mtq_per_s),
+                    "mom.mtq_axes": _vec([x for axis in g.axes for x in axis]),
+                    "mom.mtq_max_dipole_am2": _vec(g.max_dipole_am2)})
+    else:
+        raise ConfigError(f"momentum policy {m.policy!r}: no flight-software keys for it")
+    keys = {f.key for f in registry.load().config_fields}
+    unknown = sorted(set(out) - keys)
+    if unknown:
+        raise ConfigError(f"the flight software has no key {unknown[0]!r} (the registry of this build)")
+    return out
+
+
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
                 idle_timeout_s: float = 5.0, run_timeout_s: float = 0.0,
                 status_period_s: float | None = None, lcm_url: str | None = None,
@@ -210,6 +264,7 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
     cfg.update(wheel_keys(sc))
     if sc.kind == "attitude":
         cfg.update(estimator_keys(sc))
+        cfg.update(momentum_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])

@@ -11,7 +11,8 @@ SensorFrame is what the flight software is given: the fields of the wire contrac
 Its `valid` bits are sensors_t's VALID_* bits, read from the generated bindings (valid_bits()); the
 flight computer's node logic reads them (fsw_node's aocs_node_sensors_to_input, the PIL bridge's and
 adapter's STEP payload). Command is what the plant takes back: the body torque (attitude) or force
-(orbit) and the wheel torques, one per wheel of the flight computer's array. Reply is the Command with
+(orbit), the wheel torques, one per wheel of the flight computer's array, and the momentum-management
+stage's thruster on-times and magnetorquer dipole (sent only to a plant that has those actuators). Reply is the Command with
 the step's telemetry (law, mode, status, timing, the attitude-determination stage's Estimate) and the
 transport's own reply.
 
@@ -40,6 +41,7 @@ class ValidBits(NamedTuple):
     wheels: int
     star_tracker: int   # st_q is a new sample of this period, measured at st_t_meas_s
     gyro: int
+    magnetometer: int   # mag_b_t is a reading (protocol version 4)
 
 
 @lru_cache(maxsize=1)
@@ -47,7 +49,7 @@ def valid_bits() -> ValidBits:
     """The bits of SensorFrame.valid, from the build's generated bindings (their one definition)."""
     s = paths.import_bindings().sensors_t
     return ValidBits(s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS,
-                     s.VALID_STAR_TRACKER, s.VALID_GYRO)
+                     s.VALID_STAR_TRACKER, s.VALID_GYRO, s.VALID_MAGNETOMETER)
 
 
 def seconds_to_ns(t_s: float) -> int:
@@ -75,6 +77,8 @@ class SensorFrame:
                               # identity before the first sample and without a tracker)
     st_t_meas_s: float = 0.0  # the sim time that sample measured, s (0 before the first)
     gyro_w: tuple = _Z3       # gyro: measured rate in B, rad/s, mean over the period (zeros without one)
+    mag_b_t: tuple = _Z3      # magnetometer: geomagnetic field in B, T (valid's magnetometer bit; zeros without
+                              # one: the plant has no sensor whose sample field is "mag_b_t")
 
     @property
     def t_ns(self) -> int:
@@ -98,6 +102,38 @@ class Command:
     tick: int                 # the tick of the frame it answers
     u: tuple                  # body torque, N m, B (attitude) or force, N (orbit): actuator_cmd_t.u_sat
     u_wheels: tuple = ()      # wheel motor torques, N m, one per wheel of the flight computer's array
+    thruster_on_s: tuple = () # thruster on-times of this period, s, one per thruster of the flight computer's
+                              # configuration (mom.thr_count; none when its momentum policy is not thrusters)
+    u_dipole_am2: tuple = ()  # magnetorquer dipole of each rod, A m^2 (3; none when the policy is not
+                              # magnetorquers)
+
+
+@dataclass(slots=True)
+class Momentum:
+    """The momentum-management stage's telemetry of one step (firmware momentum.h aocs_mom_output_t, the
+    momentum fields of actuator_cmd_t and of the PIL STEP_REPLY); zero with policy none."""
+    policy: int = 0           # momentum.def row (0 none, 1 magnetorquers, 2 thrusters)
+    status: int = 0           # aocs_status_t of the stage's step
+    n_thrusters: int = 0
+    thruster_on_s: tuple = (0.0,) * 12
+    dipole_am2: tuple = _Z3   # per rod, A m^2
+    u_unload: tuple = _Z3     # body torque the unloading actuators are expected to apply, N m (taken off the wheels)
+    h_wheels: tuple = _Z3     # wheel momentum the stage used, N m s, B
+    dh: tuple = _Z3           # h_wheels - h_target, N m s
+    unloading: bool = False   # a dump in progress this step
+    n_events: int = 0         # unloads started so far
+
+    def command_fields(self) -> tuple[tuple, tuple]:
+        """(thruster_on_s, u_dipole_am2) of the Command: the first n_thrusters on-times with the thrusters
+        policy, the dipole with the magnetorquers policy, else empty (the momentum.def row ids)."""
+        n = max(0, min(int(self.n_thrusters), len(self.thruster_on_s)))
+        thr = tuple(self.thruster_on_s[:n]) if self.policy == POLICY_THRUSTERS else ()
+        mtq = tuple(self.dipole_am2) if self.policy == POLICY_MAGNETORQUERS else ()
+        return thr, mtq
+
+
+#: momentum.def row ids (the configuration key mom.policy)
+POLICY_NONE, POLICY_MAGNETORQUERS, POLICY_THRUSTERS = 0, 1, 2
 
 
 @dataclass(slots=True)
@@ -130,6 +166,7 @@ class Reply:
     overrun: bool = False
     raw: object = None        # the transport's own reply (actuator_cmd_t values, frame.StepReply, ...)
     estimate: Estimate | None = None   # the step's attitude estimate (None: the transport gave none)
+    momentum: Momentum | None = None   # the step's momentum-management telemetry (None: the transport gave none)
 
 
 class WheelMismatch(ValueError):
@@ -139,6 +176,11 @@ class WheelMismatch(ValueError):
     def __init__(self, commanded: int, plant: int):
         super().__init__(f"the flight computer commands {commanded} wheel(s), the plant has {plant}")
         self.commanded, self.plant = commanded, plant
+
+
+class ActuatorMismatch(ValueError):
+    """The flight computer commands an actuator the plant does not have, or another number of them (a setup
+    error: both are built from the scenario's [thrusters] / [magnetorquers])."""
 
 
 class PlantPort:
@@ -165,6 +207,15 @@ class PlantPort:
         self._st = b.star_tracker if "st_q" in fields else 0
         self._gyro = b.gyro if fields & {"gyro_w", "gyro_dtheta"} else 0
         self._gyro_angle = "gyro_dtheta" in fields   # angle increments: divided by the period, the mean rate
+        # the magnetometer (protocol version 4), when the scenario has one: its sample fields mag_b_t, mag_valid
+        self._mag = b.magnetometer if "mag_b_t" in fields else 0
+        # the unloading actuators the plant has (Plant.command_fields: thruster_on_s N, u_dipole_am2 3). Plant.apply
+        # holds a field a command leaves out, so a plant that has them is always sent them (zeros when the
+        # flight computer commands none); one without them is never sent them
+        cf = getattr(plant, "command_fields", {})
+        self.n_thrusters = int(cf.get("thruster_on_s", 0))
+        self.magnetorquers = "u_dipole_am2" in cf
+        self._thr_zero = (0.0,) * self.n_thrusters
 
     def sense(self, tick: int, t_s: float | None = None) -> SensorFrame:
         """The plant's measurement of this period (Plant.sense) as the frame of `tick`; t_s defaults to
@@ -173,19 +224,19 @@ class PlantPort:
 
     def fields(self, tick: int, t_s: float | None = None) -> tuple:
         """sense() without the object: the SensorFrame's fields in their order (tick, t_s, valid, q, w, pos, vel,
-        wheel_speed, st_q, st_t_meas_s, gyro_w), what LcmCodec.pack_fields takes (plant_node's loop, one
+        wheel_speed, st_q, st_t_meas_s, gyro_w, mag_b_t), what LcmCodec.pack_fields takes (plant_node's loop, one
         sensors_t per tick)."""
         s = self.plant.sense()
         if t_s is None:
             t_s = tick * self.dt
         if not self.attitude:
             return (tick, t_s, (self._pos if s["pos_valid"] else 0) | (self._vel if s["vel_valid"] else 0),
-                    _Q1, _Z3, s["pos"], s["vel"], (), _Q1, 0.0, _Z3)
+                    _Q1, _Z3, s["pos"], s["vel"], (), _Q1, 0.0, _Z3, _Z3)
         valid = (self._att if s["q_valid"] else 0) | (self._rate if s["w_valid"] else 0) | self._wheels
         ws = s["wheel_speed"] if self._wheels else ()
-        if not (self._st or self._gyro):
-            return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, _Q1, 0.0, _Z3
-        st_q, st_t, gyro_w = _Q1, 0.0, _Z3
+        if not (self._st or self._gyro or self._mag):
+            return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, _Q1, 0.0, _Z3, _Z3
+        st_q, st_t, gyro_w, mag = _Q1, 0.0, _Z3, _Z3
         if self._st:
             st_q, st_t = tuple(s["st_q"]), s["st_t_meas"]
             if s["st_new"] and s["st_valid"]:   # a new sample, usable: the flag of this period only
@@ -195,17 +246,42 @@ class PlantPort:
             gyro_w = tuple(x / dt for x in s["gyro_dtheta"]) if self._gyro_angle else tuple(s["gyro_w"])
             if s["gyro_valid"]:
                 valid |= self._gyro
-        return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, st_q, st_t, gyro_w
+        if self._mag:
+            mag = tuple(s["mag_b_t"])
+            if s["mag_valid"]:
+                valid |= self._mag
+        return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, st_q, st_t, gyro_w, mag
+
+    def _unloading(self, cmd: Command, m: dict) -> None:
+        """The unloading actuators' fields into m: thruster_on_s and u_dipole_am2 when the plant has them (zeros
+        when the command has none); ActuatorMismatch when the command has them and the plant does not, or
+        another number of thrusters."""
+        thr, mtq = cmd.thruster_on_s, cmd.u_dipole_am2
+        n = self.n_thrusters
+        if n:
+            if thr and len(thr) != n:
+                raise ActuatorMismatch(f"the flight computer commands {len(thr)} thruster(s), the plant has {n}")
+            m["thruster_on_s"] = thr or self._thr_zero
+        elif thr:
+            raise ActuatorMismatch(f"the flight computer commands {len(thr)} thruster(s), the plant has none "
+                                   f"(no [thrusters])")
+        if self.magnetorquers:
+            m["u_dipole_am2"] = mtq or _Z3
+        elif mtq:
+            raise ActuatorMismatch("the flight computer commands magnetorquers, the plant has none "
+                                   "(no [magnetorquers])")
 
     def command(self, cmd: Command) -> dict:
-        """Plant.apply's mapping of a Command: the body field, and the wheel torques when the plant has a
-        wheel array (WheelMismatch when the flight computer's array is another size)."""
+        """Plant.apply's mapping of a Command: the body field, the wheel torques when the plant has a wheel
+        array (WheelMismatch when the flight computer's array is another size), the thruster on-times and the
+        magnetorquer dipole when the plant has those actuators (ActuatorMismatch when they disagree)."""
         nw = self.n_wheels
         if len(cmd.u_wheels) != nw:
             raise WheelMismatch(len(cmd.u_wheels), nw)
-        if nw:
-            return {self.u_field: cmd.u, "u_wheels": cmd.u_wheels}
-        return {self.u_field: cmd.u}
+        m = {self.u_field: cmd.u, "u_wheels": cmd.u_wheels} if nw else {self.u_field: cmd.u}
+        if self.n_thrusters or self.magnetorquers or cmd.thruster_on_s or cmd.u_dipole_am2:
+            self._unloading(cmd, m)
+        return m
 
     def apply(self, cmd: Command) -> dict:
         """Apply a Command to the plant for this period (the mapping of command()); returns the mapping."""
@@ -213,5 +289,7 @@ class PlantPort:
         if len(uw) != self.n_wheels:
             raise WheelMismatch(len(uw), self.n_wheels)
         m = {self.u_field: cmd.u, "u_wheels": uw} if uw else {self.u_field: cmd.u}
+        if self.n_thrusters or self.magnetorquers or cmd.thruster_on_s or cmd.u_dipole_am2:
+            self._unloading(cmd, m)
         self.plant.apply(m)
         return m

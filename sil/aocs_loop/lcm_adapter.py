@@ -12,7 +12,7 @@ import time
 
 from aocs_wire import wire
 
-from .frames import Command, Estimate, Reply, SensorFrame
+from .frames import POLICY_MAGNETORQUERS, POLICY_THRUSTERS, Command, Estimate, Momentum, Reply, SensorFrame
 
 
 class LcmCodec:
@@ -27,8 +27,9 @@ class LcmCodec:
         self._pack_v = codecs.sensors.packer(self.version)   # this protocol version's frames: one call each
         a = codecs.actuator
         self.unpack = a.unpack
-        #: unpack of actuator_cmd_t's head only, through u_wheels: what command() reads (plant_node's loop)
-        self.unpack_command = a.unpacker("u_wheels")
+        #: unpack of actuator_cmd_t's head only, through dipole_am2 (the last field command() reads: the
+        #: unloading actuators' commands of protocol version 4): plant_node's loop
+        self.unpack_command = a.unpacker("dipole_am2")
         self.i_tick = a.index("tick")
         self.i_u = a.index("u_sat")
         self.i_uw = a.index("u_wheels")
@@ -44,29 +45,51 @@ class LcmCodec:
                                                  "st_status", "n_st_used", "n_st_gated", "n_st_hostile",
                                                  "n_est_restarts"))
         self.n_p = a.fields[[n for n, _ in a.fields].index("est_p")][1]
+        # the momentum-management stage (protocol version 4): each field's index, Momentum's order
+        self.i_mom = tuple(a.index(n) for n in ("mom_policy", "mom_status", "n_thrusters", "thruster_on_s",
+                                                 "dipole_am2", "u_unload", "h_wheels", "dh", "unloading",
+                                                 "n_unload_events"))
+        self.max_thrusters = bindings.actuator_cmd_t.MAX_THRUSTERS
 
     def pack_sensors(self, f: SensorFrame, frame_no: int | None = None, version: int | None = None) -> bytes:
         """sensors_t of a frame: frame counter = tick unless given, utime = t_s in us, n_wheels = the
-        tachometers it carries (the other slots zero), then the star tracker's and the gyro's fields."""
+        tachometers it carries (the other slots zero), then the star tracker's, the gyro's and the
+        magnetometer's fields."""
         return self.pack_fields(f.tick, f.t_s, f.valid, f.q, f.w, f.pos, f.vel, f.wheel_speed, f.st_q, f.st_t_meas_s,
-                                f.gyro_w, frame_no, version)
+                                f.gyro_w, f.mag_b_t, frame_no, version)
 
-    def pack_fields(self, tick, t_s, valid, q, w, pos, vel, ws, st_q, st_t_meas_s, gyro_w, frame_no=None,
+    def pack_fields(self, tick, t_s, valid, q, w, pos, vel, ws, st_q, st_t_meas_s, gyro_w, mag_b_t, frame_no=None,
                     version=None) -> bytes:
         """pack_sensors of a frame given as its fields (PlantPort.fields: plant_node's loop packs them without
         making a SensorFrame)."""
         n = len(ws)
         pack = self._pack_v if version is None else self.codecs.sensors.packer(version)
         return pack(tick if frame_no is None else frame_no, int(round(t_s * 1e6)), tick, t_s, valid, *q, *w, *pos,
-                    *vel, n, *ws, *self._pads[n], *st_q, st_t_meas_s, *gyro_w)
+                    *vel, n, *ws, *self._pads[n], *st_q, st_t_meas_s, *gyro_w, *mag_b_t)
 
     def command(self, v: tuple) -> Command:
-        """The Command of actuator_cmd_t values (unpack, or unpack_command's head): u_sat and the first n_wheels
-        wheel torques."""
+        """The Command of actuator_cmd_t values (unpack, or unpack_command's head): u_sat, the first n_wheels
+        wheel torques, and with the thrusters policy the first n_thrusters on-times, with the magnetorquers
+        policy the dipole."""
         i, iw, n = self.i_u, self.i_uw, v[self.i_nw]
         if not 0 <= n <= self.max_wheels:
             n = min(max(n, 0), self.max_wheels)
+        ip = self.i_mom[0]
+        policy = v[ip]
+        if policy == POLICY_THRUSTERS:
+            it, nt = self.i_mom[3], min(max(v[self.i_mom[2]], 0), self.max_thrusters)
+            return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n], v[it:it + nt])
+        if policy == POLICY_MAGNETORQUERS:
+            idp = self.i_mom[4]
+            return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n], (), v[idp:idp + 3])
         return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n])
+
+    def momentum(self, v: tuple) -> Momentum:
+        """The Momentum of actuator_cmd_t values (the momentum fields, in the message's order)."""
+        pol, st, nt, thr, dip, unl, hw, dh, on, ev = self.i_mom
+        m = self.max_thrusters
+        return Momentum(v[pol], v[st], v[nt], v[thr:thr + m], v[dip:dip + 3], v[unl:unl + 3], v[hw:hw + 3],
+                        v[dh:dh + 3], bool(v[on]), v[ev])
 
     def estimate(self, v: tuple) -> Estimate:
         """The Estimate of actuator_cmd_t values (estimator, est_status, q_est, w_est, bias_est, est_p,
@@ -79,7 +102,7 @@ class LcmCodec:
         """The Reply of actuator_cmd_t values: the Command and the step's telemetry; raw = the values."""
         iu = self.i_unsat
         return Reply(self.command(v), v[iu:iu + 3], v[self.i_law], v[self.i_mode], v[self.i_status],
-                     v[self.i_step_ns], bool(v[self.i_overrun]), v, self.estimate(v))
+                     v[self.i_step_ns], bool(v[self.i_overrun]), v, self.estimate(v), self.momentum(v))
 
 
 class LcmFlightComputer:

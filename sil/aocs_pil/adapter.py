@@ -6,20 +6,21 @@ bridge (aocs_pil.bridge turns each sensors_t into a SensorFrame, then into this 
 and the direct path (harness.run_direct) feed the image the same bytes. It reads the frame as fsw_node reads
 a sensors_t (node_wire.c aocs_node_sensors_to_input): attitude and rate bits as they are, the orbit bit when
 both position and velocity are valid, a wheel the frame does not measure as NaN, the star tracker's and the
-gyro's bits as they are, the tracker's time of measurement converted as the sensor time is.
+gyro's bits as they are, the tracker's time of measurement converted as the sensor time is, the
+magnetometer's bit and field as they are.
 """
 from __future__ import annotations
 
 import math
 
-from aocs_loop.frames import Command, Estimate, Reply, SensorFrame, valid_bits
+from aocs_loop.frames import Command, Estimate, Momentum, Reply, SensorFrame, valid_bits
 
 from . import frame
 from .qemu import Qemu
 
 #: the executive input's validity bits of the STEP frame (aocs_exec_input_t.valid, exec/io.h: ATT, RATE, ORBIT,
-#: ST, GYRO)
-EXEC_VALID_ATT, EXEC_VALID_RATE, EXEC_VALID_ORBIT, EXEC_VALID_ST, EXEC_VALID_GYRO = 1, 2, 4, 8, 16
+#: ST, GYRO, MAG)
+EXEC_VALID_ATT, EXEC_VALID_RATE, EXEC_VALID_ORBIT, EXEC_VALID_ST, EXEC_VALID_GYRO, EXEC_VALID_MAG = 1, 2, 4, 8, 16, 32
 
 
 def step_payload(f: SensorFrame) -> bytes:
@@ -28,11 +29,12 @@ def step_payload(f: SensorFrame) -> bytes:
     v = f.valid
     valid = ((EXEC_VALID_ATT if v & b.attitude else 0) | (EXEC_VALID_RATE if v & b.rate else 0)
              | (EXEC_VALID_ORBIT if (v & b.position) and (v & b.velocity) else 0)
-             | (EXEC_VALID_ST if v & b.star_tracker else 0) | (EXEC_VALID_GYRO if v & b.gyro else 0))
+             | (EXEC_VALID_ST if v & b.star_tracker else 0) | (EXEC_VALID_GYRO if v & b.gyro else 0)
+             | (EXEC_VALID_MAG if v & b.magnetometer else 0))
     ws = f.wheel_speed if v & b.wheels else ()
     wheels = [ws[i] if i < len(ws) else math.nan for i in range(frame.WHEELS_MAX)]
     return frame.encode_step(f.tick, f.t_ns, valid, f.q, f.w, f.pos, f.vel, wheels, st_q=f.st_q,
-                             st_t_meas_ns=f.st_t_meas_ns, gyro_w=f.gyro_w)
+                             st_t_meas_ns=f.st_t_meas_ns, gyro_w=f.gyro_w, mag_b_t=f.mag_b_t)
 
 
 def step_status(r: frame.StepReply) -> int:
@@ -47,13 +49,22 @@ def estimate_of(r: frame.StepReply) -> Estimate:
                     r.n_st_gated, r.n_st_hostile, r.n_est_restarts)
 
 
+def momentum_of(r: frame.StepReply) -> Momentum:
+    """The Momentum of a STEP_REPLY (its momentum rows)."""
+    return Momentum(r.mom_policy, r.mom_status, r.n_thrusters, tuple(r.thruster_on_s), tuple(r.dipole_am2),
+                    tuple(r.u_unload), tuple(r.h_wheels), tuple(r.dh), bool(r.unloading), r.n_unload_events)
+
+
 def reply_of(r: frame.StepReply, tick: int, n_wheels: int, clock_hz: float) -> Reply:
     """The Reply of a STEP_REPLY: u_cmd and the first n_wheels wheel torques (the configuration's array;
-    the frame carries WHEELS_MAX), step_ns = the step's instructions at the target's nominal clock, the
-    estimate."""
-    cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels])
+    the frame carries WHEELS_MAX), the unloading actuators' commands of the momentum policy (as LcmCodec
+    reads them), step_ns = the step's instructions at the target's nominal clock, the estimate and the
+    momentum telemetry."""
+    mom = momentum_of(r)
+    thr, mtq = mom.command_fields()
+    cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels], thr, mtq)
     return Reply(cmd, r.u_unsat, r.law, r.mode, step_status(r), int(round(r.instructions * 1e9 / clock_hz)),
-                 bool(r.overrun), r, estimate_of(r))
+                 bool(r.overrun), r, estimate_of(r), mom)
 
 
 class PilFlightComputer:

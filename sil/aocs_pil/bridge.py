@@ -224,7 +224,7 @@ class Bridge:
         n = max(0, min(msg.n_wheels, frame.WHEELS_MAX, len(msg.wheel_speed)))
         payload = step_payload(SensorFrame(msg.tick, msg.t_s, msg.valid, msg.q, msg.w, msg.pos, msg.vel,
                                            tuple(msg.wheel_speed[:n]), tuple(msg.st_q), msg.st_t_meas_s,
-                                           tuple(msg.gyro_w)))
+                                           tuple(msg.gyro_w), tuple(msg.mag_b_t)))
         try:
             seq = self.q.next_seq()
             raw = frame.encode(frame.T_STEP, seq, payload)
@@ -308,6 +308,18 @@ class Bridge:
         m.st_status = r.st_status
         m.n_st_used, m.n_st_gated, m.n_st_hostile = r.n_st_used, r.n_st_gated, r.n_st_hostile
         m.n_est_restarts = r.n_est_restarts
+        # the momentum-management stage of this step, as fsw_node publishes it (node_wire.c
+        # aocs_node_momentum_to_cmd)
+        m.mom_policy = min(r.mom_policy, 127)
+        m.mom_status = r.mom_status
+        m.n_thrusters = min(r.n_thrusters, 127)
+        m.thruster_on_s = list(r.thruster_on_s)
+        m.dipole_am2 = list(r.dipole_am2)
+        m.u_unload = list(r.u_unload)
+        m.h_wheels = list(r.h_wheels)
+        m.dh = list(r.dh)
+        m.unloading = bool(r.unloading)
+        m.n_unload_events = r.n_unload_events
         self.lc.publish(CH_ACTUATOR, m.encode())
 
     # ---------------------------------------------------------------- AOCS_COMMAND

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, make_dataclass
 from aocs_core import registry
 
 MAGIC = 0x4C495041
-VERSION = 3
+VERSION = 4
 HEADER_BYTES = 12
 CRC_BYTES = 4
 PAYLOAD_MAX = 1024
@@ -200,16 +200,18 @@ Error = _payload_class("Error", "ERROR", _ErrorPayload)
 
 
 def encode_step(tick: int, t_sensor_ns: int, valid: int, q, w, pos, vel, wheel_speed=None, *,
-                st_q=(0.0, 0.0, 0.0, 1.0), st_t_meas_ns: int = 0, gyro_w=(0.0, 0.0, 0.0)) -> bytes:
+                st_q=(0.0, 0.0, 0.0, 1.0), st_t_meas_ns: int = 0, gyro_w=(0.0, 0.0, 0.0),
+                mag_b_t=(0.0, 0.0, 0.0)) -> bytes:
     """wheel_speed: up to WHEELS_MAX tachometer speeds (rad/s); the wheels not given read NaN, as fsw_node
     reads a wheel the sensor message does not measure. st_q, st_t_meas_ns: the star tracker's last sample and
-    its time of measurement (ns, the clock of t_sensor_ns); gyro_w: the gyro's rate (rad/s)."""
+    its time of measurement (ns, the clock of t_sensor_ns); gyro_w: the gyro's rate (rad/s); mag_b_t: the
+    magnetometer's field in B (T)."""
     ws = [float(x) for x in (wheel_speed or ())]
     if len(ws) > WHEELS_MAX:
         raise ValueError(f"{len(ws)} wheel speeds, at most {WHEELS_MAX}")
     return pack("STEP", dict(tick=tick & 0xFFFFFFFF, t_sensor_ns=t_sensor_ns, valid=valid & 0xFFFFFFFF, q=q, w=w,
                              pos=pos, vel=vel, wheel_speed=ws + [math.nan] * (WHEELS_MAX - len(ws)), st_q=st_q,
-                             st_t_meas_ns=st_t_meas_ns, gyro_w=gyro_w))
+                             st_t_meas_ns=st_t_meas_ns, gyro_w=gyro_w, mag_b_t=mag_b_t))
 
 
 def encode_select(law: int, qd=None, wd=(0.0, 0.0, 0.0)) -> bytes:

@@ -76,6 +76,7 @@ class RunResult:
     qe_arcsec: list = field(default_factory=list)
     sensors: list = field(default_factory=list)        # aocs_loop.frames.SensorFrame per tick
     estimates: list = field(default_factory=list)      # aocs_loop.frames.Estimate per tick (the step's estimate)
+    momentum: list = field(default_factory=list)       # aocs_loop.frames.Momentum per tick (the momentum stage's)
     stats: dict = field(default_factory=dict)          # the flight computer's final JSON ("fsw_node")
     returncode: int | None = None
     stderr: str = ""
@@ -241,6 +242,7 @@ class _Record(core.Hook):
             self.truth(plant)
         res.sensors.append(frame)
         res.estimates.append(reply.estimate)
+        res.momentum.append(reply.momentum)
         res.u_sat.append(tuple(reply.command.u))
         res.u_wheels.append(tuple(reply.command.u_wheels))
         res.u_unsat.append(tuple(reply.u_unsat))
@@ -269,6 +271,7 @@ class DirectResult:
     replies: list = field(default_factory=list)       # frame.StepReply per tick
     sensors: list = field(default_factory=list)       # aocs_loop.frames.SensorFrame per tick
     estimates: list = field(default_factory=list)     # aocs_loop.frames.Estimate per tick (the step's estimate)
+    momentum: list = field(default_factory=list)      # aocs_loop.frames.Momentum per tick (the momentum stage's)
     u_sat: list = field(default_factory=list)         # per tick, the body torque (force) the plant took
     u_wheels: list = field(default_factory=list)      # per tick, the wheel torques the plant took
     pointing_arcsec: list = field(default_factory=list)
@@ -334,6 +337,7 @@ class _DirectRecord(core.Hook):
         res.replies.append(reply.raw)
         res.sensors.append(frame)
         res.estimates.append(reply.estimate)
+        res.momentum.append(reply.momentum)
         res.u_sat.append(tuple(reply.command.u))
         res.u_wheels.append(tuple(reply.command.u_wheels))
 

@@ -202,6 +202,20 @@ class EstimatorConfig:
 
 
 @dataclass(frozen=True)
+class MomentumConfig:
+    """[momentum]: the flight software's momentum management (docs/spec.md 5.9; fsw_node's mom.* keys). The
+    actuators' figures come from [thrusters] / [magnetorquers], the sections that build the plant's (one
+    description, both sides); here only the policy and its tuning. policy "none" (default) unloads nothing."""
+    policy: str = "none"                 # none | thrusters | magnetorquers (momentum.def rows)
+    trigger: str = "threshold"           # threshold (hysteresis) | continuous
+    h_target_nms: tuple = (0.0, 0.0, 0.0)
+    h_start_nms: float = 0.0             # threshold: start when |h_wheels - h_target| exceeds this
+    h_stop_nms: float = 0.0              # threshold: stop below this (< h_start_nms)
+    k_mtq_per_s: float = 0.0             # magnetorquers: m = k (dh x B) / |B|^2
+    dump_torque_nm: float = 0.0          # thrusters: dumping torque magnitude
+
+
+@dataclass(frozen=True)
 class Scenario:
     id: str
     description: str
@@ -230,6 +244,8 @@ class Scenario:
     environment: EnvironmentConfig = EnvironmentConfig()
     # [estimator]: the flight software's attitude determination (passthrough unless the scenario says)
     estimator: EstimatorConfig = EstimatorConfig()
+    # [momentum]: the flight software's momentum management (none unless the scenario says)
+    momentum: MomentumConfig = MomentumConfig()
 
     @property
     def dt(self) -> float:
@@ -748,6 +764,53 @@ def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig,
     return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale, mode, q0, err0)
 
 
+#: the largest number of thrusters the flight software allocates (AOCS_MOM_THRUSTERS_MAX, momentum.h)
+MOM_THRUSTERS_MAX = 12
+
+
+def _read_momentum(root: _Section, kind: str, configs: Mapping[str, Any], sensor_config: SensorsConfig
+                   ) -> MomentumConfig:
+    """[momentum], bounded as the momentum stage's init bounds it (momentum.c; the registry's mom.* rules)."""
+    sec = root.table("momentum", required=False)
+    if sec is None:
+        return MomentumConfig()
+    fields = {f.key: f for f in registry.load().config_fields}
+    policy = sec.string("policy", required=False, default="none", choices=fields["mom.policy"].names)
+    trigger = sec.string("trigger", required=False, default="threshold", choices=fields["mom.trigger"].names)
+    h_target = sec.vector("h_target_nms", required=False, default=(0.0, 0.0, 0.0))
+    h_start = sec.number("h_start_nms", required=False, default=0.0, nonneg=True)
+    h_stop = sec.number("h_stop_nms", required=False, default=0.0, nonneg=True)
+    k_mtq = sec.number("k_mtq_per_s", required=False, default=0.0, nonneg=True)
+    dump = sec.number("dump_torque_nm", required=False, default=0.0, nonneg=True)
+    sec.done()
+    if policy == "none":
+        return MomentumConfig(policy, trigger, tuple(h_target), h_start, h_stop, k_mtq, dump)
+    if kind != "attitude":
+        sec.fail(sec.key("policy"), "momentum management applies to attitude scenarios only")
+    if "wheels" not in configs:
+        sec.fail(sec.key("policy"), f'"{policy}" unloads the reaction wheels: the scenario has no [wheels]')
+    if policy == "magnetorquers":
+        if "magnetorquers" not in configs:
+            sec.fail(sec.key("policy"), '"magnetorquers" needs a [magnetorquers] section (the rods)')
+        if "magnetometer" not in sensor_config.sensors:
+            sec.fail(sec.key("policy"), '"magnetorquers" needs [sensors.magnetometer] (the field the law uses)')
+        if not k_mtq > 0.0:
+            sec.fail(sec.key("k_mtq_per_s"), 'must be > 0 with policy "magnetorquers"')
+    if policy == "thrusters":
+        thr = configs.get("thrusters")
+        if thr is None:
+            sec.fail(sec.key("policy"), '"thrusters" needs a [thrusters] section (the thrusters)')
+        if len(thr.positions_m) > MOM_THRUSTERS_MAX:
+            root.fail("thrusters.positions_m", f"{len(thr.positions_m)} thrusters: the flight software allocates "
+                                               f"at most {MOM_THRUSTERS_MAX}")
+        if not dump > 0.0:
+            sec.fail(sec.key("dump_torque_nm"), 'must be > 0 with policy "thrusters"')
+    if trigger == "threshold" and not h_stop < h_start:
+        sec.fail(sec.key("h_stop_nms"), f"{h_stop:g} N m s is not below h_start_nms ({h_start:g}): the threshold "
+                                        f"trigger's hysteresis needs h_stop_nms < h_start_nms")
+    return MomentumConfig(policy, trigger, tuple(h_target), h_start, h_stop, k_mtq, dump)
+
+
 def _read_effectors(root: _Section, kind: str, duration: float, rate: float, substeps: int, plant) -> dict:
     """[disturbances.<kind>] and [actuator]: each effector module reads its own section."""
     ctx = effectors.ReadContext(root.file, kind, duration, 1.0 / rate, substeps, plant)
@@ -844,6 +907,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     actuator = configs["actuator"]
     sensor_config = _read_sensors(root, kind, duration, rate, configs)
     estimator = _read_estimator(root, kind, sensor_config, att)
+    momentum = _read_momentum(root, kind, configs, sensor_config)
     env = environment.read(root, kind, orb)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
@@ -852,7 +916,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env, estimator=estimator)
+                    environment=env, estimator=estimator, momentum=momentum)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

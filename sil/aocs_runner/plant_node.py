@@ -39,7 +39,7 @@ import time
 import lcm
 
 from aocs_core import paths
-from aocs_loop.frames import PlantPort, SensorFrame, WheelMismatch
+from aocs_loop.frames import ActuatorMismatch, PlantPort, SensorFrame, WheelMismatch
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
@@ -397,6 +397,13 @@ class _Loop:
               file=sys.stderr, flush=True)
         return "wheels_mismatch", EXIT_NO_REPLY
 
+    def actuators_disagree(self, exc: ActuatorMismatch):
+        """The flight computer commands unloading actuators the plant does not have (or another number of
+        thrusters): a setup error, as wheels_disagree."""
+        print(f"plant_node: {exc} (its configuration was not written from this scenario's [thrusters] / "
+              f"[magnetorquers])", file=sys.stderr, flush=True)
+        return "actuators_mismatch", EXIT_NO_REPLY
+
     def progress(self, k, flush_log=None):
         if not self.args.quiet and (k + 1) % self.progress_every == 0:
             if flush_log is not None:
@@ -483,6 +490,8 @@ class _Loop:
                     cmd = apply(command(v))   # Plant.apply's mapping, applied
                 except WheelMismatch as exc:
                     return self.wheels_disagree(exc)
+                except ActuatorMismatch as exc:
+                    return self.actuators_disagree(exc)
                 if dup:
                     publish("AOCS_SENSORS", data)
             check.begin(plant)
@@ -545,6 +554,8 @@ class _Loop:
                         cmd = apply(command(v))
                     except WheelMismatch as exc:
                         return self.wheels_disagree(exc)
+                    except ActuatorMismatch as exc:
+                        return self.actuators_disagree(exc)
                     check.apply(cmd)
                     self.last_answered = v[i_tick]
                 check.begin(plant)

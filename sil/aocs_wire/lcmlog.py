@@ -10,6 +10,9 @@ log.sensors["st_q"] (n, 4), ["st_t_meas_s"] (n,), ["gyro_w"] (n, 3) and the VALI
 VALID_GYRO bits of ["valid"]; log.cmd["estimator"], ["est_status"], ["q_est"] (n, 4), ["w_est"],
 ["bias_est"] (n, 3), ["est_p"] (n, 21; covariance() makes the (n, 6, 6) matrices), ["st_status"],
 ["n_st_used"], ["n_st_gated"], ["n_st_hostile"], ["n_est_restarts"]; log.truth["gyro_bias"] (n, 3).
+Protocol version 4: log.sensors["mag_b_t"] (n, 3) and the VALID_MAGNETOMETER bit; log.cmd["mom_policy"],
+["mom_status"], ["n_thrusters"], ["thruster_on_s"] (n, 12), ["dipole_am2"], ["u_unload"], ["h_wheels"], ["dh"]
+(n, 3), ["unloading"], ["n_unload_events"]; unload_events() gives the rows where an unload started.
 
 Each table is a dict field -> array in the logged order: scalars (n,),
 fixed arrays (n, k); integer and boolean fields as int64, doubles as float64,
@@ -375,6 +378,14 @@ def _read_eventlog(path: Path, keep_raw: bool = False) -> Log:
     t = {c: _table(by_channel[c], rows[c], utimes[c]) for c in by_channel}
     return Log(path, t[wire.TRUTH], t[wire.ACTUATOR], t[wire.SENSORS], t[wire.STATUS], t[wire.COMMAND],
                markers, counts, raw)
+
+
+def unload_events(cmd: dict):
+    """The row indices of log.cmd where an unload (a momentum dump) started: "unloading" set on a row where
+    the row before (if any) had it clear."""
+    on = np.asarray(cmd["unloading"]) != 0
+    prev = np.concatenate(([False], on[:-1]))
+    return np.flatnonzero(on & ~prev)
 
 
 def covariance(p_upper) -> np.ndarray:

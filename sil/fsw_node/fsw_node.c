@@ -163,6 +163,11 @@ static void publish_actuator(node_t *n, aocs_status_t step_rc, int64_t tick, int
     m.wheel_speed_margin = (double)o->momentum.speed_margin;
     /* the attitude-determination stage's estimate of this step (telemetry) */
     aocs_node_estimate_to_cmd(&o->estimate, n->exec.cfg.determination.estimator, &m);
+    /* the momentum-management stage's commands and dump telemetry of this step */
+    {
+        const aocs_mom_output_t mom = aocs_exec_momentum(&n->exec);
+        aocs_node_momentum_to_cmd(&mom, &n->exec.cfg.momentum, &m);
+    }
     if (aocs_lcm_actuator_cmd_t_publish(n->lcm, CH_ACTUATOR, &m) != 0) {
         (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_ACTUATOR);
     }

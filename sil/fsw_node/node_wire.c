@@ -172,6 +172,9 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
     if ((msg->valid & AOCS_LCM_SENSORS_T_VALID_GYRO) != 0) {
         in->valid |= AOCS_EXEC_VALID_GYRO;
     }
+    if ((msg->valid & AOCS_LCM_SENSORS_T_VALID_MAGNETOMETER) != 0) {
+        in->valid |= AOCS_EXEC_VALID_MAG;
+    }
     for (i = 0; i < 4; ++i) {
         in->q_BN.q[i] = (real_t)msg->q[i];
     }
@@ -187,6 +190,7 @@ void aocs_node_sensors_to_input(const aocs_lcm_sensors_t *msg, uint64_t t_sensor
     in->st_t_meas_ns = aocs_node_meas_time_ns(t_sensor_ns, msg->t_s, msg->st_t_meas_s);
     for (i = 0; i < 3; ++i) {
         in->gyro_w_B.v[i] = (real_t)msg->gyro_w[i];
+        in->mag_B_T.v[i] = (real_t)msg->mag_b_t[i]; /* magnetometer (VALID_MAG), unchecked */
     }
     /* tachometers: a wheel the message does not measure (flag off, beyond n_wheels) reads NaN, so an
      * executive with a wheel array gives a zero wheel command rather than act on a made-up speed */
@@ -230,6 +234,36 @@ void aocs_node_estimate_to_cmd(const aocs_det_output_t *est, uint32_t estimator,
     m->n_st_gated = (int64_t)est->n_st_gated;
     m->n_st_hostile = (int64_t)est->n_st_hostile;
     m->n_est_restarts = (int64_t)est->n_restarts;
+}
+
+/* ---- the momentum-management stage ------------------------------------------------ */
+/* the wire's thruster array is the stage's (a compile-time check) */
+typedef char aocs_node_thrusters_match[((sizeof(((aocs_lcm_actuator_cmd_t *)NULL)->thruster_on_s) / sizeof(double)) ==
+                                        (size_t)AOCS_MOM_THRUSTERS_MAX) ? 1 : -1];
+
+void aocs_node_momentum_to_cmd(const aocs_mom_output_t *mom, const aocs_mom_config_t *cfg, aocs_lcm_actuator_cmd_t *m)
+{
+    int i;
+    if ((mom == NULL) || (cfg == NULL) || (m == NULL)) {
+        return;
+    }
+    m->mom_policy = (cfg->policy > (uint32_t)INT8_MAX) ? INT8_MAX : (int8_t)cfg->policy;
+    m->mom_status = (int32_t)mom->status;
+    m->n_thrusters = 0;
+    if ((cfg->policy == (uint32_t)AOCS_MOM_THRUSTERS) && (cfg->thr_count <= AOCS_MOM_THRUSTERS_MAX)) {
+        m->n_thrusters = (int8_t)cfg->thr_count;
+    }
+    for (i = 0; i < (int)AOCS_MOM_THRUSTERS_MAX; ++i) {
+        m->thruster_on_s[i] = (double)mom->thruster_on_s[i];
+    }
+    for (i = 0; i < 3; ++i) {
+        m->dipole_am2[i] = (double)mom->dipole_Am2.v[i];
+        m->u_unload[i] = (double)mom->u_unload_B_Nm.v[i];
+        m->h_wheels[i] = (double)mom->h_wheels_B_Nms.v[i];
+        m->dh[i] = (double)mom->dh_B_Nms.v[i];
+    }
+    m->unloading = (mom->unloading != 0) ? 1 : 0;
+    m->n_unload_events = (int64_t)mom->n_events;
 }
 
 /* ---- commands -------------------------------------------------------------------- */

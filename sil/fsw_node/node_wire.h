@@ -74,7 +74,8 @@ int aocs_node_seq_accepted(aocs_node_seq_result_t r);
 /*
  * Validity bits map VALID_ATTITUDE -> AOCS_EXEC_VALID_ATT, VALID_RATE ->
  * AOCS_EXEC_VALID_RATE, POSITION and VELOCITY both set -> AOCS_EXEC_VALID_ORBIT,
- * VALID_STAR_TRACKER -> AOCS_EXEC_VALID_ST, VALID_GYRO -> AOCS_EXEC_VALID_GYRO.
+ * VALID_STAR_TRACKER -> AOCS_EXEC_VALID_ST, VALID_GYRO -> AOCS_EXEC_VALID_GYRO,
+ * VALID_MAGNETOMETER -> AOCS_EXEC_VALID_MAG (mag_b_t -> mag_B_T).
  * tick is the int64 modulo 2^32. t_sensor_ns is given by the caller
  * (lockstep: from t_s; realtime: reception time on the HAL clock); the star
  * tracker's st_t_meas_ns is aocs_node_meas_time_ns(t_sensor_ns, t_s,
@@ -121,6 +122,16 @@ uint64_t aocs_node_seconds_to_ns(double t_s);
  * as they are. Total (nothing on NULL).
  */
 void aocs_node_estimate_to_cmd(const aocs_det_output_t *est, uint32_t estimator, aocs_lcm_actuator_cmd_t *m);
+
+/* ---- the momentum-management stage -> actuator_cmd_t ------------------------------ */
+/*
+ * The stage's output of one step (aocs_exec_output_t.mom) and its configuration into the
+ * momentum fields of *m (protocol version 4, docs/wire-contract.md): mom_policy (the
+ * momentum.def row, above INT8_MAX reads INT8_MAX), mom_status, n_thrusters (mom.thr_count
+ * with the thrusters policy, else 0), thruster_on_s, dipole_am2, u_unload, h_wheels, dh,
+ * unloading, n_unload_events. The other fields of *m are left as they are. Total.
+ */
+void aocs_node_momentum_to_cmd(const aocs_mom_output_t *mom, const aocs_mom_config_t *cfg, aocs_lcm_actuator_cmd_t *m);
 
 /* ---- command_t -> aocs_exec_select ------------------------------------------- */
 /*

@@ -78,6 +78,18 @@ def sensors_seeds(t) -> None:
     # protocol version 3: the tracker's samples with their time of measurement, the gyro; then absurd times
     _write("fuzz_sensors", "star_tracker_gyro", bytes([4]) + _chunks(st_frames))
     _write("fuzz_sensors", "star_tracker_realtime", bytes([5]) + _chunks(st_frames))
+
+    def mag(frame_no, tick, b, valid=s.VALID_ATTITUDE | s.VALID_RATE | s.VALID_MAGNETOMETER):
+        m = s()
+        m.protocol_version = s.PROTOCOL_VERSION
+        m.frame, m.utime, m.tick, m.t_s, m.valid = frame_no, tick * 100000, tick, 0.1 * tick, valid
+        m.q, m.w, m.mag_b_t = list(Q), list(W), list(b)
+        return m.encode()
+
+    # protocol version 4: the magnetometer, with and without its flag, then NaN and huge fields
+    _write("fuzz_sensors", "magnetometer", bytes([4]) + _chunks(
+        [mag(k, k, (2e-5, -1e-5 * k, 3e-6), s.VALID_ATTITUDE | s.VALID_RATE | (s.VALID_MAGNETOMETER if k % 2 else 0))
+         for k in range(6)] + [mag(6, 6, (float("nan"), 0.0, 0.0)), mag(7, 7, (1e300, -1e300, 0.0))]))
     _write("fuzz_sensors", "star_tracker_bad_times", bytes([4]) + _chunks(
         st_frames[:3] + [star_gyro(3 + i, 3 + i, t, st_new) for i, t in enumerate(
             (float("nan"), -1.0, 1e300, 1.8e10, 1e9, float("inf")))]
@@ -213,6 +225,32 @@ def mekf_seeds() -> None:
     _write("fuzz_mekf_step", "tuned", bytes([3]) + struct.pack("<8H", *(32768,) * 8) + bytes([10, 0, 0]) + good)
 
 
+def momentum_seeds() -> None:
+    # fuzz_momentum_step: u8 policy, u8 trigger, u8 raw, the parameters as u16 (3 x (target, limit, 3 axis
+    # perturbations), h_start, h_stop, k, dump torque, u8 count, thrust, min on, quantum, 12 x 3 arms), then
+    # steps: u8 flags, h[3], b[3] as u16
+    def cfg(policy, trigger, count=12):
+        p = bytes([policy, trigger, 0])
+        for _ in range(3):
+            p += struct.pack("<H", 32768) + struct.pack("<H", 20000) + struct.pack("<3H", 32768, 32768, 32768)
+        p += struct.pack("<4H", 30000, 6000, 3000, 20000) + bytes([count]) + struct.pack("<3H", 3300, 26000, 6554)
+        for i in range(12):
+            arm = [32768, 32768, 32768]
+            arm[(i // 4) % 3] = 50000 if i % 2 == 0 else 15000
+            arm[(i // 4 + 1) % 3] = 40000 if i % 4 < 2 else 25000
+            p += struct.pack("<3H", *arm)
+        return p
+
+    def step(flags=7, h=(52000, 20000, 40000), b=(50000, 20000, 40000)):
+        return bytes([flags]) + struct.pack("<3H", h[0], b[0], h[1]) + struct.pack("<3H", b[1], h[2], b[2])
+
+    steps = b"".join(step(h=(52000 - 500 * k, 20000 + 300 * k, 40000)) for k in range(30))
+    _write("fuzz_momentum_step", "magnetorquers_threshold", cfg(0, 0) + steps + step(flags=3) + step(flags=5))
+    _write("fuzz_momentum_step", "magnetorquers_continuous", cfg(0, 1) + steps)
+    _write("fuzz_momentum_step", "thrusters_threshold", cfg(1, 0) + steps + step(flags=6) + step(flags=1))
+    _write("fuzz_momentum_step", "thrusters_few", cfg(1, 1, count=4) + steps)
+
+
 def pil_seeds() -> None:
     fr = frame
     step = fr.encode_step(1, 100_000_000, 3, Q, W, (0, 0, 0), (0, 0, 0))
@@ -220,6 +258,8 @@ def pil_seeds() -> None:
     step_st = fr.encode_step(2, 200_000_000, 3 | 8 | 16, Q, W, (0, 0, 0), (0, 0, 0), st_q=Q, st_t_meas_ns=100_000_000,
                              gyro_w=W)
     _write("fuzz_pil_frame", "step_star_tracker_gyro", fr.encode(fr.T_STEP, 2, step_st))
+    step_mag = fr.encode_step(3, 300_000_000, 3 | 32, Q, W, (0, 0, 0), (0, 0, 0), mag_b_t=(2e-5, -1e-5, 3e-6))
+    _write("fuzz_pil_frame", "step_magnetometer", fr.encode(fr.T_STEP, 3, step_mag))
     _write("fuzz_pil_frame", "select", fr.encode(fr.T_SELECT, 2, fr.encode_select(2, Q)))
     cfg = fr.ConfigFields()
     cfg.add("LAW", 2)
@@ -250,6 +290,7 @@ def main(argv: list[str]) -> int:
     config_seeds()
     exec_seeds()
     mekf_seeds()
+    momentum_seeds()
     pil_seeds()
     return 0
 

@@ -275,6 +275,39 @@ static void test_enum_names_are_the_enums_values(void **state)
     assert_int_equal(aocs_config_enum_value(ref_of("k_safe").field, "1", &v), 0);
 }
 
+/* "mom.policy" takes the names of the rows of momentum/momentum.def, in id order; the mom.* rows reach their
+ * members (a 9-value MAT3 and a 12-value THR row among them) */
+static void test_momentum_rows(void **state)
+{
+    (void)state;
+    uint64_t v = 99u;
+    aocs_exec_config_t cfg;
+    const aocs_config_field_t *pol = ref_of("mom.policy").field;
+    assert_int_equal(pol->kind, AOCS_CONFIG_KIND_ENUM);
+    assert_int_equal(pol->enum_count, (uint32_t)AOCS_MOM_COUNT);
+    for (int i = 0; i < (int)AOCS_MOM_COUNT; ++i) {
+        assert_int_equal(aocs_config_enum_value(pol, aocs_mom_name((aocs_mom_id_t)i), &v), 1);
+        assert_int_equal(v, (uint64_t)i);
+    }
+    assert_int_equal(aocs_config_enum_value(ref_of("mom.trigger").field, "continuous", &v), 1);
+    assert_int_equal(v, (uint64_t)AOCS_MOM_TRIGGER_CONTINUOUS);
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(cfg.momentum.policy, (uint32_t)AOCS_MOM_NONE);
+    assert_true(cfg.momentum.mtq_axes.m[1][1] > AOCS_R(0.5)); /* identity by default */
+    double axes[9] = {0, 1, 0, 0, 0, 1, 1, 0, 0};
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mom.mtq_axes"), axes, 9u), AOCS_OK);
+    assert_true(cfg.momentum.mtq_axes.m[0][1] > AOCS_R(0.5));
+    assert_true(cfg.momentum.mtq_axes.m[2][0] > AOCS_R(0.5));
+    double arm[12] = {0};
+    arm[11] = -0.75;
+    assert_int_equal(ref_of("mom.thr_arm_z_m").field->count, 12u);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mom.thr_arm_z_m"), arm, 12u), AOCS_OK);
+    assert_true(cfg.momentum.thr_arm_z_m[11] < AOCS_R(-0.7));
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mom.thr_arm_z_m"), arm, 11u), AOCS_ERR_CONFIG_FIELD);
+    double neg = -1.0;
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("mom.h_start_nms"), &neg, 1u), AOCS_ERR_CONFIG_RULE);
+}
+
 /* "estimator" takes the names of the rows of estimation/determination.def, in id order */
 static void test_estimator_names_are_the_determination_rows(void **state)
 {
@@ -360,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_keys_and_pil_ids_name_the_same_rows),
         cmocka_unit_test(test_enum_names_are_the_enums_values),
         cmocka_unit_test(test_estimator_names_are_the_determination_rows),
+        cmocka_unit_test(test_momentum_rows),
         cmocka_unit_test(test_mekf_rows),
         cmocka_unit_test(test_the_default_config_holds_the_default_column),
     };

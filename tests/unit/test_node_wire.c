@@ -405,6 +405,74 @@ static void test_estimate_to_cmd(void **state)
     assert_int_equal(m.estimator, INT8_MAX);
 }
 
+/* protocol version 4: the magnetometer reaches the executive with its flag, values unchecked */
+static void test_sensors_to_input_magnetometer(void **state)
+{
+    (void)state;
+    aocs_lcm_sensors_t m;
+    aocs_exec_input_t in;
+    memset(&m, 0, sizeof(m));
+    m.t_s = 1.0;
+    m.valid = AOCS_LCM_SENSORS_T_VALID_ATTITUDE;
+    m.mag_b_t[0] = 2.5e-5;
+    m.mag_b_t[1] = -1.25e-5;
+    m.mag_b_t[2] = (double)NAN;
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_int_equal(in.valid, AOCS_EXEC_VALID_ATT); /* flag off: not a reading */
+    m.valid |= AOCS_LCM_SENSORS_T_VALID_MAGNETOMETER;
+    aocs_node_sensors_to_input(&m, aocs_node_seconds_to_ns(m.t_s), &in);
+    assert_int_equal(in.valid, AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_MAG);
+    assert_same_real(in.mag_B_T.v[0], (real_t)2.5e-5);
+    assert_same_real(in.mag_B_T.v[1], (real_t)-1.25e-5);
+    assert_true(isnan(in.mag_B_T.v[2]));
+    assert_int_equal(AOCS_LCM_SENSORS_T_VALID_MAGNETOMETER, 128);
+}
+
+static void test_momentum_to_cmd(void **state)
+{
+    (void)state;
+    aocs_mom_output_t o;
+    aocs_mom_config_t c;
+    aocs_lcm_actuator_cmd_t m;
+    memset(&o, 0, sizeof(o));
+    memset(&c, 0, sizeof(c));
+    memset(&m, 0, sizeof(m));
+    m.tick = 7;
+    c.policy = (uint32_t)AOCS_MOM_THRUSTERS;
+    c.thr_count = 12u;
+    for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
+        o.thruster_on_s[i] = (real_t)(0.001 * (double)(i + 1u));
+    }
+    o.dipole_Am2 = aocs_vec3_make(AOCS_R(0.5), AOCS_R(-0.25), AOCS_R(0.125));
+    o.u_unload_B_Nm = aocs_vec3_make(AOCS_R(-0.5), AOCS_R(0.0), AOCS_R(0.75));
+    o.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(10.0), AOCS_R(-2.0), AOCS_R(0.5));
+    o.dh_B_Nms = aocs_vec3_make(AOCS_R(9.0), AOCS_R(-2.0), AOCS_R(0.5));
+    o.unloading = 1;
+    o.n_events = UINT32_MAX;
+    o.status = AOCS_ERR_INPUT_MISSING;
+    aocs_node_momentum_to_cmd(&o, &c, &m);
+    assert_int_equal(m.tick, 7); /* the other fields as they were */
+    assert_int_equal(m.mom_policy, (int)AOCS_MOM_THRUSTERS);
+    assert_int_equal(m.mom_status, (int32_t)AOCS_ERR_INPUT_MISSING);
+    assert_int_equal(m.n_thrusters, 12);
+    for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
+        assert_same_double(m.thruster_on_s[i], (double)(real_t)(0.001 * (double)(i + 1u)));
+    }
+    assert_same_double(m.dipole_am2[1], -0.25);
+    assert_same_double(m.u_unload[2], 0.75);
+    assert_same_double(m.h_wheels[0], 10.0);
+    assert_same_double(m.dh[0], 9.0);
+    assert_int_equal(m.unloading, 1);
+    assert_true(m.n_unload_events == (int64_t)UINT32_MAX);
+    /* magnetorquers: no thrusters reported whatever thr_count holds */
+    c.policy = (uint32_t)AOCS_MOM_MAGNETORQUERS;
+    aocs_node_momentum_to_cmd(&o, &c, &m);
+    assert_int_equal(m.n_thrusters, 0);
+    assert_int_equal(m.mom_policy, 1);
+    aocs_node_momentum_to_cmd(NULL, &c, &m); /* total */
+    aocs_node_momentum_to_cmd(&o, &c, NULL);
+}
+
 /* issue 11 item 3: idle_timeout_s = 2e10, 1e300 or 1e-10 made fsw_node exit at once */
 static void test_timeouts_check(void **state)
 {
@@ -455,6 +523,8 @@ int main(void)
         cmocka_unit_test(test_meas_time_ns),
         cmocka_unit_test(test_sensors_to_input_star_tracker_and_gyro),
         cmocka_unit_test(test_estimate_to_cmd),
+        cmocka_unit_test(test_sensors_to_input_magnetometer),
+        cmocka_unit_test(test_momentum_to_cmd),
         cmocka_unit_test(test_epoch_update),
         cmocka_unit_test(test_decode),
         cmocka_unit_test(test_command_apply),

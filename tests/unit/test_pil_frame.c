@@ -17,14 +17,14 @@
 #include "gains/aocs_gains.h"
 
 /* BYE, seq 7, empty payload: "APIL", version 2, type 8, length 0, seq 7, CRC (zlib) */
-static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x03, 0x08, 0x00, 0x00,
-                                       0x07, 0x00, 0x00, 0x00, 0x90, 0x4D, 0x13, 0xD2};
+static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x04, 0x08, 0x00, 0x00,
+                                       0x07, 0x00, 0x00, 0x00, 0x89, 0x44, 0xD6, 0xD8};
 
 /* HELLO seq 0 of target 2, 8-byte reals, shift 7, calib ok 2000/2000, overhead 47 */
 static const uint8_t golden_hello[44] = {
-    0x41, 0x50, 0x49, 0x4C, 0x03, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    0x41, 0x50, 0x49, 0x4C, 0x04, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
     0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x1A, 0x68, 0xFA, 0x8D};
+    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x73, 0x4B, 0x4A, 0xD1};
 
 /* bit-at-a-time CRC-32/ISO-HDLC, the textbook definition (independent of the table) */
 static uint32_t crc_bitwise(const uint8_t *p, size_t n)
@@ -139,7 +139,7 @@ static void test_header_errors_are_named(void **state)
     f[0] = 'X';
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_MAGIC);
     memcpy(f, golden_bye, sizeof(f));
-    f[4] = 2; /* version: the one before the star tracker, gyro and estimate */
+    f[4] = 3; /* version: the one before the magnetometer and the momentum stage */
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_VERSION);
     memcpy(f, golden_bye, sizeof(f));
     f[6] = 0x01; /* length 1025 */
@@ -396,8 +396,8 @@ static void test_rows_add_up_to_the_payload_sizes(void **state)
     assert_int_equal(0u AOCS_PIL_COUNTER_ROWS(ROW_BYTES), 4u * AOCS_PIL_COUNTERS);
     AOCS_PIL_PAYLOAD_ROWS(CHECK_PAYLOAD_BYTES)
     assert_int_equal(AOCS_PIL_HELLO_BYTES, 28u); /* the wire: a size changes only with AOCS_PIL_VERSION */
-    assert_int_equal(AOCS_PIL_STEP_BYTES, 232u);
-    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 520u);
+    assert_int_equal(AOCS_PIL_STEP_BYTES, 256u);
+    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 732u);
     assert_int_equal(AOCS_PIL_SELECT_BYTES, 64u);
     assert_int_equal(AOCS_PIL_ACK_BYTES, 36u);
     assert_int_equal(AOCS_PIL_BYE_REPLY_BYTES, 16u);
@@ -679,6 +679,65 @@ static void test_step_and_reply_carry_the_star_tracker_gyro_and_estimate(void **
     assert_int_equal(rb.estimate.n_restarts, 4u);
 }
 
+/* Version 4: the magnetometer rides in the STEP frame after the gyro, the momentum stage in the reply after the
+ * estimate, bit for bit. */
+static void test_step_and_reply_carry_the_magnetometer_and_momentum(void **state)
+{
+    (void)state;
+    uint8_t p[AOCS_PIL_STEP_REPLY_BYTES];
+    aocs_exec_input_t in = sample_input();
+    aocs_exec_input_t back;
+    aocs_pil_step_reply_t r;
+    aocs_pil_step_reply_t rb;
+    in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_MAG;
+    in.mag_B_T = aocs_vec3_make(AOCS_R(0.0009765625), AOCS_R(-0.5), (real_t)NAN);
+    assert_int_equal(aocs_pil_step_encode(&in, p, AOCS_PIL_STEP_BYTES), AOCS_PIL_OK);
+    assert_int_equal(p[12], 0x21);                          /* ATT | MAG */
+    assert_int_equal(le64(&p[232]), 0x3F50000000000000ull); /* mag_b_t[0] = 2^-10: after the 232 bytes of version 3 */
+    assert_int_equal(le64(&p[240]), 0xBFE0000000000000ull); /* mag_b_t[1] = -0.5 */
+    assert_int_equal(aocs_pil_step_decode(p, AOCS_PIL_STEP_BYTES, &back), AOCS_PIL_OK);
+    assert_int_equal(back.valid, in.valid);
+    assert_same_real(back.mag_B_T.v[0], in.mag_B_T.v[0]);
+    assert_true(isnan(back.mag_B_T.v[2])); /* passed through unchecked, as the SIL node does */
+
+    memset(&r, 0, sizeof(r));
+    r.mom_policy = 2u;
+    r.n_thrusters = 12u;
+    r.unloading = 1u;
+    r.mom.status = AOCS_ERR_INPUT_MISSING;
+    for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
+        r.mom.thruster_on_s[i] = (real_t)(0.0078125 * (double)(i + 1u));
+    }
+    r.mom.dipole_Am2 = aocs_vec3_make(AOCS_R(1.5), AOCS_R(-2.5), AOCS_R(0.25));
+    r.mom.u_unload_B_Nm = aocs_vec3_make(AOCS_R(-0.125), AOCS_R(0.0), AOCS_R(0.5));
+    r.mom.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(10.0), AOCS_R(-2.0), AOCS_R(0.5));
+    r.mom.dh_B_Nms = aocs_vec3_make(AOCS_R(9.0), AOCS_R(-2.0), AOCS_R(0.5));
+    r.mom.unloading = 1;
+    r.mom.n_events = 0x80000003u;
+    assert_int_equal(aocs_pil_step_reply_encode(&r, p, sizeof(p)), AOCS_PIL_OK);
+    assert_int_equal(le32(&p[520]), 2u);                    /* mom_policy: after the 520 bytes of version 3 */
+    assert_int_equal(le32(&p[524]), (uint32_t)AOCS_ERR_INPUT_MISSING);
+    assert_int_equal(le32(&p[528]), 12u);
+    assert_int_equal(le64(&p[532]), 0x3F80000000000000ull); /* thruster_on_s[0] = 2^-7 */
+    assert_int_equal(le64(&p[628]), 0x3FF8000000000000ull); /* dipole_am2[0] = 1.5, after 12 on-times */
+    assert_int_equal(le64(&p[652]), 0xBFC0000000000000ull); /* u_unload[0] = -0.125 */
+    assert_int_equal(le64(&p[676]), 0x4024000000000000ull); /* h_wheels[0] = 10 */
+    assert_int_equal(le64(&p[700]), 0x4022000000000000ull); /* dh[0] = 9 */
+    assert_int_equal(le32(&p[724]), 1u);                    /* unloading */
+    assert_int_equal(le32(&p[728]), 0x80000003u);           /* n_unload_events: the last field */
+    assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p), &rb), AOCS_PIL_OK);
+    assert_int_equal(rb.mom_policy, 2u);
+    assert_int_equal(rb.n_thrusters, 12u);
+    assert_int_equal(rb.unloading, 1u);
+    assert_int_equal(rb.mom.status, AOCS_ERR_INPUT_MISSING);
+    assert_memory_equal(rb.mom.thruster_on_s, r.mom.thruster_on_s, sizeof(r.mom.thruster_on_s));
+    assert_memory_equal(&rb.mom.dipole_Am2, &r.mom.dipole_Am2, sizeof(r.mom.dipole_Am2));
+    assert_memory_equal(&rb.mom.u_unload_B_Nm, &r.mom.u_unload_B_Nm, sizeof(r.mom.u_unload_B_Nm));
+    assert_memory_equal(&rb.mom.dh_B_Nms, &r.mom.dh_B_Nms, sizeof(r.mom.dh_B_Nms));
+    assert_int_equal(rb.mom.unloading, 0);                  /* a member not on the wire decodes as 0 */
+    assert_int_equal(rb.mom.n_events, 0x80000003u);
+}
+
 static void test_config_field_errors(void **state)
 {
     (void)state;
@@ -779,6 +838,7 @@ int main(void)
         cmocka_unit_test(test_config_wheel_fields_apply),
         cmocka_unit_test(test_step_and_reply_carry_the_wheels),
         cmocka_unit_test(test_step_and_reply_carry_the_star_tracker_gyro_and_estimate),
+        cmocka_unit_test(test_step_and_reply_carry_the_magnetometer_and_momentum),
         cmocka_unit_test(test_budget_table),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -105,6 +105,9 @@ def budgets() -> str:
     for name, (ns, instr) in reg.estimators.items():
         if instr.get("cortex-m4f") or instr.get("cortex-m7"):
             rows.append((f"estimator `{name}` (added)", ns, instr["cortex-m4f"], instr["cortex-m7"], "-"))
+    for name, (ns, instr) in reg.momentum_policies.items():
+        if name != "none":
+            rows.append((f"momentum `{name}` (added)", ns, instr["cortex-m4f"], instr["cortex-m7"], "-"))
     return _table(("law", "host budget, ns", "Cortex-M4F, instructions", "Cortex-M7, instructions",
                    "reference scenario"), rows)
 

@@ -72,6 +72,10 @@ const size_t aocs_registry_table_count = sizeof(aocs_registry_tables) / sizeof(a
 #define REG_KIND_ENUM_SLEW_PROFILE "u64", 1u
 #define REG_KIND_ENUM_ESTIMATOR "u64", 1u
 #define REG_KIND_ENUM_MEKF_INIT_MODE "u64", 1u
+#define REG_KIND_ENUM_MOM_POLICY "u64", 1u
+#define REG_KIND_ENUM_MOM_TRIGGER "u64", 1u
+#define REG_KIND_MAT3 "real", 9u
+#define REG_KIND_THR "real", AOCS_MOM_THRUSTERS_MAX
 #define REG_EXEC_ROW(NAME, KEY, MEMBER, KIND, RULE, DEFAULT, PIL_ID, ...) {#NAME, (uint32_t)(PIL_ID), REG_KIND_##KIND, KEY},
 
 /* wheel by wheel after the general rows: name WHEEL<i>_<NAME>, id AOCS_PIL_CFG_WHEEL_BASE + i *

@@ -229,6 +229,13 @@ static void dump_tables(FILE *f)
 #define DUMP_DET_INSTR_M7(ID, NAME, STATE, STATE_T, CFG_USE, CFG, CFG_T, INIT, STEP, BUDGET_NS, M4F, M7, ...) (M7),
 static const unsigned long long det_budget_ns[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_BUDGET_NS)};
 static const unsigned det_instr_m4f[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_INSTR_M4F)};
+#define DUMP_MOM_ROW(ID, NAME, INIT, STEP, BUDGET_NS, INSTR_M4F, INSTR_M7) {NAME, (BUDGET_NS), (INSTR_M4F), (INSTR_M7)},
+static const struct {
+    const char *name;
+    unsigned long long budget_ns;
+    unsigned m4f;
+    unsigned m7;
+} mom_rows[AOCS_MOM_COUNT] = {AOCS_MOMENTUM_ROWS(DUMP_MOM_ROW)};
 static const unsigned det_instr_m7[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_INSTR_M7)};
 
 static void dump_enums(FILE *f)
@@ -256,6 +263,14 @@ static void dump_enums(FILE *f)
         put_str(f, aocs_det_name((aocs_det_id_t)i));
         (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}}",
                       (unsigned long long)det_budget_ns[i], (unsigned)det_instr_m4f[i], (unsigned)det_instr_m7[i]);
+    }
+    /* the momentum-management rows (momentum/momentum.def): the budget each adds to every step */
+    (void)fputs("],\n  \"momentum_policies\": [", f);
+    for (int i = 0; i < (int)AOCS_MOM_COUNT; ++i) {
+        (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
+        put_str(f, mom_rows[i].name);
+        (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}}",
+                      mom_rows[i].budget_ns, mom_rows[i].m4f, mom_rows[i].m7);
     }
     (void)fputs("],\n  \"pil_exec_fields\": [\n", f);
     for (size_t i = 0u; i < aocs_registry_exec_field_count; ++i) {
@@ -551,6 +566,7 @@ static void show_vec3(const aocs_vec3_t *x) { show_reals(x->v, 3u); }
 static void show_quat(const aocs_quat_t *x) { show_reals(x->q, 4u); }
 static void show_wheels(const real_t (*x)[AOCS_WHEELS_MAX]) { show_reals(*x, AOCS_WHEELS_MAX); }
 static void show_cov(const real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { show_reals(*x, AOCS_EST_P_UPPER_COUNT); }
+static void show_thrusters(const real_t (*x)[AOCS_MOM_THRUSTERS_MAX]) { show_reals(*x, AOCS_MOM_THRUSTERS_MAX); }
 
 #define SHOW_COUNTER(NAME, KIND, MEMBER) \
     (void)fputs(sep, stdout);            \

@@ -61,6 +61,12 @@ typedef struct {
 #define AOCS_CONFIG_ENUM_ESTIMATOR_NAMES "passthrough,mekf"
 #define AOCS_CONFIG_ENUM_MEKF_INIT_MODE_T uint32_t
 #define AOCS_CONFIG_ENUM_MEKF_INIT_MODE_NAMES "first_star_tracker,configured"
+/* the rows of momentum/momentum.def, in id order (test_config_registry checks them against aocs_mom_name) */
+#define AOCS_CONFIG_ENUM_MOM_POLICY_T uint32_t
+#define AOCS_CONFIG_ENUM_MOM_POLICY_NAMES "none,magnetorquers,thrusters"
+/* aocs_mom_trigger_t, in value order */
+#define AOCS_CONFIG_ENUM_MOM_TRIGGER_T uint32_t
+#define AOCS_CONFIG_ENUM_MOM_TRIGGER_NAMES "threshold,continuous"
 
 /* Largest number of values of one field: a 3 x AOCS_GAIN_COLS_MAX gain (lqr_quat_i.k, 27). */
 #define AOCS_CONFIG_VALUES_MAX 27u

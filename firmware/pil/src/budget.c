@@ -76,6 +76,20 @@ uint32_t aocs_budget_estimator_instructions(aocs_det_id_t estimator, aocs_budget
     return budget;
 }
 
+#define MOMENTUM_BUDGET_ROW(ID, NAME, INIT, STEP, BUDGET_NS, INSTR_M4F, INSTR_M7) {(INSTR_M4F), (INSTR_M7)},
+
+uint32_t aocs_budget_momentum_instructions(aocs_mom_id_t policy, aocs_budget_target_t target)
+{
+    static const uint32_t momentum_budget[AOCS_MOM_COUNT][AOCS_BUDGET_TARGET_COUNT] = {
+        AOCS_MOMENTUM_ROWS(MOMENTUM_BUDGET_ROW)};
+    uint32_t budget = 0U;
+    if (((int32_t)policy >= 0) && (policy < AOCS_MOM_COUNT)) {
+        budget = budget_per_target(target, momentum_budget[policy][AOCS_BUDGET_TARGET_CORTEX_M4F],
+                                   momentum_budget[policy][AOCS_BUDGET_TARGET_CORTEX_M7]);
+    }
+    return budget;
+}
+
 uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target)
 {
     return budget_per_target(target, AOCS_BUDGET_WHEELS_INSTR_M4F, AOCS_BUDGET_WHEELS_INSTR_M7);

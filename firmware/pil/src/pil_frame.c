@@ -177,6 +177,8 @@ static void put_wheels(pil_writer_t *w, const real_t (*x)[AOCS_WHEELS_MAX]) { pu
 static void get_wheels(pil_reader_t *r, real_t (*x)[AOCS_WHEELS_MAX]) { get_reals(r, *x, AOCS_WHEELS_MAX); }
 static void put_cov(pil_writer_t *w, const real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { put_reals(w, *x, AOCS_EST_P_UPPER_COUNT); }
 static void get_cov(pil_reader_t *r, real_t (*x)[AOCS_EST_P_UPPER_COUNT]) { get_reals(r, *x, AOCS_EST_P_UPPER_COUNT); }
+static void put_thrusters(pil_writer_t *w, const real_t (*x)[AOCS_MOM_THRUSTERS_MAX]) { put_reals(w, *x, AOCS_MOM_THRUSTERS_MAX); }
+static void get_thrusters(pil_reader_t *r, real_t (*x)[AOCS_MOM_THRUSTERS_MAX]) { get_reals(r, *x, AOCS_MOM_THRUSTERS_MAX); }
 
 /* encode epilogue: exactly `size` bytes written */
 static aocs_pil_err_t w_result(const pil_writer_t *w, uint32_t size)

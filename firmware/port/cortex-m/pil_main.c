@@ -162,6 +162,7 @@ static uint32_t pil_budget(aocs_law_id_t law)
         budget += aocs_budget_guidance_instructions(pil_exec.guidance.id, PIL_BUDGET_TARGET);
     }
     budget += aocs_budget_estimator_instructions(pil_exec.det.id, PIL_BUDGET_TARGET); /* determination.def */
+    budget += aocs_budget_momentum_instructions(pil_exec.momentum.id, PIL_BUDGET_TARGET); /* momentum.def */
     if (pil_exec.cfg.wheels.n != 0U) {
         budget += aocs_budget_wheels_instructions(PIL_BUDGET_TARGET); /* the wheel allocation (aocs/budget.h) */
     }
@@ -304,6 +305,11 @@ static void pil_on_step(const aocs_pil_header_t *hdr)
         rp.speed_margin = out.momentum.speed_margin;
         rp.estimator = pil_exec.cfg.determination.estimator;
         rp.estimate = out.estimate;
+        rp.mom_policy = pil_exec.cfg.momentum.policy;
+        rp.n_thrusters = (pil_exec.cfg.momentum.policy == (uint32_t)AOCS_MOM_THRUSTERS) ? pil_exec.cfg.momentum.thr_count
+                                                                                         : 0U;
+        rp.mom = aocs_exec_momentum(&pil_exec);
+        rp.unloading = (rp.mom.unloading != 0) ? PIL_YES : PIL_NO;
         if (aocs_pil_step_reply_encode(&rp, pil_payload, AOCS_PIL_PAYLOAD_MAX) == AOCS_PIL_OK) {
             pil_send(AOCS_PIL_T_STEP_REPLY, hdr->seq, AOCS_PIL_STEP_REPLY_BYTES);
         }

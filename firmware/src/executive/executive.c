@@ -1,8 +1,8 @@
 /*
  * The fixed-rate executive (aocs/exec/pipeline.h): config validation,
  * run-time selection, and the control step, which sequences the stages
- * (accept the input, determine the attitude, guide, run the law, actuate,
- * manage momentum), owns the modes and times the step.
+ * (accept the input, determine the attitude, guide, run the law, manage
+ * momentum, actuate), owns the modes and times the step.
  */
 #include <stddef.h>
 #include <string.h>
@@ -254,6 +254,7 @@ static uint64_t step_budget(const aocs_exec_t *exec)
             budget += aocs_guidance_budget_ns(&exec->guidance); /* e.g. the slew reference and feedforward */
         }
         budget += aocs_det_budget_ns(&exec->det); /* the estimator runs in every mode */
+        budget += aocs_mom_budget_ns(&exec->momentum); /* so does the momentum stage */
     }
     return budget;
 }
@@ -279,6 +280,30 @@ static void guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det
     } else {
         *target = exec->guidance.target;
     }
+}
+
+/* The momentum-management stage's step: the wheels' momentum from the tachometers (valid with an array whose
+ * speeds are all finite), the magnetometer, enabled while NOMINAL with an attitude law. Policy NONE costs
+ * nothing: its output is the zero of zero_output (no unloading torque to take off the wheels). */
+static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in)
+{
+    aocs_mom_input_t mi;
+    if (exec->momentum.id == AOCS_MOM_NONE) {
+        return;
+    }
+    mi.h_valid = (exec->cfg.wheels.n > 0u) ? 1 : 0;
+    for (uint32_t i = 0u; (i < exec->cfg.wheels.n) && (i < AOCS_WHEELS_MAX); ++i) {
+        if (!AOCS_IS_FINITE(in->wheel_speed_radps[i])) {
+            mi.h_valid = 0;
+        }
+    }
+    mi.h_wheels_B_Nms = (mi.h_valid != 0) ? aocs_wheels_h_B(&exec->act.wheels, in->wheel_speed_radps) : aocs_vec3_zero();
+    mi.b_B_T = in->mag_B_T;
+    mi.b_valid = (((in->valid & AOCS_EXEC_VALID_MAG) != 0u) && (aocs_vec3_is_finite(in->mag_B_T) != 0)) ? 1 : 0;
+    mi.enabled = ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (exec->law != AOCS_LAW_NONE) &&
+                  (aocs_law_is_orbit(exec->law) == 0)) ? 1 : 0;
+    mi.dt_s = exec->cfg.period_s;
+    (void)aocs_mom_step(&exec->momentum, &mi);
 }
 
 /* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE. */
@@ -398,11 +423,14 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
         } else {
             out->u_unsat = aocs_vec3_zero();
         }
-        /* 5. actuation */
-        aocs_act_step(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0, out->u_unsat,
+        /* 5. momentum management: the unloading commands; the torque they apply is taken off the wheels'
+         * command, so the wheels absorb it and the body sees the law's torque (docs/spec.md 5.9) */
+        manage_momentum(exec, in);
+        /* 6. actuation */
+        aocs_act_step(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0,
+                      (exec->momentum.id == AOCS_MOM_NONE) ? out->u_unsat
+                                                            : aocs_vec3_sub(out->u_unsat, exec->momentum.out.u_unload_B_Nm),
                       in->wheel_speed_radps, est.w_BN_B, out, &sat);
-        /* 6. momentum management (NONE today: nothing to apply) */
-        (void)aocs_mom_step(&exec->momentum, &out->momentum);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
@@ -440,6 +468,12 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
             set_mode(exec, AOCS_EXEC_MODE_SAFE);
             out->u_unsat = aocs_vec3_zero(); /* no fresh rate to damp */
         }
+        if (exec->momentum.id != AOCS_MOM_NONE) {
+            /* no sample: no momentum measured, an unload in progress stops (nothing fires) */
+            aocs_mom_input_t mi;
+            (void)memset(&mi, 0, sizeof(mi));
+            (void)aocs_mom_step(&exec->momentum, &mi);
+        }
         aocs_act_step_held(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0, out->u_unsat, out, &sat);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
@@ -459,6 +493,11 @@ aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns)
         aocs_guidance_set_epoch(&exec->guidance, t0_ns);
     }
     return st;
+}
+
+aocs_mom_output_t aocs_exec_momentum(const aocs_exec_t *exec)
+{
+    return aocs_mom_output((exec != NULL) && (exec->initialised != 0) ? &exec->momentum : NULL);
 }
 
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec)

@@ -11,7 +11,7 @@
  * | "foreign", and when decoded "accepted": whether the frame sequence lets
  * fsw_node step on it, then the aocs_exec_input_t: "tick", "t_sensor_ns",
  * "valid" (AOCS_EXEC_VALID_* bits), "q", "w", "pos", "vel", "wheel_speed",
- * "st_q", "st_t_meas_ns", "gyro_w"}. Reals with 17 significant digits (NaN,
+ * "st_q", "st_t_meas_ns", "gyro_w", "mag_b_t"}. Reals with 17 significant digits (NaN,
  * Infinity as Python's json reads them). Exit 2 on usage or an unreadable log.
  * Host tool (stdio).
  */
@@ -60,6 +60,7 @@ static void put_input(const aocs_exec_input_t *in)
     put_reals("st_q", in->st_q_SN.q, 4);
     (void)printf(", \"st_t_meas_ns\": %llu", (unsigned long long)in->st_t_meas_ns);
     put_reals("gyro_w", in->gyro_w_B.v, 3);
+    put_reals("mag_b_t", in->mag_B_T.v, 3);
 }
 
 int main(int argc, char **argv)

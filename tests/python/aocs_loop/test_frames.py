@@ -5,7 +5,16 @@ import math
 
 import pytest
 
-from aocs_loop.frames import Command, PlantPort, SensorFrame, WheelMismatch, seconds_to_ns, valid_bits
+from aocs_loop.frames import (
+    ActuatorMismatch,
+    Command,
+    Momentum,
+    PlantPort,
+    SensorFrame,
+    WheelMismatch,
+    seconds_to_ns,
+    valid_bits,
+)
 from aocs_plant import Plant
 from aocs_plant.scenario import load
 
@@ -13,7 +22,8 @@ from aocs_plant.scenario import load
 def test_valid_bits_are_the_wire_contract_s(aocs_lcm):
     s = aocs_lcm.sensors_t
     assert valid_bits() == (s.VALID_ATTITUDE, s.VALID_RATE, s.VALID_POSITION, s.VALID_VELOCITY, s.VALID_WHEELS,
-                            s.VALID_STAR_TRACKER, s.VALID_GYRO)
+                            s.VALID_STAR_TRACKER, s.VALID_GYRO, s.VALID_MAGNETOMETER)
+    assert valid_bits().magnetometer == 128
 
 
 def test_seconds_to_ns_rounds_like_llround_and_refuses_what_fsw_node_refuses():
@@ -124,3 +134,35 @@ def test_a_wheel_count_mismatch_is_refused(aocs_lcm, scenario, wheels):
     with pytest.raises(WheelMismatch, match=f"commands {len(wheels)} wheel"):
         PlantPort(plant).apply(Command(0, (0.0, 0.0, 0.0), wheels))
     assert plant.counters["commands"] == 0
+
+
+def test_a_plant_without_unloading_actuators_gets_no_unloading_fields(aocs_lcm):
+    """Protocol version 4: a plant without [thrusters] / [magnetorquers] (Plant.command_fields has neither) is
+    sent neither field (the plant refuses a field no actuator reads), and a command with them is refused in
+    one line naming them."""
+    plant = Plant(load("irassi_rw"))
+    port = PlantPort(plant)
+    assert "thruster_on_s" not in plant.command_fields and "u_dipole_am2" not in plant.command_fields
+    assert (port.n_thrusters, port.magnetorquers) == (0, False)
+    assert port.apply(Command(0, (0.0, 0.0, 0.0), (0.0,) * 4)) == {"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.0,) * 4}
+    with pytest.raises(ActuatorMismatch, match="commands 12 thruster.*no \\[thrusters\\]"):
+        port.apply(Command(0, (0.0, 0.0, 0.0), (0.0,) * 4, (0.01,) * 12))
+    with pytest.raises(ActuatorMismatch, match="magnetorquers.*no \\[magnetorquers\\]"):
+        port.command(Command(0, (0.0, 0.0, 0.0), (0.0,) * 4, (), (1.0, 0.0, 0.0)))
+    assert plant.counters["commands"] == 1
+
+
+def test_momentum_telemetry_gives_the_command_fields_of_its_policy():
+    m = Momentum(2, 0, 3, tuple(0.01 * i for i in range(12)), (1.0, 2.0, 3.0))
+    assert m.command_fields() == ((0.0, 0.01, 0.02), ())
+    assert Momentum(1, 0, 3, (0.5,) * 12, (1.0, 2.0, 3.0)).command_fields() == ((), (1.0, 2.0, 3.0))
+    assert Momentum().command_fields() == ((), ())
+
+
+def test_no_magnetometer_no_field_and_no_flag(aocs_lcm):
+    """Until the plant has a magnetometer (a sensor whose sample field is mag_b_t) the frame's field is zero and
+    its flag off: the clearly marked absence."""
+    plant = Plant(load("irassi_rw"))
+    assert all(s.value_field != "mag_b_t" for s in plant.sensors)
+    f = PlantPort(plant).sense(0)
+    assert f.mag_b_t == (0.0, 0.0, 0.0) and not f.valid & valid_bits().magnetometer

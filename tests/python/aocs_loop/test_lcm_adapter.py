@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from aocs_loop.frames import Estimate, SensorFrame
+from aocs_loop.frames import Estimate, Momentum, SensorFrame
 from aocs_loop.lcm_adapter import LcmCodec, LcmFlightComputer
 from aocs_wire import wire
 
@@ -27,6 +27,7 @@ def _sensors_msg(aocs_lcm, f, frame_no=None):
     m.n_wheels = len(f.wheel_speed)
     m.wheel_speed = list(f.wheel_speed) + [0.0] * (st.MAX_WHEELS - len(f.wheel_speed))
     m.st_q, m.st_t_meas_s, m.gyro_w = list(f.st_q), f.st_t_meas_s, list(f.gyro_w)
+    m.mag_b_t = list(f.mag_b_t)
     return m
 
 
@@ -35,14 +36,19 @@ FRAME_ST = SensorFrame(13, 1.3, 1 | 2 | 32 | 64, (0.1, 0.2, 0.3, 0.9273618495495
                        (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (), (0.5, -0.5, 0.5, -0.5), 1.2, (1.5e-3, -2.5e-3, 3.5e-3))
 
 
-@pytest.mark.parametrize("f", [FRAME, FRAME_ST, SensorFrame(0, 0.0, 4 | 8, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0),
+#: with a magnetometer reading (protocol version 4)
+FRAME_MAG = SensorFrame(14, 1.4, 1 | 2 | 128, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),
+                        (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.0), 0.0, (0.0, 0.0, 0.0), (2.5e-5, -1.5e-5, 4.0e-6))
+
+
+@pytest.mark.parametrize("f", [FRAME, FRAME_ST, FRAME_MAG, SensorFrame(0, 0.0, 4 | 8, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0),
                                                             (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))])
 def test_pack_sensors_is_the_generated_encode(aocs_lcm, codec, f):
     assert codec.pack_sensors(f) == _sensors_msg(aocs_lcm, f).encode()
     assert codec.pack_sensors(f, frame_no=99) == _sensors_msg(aocs_lcm, f, 99).encode()
 
 
-def _actuator(aocs_lcm, n_wheels=4):
+def _actuator(aocs_lcm, n_wheels=4, policy=0, n_thrusters=0):
     a = aocs_lcm.actuator_cmd_t()
     a.protocol_version = a.PROTOCOL_VERSION
     a.tick, a.law_id, a.mode, a.status, a.step_ns, a.overrun = 12, 3, 1, 0, 567, True
@@ -53,6 +59,10 @@ def _actuator(aocs_lcm, n_wheels=4):
         -1e-6, 2e-6, -3e-6]
     a.est_p = [0.5 + i for i in range(21)]
     a.st_status, a.n_st_used, a.n_st_gated, a.n_st_hostile, a.n_est_restarts = -3, 2**40, 5, 6, 7
+    a.mom_policy, a.mom_status, a.n_thrusters = policy, -2, n_thrusters
+    a.thruster_on_s = [0.001 * (i + 1) for i in range(12)]
+    a.dipole_am2, a.u_unload, a.h_wheels, a.dh = [1.5, -2.5, 0.5], [-0.1, 0.2, -0.3], [10.0, -5.0, 3.0], [9.0, -5.0, 3.0]
+    a.unloading, a.n_unload_events = True, 2**33
     return a.encode()
 
 
@@ -68,6 +78,22 @@ def test_command_and_reply_of_an_actuator_cmd(aocs_lcm, codec):
                                                        -3, 2**40, 5, 6, 7)
     assert codec.command(codec.unpack(_actuator(aocs_lcm, 0))).u_wheels == ()
     assert len(codec.command(codec.unpack(_actuator(aocs_lcm, 9))).u_wheels) == 6   # clamped to the array
+    # policy none: no unloading command, whatever the fields hold; the telemetry as it came
+    assert (c.thruster_on_s, c.u_dipole_am2) == ((), ())
+    assert r.momentum == codec.momentum(v) == Momentum(0, -2, 0, tuple(0.001 * (i + 1) for i in range(12)),
+                                                       (1.5, -2.5, 0.5), (-0.1, 0.2, -0.3), (10.0, -5.0, 3.0),
+                                                       (9.0, -5.0, 3.0), True, 2**33)
+
+
+def test_the_command_carries_the_unloading_actuators_of_the_policy(aocs_lcm, codec):
+    """Protocol version 4: thrusters policy (2): the first n_thrusters on-times; magnetorquers (1): the dipole."""
+    c = codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=2, n_thrusters=8)))
+    assert c.thruster_on_s == tuple(0.001 * (i + 1) for i in range(8)) and c.u_dipole_am2 == ()
+    assert len(codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=2, n_thrusters=40))).thruster_on_s) == 12
+    c = codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=1, n_thrusters=8)))
+    assert c.thruster_on_s == () and c.u_dipole_am2 == (1.5, -2.5, 0.5)
+    r = codec.reply(codec.unpack(_actuator(aocs_lcm, 4, policy=1)))
+    assert r.command == c and r.momentum.command_fields() == ((), c.u_dipole_am2)
 
 
 class _FakeLcm:

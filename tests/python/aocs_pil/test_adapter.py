@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from aocs_loop.frames import Estimate, SensorFrame, valid_bits
+from aocs_loop.frames import Estimate, Momentum, SensorFrame, valid_bits
 from aocs_pil import adapter, frame
 
 Q = (0.1, 0.2, 0.3, 0.9273618495495703)
@@ -16,7 +16,8 @@ Z = (0.0, 0.0, 0.0)
 def _step(payload):
     v = frame.STEP.unpack(payload)
     return {"tick": v[0], "t_ns": v[1], "valid": v[2], "q": v[3:7], "w": v[7:10], "pos": v[10:13],
-            "vel": v[13:16], "wheels": v[16:22], "st_q": v[22:26], "st_t_meas_ns": v[26], "gyro_w": v[27:30]}
+            "vel": v[13:16], "wheels": v[16:22], "st_q": v[22:26], "st_t_meas_ns": v[26], "gyro_w": v[27:30],
+            "mag_b_t": v[30:33]}
 
 
 def test_an_attitude_frame_with_tachometers(aocs_lcm):
@@ -64,7 +65,7 @@ def test_the_exec_valid_bits_are_io_h_s():
     text = (REPO / "firmware/include/aocs/exec/io.h").read_text()
     for name, bit in (("ATT", adapter.EXEC_VALID_ATT), ("RATE", adapter.EXEC_VALID_RATE),
                       ("ORBIT", adapter.EXEC_VALID_ORBIT), ("ST", adapter.EXEC_VALID_ST),
-                      ("GYRO", adapter.EXEC_VALID_GYRO)):
+                      ("GYRO", adapter.EXEC_VALID_GYRO), ("MAG", adapter.EXEC_VALID_MAG)):
         shift = int(text.split(f"#define AOCS_EXEC_VALID_{name} ")[1].split("<<")[1].split(")")[0])
         assert bit == 1 << shift, name
 
@@ -83,3 +84,34 @@ def test_the_reply_of_a_step_reply():
     assert rep.estimate == Estimate(1, -4, (0.0, 0.6, 0.0, 0.8), (1e-3, 2e-3, 3e-3), (-1e-6, 0.0, 1e-6),
                                     tuple(float(i) for i in range(21)), -9, 10, 11, 12, 13)
     assert adapter.reply_of(r, 7, 0, 216e6).command.u_wheels == ()
+    # policy none: no unloading command; the momentum telemetry as it came
+    assert (rep.command.thruster_on_s, rep.command.u_dipole_am2) == ((), ())
+    assert rep.momentum == Momentum(thruster_on_s=(0.0,) * 12)
+
+
+def test_the_reply_carries_the_unloading_commands_of_the_policy():
+    """Version 4: as LcmCodec reads actuator_cmd_t: thrusters policy (2) the first n_thrusters on-times,
+    magnetorquers (1) the dipole."""
+    base = dataclasses.replace(frame.StepReply.decode(bytes(frame.STEP_REPLY.size)), mom_status=-2, n_thrusters=8,
+                               thruster_on_s=tuple(0.001 * (i + 1) for i in range(12)), dipole_am2=(1.5, -2.5, 0.5),
+                               u_unload=(-0.1, 0.2, -0.3), h_wheels=(10.0, -5.0, 3.0), dh=(9.0, -5.0, 3.0),
+                               unloading=1, n_unload_events=3)
+    rep = adapter.reply_of(dataclasses.replace(base, mom_policy=2), 7, 0, 216e6)
+    assert rep.command.thruster_on_s == tuple(0.001 * (i + 1) for i in range(8)) and rep.command.u_dipole_am2 == ()
+    assert rep.momentum == Momentum(2, -2, 8, tuple(0.001 * (i + 1) for i in range(12)), (1.5, -2.5, 0.5),
+                                    (-0.1, 0.2, -0.3), (10.0, -5.0, 3.0), (9.0, -5.0, 3.0), True, 3)
+    rep = adapter.reply_of(dataclasses.replace(base, mom_policy=1), 7, 0, 216e6)
+    assert rep.command.thruster_on_s == () and rep.command.u_dipole_am2 == (1.5, -2.5, 0.5)
+
+
+def test_the_magnetometer(aocs_lcm):
+    """Its bit becomes the executive's MAG; the field passes as it is, flag or not."""
+    b = valid_bits()
+    f = SensorFrame(3, 0.3, b.attitude | b.magnetometer, Q, W, Z, Z, (), (0.0, 0.0, 0.0, 1.0), 0.0, Z,
+                    (2.5e-5, math.nan, -1e-6))
+    s = _step(adapter.step_payload(f))
+    assert s["valid"] == adapter.EXEC_VALID_ATT | adapter.EXEC_VALID_MAG
+    assert s["mag_b_t"][0] == 2.5e-5 and math.isnan(s["mag_b_t"][1]) and s["mag_b_t"][2] == -1e-6
+    s = _step(adapter.step_payload(SensorFrame(3, 0.3, b.attitude, Q, W, Z, Z, (), (0.0, 0.0, 0.0, 1.0), 0.0, Z,
+                                               (2.5e-5, 0.0, 0.0))))
+    assert s["valid"] == adapter.EXEC_VALID_ATT and s["mag_b_t"] == (2.5e-5, 0.0, 0.0)

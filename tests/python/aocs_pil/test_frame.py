@@ -36,11 +36,11 @@ HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 #: the configuration registry's header: the CONFIG field ids and limits pil_frame.h takes from it
 CONFIG_HEADER = (REPO / "firmware/include/aocs/config_registry.h").read_text()
 
-GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x03, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x90, 0x4D, 0x13,
-                    0xD2])
-GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x03, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x04, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x89, 0x44, 0xD6,
+                    0xD8])
+GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x04, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
                       0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x1A, 0x68, 0xFA, 0x8D])
+                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x73, 0x4B, 0x4A, 0xD1])
 
 
 def c_define(name: str) -> int:
@@ -177,7 +177,7 @@ def test_golden_frames_byte_for_byte():
 def test_step_payload_layout():
     p = frame.encode_step(0x01020304, 0x1122334455667788, 3, (1.0, -2.0, 0.5, 0.0), (0.25, -0.125, 4.0),
                           (1.0, 2.0, 3.0), (-1.0, -2.0, -3.0))
-    assert len(p) == 232
+    assert len(p) == 256
     assert p[:4] == bytes([4, 3, 2, 1])
     assert struct.unpack_from("<Q", p, 4)[0] == 0x1122334455667788
     assert p[12] == 3
@@ -212,7 +212,7 @@ def test_step_reply_layout_of_the_estimate():
                             q_est=(0.0, 0.0, -0.75, 0.5), est_p=tuple(0.0625 * (i + 1) for i in range(21)),
                             st_status=-7, n_st_used=0x80000001, n_est_restarts=4)
     p = r.encode()
-    assert len(p) == 520
+    assert len(p) == 732
     assert struct.unpack_from("<I", p, 244)[0] == 1 and struct.unpack_from("<i", p, 248)[0] == -4
     assert struct.unpack_from("<Q", p, 268)[0] == 0xBFE8000000000000
     assert struct.unpack_from("<Q", p, 332)[0] == 0x3FB0000000000000
@@ -294,7 +294,9 @@ def test_config_fields_of_the_registry_are_the_rows_of_the_def_files():
         (f["key"], f["pil_id"], f["rule"].lower(), f["help"]) for f in registry_text.field_rows()]
     assert {x.pil_name: x.names for x in general if x.kind == "enum"} == {
         "GUIDANCE_MODE": ("step", "slew"), "GUIDANCE_PROFILE": ("bang_coast_bang", "jerk_limited"),
-        "ESTIMATOR": ("passthrough", "mekf"), "MEKF_INIT_MODE": ("first_star_tracker", "configured")}
+        "ESTIMATOR": ("passthrough", "mekf"), "MEKF_INIT_MODE": ("first_star_tracker", "configured"),
+        "MOM_POLICY": ("none", "magnetorquers", "thrusters"),
+        "MOM_TRIGGER": ("threshold", "continuous")}
 
 
 def test_law_and_gain_table_names_are_the_firmware_ones():
@@ -386,3 +388,27 @@ def test_config_errors_are_fsw_nodes(name, tmp_path, fsw_node_bin):
     res = subprocess.run(netns.wrap([str(fsw_node_bin), str(path)]), capture_output=True, text=True, timeout=10)
     assert res.returncode == 2, res.stderr
     assert res.stderr.strip() == f"fsw_node: config error: {exc.value}"
+
+
+def test_version_4_layout_of_the_magnetometer_and_the_momentum_stage():
+    """The magnetometer follows the 232 bytes of the version 3 STEP, the momentum stage the 520 bytes of the version
+    3 reply (tests/unit/test_pil_frame.c checks the same offsets on the C encoder)."""
+    p = frame.encode_step(1, 2, 3, (0.0, 0.0, 0.0, 1.0), (0, 0, 0), (0, 0, 0), (0, 0, 0),
+                          mag_b_t=(0.0009765625, -0.5, 1.0))
+    assert struct.unpack_from("<Q", p, 232)[0] == 0x3F50000000000000
+    assert struct.unpack_from("<Q", p, 240)[0] == 0xBFE0000000000000
+    assert frame.unpack("STEP", p)["mag_b_t"] == (0.0009765625, -0.5, 1.0)
+    r = dataclasses.replace(frame.StepReply.decode(bytes(frame.STEP_REPLY.size)), mom_policy=2, mom_status=-3,
+                            n_thrusters=12, thruster_on_s=tuple(0.0078125 * (i + 1) for i in range(12)),
+                            dipole_am2=(1.5, -2.5, 0.25), u_unload=(-0.125, 0.0, 0.5), h_wheels=(10.0, -2.0, 0.5),
+                            dh=(9.0, -2.0, 0.5), unloading=1, n_unload_events=0x80000003)
+    p = r.encode()
+    assert struct.unpack_from("<I", p, 520)[0] == 2 and struct.unpack_from("<i", p, 524)[0] == -3
+    assert struct.unpack_from("<I", p, 528)[0] == 12
+    assert struct.unpack_from("<Q", p, 532)[0] == 0x3F80000000000000
+    assert struct.unpack_from("<Q", p, 628)[0] == 0x3FF8000000000000
+    assert struct.unpack_from("<Q", p, 652)[0] == 0xBFC0000000000000
+    assert struct.unpack_from("<Q", p, 676)[0] == 0x4024000000000000
+    assert struct.unpack_from("<Q", p, 700)[0] == 0x4022000000000000
+    assert struct.unpack_from("<I", p, 724)[0] == 1 and struct.unpack_from("<I", p, 728)[0] == 0x80000003
+    assert frame.StepReply.decode(p) == r

@@ -174,3 +174,36 @@ def test_the_version_3_fields_are_columns(aocs_lcm, tmp_path):
                 c["n_est_restarts"].tolist()) == ([-1] * 3, [1] * 3, [2] * 3, [3] * 3)
         assert lcmlog.covariance(c["est_p"]).shape == (3, 6, 6)
         assert tr["gyro_bias"].tolist() == [[1e-7, -2e-7, 3e-7]] * 3
+
+
+def test_the_version_4_fields_are_columns(aocs_lcm, tmp_path):
+    """The magnetometer and the momentum-management fields of protocol version 4, decoded by name with their
+    shapes (both decoders); unload_events() finds the steps an unload started."""
+    from aocs_wire import wire
+    ev = []
+    unloading = [False, True, True, False, True]
+    for k in range(5):
+        s = aocs_lcm.sensors_t()
+        s.protocol_version, s.tick, s.t_s = s.PROTOCOL_VERSION, k, 0.1 * k
+        s.valid = s.VALID_MAGNETOMETER if k % 2 else 0
+        s.mag_b_t = [2e-5, -0.25e-5 * k, 3e-6]
+        a = aocs_lcm.actuator_cmd_t()
+        a.protocol_version, a.tick, a.mom_policy, a.mom_status, a.n_thrusters = a.PROTOCOL_VERSION, k, 2, -k, 12
+        a.thruster_on_s = [0.001 * k] * 12
+        a.dipole_am2, a.u_unload, a.h_wheels, a.dh = [0.0, 0.0, 0.5 * k], [-0.1, 0.0, 0.0], [k, 0.0, 0.0], [k, 1, 0]
+        a.unloading = unloading[k]
+        a.n_unload_events = sum(1 for i in range(k + 1) if unloading[i] and (i == 0 or not unloading[i - 1]))
+        ev += [(wire.SENSORS, s.encode()), (wire.ACTUATOR, a.encode())]
+    path = _write(tmp_path / "v4.lcmlog", ev)
+    for log in (lcmlog.read(path), lcmlog._read_eventlog(path)):
+        s, c = log.sensors, log.cmd
+        assert s["mag_b_t"].shape == (5, 3) and s["mag_b_t"][:, 1].tolist() == [-0.25e-5 * k for k in range(5)]
+        assert ((s["valid"] & aocs_lcm.sensors_t.VALID_MAGNETOMETER) != 0).tolist() == [False, True, False, True,
+                                                                                          False]
+        assert c["mom_policy"].tolist() == [2] * 5 and c["mom_status"].tolist() == [0, -1, -2, -3, -4]
+        assert c["thruster_on_s"].shape == (5, 12) and c["thruster_on_s"][:, 3].tolist() == [0.0, 0.001, 0.002,
+                                                                                             0.003, 0.004]
+        for name in ("dipole_am2", "u_unload", "h_wheels", "dh"):
+            assert c[name].shape == (5, 3), name
+        assert c["unloading"].tolist() == [0, 1, 1, 0, 1] and c["n_unload_events"].tolist() == [0, 1, 1, 1, 2]
+        assert lcmlog.unload_events(c).tolist() == [1, 4]

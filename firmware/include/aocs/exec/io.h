@@ -20,6 +20,7 @@
 #define AOCS_EXEC_VALID_ORBIT (1u << 2) /* pos_m, vel_mps usable */
 #define AOCS_EXEC_VALID_ST    (1u << 3) /* st_q_SN is a new star-tracker sample, measured at st_t_meas_ns */
 #define AOCS_EXEC_VALID_GYRO  (1u << 4) /* gyro_w_B usable */
+#define AOCS_EXEC_VALID_MAG   (1u << 5) /* mag_B_T is a magnetometer reading */
 
 /* Target held by the executive (attitude laws; the orbit law regulates to zero). */
 typedef struct {
@@ -44,6 +45,7 @@ typedef struct {
     uint64_t st_t_meas_ns;        /* its time of measurement, ns, the clock of t_sensor_ns, <= t_sensor_ns */
     aocs_vec3_t gyro_w_B;         /* gyro: measured body rate in B, rad/s, the mean over the sample period
                                    * (angle increment / period; AOCS_EXEC_VALID_GYRO) */
+    aocs_vec3_t mag_B_T;          /* magnetometer: geomagnetic field in B, T (AOCS_EXEC_VALID_MAG) */
 } aocs_exec_input_t;
 
 /* Event counters (saturate at UINT32_MAX, never wrap). */
@@ -83,6 +85,7 @@ typedef struct {
     aocs_wheels_momentum_t momentum; /* total momentum and speed margin (zero without an array) */
     aocs_status_t wheels_status;  /* AOCS_OK, or why the allocation gave a zero command */
     aocs_det_output_t estimate;   /* the attitude-determination stage's estimate and its telemetry this step */
+    /* the momentum-management stage's output: aocs_exec_momentum() (exec/pipeline.h) */
 } aocs_exec_output_t;
 
 #endif /* AOCS_EXEC_IO_H */

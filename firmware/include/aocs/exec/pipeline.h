@@ -117,6 +117,15 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
  */
 aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns);
 
+/*
+ * The momentum-management stage's commands and telemetry of the last step (docs/spec.md 5.9): its
+ * u_unload_B_Nm was taken off that step's wheel command (out->u_cmd, what the wheels deliver, is the law's
+ * torque minus it, before saturation). All zero with policy NONE, and for NULL or an executive not
+ * initialised. Kept out of aocs_exec_output_t so a step without momentum management costs nothing more.
+ * Total.
+ */
+aocs_mom_output_t aocs_exec_momentum(const aocs_exec_t *exec);
+
 /* Counters so far (zeroed struct on NULL args). Total. */
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec);
 

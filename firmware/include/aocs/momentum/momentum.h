@@ -1,10 +1,24 @@
 /*
- * The momentum-management stage (ARCHITECTURE.md "The flight pipeline"):
- * after actuation, from the wheel array's momentum, the unloading commands
- * (magnetorquer dipole, thruster torque) and the body torque the wheels must
- * absorb meanwhile, by one of the policies of aocs/momentum/momentum.def.
- * Today the only policy is NONE (no unloading: its output is zero and the
- * executive applies nothing of it); the interface is here for the next ones.
+ * The momentum-management stage (ARCHITECTURE.md "The flight pipeline";
+ * docs/spec.md 5.9): from the wheel array's momentum, the unloading commands
+ * (magnetorquer dipoles, thruster on-times) and the body torque they are
+ * expected to apply, which the executive feeds forward into the wheel
+ * command so the wheels absorb it and the body sees none (the law's torque
+ * minus the unloading torque is what the wheels deliver).
+ *
+ * Policies (rows of aocs/momentum/momentum.def, configuration key mom.policy):
+ *   none           no unloading (zero output)
+ *   magnetorquers  the cross-product law m = k (dh x B) / |B|^2 (the torque m x B = -k dh_perp removes the
+ *                  part of dh perpendicular to B), saturated per rod keeping its direction
+ *                  (Markley & Crassidis 2014 sec. 7.5; Camillo & Markley 1980)
+ *   thrusters      a dumping torque of magnitude dump_torque_nm opposing dh (at most |dh| per period),
+ *                  allocated to non-negative on-times by pulse-width modulation over the control period:
+ *                  per signed body axis the least-propellant thruster combination giving a unit torque
+ *                  (chosen at init), quantised to thr_quantum_s, pulses below thr_min_on_s dropped; the
+ *                  on-time not fired is carried to the next period (so a torque below the minimum impulse
+ *                  bit per period is still delivered on average)
+ * Trigger (mom.trigger): threshold (start when |dh| > h_start_nms, stop when |dh| < h_stop_nms:
+ * hysteresis) or continuous (always, while the stage is enabled). dh = h_wheels - h_target.
  */
 #ifndef AOCS_MOMENTUM_MOMENTUM_H
 #define AOCS_MOMENTUM_MOMENTUM_H
@@ -22,41 +36,104 @@ typedef enum {
     AOCS_MOM_COUNT
 } aocs_mom_id_t;
 
-/* Configuration of the stage (aocs_exec_config_t.momentum). */
+/* Largest number of thrusters (the configuration rows mom.thr_arm_*_m hold this many values). */
+#define AOCS_MOM_THRUSTERS_MAX 12u
+/* Signed body axes of the thruster allocation: +x, -x, +y, -y, +z, -z. */
+#define AOCS_MOM_AXES_SIGNED 6u
+/* Smallest field magnitude the magnetorquer law divides by, T (the geomagnetic field is >= 2e-5 T in LEO
+ * and ~1e-8 T at L2; below 1e-12 T a magnetometer reads noise only). */
+#define AOCS_MOM_B_MIN_T AOCS_R(1.0e-12)
+
+/* The trigger (mom.trigger). */
+typedef enum {
+    AOCS_MOM_TRIGGER_THRESHOLD = 0, /* hysteresis: start above h_start, stop below h_stop */
+    AOCS_MOM_TRIGGER_CONTINUOUS = 1, /* always unloading while enabled */
+    AOCS_MOM_TRIGGER_COUNT
+} aocs_mom_trigger_t;
+
+/* Configuration of the stage (aocs_exec_config_t.momentum; the mom.* rows of config_fields.def). */
 typedef struct {
-    uint32_t policy;              /* aocs_mom_id_t value; default 0 = NONE (no configuration key yet) */
+    uint32_t policy;                 /* aocs_mom_id_t value; default 0 = NONE */
+    uint32_t trigger;                /* aocs_mom_trigger_t value */
+    aocs_vec3_t h_target_B_Nms;      /* wheel momentum target (zero or a bias), B, N m s */
+    real_t h_start_Nms;              /* threshold: start when |dh| > this, N m s */
+    real_t h_stop_Nms;               /* threshold: stop when |dh| < this (< h_start), N m s */
+    real_t k_mtq_per_s;              /* magnetorquers: gain k, 1/s */
+    aocs_mat3_t mtq_axes;            /* magnetorquers: row i = unit axis of rod i in B */
+    aocs_vec3_t mtq_max_dipole_Am2;  /* magnetorquers: per-rod dipole limit, A m^2 */
+    real_t dump_torque_Nm;           /* thrusters: dumping torque magnitude, N m */
+    uint32_t thr_count;              /* thrusters: number, <= AOCS_MOM_THRUSTERS_MAX */
+    real_t thr_thrust_N;             /* thrusters: thrust of each, N */
+    real_t thr_min_on_s;             /* thrusters: shortest pulse, s (minimum impulse bit / thrust) */
+    real_t thr_quantum_s;            /* thrusters: on-time quantum, s (0 = none) */
+    real_t thr_arm_x_m[AOCS_MOM_THRUSTERS_MAX]; /* thrusters: x of r_i x d_i (torque per newton), m */
+    real_t thr_arm_y_m[AOCS_MOM_THRUSTERS_MAX]; /* y of r_i x d_i, m */
+    real_t thr_arm_z_m[AOCS_MOM_THRUSTERS_MAX]; /* z of r_i x d_i, m */
 } aocs_mom_config_t;
 
-/* The commands of one step. */
+/* One step's input (the executive forms it before actuation). */
 typedef struct {
-    aocs_vec3_t dipole_Am2;       /* magnetorquer dipole, A m^2 (zero: none) */
-    aocs_vec3_t u_unload_B_Nm;    /* body torque the unloading actuators apply, N m (zero: none) */
+    aocs_vec3_t h_wheels_B_Nms;      /* sum Js_i g_i Omega_i from the tachometers, B */
+    int h_valid;                     /* 1: a wheel array with every healthy speed finite */
+    aocs_vec3_t b_B_T;               /* magnetometer field in B, T */
+    int b_valid;                     /* 1: the magnetometer reading is usable (flag set, finite) */
+    int enabled;                     /* 1: the attitude is held (NOMINAL with an attitude law) */
+    real_t dt_s;                     /* control period, s */
+} aocs_mom_input_t;
+
+/* The commands and telemetry of one step. */
+typedef struct {
+    aocs_vec3_t dipole_Am2;          /* magnetorquer dipole of each rod (along its axis), A m^2 */
+    real_t thruster_on_s[AOCS_MOM_THRUSTERS_MAX]; /* thruster on-times within this period, s */
+    aocs_vec3_t u_unload_B_Nm;       /* body torque the unloading actuators are expected to apply, N m */
+    aocs_vec3_t h_wheels_B_Nms;      /* the momentum the stage used (zero when not valid) */
+    aocs_vec3_t dh_B_Nms;            /* h_wheels - h_target */
+    int unloading;                   /* 1: an unload in progress this step */
+    uint32_t n_events;               /* unloads started (transitions to unloading), saturating */
+    aocs_status_t status;            /* AOCS_OK, or why nothing was commanded (no field, no wheels) */
 } aocs_mom_output_t;
 
 typedef struct {
     aocs_mom_id_t id;
-    aocs_mom_output_t out;        /* the commands of the last step (zero from init; NONE leaves them zero) */
+    aocs_mom_config_t cfg;
+    aocs_mat3_t mtq_inv;             /* maps a B-frame dipole to the rods' dipoles: (axes^T)^-1 */
+    real_t thr_alloc[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX]; /* duty per N m about each signed axis */
+    real_t thr_residual_s[AOCS_MOM_THRUSTERS_MAX]; /* on-time requested but not fired (quantum, minimum
+                                      * pulse), carried to the next period while an unload lasts */
+    aocs_mom_output_t out;           /* the commands of the last step (zero from init) */
     int initialised;
 } aocs_mom_t;
 
 /* Name of a policy ("none"); "unknown" out of range. Total. */
 const char *aocs_mom_name(aocs_mom_id_t id);
 
-/* AOCS_ERR_NULL_ARG; AOCS_ERR_MOMENTUM_POLICY_UNKNOWN (policy out of range). */
+/*
+ * AOCS_ERR_NULL_ARG; AOCS_ERR_MOMENTUM_POLICY_UNKNOWN (policy out of range);
+ * AOCS_ERR_MOMENTUM_CONFIG_INVALID (trigger out of range, a value not finite or negative, h_stop >= h_start
+ * with the threshold trigger, the policy's own parameters: see momentum.def); the policy's INIT status.
+ */
 aocs_status_t aocs_mom_init(aocs_mom_t *m, const aocs_mom_config_t *cfg);
 
 /*
- * One step on the array's momentum h (NULL without an array): the policy
- * updates m->out (aocs_mom_output). AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED,
- * or the policy's status (on an error m->out is zero).
+ * One step: the trigger, then the policy updates m->out. AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, or the
+ * policy's status (also in m->out.status; on an error the commands are zero). A step not enabled or without a
+ * valid momentum stops an unload in progress and commands nothing.
  */
-aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
+aocs_status_t aocs_mom_step(aocs_mom_t *m, const aocs_mom_input_t *in);
 
 /* The commands of the last step; zero for NULL or a stage not initialised. Total. */
 aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m);
 
+/* Host budget the policy adds to every step, ns (momentum.def BUDGET_NS); 0 for NULL. Total. */
+uint64_t aocs_mom_budget_ns(const aocs_mom_t *m);
+
+/* The hysteresis trigger alone: the next "unloading" state from the current one and |dh|. Total. */
+int aocs_mom_trigger(const aocs_mom_config_t *cfg, int unloading, real_t dh_norm_Nms);
+
 /* ---- the rows' functions (momentum.def), declared from the rows ---- */
-#define AOCS_MOM_PROTOTYPES(ID, NAME, STEP) aocs_status_t STEP(aocs_mom_t *m, const aocs_wheels_momentum_t *h);
+#define AOCS_MOM_PROTOTYPES(ID, NAME, INIT, STEP, BUDGET_NS, INSTR_M4F, INSTR_M7) \
+    aocs_status_t INIT(aocs_mom_t *m);                                             \
+    aocs_status_t STEP(aocs_mom_t *m, const aocs_mom_input_t *in);
 AOCS_MOMENTUM_ROWS(AOCS_MOM_PROTOTYPES)
 
 #endif /* AOCS_MOMENTUM_MOMENTUM_H */

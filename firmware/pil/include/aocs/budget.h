@@ -91,6 +91,10 @@ uint32_t aocs_budget_guidance_instructions(aocs_guidance_id_t mode, aocs_budget_
  * aocs/estimation/determination.def); 0 out of range. Total. */
 uint32_t aocs_budget_estimator_instructions(aocs_det_id_t estimator, aocs_budget_target_t target);
 
+/* The instructions a momentum-management policy adds to every step (INSTR_M4F / INSTR_M7 of
+ * aocs/momentum/momentum.def); 0 out of range. Total. */
+uint32_t aocs_budget_momentum_instructions(aocs_mom_id_t policy, aocs_budget_target_t target);
+
 /*
  * Instructions of one aocs_exec_step with `law` selected on `target`
  * (AOCS_LAW_NONE: a STANDBY step). 0 for an out-of-range law or target

@@ -32,7 +32,7 @@
 #include "aocs/types.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
-#define AOCS_PIL_VERSION 3U   /* 3: star tracker, gyro, estimate; 2: the wheel array (CONFIG fields 65-67 and 100-147,
+#define AOCS_PIL_VERSION 4U   /* 4: magnetometer, momentum management; 3: star tracker, gyro, estimate; 2: the wheel array (CONFIG fields 65-67 and 100-147,
                                 * tachometers, wheel torques) */
 #define AOCS_PIL_HEADER_BYTES 12U
 #define AOCS_PIL_CRC_BYTES 4U
@@ -57,8 +57,8 @@
 
 /* Payload sizes of the fixed-layout frames (the sums of their rows below, which the encoders check). */
 #define AOCS_PIL_HELLO_BYTES 28U
-#define AOCS_PIL_STEP_BYTES 232U
-#define AOCS_PIL_STEP_REPLY_BYTES 520U
+#define AOCS_PIL_STEP_BYTES 256U
+#define AOCS_PIL_STEP_REPLY_BYTES 732U
 #define AOCS_PIL_SELECT_BYTES 64U
 #define AOCS_PIL_ACK_BYTES 36U
 #define AOCS_PIL_BYE_REPLY_BYTES 16U
@@ -155,6 +155,11 @@ typedef struct {
     /* the attitude-determination stage's estimate, as fsw_node publishes it in actuator_cmd_t (valid not sent) */
     uint32_t estimator;       /* the executive's cfg.determination.estimator (estimation/determination.def) */
     aocs_det_output_t estimate; /* out.estimate */
+    /* the momentum-management stage, as fsw_node publishes it in actuator_cmd_t (node_wire.c) */
+    uint32_t mom_policy;      /* the executive's cfg.momentum.policy (momentum/momentum.def) */
+    uint32_t n_thrusters;     /* cfg.momentum.thr_count with the thrusters policy, else 0 */
+    uint32_t unloading;       /* mom.unloading != 0 */
+    aocs_mom_output_t mom;    /* aocs_exec_momentum() after the step */
 } aocs_pil_step_reply_t;
 
 /* SELECT: the run-time command (aocs_exec_select). */
@@ -211,6 +216,7 @@ typedef struct {
  *   quat      aocs_quat_t               4 f64, scalar last
  *   wheels    real_t[AOCS_WHEELS_MAX]   AOCS_WHEELS_MAX f64
  *   cov       real_t[AOCS_EST_P_UPPER_COUNT]  AOCS_EST_P_UPPER_COUNT f64 (a covariance's upper triangle, estimate.h)
+ *   thrusters real_t[AOCS_MOM_THRUSTERS_MAX] AOCS_MOM_THRUSTERS_MAX f64 (thruster on-times, momentum.h)
  *   counters  aocs_exec_counters_t      the AOCS_PIL_COUNTER_ROWS (step_time_max_ns is not sent)
  *
  * pil_frame.c expands each payload's rows into its encoder and decoder (a
@@ -230,6 +236,7 @@ typedef struct {
 #define AOCS_PIL_WIRE_quat "f64", 4U
 #define AOCS_PIL_WIRE_wheels "f64", AOCS_WHEELS_MAX
 #define AOCS_PIL_WIRE_cov "f64", AOCS_EST_P_UPPER_COUNT
+#define AOCS_PIL_WIRE_thrusters "f64", AOCS_MOM_THRUSTERS_MAX
 #define AOCS_PIL_WIRE_counters "u32", AOCS_PIL_COUNTERS
 
 /* The executive counters of a STEP_REPLY (aocs_exec_counters_t). */
@@ -269,7 +276,8 @@ typedef struct {
     X(wheel_speed, wheels, wheel_speed_radps)        \
     X(st_q, quat, st_q_SN)                           \
     X(st_t_meas_ns, u64, st_t_meas_ns)               \
-    X(gyro_w, vec3, gyro_w_B)
+    X(gyro_w, vec3, gyro_w_B)                        \
+    X(mag_b_t, vec3, mag_B_T)
 
 #define AOCS_PIL_STEP_REPLY_ROWS(X)                  \
     X(tick, u32, tick)                               \
@@ -306,7 +314,17 @@ typedef struct {
     X(n_st_used, u32, estimate.n_st_used)            \
     X(n_st_gated, u32, estimate.n_st_gated)          \
     X(n_st_hostile, u32, estimate.n_st_hostile)      \
-    X(n_est_restarts, u32, estimate.n_restarts)
+    X(n_est_restarts, u32, estimate.n_restarts)      \
+    X(mom_policy, u32, mom_policy)                   \
+    X(mom_status, status, mom.status)                \
+    X(n_thrusters, u32, n_thrusters)                 \
+    X(thruster_on_s, thrusters, mom.thruster_on_s)   \
+    X(dipole_am2, vec3, mom.dipole_Am2)              \
+    X(u_unload, vec3, mom.u_unload_B_Nm)             \
+    X(h_wheels, vec3, mom.h_wheels_B_Nms)            \
+    X(dh, vec3, mom.dh_B_Nms)                        \
+    X(unloading, u32, unloading)                     \
+    X(n_unload_events, u32, mom.n_events)
 
 /* SELECT: target.wd_dot_B is not sent (it decodes as zero, as fsw_node sets it) */
 #define AOCS_PIL_SELECT_ROWS(X)                      \
