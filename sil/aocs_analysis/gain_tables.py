@@ -12,14 +12,14 @@ from aocs_core import paths
 GAINS_C = paths.REPO / "firmware" / "gains" / "aocs_gains.c"
 
 
-def gain_matrix(name: str, path: Path = GAINS_C) -> np.ndarray:
-    """The 3x6 K table `aocs_gains_<name>_K` as compiled into the firmware."""
+def gain_matrix(name: str, path: Path = GAINS_C, cols: int = 6) -> np.ndarray:
+    """The 3 x cols K table `aocs_gains_<name>_K` as compiled into the firmware (cols 6, or 9 for lqr_quat_i)."""
     text = path.read_text()
-    m = re.search(r"aocs_gains_" + re.escape(name) + r"_K\[3\]\[6\] = \{(.*?)\};", text, re.S)
+    m = re.search(r"aocs_gains_" + re.escape(name) + rf"_K\[3\]\[{cols}\] = \{{(.*?)\}};", text, re.S)
     if not m:
-        raise ValueError(f"{path}: no table aocs_gains_{name}_K")
+        raise ValueError(f"{path}: no 3x{cols} table aocs_gains_{name}_K")
     vals = [float(v) for v in re.findall(r"AOCS_R\(([^)]*)\)", m.group(1))]
-    return np.array(vals, float).reshape(3, 6)
+    return np.array(vals, float).reshape(3, cols)
 
 
 def designed_gamma(name: str, path: Path = GAINS_C) -> float:

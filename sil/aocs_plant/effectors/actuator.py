@@ -17,6 +17,9 @@ is a convex combination of saturated values up to the RK4 error, and the
 loader requires tau >= the substep dt / substeps (RK4 is stable to ~2.8 h/tau;
 at h/tau = 1 the step response is within 0.7 % of the exponential).
 `realistic_axis_limit` is not applied: the runner's realistic-limit override.
+`delay_periods` (integer, default 0): the command of tick k is held over period k + delay_periods
+(zero until then): a computation delay of whole control periods at the actuator interface, what the
+margin analysis (`aocs analyze`) models as z^-delay; the limits act on the delayed command.
 """
 from __future__ import annotations
 
@@ -41,6 +44,11 @@ class ActuatorConfig:
     slew_rate_limit_per_s: float | None = None
     lag_tau_s: float | None = None
     realistic_axis_limit: float | None = None
+    delay_periods: int = 0
+
+
+#: the longest actuator delay the loader accepts, control periods
+MAX_DELAY_PERIODS = 100
 
 
 @register
@@ -63,7 +71,10 @@ class Actuator(Effector):
         if tau is not None and tau < h:
             sec.fail(sec.key("lag_tau_s"), f"{tau} s is shorter than the integration step dt / substeps = {h!r} s "
                      "(the lag is integrated by RK4 with the body): raise integrator.substeps")
-        return ActuatorConfig(**kw)
+        delay = sec.integer("delay_periods", required=False, default=0, minimum=0)
+        if delay > MAX_DELAY_PERIODS:
+            sec.fail(sec.key("delay_periods"), f"{delay} control periods: at most {MAX_DELAY_PERIODS}")
+        return ActuatorConfig(**kw, delay_periods=delay)
 
     @classmethod
     def default(cls, ctx) -> ActuatorConfig:
@@ -87,6 +98,7 @@ class Actuator(Effector):
             self.form = Form.GENERAL
             self.state_size = 3
         self.period_hooks = self.state_size > 0   # the period mean of the lag output
+        self._queue = [ZERO3] * config.delay_periods   # the commands still to be held, oldest first
         self.field = U_BODY if body.kind == ATTITUDE else U_ORBIT
         self.command_fields = {self.field: 3}
 
@@ -94,6 +106,9 @@ class Actuator(Effector):
     def command(self, cmd) -> None:
         c = cmd.get(self.field)
         if c is not None:
+            if self._queue:
+                self._queue.append(c)
+                c = self._queue.pop(0)
             self.hold(c)
 
     def hold(self, c) -> tuple[float, float, float]:
