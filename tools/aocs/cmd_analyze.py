@@ -27,6 +27,9 @@ def add_arguments(p) -> None:
                         "as [actuator] delay_periods)")
     p.add_argument("--measure", action="store_true",
                    help="also measure each axis loop in the SIL loop (one run per axis, multisine at the plant input)")
+    p.add_argument("--verify", action="store_true",
+                   help="two SIL runs with the loop gain at 0.9 and 1.1 x the predicted gain margin: the first "
+                        "must converge, the second diverge")
     p.add_argument("--no-rates", action="store_true", help="skip the search of the lowest control rate")
     p.add_argument("--json", help="write the result here (a list when --law all)")
     p.add_argument("--out", help="output folder (runs and plots; default out/analyze/<scenario>)")
@@ -41,7 +44,7 @@ def _usage(msg: str) -> int:
 
 
 def run(args) -> int:
-    if args.measure:
+    if args.measure or args.verify:
         netns.reexec_in_netns(paths.self_argv())
     from aocs_margins import analyze, law_models, plots  # deferred: python-control and matplotlib
 
@@ -72,6 +75,14 @@ def run(args) -> int:
                 failed = True
                 continue
             failed |= not res["agreement"]["within"]
+        if args.verify:
+            progress = None if args.quiet else (lambda s: print(f"verify: {s}", flush=True))
+            try:
+                res["gain_margin_verified"] = analyze.verify_gain_margin(args.scenario, sc, res, big_l, out / name,
+                                                                         progress)
+            except (ScenarioError, fsw_config.ConfigError, paths.SetupError, netns.NetnsError) as exc:
+                return _usage(f"{name}: {exc}")
+            failed |= res["gain_margin_verified"]["verified"] is False
         if args.plots:
             res["plots"] = [str(p) for p in plots.draw(res, big_l, out / name)]
         results.append(analyze.finite_json(res))
@@ -94,6 +105,12 @@ def _print(res: dict) -> None:
     if res.get("lowest_rate_hz") is not None:
         print(f"  lowest control rate keeping {analyze.REQUIRED_GAIN_MARGIN_DB:g} dB / "
               f"{analyze.REQUIRED_PHASE_MARGIN_DEG:g} deg: {res['lowest_rate_hz']:.3g} Hz")
+    v = res.get("gain_margin_verified")
+    if v and v.get("runs"):
+        print("  gain margin in SIL: " + "; ".join(
+            f"k = {r['factor_of_margin']:g} x GM: {'diverged' if r['diverged'] else 'converged' if r['converged'] else '?'}"
+            + (f" ({r['start_arcsec']:.3g} -> {r['end_arcsec']:.3g} arcsec)" if "end_arcsec" in r else "")
+            for r in v["runs"]) + f": {'shown right' if v['verified'] else 'NOT shown'}")
     if "agreement" in res:
         a = res["agreement"]
         print(f"  measured in the SIL loop: worst |gain error| {a['worst_gain_db']:.3f} dB, worst |phase error| "

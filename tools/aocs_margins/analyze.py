@@ -160,3 +160,60 @@ def finite_json(x):
     if isinstance(x, np.bool_):
         return bool(x)
     return x
+
+
+#: the loop gains of the two verification runs, as fractions of the predicted (uniform) gain margin
+VERIFY_FACTORS = (0.9, 1.1)
+#: predicted growth of the outside run over its duration, and the initial attitude offset, deg
+VERIFY_GROWTH = 1e6
+VERIFY_OFFSET_DEG = 1e-3
+#: a run diverged when its error at the end is this many times its error at the start
+DIVERGED_RATIO = 100.0
+
+
+def verify_gain_margin(scenario: str, sc, result: dict, big_l, out: Path, progress=None) -> dict:
+    """Two SIL runs from a small offset of the hold with the delivered torque scaled by k ([actuator]
+    scale_factor = a loop gain k at the plant input): k = 0.9 and 1.1 times the predicted uniform gain
+    margin. The first must converge (error at the end below the start), the second diverge (error at the
+    end > 100x the start, or the run's verdict fails as the plant diverges)."""
+    from aocs_runner.run import RunFailed, RunOptions, execute  # deferred: the runner only for --verify
+    from aocs_wire import lcmlog  # deferred: as above
+
+    gm_db = result["loops"]["mimo"]["gain_margin_db"]
+    if gm_db is None:
+        return {"verified": None, "reason": "no finite gain margin"}
+    k_gm = 10.0 ** (gm_db / 20.0)
+    rho_out = float(np.max(np.abs(loop_model.closed_loop_poles(big_l, VERIFY_FACTORS[1] * k_gm))))
+    steps = int(math.ceil(math.log(VERIFY_GROWTH) / math.log(rho_out)))
+    duration = steps * sc.dt
+    target = sc.target.target_input
+    e0 = [float(x) for x in target[1]] if target and target[0] == "euler321_deg" else [0.0, 0.0, 0.0]
+    e0[2] += VERIFY_OFFSET_DEG
+    runs = []
+    for f in VERIFY_FACTORS:
+        k = f * k_gm
+        sets = [f"actuator.delay_periods={result['delay_periods']}", f"actuator.scale_factor={k!r}",
+                f"plant.euler321_deg={e0}", f"plant.w0={[float(x) for x in sc.target.wd]}"]
+        if result["table"]:
+            sets.append(f'laws.{result["law"]}.table="{result["table"]}"')
+        run_dir = out / f"gain-{f:g}"
+        if progress:
+            progress(f"{result['law']}: loop gain {k:.4g} ({f:g} x the gain margin), {duration:g} s")
+        rec = {"factor_of_margin": f, "loop_gain": k,
+               "predicted_spectral_radius": float(np.max(np.abs(loop_model.closed_loop_poles(big_l, k))))}
+        try:
+            res = execute(RunOptions(scenario=scenario, law=result["law"], duration=duration, sets=sets,
+                                     out=str(run_dir), plots=False, quiet=True, label=f"gain {f:g} x GM"))
+            err = np.asarray(lcmlog.read(run_dir / "run.lcmlog").truth["pointing_err_arcsec"], float)
+            n = max(1, err.size // 20)
+            start, end = float(np.max(err[:n])), float(np.max(err[-n:]))
+            rec.update(start_arcsec=start, end_arcsec=end, verdict_passed=res.metrics["verdict"]["passed"],
+                       verdict_failures=[x["check"] for x in res.metrics["verdict"]["failures"]])
+            rec["diverged"] = bool(not math.isfinite(end) or end > DIVERGED_RATIO * start
+                                   or "non-finite" in rec["verdict_failures"])
+            rec["converged"] = bool(math.isfinite(end) and end < start and res.metrics["verdict"]["passed"])
+        except RunFailed as exc:
+            rec.update(diverged=True, converged=False, run_failed=str(exc))
+        runs.append(rec)
+    return {"runs": runs, "duration_s": duration, "offset_deg": VERIFY_OFFSET_DEG,
+            "verified": bool(runs[0]["converged"] and runs[1]["diverged"])}

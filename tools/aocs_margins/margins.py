@@ -89,6 +89,10 @@ def siso(l: control.StateSpace, w: np.ndarray | None = None) -> dict:
     # by bisection, are added (and duplicates do no harm: the extreme of each margin is kept)
     g_w = crossings(l, w, h, lambda r: abs(r) - 1.0)
     p_w = crossings(l, w, h, lambda r: r.imag, where=lambda r: r.real < 0.0)
+    if dt is not None:   # a sampled loop is real at the Nyquist frequency: a phase crossover when negative
+        r = _at(l, math.pi / dt)
+        if r.real < 0.0 and abs(r.imag) <= 1e-9 * abs(r):
+            p_w.append(math.pi / dt)
     gm = np.concatenate([gm, [1.0 / abs(_at(l, f)) for f in p_w]])
     wpc = np.concatenate([wpc, p_w])
     pm = np.concatenate([pm, [math.degrees(np.angle(-_at(l, f))) for f in g_w]])
