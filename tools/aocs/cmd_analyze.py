@@ -115,4 +115,5 @@ def _print(res: dict) -> None:
         a = res["agreement"]
         print(f"  measured in the SIL loop: worst |gain error| {a['worst_gain_db']:.3f} dB, worst |phase error| "
               f"{a['worst_phase_deg']:.2f} deg ({'within' if a['within'] else 'NOT within'} "
-              f"{a['required_db']:g} dB / {a['required_deg']:g} deg)")
+              f"{a['required_db']:g} dB / {a['required_deg']:g} deg); linear law against the C law's logged "
+              f"commands: {a['worst_law_residual']:.2g} of their range")

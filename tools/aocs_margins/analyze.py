@@ -126,12 +126,14 @@ def measured(scenario: str, sc, result: dict, big_l, out: Path, progress=None) -
     worst_db = worst_deg = 0.0
     for i, ax in enumerate(loop_model.AXES):
         w_c = result["loops"][ax]["crossover_rad_s"] or result["loops"]["mimo"]["crossover_rad_s"]
-        pts = measure.measure_axis(scenario, sc, law, big_l, p, i, w_c, result["delay_periods"], out, progress)
+        res, pts = measure.measure_axis(scenario, sc, law, big_l, p, i, w_c, result["delay_periods"], out, progress)
         result["loops"][ax]["measured"] = pts
+        result["loops"][ax]["law_residual"] = res
         for q in pts:
             worst_db = max(worst_db, abs(q["gain_db"] - q["predicted_gain_db"]))
             worst_deg = max(worst_deg, abs((q["phase_deg"] - q["predicted_phase_deg"] + 180.0) % 360.0 - 180.0))
     result["agreement"] = {"worst_gain_db": worst_db, "worst_phase_deg": worst_deg,
+                           "worst_law_residual": max(result["loops"][a]["law_residual"] for a in loop_model.AXES),
                            "within": bool(worst_db <= AGREE_DB and worst_deg <= AGREE_DEG),
                            "required_db": AGREE_DB, "required_deg": AGREE_DEG}
 

@@ -25,6 +25,8 @@ from pathlib import Path
 import control
 import numpy as np
 
+from aocs_analysis import metrics as M
+from aocs_analysis.run_metrics import attitude_series, target_quat
 from aocs_plant.effectors.input_injection import InputInjectionConfig, multisine, schroeder_phases
 from aocs_runner.run import RunOptions, execute
 from aocs_wire import lcmlog
@@ -111,10 +113,33 @@ def estimate(log, p: Plan, sc, config: InputInjectionConfig) -> np.ndarray:
     return -phasors(t[m], applied[m], p.tones) / phasors(t[m], e[m], p.tones)
 
 
+def law_residual(log, sc, law: LinearLaw) -> float:
+    """The linear law against the real C law: the model's command from the logged states (the true attitude
+    and rate at each tick, what the perfect sensors gave the law), its integrator started at zero like the
+    law's, minus the command the flight software logged; max |difference| over the peak-to-peak of the
+    logged command (the expansion's second-order terms, the float formatting)."""
+    s = attitude_series(sc, log)
+    n = log.cmd["tick"].size
+    if law.output == "euler":
+        y = np.hstack([s["euler_err"][:n, ::-1], s["we"][:n]])       # [roll pitch yaw], rates (1st order)
+    else:
+        # theta = 2 qe_vec: the law reads qe_vec, the model theta / 2 of it (law_models)
+        qe = M.error_quaternion(np.asarray(log.truth["q"][:n]), target_quat(sc, log.truth["t_s"][:n]))
+        y = np.hstack([2.0 * qe[:, :3], s["we"][:n]])
+    z = np.zeros(law.states)
+    u_model = np.empty((n, 3))
+    for k in range(n):
+        u_model[k] = law.cc @ z + law.dc @ y[k]
+        z = z + sc.dt * (law.bc @ y[k])
+    u_log = np.asarray(log.cmd["u_sat"])[:n]
+    span = float(np.max(np.ptp(u_log, axis=0)))
+    return float(np.max(np.abs(u_model - u_log)) / span) if span > 0 else math.inf
+
+
 def measure_axis(scenario: str, sc, law: LinearLaw, big_l, plant_model, axis: int, w_c: float, delay: int, out: Path,
-                 progress=None) -> list[dict]:
-    """One SIL run injecting at `axis`: [{frequency_rad_s, gain_db, phase_deg, predicted_gain_db,
-    predicted_phase_deg}] per tone."""
+                 progress=None) -> tuple[float, list[dict]]:
+    """One SIL run injecting at `axis`: the law residual (law_residual) and [{frequency_rad_s, gain_db,
+    phase_deg, predicted_gain_db, predicted_phase_deg}] per tone."""
     p = plan(big_l, plant_model, axis, w_c, sc.dt)
     sets = injection_sets(p, sc, delay)
     if law.table:
@@ -130,9 +155,11 @@ def measure_axis(scenario: str, sc, law: LinearLaw, big_l, plant_model, axis: in
         raise RuntimeError("; ".join(f["reason"] for f in res.metrics["verdict"]["failures"]))
     cfg = InputInjectionConfig(True, 1.0, p.amplitude_nm, p.tones, schroeder_phases(len(p.tones)),
                                tuple(1.0 if i == axis else 0.0 for i in range(3)))
-    meas = estimate(lcmlog.read(run_dir / "run.lcmlog"), p, sc, cfg)
+    log = lcmlog.read(run_dir / "run.lcmlog")
+    meas = estimate(log, p, sc, cfg)
     pred = response(loop_at(big_l, axis), p.tones)[0, 0]
-    return [{"frequency_rad_s": float(w), "gain_db": float(20 * np.log10(abs(m))),
+    residual = law_residual(log, sc, law)
+    return residual, [{"frequency_rad_s": float(w), "gain_db": float(20 * np.log10(abs(m))),
              "phase_deg": float(np.degrees(np.angle(m))),
              "predicted_gain_db": float(20 * np.log10(abs(q))), "predicted_phase_deg": float(np.degrees(np.angle(q))),
              "amplitude_nm": p.amplitude_nm}
