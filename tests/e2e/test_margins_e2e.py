@@ -12,7 +12,6 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 
 from aocs_margins import analyze, law_models, loop_model, measure
 from aocs_plant.scenario import load

@@ -65,7 +65,7 @@ def run(args) -> int:
             return _usage(f"{law}: {exc}")
         name = f"{law}-{table}" if table else law
         if args.measure:
-            progress = None if args.quiet else (lambda s: print(f"measure: {s}", flush=True))
+            progress = None if args.quiet else (lambda s, _steps: print(f"measure: {s}", flush=True))
             try:
                 analyze.measured(args.scenario, sc, res, big_l, out / name, progress)
             except (ScenarioError, fsw_config.ConfigError, paths.SetupError, netns.NetnsError) as exc:
@@ -76,7 +76,7 @@ def run(args) -> int:
                 continue
             failed |= not res["agreement"]["within"]
         if args.verify:
-            progress = None if args.quiet else (lambda s: print(f"verify: {s}", flush=True))
+            progress = None if args.quiet else (lambda s, _steps: print(f"verify: {s}", flush=True))
             try:
                 res["gain_margin_verified"] = analyze.verify_gain_margin(args.scenario, sc, res, big_l, out / name,
                                                                          progress)

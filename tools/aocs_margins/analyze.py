@@ -166,7 +166,7 @@ def finite_json(x):
 
 #: the loop gains of the two verification runs, as fractions of the predicted (uniform) gain margin
 VERIFY_FACTORS = (0.9, 1.1)
-#: predicted growth of the outside run over its duration, and the initial attitude offset, deg
+#: predicted growth of the outside run over its duration, and the initial attitude offset about body x, deg
 VERIFY_GROWTH = 1e6
 VERIFY_OFFSET_DEG = 1e-3
 #: a run diverged when its error at the end is this many times its error at the start
@@ -188,19 +188,16 @@ def verify_gain_margin(scenario: str, sc, result: dict, big_l, out: Path, progre
     rho_out = float(np.max(np.abs(loop_model.closed_loop_poles(big_l, VERIFY_FACTORS[1] * k_gm))))
     steps = int(math.ceil(math.log(VERIFY_GROWTH) / math.log(rho_out)))
     duration = steps * sc.dt
-    target = sc.target.target_input
-    e0 = [float(x) for x in target[1]] if target and target[0] == "euler321_deg" else [0.0, 0.0, 0.0]
-    e0[2] += VERIFY_OFFSET_DEG
     runs = []
     for f in VERIFY_FACTORS:
         k = f * k_gm
         sets = [f"actuator.delay_periods={result['delay_periods']}", f"actuator.scale_factor={k!r}",
-                f"plant.euler321_deg={e0}", f"plant.w0={[float(x) for x in sc.target.wd]}"]
+                *measure.hold_sets(sc, (math.radians(VERIFY_OFFSET_DEG), 0.0, 0.0))]
         if result["table"]:
             sets.append(f'laws.{result["law"]}.table="{result["table"]}"')
         run_dir = out / f"gain-{f:g}"
         if progress:
-            progress(f"{result['law']}: loop gain {k:.4g} ({f:g} x the gain margin), {duration:g} s")
+            progress(f"{sc.id} {result['law']}: loop gain {k:.4g} ({f:g} x the gain margin), {duration:g} s", steps)
         rec = {"factor_of_margin": f, "loop_gain": k,
                "predicted_spectral_radius": float(np.max(np.abs(loop_model.closed_loop_poles(big_l, k))))}
         try:

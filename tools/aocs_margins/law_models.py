@@ -12,6 +12,7 @@ with no state for the laws without integral action. The continuous-time controll
 matrices (z' = Bc y) is what "continuous" means in the sampled-versus-continuous comparison. The
 expansions, from the C source of each law (firmware/src/control/):
 
+    crp_linear             u = -k1 we - k2 rho, rho = qe_vec / qe4     -> Dc = [-k2/2 I, -k1 I]
     quat_pd, quat_nlpd_*   u = -kp qe_vec - kd (1 -+ |qe_vec|^2) we   -> Dc = [-kp/2 I, -kd I]
     smc                    u = J (-Lambda qe_vec' - G sat(s / eps)) + w x J w,  s = we + Lambda qe_vec,
                            inside the boundary layer: Dc = [-J G Lambda / (2 eps), -J (Lambda / 2 + G / eps)]
@@ -79,6 +80,8 @@ def linear_law(sc, law: str, table: str | None = None) -> LinearLaw:
         raise LawModelError(f"scenario {sc.id} has no gains for law {law!r} (it has: {', '.join(sc.control.laws)})")
     p = dict(lc.params)
     table = table or lc.table
+    if law == "crp_linear":
+        return _static(law, None, np.hstack([-0.5 * p["k2"] * I3, -p["k1"] * I3]))
     if law in ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos"):
         return _static(law, None, np.hstack([-0.5 * p["kp"] * I3, -p["kd"] * I3]))
     if law == "smc":
@@ -102,10 +105,10 @@ def linear_law(sc, law: str, table: str | None = None) -> LinearLaw:
                          np.hstack([-0.5 * k[:, 3:6], -k[:, 6:9]]), "rotation",
                          f"integrator inside its clamp |z_i| <= {p['z_max']:g} s, command not saturated")
     raise LawModelError(f"law {law!r} has no linear model about the hold in the margin analysis "
-                        "(analysed: quat_pd, quat_nlpd_neg, quat_nlpd_pos, smc, lqr_quat, hinf, quat_pid, lqr_quat_i)")
+                        "(analysed: crp_linear, quat_pd, quat_nlpd_neg, quat_nlpd_pos, smc, lqr_quat, hinf, quat_pid, lqr_quat_i)")
 
 
-ANALYSED = ("quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf", "quat_pid", "lqr_quat_i")
+ANALYSED = ("crp_linear", "quat_pd", "quat_nlpd_neg", "quat_nlpd_pos", "smc", "lqr_quat", "hinf", "quat_pid", "lqr_quat_i")
 
 
 def law_rows(sc, laws: str = "all") -> list[tuple[str, str | None]]:

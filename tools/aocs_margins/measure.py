@@ -27,6 +27,7 @@ import numpy as np
 
 from aocs_analysis import metrics as M
 from aocs_analysis.run_metrics import attitude_series, target_quat
+from aocs_core import conventions as C
 from aocs_plant.effectors.input_injection import InputInjectionConfig, multisine, schroeder_phases
 from aocs_runner.run import RunOptions, execute
 from aocs_wire import lcmlog
@@ -76,18 +77,25 @@ def plan(big_l, plant_model, axis: int, w_c: float, dt: float) -> Plan:
     return Plan(axis, tones, w0, amp, settle, duration)
 
 
+def hold_sets(sc, offset_rad=(0.0, 0.0, 0.0)) -> list[str]:
+    """Scenario overrides that start the plant at the hold: on the target attitude (turned by the small
+    rotation vector offset_rad, body axes) at its rate, in the representation the scenario's [plant]
+    gives its attitude in (a second key would conflict with it)."""
+    q = C.quat_mul(C.quat_from_rotvec(offset_rad), tuple(sc.target.qd0))     # q_BN = q_BT (x) q_TN
+    key = sc.attitude.initial_input[0]
+    value = {"euler321_deg": lambda: [math.degrees(a) for a in C.quat_to_euler321(q)],
+             "rho": lambda: list(C.quat_to_crp(q)), "sigma": lambda: list(C.quat_to_mrp(q)),
+             "quaternion": lambda: list(q)}[key]()
+    return [f"plant.{key}={[float(x) for x in value]}", f"plant.w0={[float(x) for x in sc.target.wd]}"]
+
+
 def injection_sets(p: Plan, sc, delay: int) -> list[str]:
     e = [0.0, 0.0, 0.0]
     e[p.axis] = 1.0
-    target = sc.target.target_input
-    sets = [f"actuator.delay_periods={delay}", "disturbances.input_injection.enabled=true",
+    return [f"actuator.delay_periods={delay}", "disturbances.input_injection.enabled=true",
             f"disturbances.input_injection.amplitude_nm={p.amplitude_nm!r}",
             f"disturbances.input_injection.frequency_rad_s={[float(w) for w in p.tones]}",
-            f"disturbances.input_injection.direction={e}",
-            f"plant.w0={[float(x) for x in sc.target.wd]}"]
-    if target and target[0] == "euler321_deg":
-        sets.append(f"plant.euler321_deg={[float(x) for x in target[1]]}")
-    return sets
+            f"disturbances.input_injection.direction={e}", *hold_sets(sc)]
 
 
 def phasors(t: np.ndarray, x: np.ndarray, tones) -> np.ndarray:
@@ -146,8 +154,8 @@ def measure_axis(scenario: str, sc, law: LinearLaw, big_l, plant_model, axis: in
         sets.append(f'laws.{law.law}.table="{law.table}"')
     run_dir = out / f"inject-{AXES[axis]}"
     if progress:
-        progress(f"{law.law} axis {AXES[axis]}: {len(p.tones)} tones {p.tones[0]:.3g}..{p.tones[-1]:.3g} rad/s, "
-                 f"{p.duration_s:g} s")
+        progress(f"{sc.id} {law.law} axis {AXES[axis]}: {len(p.tones)} tones {p.tones[0]:.3g}..{p.tones[-1]:.3g} "
+                 f"rad/s, {p.duration_s:g} s", int(round(p.duration_s / sc.dt)))
     res = execute(RunOptions(scenario=scenario, law=law.law,
                              duration=p.duration_s, sets=sets, out=str(run_dir), plots=False, quiet=True,
                              label=f"{law.law} inject {AXES[axis]}"))

@@ -25,7 +25,8 @@ def _wrap_near(deg, ref):
 def draw(res: dict, big_l, out: Path) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     w = grid(res["dt_s"], n=1200)
-    w = w[w >= 1e-3]
+    wcs = [m["crossover_rad_s"] for m in res["loops"].values() if m.get("crossover_rad_s")]
+    w = w[w >= (min(wcs) / 100.0 if wcs else 1e-3)]
     name = res["law"] + (f" ({res['table']})" if res["table"] else "")
     title = f"{res['scenario']} {name}: loop at the plant input, {res['control_rate_hz']:g} Hz ZOH + " \
             f"{res['delay_periods']} period delay"
