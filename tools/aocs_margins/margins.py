@@ -18,8 +18,13 @@ Multivariable (L 3 x 3, mimo):
     phase margin     uniform phase: 180 deg + arg lambda_i(L) where an eigenvalue of L crosses |lambda| = 1;
     delay margin     the same crossings, (phase, rad) / w: a delay in all channels at once;
     modulus margin   1 / max_w sigma_max(S), S = (I + L)^-1;
-    disk margin      the multivariable balanced disk margin (simultaneous, independent perturbations of every
-                     channel), control.disk_margins.
+    disk margin      the multiloop balanced disk margin (simultaneous, independent perturbations of every
+                     channel; Seiler, Packard, Gahinet 2020, section "Multiloop disk margins"):
+                     alpha = 1 / max_w mu_Delta(S - I/2), Delta diagonal complex. python-control computes it only
+                     through SLICOT (slycot), whose LQR solver also replaces scipy's in control.lqr; here mu is
+                     the D-scaled bound inf_D sigma_max(D M D^-1) over positive diagonal D, which equals mu for
+                     three or fewer complex scalar blocks (Doyle 1982; Packard and Doyle 1993), minimised in
+                     log D (a convex problem).
 """
 from __future__ import annotations
 
@@ -27,6 +32,7 @@ import math
 
 import control
 import numpy as np
+from scipy.optimize import minimize
 
 from .loop_model import AXES, closed_loop_poles, is_stable, loop_at, response
 
@@ -73,8 +79,6 @@ def siso(l: control.StateSpace, w: np.ndarray | None = None) -> dict:
     """The margins of one SISO loop (module docstring); None where a margin does not exist (no crossover)."""
     dt = l.dt if l.dt else None
     w = grid(dt) if w is None else w
-    l = control.minreal(l, tol=1e-9, verbose=False)   # the states of the other axes' closed loops that l
-    #                                                   does not see (decoupled axes): exact cancellations
     gm, pm, sm, wpc, wgc, wms = (np.atleast_1d(np.asarray(v, float))
                                  for v in control.stability_margins(l, returnall=True))
     # its crossings checked on the response itself (the polynomial roots of a loop with poles at z = 1 can
@@ -82,7 +86,9 @@ def siso(l: control.StateSpace, w: np.ndarray | None = None) -> dict:
     ok_g = [k for k, f in enumerate(wgc) if math.isfinite(f) and f > 0 and abs(abs(_at(l, f)) - 1.0) < 1e-6]
     ok_p = [k for k, f in enumerate(wpc) if math.isfinite(f) and f > 0
             and abs(np.angle(-_at(l, f))) < 1e-6]
-    pm, wgc, gm, wpc = pm[ok_g], wgc[ok_g], gm[ok_p], wpc[ok_p]
+    ok_s = [k for k, f in enumerate(wms) if math.isfinite(f) and f > 0 and math.isfinite(sm[k])
+            and abs(abs(1.0 + _at(l, f)) - sm[k]) <= 1e-6 * max(sm[k], 1e-12)]
+    pm, wgc, gm, wpc, sm = pm[ok_g], wgc[ok_g], gm[ok_p], wpc[ok_p], sm[ok_s]
     h = response(l, w)[0, 0]
     # stability_margins works on the transfer function's polynomials and can miss a crossing of these
     # high-order loops with poles at z = 1; the crossings of the frequency response on the grid, refined
@@ -126,7 +132,7 @@ def siso(l: control.StateSpace, w: np.ndarray | None = None) -> dict:
         "modulus_margin": modulus,
         "bandwidth_rad_s": float(w[below[0]]) if below.size else None,
         "disk_margin": float(dm),
-        "disk_gain_margin_db": _db(float(dgm)),
+        "disk_gain_margin_db": float(dgm),   # control.disk_margins gives dB already
         "disk_phase_margin_deg": float(dpm),
         "closed_loop_stable": None,      # filled by the caller, which has the MIMO loop
     }
@@ -172,7 +178,47 @@ def eigen_crossings(big_l: control.StateSpace, w: np.ndarray) -> list[tuple[floa
     return sorted(out, key=lambda p: p[0])
 
 
-def mimo(big_l: control.StateSpace, w: np.ndarray | None = None) -> dict:
+def mu_diagonal(m: np.ndarray) -> float:
+    """mu of m (n x n, n <= 3) for a diagonal complex perturbation: inf over D = diag(e^x, 1) of
+    sigma_max(D m D^-1) (exact for n <= 3 complex scalar blocks)."""
+    n = m.shape[0]
+
+    def f(x):
+        d = np.exp(np.append(x, 0.0))
+        return np.linalg.svd((d[:, None] * m) / d[None, :], compute_uv=False)[0]
+
+    r = minimize(f, np.zeros(n - 1), method="Nelder-Mead", options={"xatol": 1e-9, "fatol": 1e-12, "maxiter": 4000})
+    return float(min(r.fun, f(np.zeros(n - 1))))
+
+
+def disk_of(alpha: float) -> tuple[float, float, float]:
+    """(alpha, gain margin as a ratio, phase margin deg) of a balanced disk of size alpha (skew 0)."""
+    gain = (1.0 + alpha / 2.0) / (1.0 - alpha / 2.0) if alpha < 2.0 else math.inf
+    return alpha, gain, math.degrees(2.0 * math.atan(alpha / 2.0))
+
+
+def multiloop_disk_margin(big_l: control.StateSpace, w: np.ndarray) -> tuple[float, float, float]:
+    """The multiloop balanced disk margin (module docstring): mu on a grid, refined around its peak."""
+    fr = response(big_l, w)
+    n = fr.shape[0]
+    ms = [np.linalg.inv(np.eye(n) + fr[:, :, k]) - 0.5 * np.eye(n) for k in range(len(w))]
+    # mu <= sigma_max: mu is needed only where sigma_max is above the largest mu found so far
+    bound = np.array([np.linalg.svd(m, compute_uv=False)[0] for m in ms])
+    peak, k_peak = 0.0, 0
+    for k in np.argsort(-bound):
+        if bound[k] <= peak:
+            break
+        mu = mu_diagonal(ms[k])
+        if mu > peak:
+            peak, k_peak = mu, k
+    fine = np.geomspace(w[max(k_peak - 1, 0)], w[min(k_peak + 1, len(w) - 1)], 21)
+    fr2 = response(big_l, fine)
+    for j in range(len(fine)):
+        peak = max(peak, mu_diagonal(np.linalg.inv(np.eye(n) + fr2[:, :, j]) - 0.5 * np.eye(n)))
+    return disk_of(1.0 / peak)
+
+
+def mimo(big_l: control.StateSpace, w: np.ndarray | None = None, disk: bool = True) -> dict:
     """The multivariable margins (module docstring)."""
     dt = big_l.dt if big_l.dt else None
     w = grid(dt, n=1500) if w is None else w
@@ -188,7 +234,7 @@ def mimo(big_l: control.StateSpace, w: np.ndarray | None = None) -> dict:
             pm_deg, w_c = p, wc
         delay = d if delay is None else min(delay, d)
     k = uniform_gain_margin(big_l)
-    dm, dgm, dpm = control.disk_margins(big_l, w, skew=0.0)
+    dm, dgm, dpm = multiloop_disk_margin(big_l, w) if disk else (math.nan, math.nan, math.nan)
     return {
         "gain_margin_db": None if k is None else _db(k),
         "phase_margin_deg": _finite(pm_deg),
@@ -203,7 +249,7 @@ def mimo(big_l: control.StateSpace, w: np.ndarray | None = None) -> dict:
     }
 
 
-def loops(big_l: control.StateSpace, w: np.ndarray | None = None) -> dict:
+def loops(big_l: control.StateSpace, w: np.ndarray | None = None, disk: bool = True) -> dict:
     """{"x", "y", "z", "mimo"}: the margins of every axis loop (the others closed) and of the MIMO loop."""
     out = {}
     stable = is_stable(big_l)
@@ -211,5 +257,5 @@ def loops(big_l: control.StateSpace, w: np.ndarray | None = None) -> dict:
         m = siso(loop_at(big_l, i), w)
         m["closed_loop_stable"] = stable
         out[ax] = m
-    out["mimo"] = mimo(big_l, w)
+    out["mimo"] = mimo(big_l, w, disk)
     return out
