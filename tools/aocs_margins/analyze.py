@@ -52,7 +52,7 @@ def lowest_rate_hz(sc, law, delay: int) -> float | None:
     return hi
 
 
-def describing_function(big_l, limit_nm: float | None) -> dict | None:
+def describing_function(loops: dict, limit_nm: float | None) -> dict | None:
     """Saturation at the plant input (|u_i| <= limit): N(A) is real in (0, 1], so -1/N(A) covers the real
     axis left of -1; a limit cycle is predicted where an axis loop crosses the negative real axis beyond
     -1 (|l| > 1 at arg l = -180 deg: the lower gain margins), at the amplitude A with N(A) = 1/|l|:
@@ -60,9 +60,8 @@ def describing_function(big_l, limit_nm: float | None) -> dict | None:
     if limit_nm is None:
         return None
     out = {"limit_nm": limit_nm, "axes": {}}
-    for i, ax in enumerate(loop_model.AXES):
-        m = margins.siso(loop_model.loop_at(big_l, i))
-        g_low = m["gain_margin_low_db"]
+    for ax in loop_model.AXES:
+        g_low = loops[ax]["gain_margin_low_db"]
         if g_low is None:
             out["axes"][ax] = {"limit_cycle": False}
             continue
@@ -101,7 +100,7 @@ def analyse(sc, law_name: str, table: str | None, *, delay: int = 1, rates: bool
                          "modulus_margin": REQUIRED_MODULUS_MARGIN},
         "meets_requirements": meets(loops) and all(m["modulus_margin"] >= REQUIRED_MODULUS_MARGIN
                                                    for m in loops.values()),
-        "describing_function": describing_function(big_l, limit),
+        "describing_function": describing_function(loops, limit),
     }
     out["sampled_loss"] = {k: {"phase_margin_deg": _diff(cont[k]["phase_margin_deg"], loops[k]["phase_margin_deg"]),
                                "gain_margin_db": _diff(cont[k]["gain_margin_db"], loops[k]["gain_margin_db"])}
