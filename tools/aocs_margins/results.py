@@ -103,7 +103,7 @@ def saturation_table(results) -> Table:
         cells = []
         for ax in ("x", "y", "z"):
             a = df["axes"][ax]
-            cells.append("none" if not a["limit_cycle"] else f"|u| {a['command_amplitude_nm']:.3g} N m")
+            cells.append("none" if not a["limit_cycle"] else f"at {a['command_amplitude_nm']:.3g} N m")
         rows.append([r["scenario"], _name(r), _f(df["limit_nm"], "g"), *cells])
     return Table((Column("scenario"), Column("law"), Column("limit", "N m"), Column("x"), Column("y"),
                   Column("z")), rows)
@@ -142,7 +142,7 @@ def section(docs: Path, runs: Path, progress=None) -> tuple[Section, int]:
         Paragraph("Saturation (describing function, SPEC 3.4 per-axis limit at the scenario's realistic value): "
                   "the saturation's -1/N(A) covers the negative real axis left of -1, so a limit cycle is "
                   "predicted only where a loop crosses it with |L| > 1 (a lower gain margin, the integral "
-                  "laws); the command amplitude at which N(A) = 1/|L| there. The integral laws' conditional "
+                  "laws); the limit cycle's command amplitude, at which N(A) = 1/|L| there. The integral laws' conditional "
                   "integration (integral.c) stops the integrator on a saturated command, which the describing "
                   "function does not model: it states what the loop would do without that anti-windup."),
         saturation_table(results), BulletList([f"{r['scenario']} {_name(r)}: {r['error']}" for r in results
