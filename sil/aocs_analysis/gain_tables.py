@@ -18,7 +18,7 @@ def gain_matrix(name: str, path: Path = GAINS_C, cols: int = 6) -> np.ndarray:
     text = path.read_text()
     m = re.search(r"aocs_gains_" + re.escape(name) + r"_K\[3\]\[" + str(cols) + r"\] = \{(.*?)\};", text, re.S)
     if not m:
-        raise ValueError(f"{path}: no table aocs_gains_{name}_K")
+        raise ValueError(f"{path}: no 3x{cols} table aocs_gains_{name}_K")
     vals = [float(v) for v in re.findall(r"AOCS_R\(([^)]*)\)", m.group(1))]
     return np.array(vals, float).reshape(3, cols)
 

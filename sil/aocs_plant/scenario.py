@@ -353,6 +353,14 @@ class _Section:
             self.fail(key, f"expected {n} numbers, got {len(v)}")
         return tuple(self._check_number(f"{key}[{i}]", x, positive, nonneg) for i, x in enumerate(v))
 
+    def array(self, k, max_len=64, positive=False, nonneg=False):
+        """An array of 1 to max_len numbers (required)."""
+        v, _ = self._pop(k, True, None)
+        n = len(v) if isinstance(v, list) else 0
+        if not 1 <= n <= max_len:
+            self.fail(self.key(k), f"expected an array of 1 to {max_len} numbers, got {_tname(v) if n == 0 else n}")
+        return self._check_vector(self.key(k), v, n, positive, nonneg)
+
     def scalar_or_vector(self, k, n=3, required=True, default=None, positive=False):
         """A number (meaning that value on every axis) or an array of n numbers."""
         v, present = self._pop(k, required, default)

@@ -20,6 +20,7 @@ SUBCOMMANDS = {
     "compare": ("aocs.cmd_compare", "run every applicable law on a scenario and compare them"),
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
     "docs": ("aocs.cmd_docs", "regenerate the docs' tables of laws, configuration keys and budgets from the registry"),
+    "analyze": ("aocs.cmd_analyze", "stability margins of a law about its hold, predicted and measured in the loop"),
     "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
 }
 

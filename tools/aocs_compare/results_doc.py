@@ -21,6 +21,7 @@ import numpy as np
 
 from aocs_analysis.run_metrics import hinf_measured_gain
 from aocs_core.conventions import ARCSEC_PER_RAD
+from aocs_margins import results as margins_results
 from aocs_plant.scenario import load
 from aocs_report import markdown
 from aocs_report.document import BulletList, Document, Figure, Paragraph, Section, Table
@@ -269,6 +270,11 @@ def build(out: Path, runs: Path, quick: bool, quiet: bool, reuse: bool = False) 
     doc.add(notes.section("gao_mrp").add(
         Paragraph(sc_m.description), R.table(m_rows, "attitude", sc_m),
         *R.plots(m_rows, "attitude", "gao_mrp", "gao_mrp_", sc=sc_m)))
+
+    # ---- stability margins (issue 22): every analysed law, predicted and measured in the loop
+    margins_sec, margins_failed = margins_results.section(out, runs, progress=R.progress.start)
+    R.failed += margins_failed
+    doc.add(margins_sec)
 
     # ---- discussion
     doc.add(discussion(irassi, limited, lim_dur, [r for r in g0_rows if not r.error], m_rows).add(

@@ -17,6 +17,11 @@ is a convex combination of saturated values up to the RK4 error, and the
 loader requires tau >= the substep dt / substeps (RK4 is stable to ~2.8 h/tau;
 at h/tau = 1 the step response is within 0.7 % of the exponential).
 `realistic_axis_limit` is not applied: the runner's realistic-limit override.
+`delay_periods` (integer, default 0): the command of tick k is held over period k + delay_periods
+(zero until then): a computation delay of whole control periods at the actuator interface, what the
+margin analysis (`aocs analyze`) models as z^-delay; the limits act on the delayed command.
+`scale_factor` (> 0, default 1): the delivered torque is scale_factor times the limited command (an
+effectiveness error; `aocs analyze --verify` raises the loop gain at the plant input with it).
 """
 from __future__ import annotations
 
@@ -41,6 +46,12 @@ class ActuatorConfig:
     slew_rate_limit_per_s: float | None = None
     lag_tau_s: float | None = None
     realistic_axis_limit: float | None = None
+    delay_periods: int = 0
+    scale_factor: float = 1.0
+
+
+#: the longest actuator delay the loader accepts, control periods
+MAX_DELAY_PERIODS = 100
 
 
 @register
@@ -63,7 +74,11 @@ class Actuator(Effector):
         if tau is not None and tau < h:
             sec.fail(sec.key("lag_tau_s"), f"{tau} s is shorter than the integration step dt / substeps = {h!r} s "
                      "(the lag is integrated by RK4 with the body): raise integrator.substeps")
-        return ActuatorConfig(**kw)
+        delay = sec.integer("delay_periods", required=False, default=0, minimum=0)
+        if delay > MAX_DELAY_PERIODS:
+            sec.fail(sec.key("delay_periods"), f"{delay} control periods: at most {MAX_DELAY_PERIODS}")
+        scale = sec.number("scale_factor", required=False, default=1.0, positive=True)
+        return ActuatorConfig(**kw, delay_periods=delay, scale_factor=scale)
 
     @classmethod
     def default(cls, ctx) -> ActuatorConfig:
@@ -76,7 +91,8 @@ class Actuator(Effector):
         self.norm_limit = config.norm_limit
         self.slew_rate_limit_per_s = config.slew_rate_limit_per_s
         self.lag_tau_s = config.lag_tau_s
-        self.held = ZERO3                  # value after saturation and slew-rate limit
+        self.held = ZERO3                  # value after saturation, slew-rate limit and scale factor
+        self._limited = ZERO3              # the same before the scale factor (the slew-rate limit's last value)
         self.saturated_count = 0           # periods where 1. or 2. clipped
         self.slew_rate_limited_count = 0
         self._applied = ZERO3
@@ -87,6 +103,7 @@ class Actuator(Effector):
             self.form = Form.GENERAL
             self.state_size = 3
         self.period_hooks = self.state_size > 0   # the period mean of the lag output
+        self._queue = [ZERO3] * config.delay_periods   # the commands still to be held, oldest first
         self.field = U_BODY if body.kind == ATTITUDE else U_ORBIT
         self.command_fields = {self.field: 3}
 
@@ -94,6 +111,9 @@ class Actuator(Effector):
     def command(self, cmd) -> None:
         c = cmd.get(self.field)
         if c is not None:
+            if self._queue:
+                self._queue.append(c)
+                c = self._queue.pop(0)
             self.hold(c)
 
     def hold(self, c) -> tuple[float, float, float]:
@@ -115,11 +135,15 @@ class Actuator(Effector):
             self.saturated_count += 1
         if self.slew_rate_limit_per_s is not None:
             step = self.slew_rate_limit_per_s * self.dt
-            p = self.held
+            p = self._limited
             r = tuple(p[i] + min(step, max(-step, c[i] - p[i])) for i in range(3))
             if r != c:
                 self.slew_rate_limited_count += 1
             c = r
+        self._limited = c
+        k = self.config.scale_factor
+        if k != 1.0:
+            c = (k * c[0], k * c[1], k * c[2])
         self.held = c
         return c
 

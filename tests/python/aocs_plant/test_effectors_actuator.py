@@ -164,3 +164,43 @@ def test_section_defaults_and_errors():
                                             r"raise integrator.substeps"):
         load("irassi_large", {"actuator.lag_tau_s": 0.05})
     assert load("irassi_large", {"actuator.lag_tau_s": 0.05, "integrator.substeps": 2}).actuator.lag_tau_s == 0.05
+
+
+# ----------------------------------------------------------------- computation delay, scale factor (issue 22)
+
+
+def test_delay_periods_holds_each_command_that_many_periods_later():
+    a = actuator(delay_periods=2)
+    held = []
+    for c in ((1.0, 0.0, 0.0), (2.0, 0.0, 0.0), (3.0, 0.0, 0.0), (4.0, 0.0, 0.0)):
+        a.command({"u_body": c})
+        held.append(a.value()[0])
+    assert held == [0.0, 0.0, 1.0, 2.0]
+
+
+def test_scale_factor_scales_the_limited_command_and_the_slew_limit_sees_the_unscaled_one():
+    a = actuator(axis_limit=1.0, scale_factor=2.5)
+    assert a.hold((5.0, -0.2, 0.0)) == (2.5, -0.5, 0.0)
+    b = actuator(slew_rate_limit_per_s=1.0, scale_factor=2.0)
+    outs = [b.hold((10.0, 0.0, 0.0))[0] for _ in range(3)]
+    np.testing.assert_allclose(outs, (0.2, 0.4, 0.6), rtol=1e-14)
+
+
+def test_delay_and_scale_through_the_plant():
+    """A 1 N m step commanded once, delayed one period and scaled by 2: the body's rate after two periods is
+    what 2 N m over exactly one period gives (w = 2 dt / J), and nothing moved in the first."""
+    p = bare_irassi(**{"actuator.delay_periods": 1, "actuator.scale_factor": 2.0})
+    p.apply({"u_body": (0.0, 1.0, 0.0)})
+    p.advance()
+    assert p.body.w[1] == 0.0
+    p.apply({"u_body": (0.0, 0.0, 0.0)})
+    p.advance()
+    assert p.body.w[1] == pytest.approx(2.0 * 0.1 / JY, rel=1e-12)
+
+
+@pytest.mark.parametrize("key,value,says", [("delay_periods", 1.5, "integer"), ("delay_periods", -1, ">= 0"),
+                                            ("delay_periods", 101, "at most 100"), ("scale_factor", 0.0, "> 0")])
+def test_delay_and_scale_keys_are_checked(key, value, says):
+    with pytest.raises(ScenarioError, match=says) as e:
+        load("irassi_large", {f"actuator.{key}": value})
+    assert f"actuator.{key}" in str(e.value)
