@@ -17,6 +17,7 @@ APT_PACKAGES=(
   clang libclang-rt-14-dev
   python3 python3-venv
   default-jdk-headless
+  chromium
 )
 
 missing=()

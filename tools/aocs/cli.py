@@ -21,6 +21,7 @@ SUBCOMMANDS = {
     "results": ("aocs.cmd_results", "regenerate docs/results.md for every reference scenario"),
     "docs": ("aocs.cmd_docs", "regenerate the docs' tables of laws, configuration keys and budgets from the registry"),
     "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
+    "report": ("aocs.cmd_report", "interactive HTML page of a run, comparison or campaign folder"),
 }
 
 #: sub-commands that run in a private network namespace (aocs_wire.netns), entered before their module is
