@@ -185,7 +185,8 @@ def decimated(cols: dict, every: int) -> dict:
 
 
 def write(path, cols: dict, meta: dict, decimate: int = 1) -> Path:
-    """The table as Parquet (zstd), with meta (JSON) under the `aocs` key of its metadata."""
+    """The table as Parquet (snappy, pyarrow's default: the quickest to read back), with meta (JSON) under the `aocs`
+    key of its metadata."""
     import pyarrow as pa  # deferred: ~0.2 s, only when the table is written
     import pyarrow.parquet as pq  # deferred: see above
 
@@ -193,7 +194,7 @@ def write(path, cols: dict, meta: dict, decimate: int = 1) -> Path:
     table = pa.table({k: np.asarray(v) for k, v in cols.items()})
     table = table.replace_schema_metadata({META_KEY: json.dumps({**meta, "decimate": decimate}).encode()})
     path = Path(path)
-    pq.write_table(table, path, compression="zstd")
+    pq.write_table(table, path, compression="snappy")
     return path
 
 
