@@ -148,3 +148,29 @@ class Browser:
         if wait_js and not page.wait_for(wait_js, timeout_s):
             raise BrowserError(f"{path}: `{wait_js}` not true after {timeout_s:g} s; errors: {page.errors}")
         return page
+
+
+def main(argv=None) -> int:
+    """python tests/browser.py PAGE.html ... --shots DIR: each page's console errors, plots drawn and a screenshot."""
+    import argparse
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("pages", nargs="+", type=Path)
+    ap.add_argument("--shots", type=Path, default=Path("."))
+    args = ap.parse_args(argv)
+    args.shots.mkdir(parents=True, exist_ok=True)
+    bad = 0
+    with Browser() as b:
+        for path in args.pages:
+            page = b.open(path, wait_js="window.aocsPlotsDrawn === document.querySelectorAll('.plot').length")
+            shot = page.screenshot(args.shots / (path.stem + ".png"))
+            n = page.evaluate("document.querySelectorAll('.plot').length")
+            traces = page.evaluate("Array.from(document.querySelectorAll('.plot')).reduce((a, d) => a + d.data.length, 0)")
+            print(f"{path}: {path.stat().st_size / 1e6:.2f} MB, {n} plots drawn, {traces} traces, "
+                  f"console errors: {len(page.errors)}{' ' + str(page.errors) if page.errors else ''}; screenshot {shot}")
+            bad += bool(page.errors)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
