@@ -71,6 +71,17 @@ def test_run_report(private_netns, browser, tmp_path):
     assert "aocs run irassi_rw --law quat_pid" in text and "Verdict: passed" in text
 
 
+def test_run_report_with_a_filter_shows_knowledge_and_control_error_with_3_sigma(private_netns, browser, tmp_path):
+    html = tmp_path / "mekf.html"
+    aocs("run", "irassi_hold_mekf", "--duration", "60", "--out", str(tmp_path / "run"), "--no-plots", "-q",
+         "--html", str(html))
+    page, plots = open_page(browser, html, "run-mekf")
+    names = plots[0]["names"]
+    for n in ("pointing error (true vs target)", "control error (estimate vs target)", "knowledge error x",
+              "+3 sigma x (filter)", "-3 sigma z (filter)"):
+        assert n in names, names
+
+
 def test_compare_report(private_netns, browser, tmp_path):
     html = tmp_path / "c.html"
     aocs("compare", "irassi_small", "--laws", "quat_pd,smc", "--duration", "30", "--out", str(tmp_path / "cmp"),

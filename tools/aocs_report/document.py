@@ -109,10 +109,12 @@ class Level:
 
 @dataclass(frozen=True)
 class Panel:
-    """One plot area of a Chart: its y axis (title with unit), log scale or not, and its levels."""
+    """One plot area of a Chart: its y axis (title with unit), log scale or not, its levels, and the y range first
+    shown (None: every value; a renderer lets the reader zoom out to all)."""
     y_label: str
     log_y: bool = False
     levels: tuple[Level, ...] = ()
+    y_range: tuple[float, float] | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "levels", tuple(self.levels))

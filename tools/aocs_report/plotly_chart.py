@@ -47,22 +47,25 @@ def figure(chart: Chart):
     xs = [np.asarray(t.x, float) for t in chart.traces]
     finite = np.concatenate([x[np.isfinite(x)] for x in xs]) if xs else np.zeros(0)
     x_range = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-    for i, tr in enumerate(chart.traces):
+    in_panel = [0] * n
+    for tr in chart.traces:
+        color = tr.color or COLORWAY[in_panel[tr.panel] % len(COLORWAY)]   # each panel's colours from the first
+        in_panel[tr.panel] += 1
         kw = {"name": tr.name, "x": _array(tr.x), "y": _array(tr.y), "legend": _legend(tr.panel),
               "legendgroup": tr.group or tr.name}
         if tr.style == "markers":
-            kw.update(mode="markers", marker={"size": 6, **({"color": tr.color} if tr.color else {})})
+            kw.update(mode="markers", marker={"size": 6, "color": color})
         else:
-            kw.update(mode="lines", line={"width": 1.3, "dash": DASH.get(tr.dash, "solid"),
-                                          "shape": "hv" if tr.style == "steps" else "linear",
-                                          **({"color": tr.color} if tr.color else {})})
+            kw.update(mode="lines", line={"width": 1.3, "dash": DASH.get(tr.dash, "solid"), "color": color,
+                                          "shape": "hv" if tr.style == "steps" else "linear"})
         if tr.ids is not None:
             kw["customdata"] = np.asarray(tr.ids, dtype=np.int32)
             kw["hovertemplate"] = ("run %{customdata}<br>x %{x:.4g}<br>y %{y:.4g}<extra>" + tr.name
                                    + " (click: repeat command)</extra>")
         fig.add_trace(go.Scatter(**kw), row=tr.panel + 1, col=1)
     for p, panel in enumerate(chart.panels):
-        fig.update_yaxes(title_text=panel.y_label, type="log" if panel.log_y else "linear", row=p + 1, col=1)
+        fig.update_yaxes(title_text=panel.y_label, type="log" if panel.log_y else "linear", row=p + 1, col=1,
+                         **({"range": list(panel.y_range)} if panel.y_range else {}))
         for j, lv in enumerate(panel.levels):
             fig.add_trace(go.Scatter(x=[x_range[0], x_range[1]], y=[lv.value, lv.value], mode="lines",
                                      name=lv.label, legend=_legend(p), hoverinfo="name+y",

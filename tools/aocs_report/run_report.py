@@ -139,7 +139,7 @@ def time_chart(run: RunFolder, sc, max_points: int = MAX_POINTS) -> Chart:
         traces.append(Trace("pointing error (true vs target)", t, col(df, "pointing_err_arcsec", k), p))
         if "control_err_arcsec" in df:
             traces.append(Trace("control error (estimate vs target)", t, col(df, "control_err_arcsec", k), p))
-            p = panel(Panel("knowledge error (arcsec)"))
+            p = panel(Panel("knowledge error (arcsec)", y_range=steady_range(df, k)))
             for i, a in enumerate(AXES):
                 s = col(df, f"est_sigma_att_{a}_arcsec", k)
                 traces += [Trace(f"knowledge error {a}", t, col(df, f"knowledge_err_{a}_arcsec", k), p, group=a,
@@ -181,11 +181,24 @@ def time_chart(run: RunFolder, sc, max_points: int = MAX_POINTS) -> Chart:
             + f" ({len(t)} of {len(df)} rows of telemetry.parquet"
             + (f", itself every {run.meta.get('telemetry_decimate')}-th tick" if (run.meta.get('telemetry_decimate') or 1) > 1
                else "") + "). Drag to zoom (every panel follows), double-click to reset; click a legend entry to "
-            "hide it.")
+            "hide it." + (" The knowledge error is first shown over the range of the last half of the run (the "
+                          "filter's start is larger): the autoscale button shows all." if "control_err_arcsec" in df
+                          else ""))
     return Chart(f"{run.title}: time series", "t (s)", panels, traces, marks(run), note=note)
 
 
 COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c")
+
+
+def steady_range(df, k: int) -> tuple[float, float] | None:
+    """The knowledge panel's first range: +-1.2 x the largest |error| and 3 sigma over the last half of the run (as
+    estimation_plots: the filter's start, with its initial sigma, would flatten the rest; autoscale shows it)."""
+    half = len(df) // 2
+    cols = [f"knowledge_err_{a}_arcsec" for a in AXES] + [f"est_sigma_att_{a}_arcsec" for a in AXES]
+    v = np.array(df[cols].to_numpy(dtype=float)[half:])   # a copy: pandas hands out read-only views
+    v[:, 3:] *= 3.0
+    top = float(np.nanmax(np.abs(v))) if np.isfinite(v).any() else 0.0
+    return (-1.2 * top, 1.2 * top) if top > 0.0 else None
 
 
 def verdict_table(m: dict) -> Table:
