@@ -184,6 +184,23 @@ def decimated(cols: dict, every: int) -> dict:
     return {k: np.asarray(v)[idx] for k, v in cols.items()}
 
 
+#: numpy dtype kind -> arrow type of a column
+_ARROW_TYPES = {"f": "float64", "i": "int64", "b": "bool_"}
+
+
+def _arrow(pa, v: np.ndarray):
+    """The column as an arrow array built on its own buffer (pa.array would first import pandas, ~0.5 s a
+    process, to check whether v is a pandas object)."""
+    kind = v.dtype.kind
+    if kind not in _ARROW_TYPES:
+        raise TypeError(f"telemetry column of dtype {v.dtype}")
+    if kind == "b":
+        data = np.packbits(v, bitorder="little")
+    else:
+        data = np.ascontiguousarray(v, dtype=np.float64 if kind == "f" else np.int64)
+    return pa.Array.from_buffers(getattr(pa, _ARROW_TYPES[kind])(), len(v), [None, pa.py_buffer(data)])
+
+
 def write(path, cols: dict, meta: dict, decimate: int = 1) -> Path:
     """The table as Parquet (snappy, pyarrow's default: the quickest to read back), with meta (JSON) under the `aocs`
     key of its metadata."""
@@ -191,7 +208,7 @@ def write(path, cols: dict, meta: dict, decimate: int = 1) -> Path:
     import pyarrow.parquet as pq  # deferred: see above
 
     cols = decimated(cols, decimate)
-    table = pa.table({k: np.asarray(v) for k, v in cols.items()})
+    table = pa.Table.from_arrays([_arrow(pa, np.asarray(v)) for v in cols.values()], names=list(cols))
     table = table.replace_schema_metadata({META_KEY: json.dumps({**meta, "decimate": decimate}).encode()})
     path = Path(path)
     pq.write_table(table, path, compression="snappy")

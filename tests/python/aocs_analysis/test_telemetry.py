@@ -98,7 +98,7 @@ def test_decimation_keeps_every_nth_and_the_last_row():
 
 def test_parquet_round_trip_with_its_description(tmp_path):
     sc = load("irassi_rw")
-    log = make_log(7, cmd_ticks=range(7), sensor_ticks=range(7), status_steps=[3])
+    log = make_log(7, cmd_ticks=[0, 1, 2, 4, 5, 6], sensor_ticks=range(7), status_steps=[3])
     log.truth["w"][:, 2] = np.linspace(-1.0, 1.0, 7)
     cols = T.columns(log, sc)
     path = T.write(tmp_path / "telemetry.parquet", cols, {"scenario": "irassi_rw", "law": "quat_pid"}, decimate=2)
@@ -106,4 +106,7 @@ def test_parquet_round_trip_with_its_description(tmp_path):
     assert df["t_s"].tolist() == pytest.approx([0.0, 0.2, 0.4, 0.6])
     assert df["w_true_z_rad_s"].to_numpy() == pytest.approx(np.linspace(-1.0, 1.0, 7)[[0, 2, 4, 6]])
     assert list(df.columns) == list(cols)
+    assert df["answered"].dtype == bool and df["answered"].tolist() == [True, True, True, True]
+    assert T.read(T.write(tmp_path / "all.parquet", cols, {}))["answered"].tolist() == [True] * 3 + [False] + [True] * 3
+    assert df["tick"].dtype == "int64" and df["tick"].tolist() == [0, 2, 4, 6]
     assert T.read_meta(path) == {"scenario": "irassi_rw", "law": "quat_pid", "decimate": 2}
