@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report pil-mekf results demo clean bench-campaign build-host-sanitize build-fuzz fuzz fuzz-smoke
+        pil-test pil-report pil-mekf results demo clean bench-campaign bench-telemetry build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -91,6 +91,10 @@ bench: build-host
 # `aocs run` processes, and one `aocs run` whole process (docs/campaigns.md)
 bench-campaign: build-host
 	@$(PY) -m aocs_campaign.bench --json build/host/bench_campaign.json
+
+# a 500 s run's telemetry.parquet read into pandas, against decoding its LCM log; its HTML page (docs/benchmarks.md)
+bench-telemetry: build-host
+	@$(PY) -m aocs.bench_telemetry --json build/host/bench_telemetry.json
 
 # every reference scenario, every law: docs/results.md and docs/results/*.png (~10 min)
 results: build-host

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a fresh Debian bookworm machine:
 # Debian packages (compilers, cmocka, ARM cross toolchain, QEMU, cppcheck,
-# valgrind, clang and its sanitizer/libFuzzer runtime for tests/fuzz) and a
+# valgrind, clang and its sanitizer/libFuzzer runtime for tests/fuzz, Chromium
+# for the HTML reports' browser test tests/e2e/test_report_browser.py) and a
 # Python venv (.venv) from requirements.txt with the project's own package
 # (the `aocs` CLI) installed into it. Idempotent and quick when
 # everything is already there.
@@ -17,6 +18,7 @@ APT_PACKAGES=(
   clang libclang-rt-14-dev
   python3 python3-venv
   default-jdk-headless
+  chromium
 )
 
 missing=()

@@ -592,6 +592,13 @@ def divergence(m: dict) -> str | None:
 
 def table(m: dict) -> str:
     """The metrics table printed after a run."""
+    rows = table_rows(m)
+    w = max(len(k) for k, _ in rows)
+    return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
+
+
+def table_rows(m: dict) -> list[tuple[str, str]]:
+    """The metrics table's (what, value) lines (table(); the HTML run report's metrics table)."""
     rows = [("scenario", m["scenario"]), ("law", m["law"]), ("run", _run_text(m)),
             ("duration", f"{m['duration_s']:g} s at {m['control_rate_hz']:g} Hz"),
             ("settle time", "never" if m["settle_time_s"] is None else f"{m['settle_time_s']:.1f} s")]
@@ -687,8 +694,7 @@ def table(m: dict) -> str:
         failed = "; ".join(f["reason"] for f in v["failures"])
         rows.append(("verdict", ("passed" if v["passed"] else f"FAILED: {failed}")
                      + (f" (allowed: {', '.join(v['allowed'])})" if v["allowed"] else "")))
-    w = max(len(k) for k, _ in rows)
-    return "\n".join(f"  {k:<{w}}  {v}" for k, v in rows)
+    return rows
 
 
 def comparison_table(ms: list[dict], bound: bool = False) -> str:

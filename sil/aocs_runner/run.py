@@ -15,12 +15,13 @@ import importlib.util
 import json
 import math
 import os
+import shlex
 import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from aocs_analysis import estimation_plots, verdict
+from aocs_analysis import estimation_plots, telemetry, verdict
 from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
 from aocs_core import paths
@@ -59,6 +60,8 @@ class RunOptions:
     recorder: str = "auto"        # auto | builtin | plant | lcm-logger (recorder_of)
     plant_lcm_lib: bool = False
     allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
+    telemetry_decimate: int = 1   # OUT/telemetry.parquet keeps every N-th tick (and the last)
+    command: str | None = None    # the command line that started the run (run.json "command")
     # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
     # Popen-like child (aocs campaign forks it from a worker that has the plant's modules imported)
     plant_launcher: object = None
@@ -71,6 +74,7 @@ class RunResult:
     plots: list
     table: str
     series: dict | None = None    # the metrics' time series (run_metrics.compute), for a campaign's overlay
+    telemetry: Path | None = None  # OUT/telemetry.parquet
 
 
 def _say(opts: RunOptions, msg: str) -> None:
@@ -165,6 +169,9 @@ def check_options(opts: RunOptions) -> None:
                          "(not with --realtime or --plant-lcm-lib)")
     if opts.out is not None and Path(opts.out).exists() and not Path(opts.out).is_dir():
         raise ValueError(f"--out {opts.out}: exists and is not a folder")
+    td = opts.telemetry_decimate
+    if isinstance(td, bool) or not isinstance(td, int) or td < 1:
+        raise ValueError(f"--telemetry-decimate {td}: must be a whole number >= 1")
     if opts.json_path is not None:
         jp = Path(opts.json_path)
         if jp.is_dir():
@@ -279,8 +286,34 @@ def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
             "gains": {n: c.to_json() for n, c in plan.gains.items()},
             "pil_image": (str(plan.pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if plan.pil_root
                           else None),
-            "log": plan.log_path.name,
+            "log": plan.log_path.name, "telemetry": TELEMETRY_FILE, "telemetry_decimate": opts.telemetry_decimate,
+            "command": opts.command, "repeat_command": repeat_command(opts, plan),
             "n_steps": sc.n_steps, "dt": sc.dt, "created": time.strftime("%Y-%m-%dT%H:%M:%S")}
+
+
+def repeat_command(opts: RunOptions, plan: RunPlan) -> str:
+    """The `aocs run` command line that flies this run again: the scenario file, the law, every override as
+    --set (the --limit, --duration, --seed and --guidance shorthands included), the events, the target and
+    the recording choices; the metrics of the two runs are the same in lockstep."""
+    words = ["aocs", "run", opts.scenario] + (["--law", plan.law] if plan.law != "none" else [])
+    words += scenario_opts.to_args(plan.overrides)
+    for e in opts.events:
+        words += ["--event", e]
+    if opts.target != "host":
+        words += ["--target", opts.target]
+    if opts.realtime:
+        words.append("--realtime")
+    if opts.recorder != "auto":
+        words += ["--recorder", opts.recorder]
+    if opts.plant_lcm_lib:
+        words.append("--plant-lcm-lib")
+    for a in opts.allow:
+        words += ["--allow", a]
+    if opts.reply_timeout is not None:
+        words += ["--reply-timeout", repr(opts.reply_timeout)]
+    if opts.telemetry_decimate != 1:
+        words += ["--telemetry-decimate", str(opts.telemetry_decimate)]
+    return shlex.join(words)
 
 
 def plant_arguments(opts: RunOptions, plan: RunPlan) -> list[str]:
@@ -343,7 +376,21 @@ def judge(opts: RunOptions, plan: RunPlan, wall: float, plant_sum: dict | None, 
     (plan.out / "metrics.json").write_text(text)
     if opts.json_path:
         Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
-    return RunResult(metrics, plan.out, plots, results.table(metrics), series)
+    tel = write_telemetry(opts, plan, log)
+    return RunResult(metrics, plan.out, plots, results.table(metrics), series, tel)
+
+
+#: the decoded time series beside the log (aocs_analysis.telemetry; docs/sil.md, Telemetry)
+TELEMETRY_FILE = "telemetry.parquet"
+
+
+def write_telemetry(opts: RunOptions, plan: RunPlan, log) -> Path:
+    """OUT/telemetry.parquet: every decoded series of the log, one row per tick (every N-th with
+    --telemetry-decimate N)."""
+    sc = plan.sc
+    meta = {"scenario": sc.id, "law": plan.law, "kind": sc.kind, "dt_s": sc.dt, "log": plan.log_path.name}
+    return telemetry.write(plan.out / TELEMETRY_FILE, telemetry.columns(log, sc), meta,
+                           decimate=opts.telemetry_decimate)
 
 
 def log_completeness(opts: RunOptions, plan: RunPlan, log) -> list[str]:

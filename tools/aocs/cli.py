@@ -22,6 +22,7 @@ SUBCOMMANDS = {
     "docs": ("aocs.cmd_docs", "regenerate the docs' tables of laws, configuration keys and budgets from the registry"),
     "analyze": ("aocs.cmd_analyze", "stability margins of a law about its hold, predicted and measured in the loop"),
     "campaign": ("aocs.cmd_campaign", "Monte Carlo campaign of dispersed runs on Dask (statistics, plots, report)"),
+    "report": ("aocs.cmd_report", "interactive HTML page of a run, comparison or campaign folder"),
 }
 
 #: sub-commands that run in a private network namespace (aocs_wire.netns), entered before their module is

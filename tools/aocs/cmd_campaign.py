@@ -8,24 +8,26 @@ gives the same options (docs/campaigns.md). The campaign is aocs_campaign
 (dispersions, plan, execute on Dask, report); this module is its command line.
 Exit: 0 every run completed and passed its verdict, 1 some run did not
 (each recorded with its error), 2 bad input, 3 an I/O failure (a full disk:
-io_failure.py), 130 interrupted (what finished is kept; the same command
+aocs_api.errors.io_failure), 130 interrupted (what finished is kept; the same command
 resumes).
 """
 from __future__ import annotations
 
 import os
-import shlex
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+from aocs_api import AocsError
+from aocs_api import campaigns as api_campaign
+from aocs_api.errors import check_output_file
 from aocs_campaign import dispersions as D
 from aocs_campaign import plan as P
 from aocs_core import paths
 from aocs_plant.scenario import ScenarioError
 
-from . import io_failure
+from . import command_line
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 #: set in the environment of a campaign re-executed in a user namespace of its own (non-root)
@@ -54,6 +56,8 @@ def add_arguments(p) -> None:
     p.add_argument("--retry-errors", action="store_true", help="fly again the runs of OUT that did not complete "
                    "(status error: crashed, timed out); the others are kept")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--html", metavar="FILE", help="also write the campaign's interactive report here (one "
+                   "self-contained HTML page: statistics, CDFs, scatter plots linked to each run's repeat command)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
 
@@ -104,24 +108,10 @@ def _userns_reexec(args) -> str | None:
 
 
 def run(args) -> int:
-    from aocs_campaign import execute, report  # deferred: Dask and pyarrow only once the input is valid
-    from aocs_campaign import worker as W  # deferred: see above
-
     try:
         c = _campaign(args)
-        disps = P.check(c)
-        if args.workers is not None and not 1 <= args.workers <= 256:
-            raise P.CampaignError(f"--workers {args.workers}: must be in [1, 256]")
-        if args.scheduler is not None:
-            from aocs_campaign import scheduler_probe  # deferred: see above
-
-            scheduler_probe.parse_address(args.scheduler)
-        if args.workers is not None and args.scheduler:
-            raise P.CampaignError("--workers: not with --scheduler (the cluster has its own workers)")
-        if args.timeout is not None and not (args.timeout > 0 and args.timeout < 1e6):
-            raise P.CampaignError(f"--timeout {args.timeout:g}: must be a number of seconds above 0")
-        law = c.law or "default"
-        out = Path(args.out) if args.out else Path("out") / f"campaign-{Path(c.scenario).stem}-{law}-s{c.seed}"
+        api_campaign.check(c, workers=args.workers, scheduler=args.scheduler, timeout=args.timeout)
+        check_output_file("--html", args.html)
         if args.json and Path(args.json).is_dir():
             raise P.CampaignError(f"--json {args.json}: is a folder, not a file")
         if args.json and not Path(args.json).resolve().parent.is_dir():
@@ -129,31 +119,28 @@ def run(args) -> int:
     except (P.CampaignError, D.DispersionError, ScenarioError, ValueError) as exc:
         print(f"aocs campaign: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except AocsError as exc:
+        print(exc.line("campaign"), file=sys.stderr)
+        return exc.exit_code
     why = _userns_reexec(args)
-    if why is None and args.scheduler is None:
-        why = W.netns_check()
     if why is not None:
         print(f"aocs campaign: error: cannot give each run a private network namespace: {why}", file=sys.stderr)
         return EXIT_USAGE
-    command = shlex.join(["aocs", "campaign", *sys.argv[sys.argv.index("campaign") + 1:]]) \
-        if "campaign" in sys.argv else None
+    out = Path(args.out) if args.out else api_campaign.default_out(c)
     try:
-        outcome = execute.run(c, disps, out, workers=args.workers, scheduler=args.scheduler,
-                              keep_logs=args.keep_logs, timeout_s=args.timeout, progress=not args.quiet,
-                              retry_errors=args.retry_errors)
-        rows = execute.read_rows(out, c.runs)
-        doc = report.build(out, c, rows, outcome=outcome, command=command, commit=_commit(),
-                           plots=not args.no_plots)
-        if args.json:
-            Path(args.json).write_text((out / "campaign.json").read_text())
-    except P.CampaignError as exc:
-        print(f"aocs campaign: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    except OSError as exc:   # a full disk, a vanished folder: the machine's failure, not bad input
-        print(f"aocs campaign: error: {io_failure.message(exc, out)}; what finished is kept in {out}/runs/",
-              file=sys.stderr)
-        return io_failure.EXIT_IO
+        res = api_campaign.run_campaign(c, out=out, workers=args.workers, scheduler=args.scheduler,
+                                        keep_logs=args.keep_logs, timeout=args.timeout, progress=not args.quiet,
+                                        retry_errors=args.retry_errors, plots=not args.no_plots, html=args.html,
+                                        command=command_line.typed("campaign"), commit=_commit())
+    except AocsError as exc:
+        print(exc.line("campaign"), file=sys.stderr)
+        return exc.exit_code
+    doc, outcome = res.summary, res.outcome
+    if args.json:
+        Path(args.json).write_text((out / "campaign.json").read_text())
     _print_summary(doc, out)
+    if args.html:
+        print(f"  page: {args.html}")
     if outcome.interrupted or not doc["complete"]:
         print(f"aocs campaign: INCOMPLETE: {doc['rows']} of {c.runs} runs recorded; the same command resumes",
               file=sys.stderr)

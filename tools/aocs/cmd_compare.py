@@ -7,13 +7,13 @@ import math
 import sys
 from pathlib import Path
 
+from aocs_api import AocsError, compare
 from aocs_compare import sweep as sweep_mod
-from aocs_compare.compare import compare, comparison_table_for, estimation_table
+from aocs_compare.compare import comparison_table_for, estimation_table
 from aocs_core import paths
 from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
 from aocs_report import text
-from aocs_runner import orchestrate
 from aocs_wire import netns
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
@@ -32,6 +32,10 @@ def add_arguments(p) -> None:
                    help="scenario override for every run (repeatable)")
     p.add_argument("--json", help="also write the list of metrics here")
     p.add_argument("--out", help="output folder (default out/compare/<scenario>)")
+    p.add_argument("--html", metavar="FILE", help="also write the comparison's interactive report here (one "
+                   "self-contained HTML page, every law overlaid; docs/reports.md)")
+    p.add_argument("--telemetry-decimate", type=int, default=1, metavar="N",
+                   help="each run's telemetry.parquet keeps every N-th control tick (default 1)")
     p.add_argument("--run-plots", action="store_true", help="also draw each run's own plots")
     p.add_argument("--sweep", action="store_true",
                    help="H-infinity scenarios: measure the disturbance-to-output gain of the SIL loop across "
@@ -79,15 +83,15 @@ def run(args) -> int:
     if args.sweep:
         return run_sweep(args, out)
     try:
-        sc, rows, plots = compare(args.scenario, out, laws=args.laws, limit=args.limit, duration=args.duration,
-                                  guidance=args.guidance,
-                                  sets=args.set, run_plots=args.run_plots, quiet=args.quiet)
-    except (ScenarioError, ValueError, fsw_config.ConfigError, paths.SetupError, netns.NetnsError) as exc:
-        print(f"aocs compare: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    except orchestrate.RunAborted as exc:
-        print(f"aocs compare: aborted: {exc}", file=sys.stderr)
-        return EXIT_FAILED
+        res = compare(args.scenario, out=out, laws=args.laws, limit=args.limit, duration=args.duration,
+                      guidance=args.guidance, sets=args.set, run_plots=args.run_plots, quiet=args.quiet,
+                      telemetry_decimate=args.telemetry_decimate, html=args.html)
+    except AocsError as exc:
+        print(exc.line("compare"), file=sys.stderr)
+        return exc.exit_code
+    sc, rows = res.scenario, res.rows
+    plots = [out / p for p in ("pointing_error.png", "torque_norm.png", "position_error.png", "force_norm.png")
+             if (out / p).is_file()]
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text((out / "compare.json").read_text())
@@ -104,6 +108,7 @@ def run(args) -> int:
     if est is not None:   # the runs flew a filter: what it knew, what the law saw, what the mission got
         print("attitude knowledge (truth - estimate), control (estimate - reference), pointing (truth - reference):")
         print(text.table(est))
-    print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}")
+    print(f"report: {out / 'report.md'}; plots: {', '.join(p.name for p in plots)}"
+          + (f"; page: {args.html}" if args.html else ""))
     return EXIT_FAILED if any(r.error for r in rows) else EXIT_OK
 

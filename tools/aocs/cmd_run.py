@@ -11,17 +11,15 @@ from __future__ import annotations
 import sys
 
 from aocs_analysis import verdict
+from aocs_api import AocsError
+from aocs_api.runs import run_options
 from aocs_core import paths
-from aocs_flightcfg import fsw_config
-from aocs_plant.scenario import ScenarioError
-from aocs_runner import events as evmod
-from aocs_runner import orchestrate
-from aocs_runner.run import RECORDERS, TARGETS, RunFailed, RunOptions, execute
+from aocs_runner.run import RECORDERS, TARGETS, RunOptions
 from aocs_wire import netns
 
-from . import io_failure
+from . import command_line
 
-EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2   # and io_failure.EXIT_IO = 3
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2   # and aocs_api.errors.EXIT_IO = 3 (an I/O failure)
 
 
 def add_arguments(p) -> None:
@@ -57,6 +55,10 @@ def add_arguments(p) -> None:
                    help="let the run pass although this check fails, to study the case on purpose: "
                         + ", ".join(verdict.CHECKS) + " (docs/sil.md, Verdict; repeatable)")
     p.add_argument("--label", help="label of the run in tables and the JSON")
+    p.add_argument("--html", metavar="FILE", help="also write the run's interactive report here (one self-contained "
+                   "HTML page: time series, verdict, metrics, scenario, repeat command; docs/reports.md)")
+    p.add_argument("--telemetry-decimate", type=int, default=1, metavar="N",
+                   help="OUT/telemetry.parquet keeps every N-th control tick and the last (default 1: every tick)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
@@ -67,27 +69,23 @@ def options_from_args(args) -> RunOptions:
                       guidance=args.guidance,
                       sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
-                      plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow))
+                      plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow),
+                      telemetry_decimate=args.telemetry_decimate, command=command_line.typed("run"))
 
 
 def run(args) -> int:
     netns.reexec_in_netns(paths.self_argv())
     opts = options_from_args(args)
     try:
-        res = execute(opts)
-    except (ScenarioError, ValueError, fsw_config.ConfigError, evmod.EventError, paths.SetupError,
-            netns.NetnsError) as exc:
-        print(f"aocs run: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    except (RunFailed, orchestrate.RunAborted) as exc:
-        print(f"aocs run: FAILED: {exc}", file=sys.stderr)
-        return EXIT_FAILED
-    except OSError as exc:      # after the ValueErrors: a full disk, a vanished folder (not bad input)
-        print(f"aocs run: error: {io_failure.message(exc, opts.out or 'out/')}", file=sys.stderr)
-        return io_failure.EXIT_IO
+        res = run_options(opts, html=args.html)
+    except AocsError as exc:
+        print(exc.line("run"), file=sys.stderr)
+        return exc.exit_code
     print(res.table)
     if res.plots:
         print(f"  plots, log, config and metrics.json in {res.out_dir}/")
+    if args.html:
+        print(f"  report: {args.html}")
     ie = res.metrics.get("integration_error")
     if ie and ie["exceeds_tolerance"]:
         print("aocs run: warning: the plant's integration error is above the scenario's tolerance (see the "
@@ -99,4 +97,3 @@ def run(args) -> int:
     if v["allowed"]:
         print(f"aocs run: allowed to pass although it failed: {', '.join(v['allowed'])}", file=sys.stderr)
     return EXIT_OK
-

@@ -82,6 +82,77 @@ class CodeBlock:
     language: str = ""
 
 
+@dataclass(frozen=True)
+class Trace:
+    """One series of a Chart: y against x on panel `panel` (0 the top one). style: "lines", "markers" or
+    "steps" (held until the next sample: modes, flags); dash: "solid", "dash" or "dot"; group: traces of
+    one group show and hide together from the legend (a value and its 3-sigma band). ids: one integer per
+    point naming what it stands for (a campaign's run index): the Chart's links[id] is shown when the point
+    is clicked, and the id on hover."""
+    name: str
+    x: object
+    y: object
+    panel: int = 0
+    style: str = "lines"
+    dash: str = "solid"
+    group: str | None = None
+    color: str | None = None
+    ids: object = None
+
+
+@dataclass(frozen=True)
+class Level:
+    """A horizontal line on a panel: a limit, a requirement, a threshold, with its label."""
+    value: float
+    label: str
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One plot area of a Chart: its y axis (title with unit), log scale or not, its levels, and the y range first
+    shown (None: every value; a renderer lets the reader zoom out to all)."""
+    y_label: str
+    log_y: bool = False
+    levels: tuple[Level, ...] = ()
+    y_range: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "levels", tuple(self.levels))
+
+
+@dataclass(frozen=True)
+class Mark:
+    """An instant drawn across every panel of a Chart (an event, the settle time), with its label."""
+    x: float
+    label: str
+
+
+@dataclass(frozen=True)
+class Chart:
+    """An interactive figure: panels stacked on one x axis (zoom one, all follow), its traces, its marks.
+    links: the text a point's id opens (a run's repeat command), shared by every trace. A renderer that cannot
+    draw it (Markdown) says where it is instead."""
+    title: str
+    x_label: str
+    panels: tuple[Panel, ...]
+    traces: tuple[Trace, ...]
+    marks: tuple[Mark, ...] = ()
+    links: tuple[str, ...] | None = None
+    note: str = ""
+
+    def __post_init__(self):
+        object.__setattr__(self, "panels", tuple(self.panels))
+        object.__setattr__(self, "traces", tuple(self.traces))
+        object.__setattr__(self, "marks", tuple(self.marks))
+        if self.links is not None:
+            object.__setattr__(self, "links", tuple(self.links))
+        for tr in self.traces:
+            if not 0 <= tr.panel < len(self.panels):
+                raise ValueError(f"chart {self.title!r}: trace {tr.name!r} on panel {tr.panel} of {len(self.panels)}")
+            if tr.style not in ("lines", "markers", "steps"):
+                raise ValueError(f"chart {self.title!r}: trace {tr.name!r}: style {tr.style!r}")
+
+
 @dataclass
 class Section:
     """A titled part of a document; sections nest (their level is their depth)."""
@@ -104,4 +175,4 @@ class Document:
 
 
 #: every kind of block a document or a section may hold
-BLOCKS = (Paragraph, BulletList, Table, Figure, Figures, CodeBlock, Section)
+BLOCKS = (Paragraph, BulletList, Table, Figure, Figures, CodeBlock, Chart, Section)

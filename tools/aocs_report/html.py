@@ -1,6 +1,6 @@
 """A Document as one self-contained HTML page: the style inline, every figure found on disk
-embedded as a data URI, so the page can be mailed or archived as a single file. A skeleton: a
-later issue adds interactive (plotly) figures as a block of their own.
+embedded as a data URI, every Chart an interactive plotly figure with plotly.js embedded once
+(plotly_chart.py), so the page can be mailed or archived as a single file and opens with no network.
 
 Text is inline Markdown (document.py); the forms the reports use are converted: `code`,
 **strong**, *emphasis* and [text](link). Everything else is escaped.
@@ -13,7 +13,8 @@ import mimetypes
 import re
 from pathlib import Path
 
-from .document import BulletList, CodeBlock, Column, Document, Figure, Figures, Paragraph, Section, Table
+from . import plotly_chart
+from .document import BulletList, Chart, CodeBlock, Column, Document, Figure, Figures, Paragraph, Section, Table
 
 STYLE = """body { font-family: sans-serif; max-width: 72em; margin: 2em auto; padding: 0 1em; line-height: 1.45; }
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
@@ -22,7 +23,10 @@ th .unit { font-weight: normal; color: #555; }
 figure { margin: 1em 0; } figure img { max-width: 100%; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; }
 pre { background: #f4f4f4; padding: 0.6em; overflow-x: auto; }
-code { background: #f4f4f4; padding: 0 0.2em; }"""
+code { background: #f4f4f4; padding: 0 0.2em; }
+figure.chart { margin: 1em 0; } .plot { width: 100%; min-height: 200px; }
+.chart-note { color: #555; font-size: 0.85em; margin: 0.2em 0; }
+pre.chart-link { font-size: 0.85em; white-space: pre-wrap; word-break: break-all; }"""
 
 # inline Markdown, applied to escaped text in this order (code first: nothing inside it is converted)
 _CODE = re.compile(r"`([^`]+)`")
@@ -47,12 +51,34 @@ def inline(text: str) -> str:
     return "".join(out)
 
 
+class _Page:
+    """What the blocks of one page share: the charts' numbering and their link lists, each list written once."""
+
+    def __init__(self, base: Path | None):
+        self.base = base
+        self.charts = 0
+        self.links: dict[tuple, str] = {}
+
+    def links_id(self, links) -> str | None:
+        if links is None:
+            return None
+        return self.links.setdefault(tuple(links), f"links-{len(self.links) + 1}")
+
+
+def _charts(blocks) -> bool:
+    return any(isinstance(b, Chart) or (isinstance(b, Section) and _charts(b.blocks)) for b in blocks)
+
+
 def render(doc: Document, base: Path | None = None) -> str:
     """The page; base: the folder figure paths are relative to (figures found there are embedded)."""
-    body = "\n".join([f"<h1>{inline(doc.title)}</h1>", *(_block(b, 2, base) for b in doc.blocks)])
+    page = _Page(base)
+    body = "\n".join([f"<h1>{inline(doc.title)}</h1>", *(_block(b, 2, page) for b in doc.blocks)])
+    links = "".join(f'<script type="application/json" id="{i}">{plotly_chart.links_json(k)}</script>\n'
+                    for k, i in page.links.items())
+    head = plotly_chart.page_head() + "\n" if _charts(doc.blocks) else ""
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>{html.escape(doc.title)}</title>\n<style>\n{STYLE}\n</style>\n</head>\n<body>\n"
-            f"{body}\n</body>\n</html>\n")
+            f"<title>{html.escape(doc.title)}</title>\n<style>\n{STYLE}\n</style>\n{head}</head>\n<body>\n"
+            f"{links}{body}\n</body>\n</html>\n")
 
 
 def header_cell(c: Column) -> str:
@@ -73,7 +99,8 @@ def _figure(f: Figure, base: Path | None) -> str:
             f"<figcaption>{html.escape(f.alt)}</figcaption></figure>")
 
 
-def _block(b, level: int, base: Path | None) -> str:
+def _block(b, level: int, page: _Page) -> str:
+    base = page.base
     if isinstance(b, Paragraph):
         return "<p>" + "<br>\n".join(inline(line) for line in b.text.split("\n")) + "</p>"
     if isinstance(b, BulletList):
@@ -90,8 +117,11 @@ def _block(b, level: int, base: Path | None) -> str:
     if isinstance(b, CodeBlock):
         cls = f' class="language-{html.escape(b.language)}"' if b.language else ""
         return f"<pre><code{cls}>{html.escape(b.text)}</code></pre>"
+    if isinstance(b, Chart):
+        page.charts += 1
+        return plotly_chart.chart_html(b, f"chart-{page.charts}", page.links_id(b.links))
     if isinstance(b, Section):
         h = min(level, 6)
         return "\n".join([f"<section>\n<h{h}>{inline(b.title)}</h{h}>",
-                          *(_block(x, level + 1, base) for x in b.blocks), "</section>"])
+                          *(_block(x, level + 1, page) for x in b.blocks), "</section>"])
     raise TypeError(f"not a document block: {b!r}")

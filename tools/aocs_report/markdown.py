@@ -6,7 +6,7 @@ Markdown already (document.py), so it is written as it is.
 """
 from __future__ import annotations
 
-from .document import BulletList, CodeBlock, Document, Figure, Figures, Paragraph, Section, Table
+from .document import BulletList, Chart, CodeBlock, Document, Figure, Figures, Paragraph, Section, Table
 
 
 def render(doc: Document) -> str:
@@ -42,6 +42,8 @@ def _block(b, level: int) -> str:
         return "\n".join(_block(f, level) for f in b.figures)
     if isinstance(b, CodeBlock):
         return f"```{b.language}\n{b.text}\n```"
+    if isinstance(b, Chart):
+        return f"*Interactive figure: {b.title} (in the HTML report).*"
     if isinstance(b, Section):
         return "\n\n".join(["#" * level + f" {b.title}", *(_block(x, level + 1) for x in b.blocks)])
     raise TypeError(f"not a document block: {b!r}")
