@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report pil-mekf results demo clean bench-campaign bench-telemetry build-host-sanitize build-fuzz fuzz fuzz-smoke
+        pil-test pil-report pil-mekf hostile results demo clean bench-campaign bench-telemetry build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -112,6 +112,11 @@ pil-report: build-host build-cortex-m4f build-cortex-m7
 # the MEKF on the images (irassi_hold_mekf, 2000 s): M4F float against the host double, instructions (docs/pil.md)
 pil-mekf: build-host build-cortex-m4f build-cortex-m7
 	$(PY) -m aocs_pil.mekf_check --json build/host/pil_mekf.json
+
+# issue 25's acceptance figure: 100,000 hostile sensor frames against the sanitized fsw_node flying the wheel
+# array (make test flies 4000 of them); prints the counts
+hostile: build-host build-host-sanitize
+	AOCS_HOSTILE_FRAMES=$${AOCS_HOSTILE_FRAMES:-100000} $(PY) -m pytest tests/e2e/test_hostile_sensors.py -q -s
 
 clean:
 	rm -rf build

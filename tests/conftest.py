@@ -55,6 +55,18 @@ def fsw_node_bin(aocs_build_dir) -> Path:
 
 
 @pytest.fixture(scope="session")
+def sanitized_fsw_node_bin() -> Path:
+    """fsw_node of the host-sanitize preset (ASan + UBSan abort on undefined behaviour): the integrity and the
+    hostile-sensor tests (tests/e2e)."""
+    d = Path(os.environ.get("AOCS_SANITIZE_BUILD_DIR", REPO / "build" / "host-sanitize")).resolve()
+    exe = d / "bin" / "fsw_node"
+    if not (exe.is_file() and os.access(exe, os.X_OK)):
+        pytest.fail(f"sanitized fsw_node not found at {exe}; build it first: cmake --preset host-sanitize && "
+                    "cmake --build --preset host-sanitize")
+    return exe
+
+
+@pytest.fixture(scope="session")
 def aocs_lcm(aocs_build_dir):
     """The generated Python bindings (package aocs_lcm) from the build tree."""
     pydir = aocs_build_dir / "lcmtypes" / "python"

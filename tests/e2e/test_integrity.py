@@ -14,7 +14,6 @@ from aocs/exec/acceptance.h), M = recover_good_samples.
 from __future__ import annotations
 
 import math
-import os
 import re
 import subprocess
 import time
@@ -27,7 +26,6 @@ from conftest import BASE_CONFIG, REPO, Node
 MODE_NOMINAL, MODE_SAFE = 1, 2
 M_GOOD = int(BASE_CONFIG["recover_good_samples"])
 PERIOD = float(BASE_CONFIG["control_period_s"])
-SANITIZE_HINT = "build it first: cmake --preset host-sanitize && cmake --build --preset host-sanitize"
 SANITIZER_MARKS = ("runtime error", "AddressSanitizer", "UndefinedBehaviorSanitizer", "LeakSanitizer")
 Q = (0.0, 0.0, 0.0871557427476582, 0.9961946980917455)  # 10 deg about z
 W = (0.001, -0.002, 0.003)
@@ -42,15 +40,6 @@ def _header_constant(name: str) -> int:
 
 K_RESYNC = _header_constant("AOCS_EXEC_RESYNC_FRAMES")
 BOUND = K_RESYNC - 1 + M_GOOD  # answered good frames until NOMINAL, after any single bad frame
-
-
-@pytest.fixture(scope="session")
-def sanitized_fsw_node_bin() -> Path:
-    d = Path(os.environ.get("AOCS_SANITIZE_BUILD_DIR", REPO / "build" / "host-sanitize")).resolve()
-    exe = d / "bin" / "fsw_node"
-    if not (exe.is_file() and os.access(exe, os.X_OK)):
-        pytest.fail(f"sanitized fsw_node not found at {exe}; {SANITIZE_HINT}")
-    return exe
 
 
 @pytest.fixture
