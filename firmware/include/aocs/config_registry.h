@@ -40,7 +40,6 @@ typedef enum {
  * physical range). */
 #define AOCS_CONFIG_RULE_ENUM(NAME, ...) AOCS_CONFIG_RULE_##NAME,
 typedef enum { AOCS_CONFIG_RULE_ROWS(AOCS_CONFIG_RULE_ENUM) AOCS_CONFIG_RULE_COUNT } aocs_config_rule_t;
-#undef AOCS_CONFIG_RULE_ENUM
 
 typedef struct {
     const char *name; /* the row's NAME */
@@ -64,7 +63,7 @@ typedef struct {
 /* the rows of momentum/momentum.def, in id order (test_config_registry checks them against aocs_mom_name) */
 #define AOCS_CONFIG_ENUM_MOM_POLICY_T uint32_t
 #define AOCS_CONFIG_ENUM_MOM_POLICY_NAMES "none,magnetorquers,thrusters"
-/* aocs_mom_trigger_t, in value order */
+/* AOCS_MOM_TRIGGER_* (momentum.h), in value order */
 #define AOCS_CONFIG_ENUM_MOM_TRIGGER_T uint32_t
 #define AOCS_CONFIG_ENUM_MOM_TRIGGER_NAMES "threshold,continuous"
 

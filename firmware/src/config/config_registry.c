@@ -206,11 +206,10 @@ static const unsigned char *value_at_const(const aocs_exec_config_t *cfg, aocs_c
 }
 
 #define CFG_RULE_ROW(NAME, LO, LO_OPEN, HI, ZERO_OK, TEXT) {#NAME, (LO), (LO_OPEN), (HI), (ZERO_OK), TEXT},
-static const aocs_config_rule_info_t k_rules[AOCS_CONFIG_RULE_COUNT] = {AOCS_CONFIG_RULE_ROWS(CFG_RULE_ROW)};
-#undef CFG_RULE_ROW
 
 const aocs_config_rule_info_t *aocs_config_rule_info(aocs_config_rule_t rule)
 {
+    static const aocs_config_rule_info_t k_rules[AOCS_CONFIG_RULE_COUNT] = {AOCS_CONFIG_RULE_ROWS(CFG_RULE_ROW)};
     return ((unsigned)rule < (unsigned)AOCS_CONFIG_RULE_COUNT) ? &k_rules[rule] : &k_rules[AOCS_CONFIG_RULE_ANY];
 }
 
@@ -224,8 +223,10 @@ int aocs_config_rule_holds(aocs_config_rule_t rule, double x)
         ok = 1;
     } else if ((r->lo_open != 0) ? !(x > r->lo) : !(x >= r->lo)) {
         ok = 0;
+    } else if (x <= r->hi) {
+        ok = 1;
     } else {
-        ok = (x <= r->hi) ? 1 : 0;
+        ok = 0;
     }
     return ok;
 }

@@ -288,22 +288,29 @@ static void guide(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_det
 static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in)
 {
     aocs_mom_input_t mi;
-    if (exec->momentum.id == AOCS_MOM_NONE) {
-        return;
-    }
-    mi.h_valid = (exec->cfg.wheels.n > 0u) ? 1 : 0;
-    for (uint32_t i = 0u; (i < exec->cfg.wheels.n) && (i < AOCS_WHEELS_MAX); ++i) {
-        if (!AOCS_IS_FINITE(in->wheel_speed_radps[i])) {
-            mi.h_valid = 0;
+    if (exec->momentum.id != AOCS_MOM_NONE) {
+        mi.h_valid = 0;
+        mi.b_valid = 0;
+        mi.enabled = 0;
+        if (exec->cfg.wheels.n > 0u) {
+            mi.h_valid = 1;
         }
+        for (uint32_t i = 0u; (i < exec->cfg.wheels.n) && (i < AOCS_WHEELS_MAX); ++i) {
+            if (!AOCS_IS_FINITE(in->wheel_speed_radps[i])) {
+                mi.h_valid = 0;
+            }
+        }
+        mi.h_wheels_B_Nms = (mi.h_valid != 0) ? aocs_wheels_h_B(&exec->act.wheels, in->wheel_speed_radps) : aocs_vec3_zero();
+        mi.b_B_T = in->mag_B_T;
+        if (((in->valid & AOCS_EXEC_VALID_MAG) != 0u) && (aocs_vec3_is_finite(in->mag_B_T) != 0)) {
+            mi.b_valid = 1;
+        }
+        if ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (exec->law != AOCS_LAW_NONE) && (aocs_law_is_orbit(exec->law) == 0)) {
+            mi.enabled = 1;
+        }
+        mi.dt_s = exec->cfg.period_s;
+        (void)aocs_mom_step(&exec->momentum, &mi);
     }
-    mi.h_wheels_B_Nms = (mi.h_valid != 0) ? aocs_wheels_h_B(&exec->act.wheels, in->wheel_speed_radps) : aocs_vec3_zero();
-    mi.b_B_T = in->mag_B_T;
-    mi.b_valid = (((in->valid & AOCS_EXEC_VALID_MAG) != 0u) && (aocs_vec3_is_finite(in->mag_B_T) != 0)) ? 1 : 0;
-    mi.enabled = ((exec->mode == AOCS_EXEC_MODE_NOMINAL) && (exec->law != AOCS_LAW_NONE) &&
-                  (aocs_law_is_orbit(exec->law) == 0)) ? 1 : 0;
-    mi.dt_s = exec->cfg.period_s;
-    (void)aocs_mom_step(&exec->momentum, &mi);
 }
 
 /* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE. */

@@ -99,9 +99,13 @@ int aocs_mom_trigger(const aocs_mom_config_t *cfg, int unloading, real_t dh_norm
         if (cfg->trigger == (uint32_t)AOCS_MOM_TRIGGER_CONTINUOUS) {
             next = 1;
         } else if (unloading != 0) {
-            next = (dh_norm_Nms < cfg->h_stop_Nms) ? 0 : 1;
+            if (!(dh_norm_Nms < cfg->h_stop_Nms)) { /* on until |dh| falls below the stop threshold */
+                next = 1;
+            }
+        } else if (dh_norm_Nms > cfg->h_start_Nms) { /* off until |dh| exceeds the start threshold */
+            next = 1;
         } else {
-            next = (dh_norm_Nms > cfg->h_start_Nms) ? 1 : 0;
+            next = 0;
         }
     }
     return next;

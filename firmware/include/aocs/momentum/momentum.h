@@ -44,17 +44,15 @@ typedef enum {
  * and ~1e-8 T at L2; below 1e-12 T a magnetometer reads noise only). */
 #define AOCS_MOM_B_MIN_T AOCS_R(1.0e-12)
 
-/* The trigger (mom.trigger). */
-typedef enum {
-    AOCS_MOM_TRIGGER_THRESHOLD = 0, /* hysteresis: start above h_start, stop below h_stop */
-    AOCS_MOM_TRIGGER_CONTINUOUS = 1, /* always unloading while enabled */
-    AOCS_MOM_TRIGGER_COUNT
-} aocs_mom_trigger_t;
+/* The trigger (mom.trigger): the values of aocs_mom_config_t.trigger. */
+#define AOCS_MOM_TRIGGER_THRESHOLD 0u  /* hysteresis: start above h_start, stop below h_stop */
+#define AOCS_MOM_TRIGGER_CONTINUOUS 1u /* always unloading while enabled */
+#define AOCS_MOM_TRIGGER_COUNT 2u
 
 /* Configuration of the stage (aocs_exec_config_t.momentum; the mom.* rows of config_fields.def). */
 typedef struct {
     uint32_t policy;                 /* aocs_mom_id_t value; default 0 = NONE */
-    uint32_t trigger;                /* aocs_mom_trigger_t value */
+    uint32_t trigger;                /* AOCS_MOM_TRIGGER_THRESHOLD or _CONTINUOUS */
     aocs_vec3_t h_target_B_Nms;      /* wheel momentum target (zero or a bias), B, N m s */
     real_t h_start_Nms;              /* threshold: start when |dh| > this, N m s */
     real_t h_stop_Nms;               /* threshold: stop when |dh| < this (< h_start), N m s */
