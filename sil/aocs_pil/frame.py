@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import struct
 import zlib
+from collections import namedtuple
 from dataclasses import dataclass, field, make_dataclass
 
 from aocs_core import registry
@@ -84,12 +85,7 @@ def encode(ftype: int, seq: int, payload: bytes = b"") -> bytes:
     return body + struct.pack("<I", crc32(body))
 
 
-@dataclass(frozen=True)
-class Header:
-    version: int
-    type: int
-    length: int
-    seq: int
+Header = namedtuple("Header", "version type length seq")   # a frame's header fields after its magic
 
 
 def decode_header(buf: bytes) -> Header:
