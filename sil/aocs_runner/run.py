@@ -11,6 +11,7 @@ and --json). How a run works: docs/sil.md.
 """
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import json
 import math
@@ -267,11 +268,30 @@ def flying_gains(sc) -> dict:
     return gains
 
 
+def node_config_of(opts: RunOptions, sc, law: str, mode: str, gains: dict) -> dict:
+    """The flight computer's configuration of a run (what write_fsw_config writes)."""
+    return fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
+                                  run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0,
+                                  gains={n: c.k for n, c in gains.items() if c.k is not None})
+
+
+def planned_record(opts: RunOptions) -> dict:
+    """What run.json will say of these options' scenario and flight configuration (scenario_sha256,
+    fsw_config), without writing or starting anything: `aocs results --reuse` reuses a run only when its
+    record says the same."""
+    sc, _, law, _ = prepare(opts)
+    cfg = node_config_of(opts, sc, law, "realtime" if opts.realtime else "lockstep", scenario_gains.resolve(sc))
+    return {"scenario_sha256": scenario_digest(sc), "fsw_config": cfg}
+
+
+def scenario_digest(sc) -> str:
+    """SHA-256 of the scenario file's bytes (a run folder says which version of its scenario it flew)."""
+    return hashlib.sha256(Path(sc.path).read_bytes()).hexdigest()
+
+
 def write_fsw_config(opts: RunOptions, sc, law: str, mode: str, gains: dict, out: Path) -> tuple[dict, Path]:
     """The flight computer's configuration, and the file it was written to (OUT/fsw_node.cfg)."""
-    cfg = fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
-                                 run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0,
-                                 gains={n: c.k for n, c in gains.items() if c.k is not None})
+    cfg = node_config_of(opts, sc, law, mode, gains)
     cfg_path = fsw_config.write(out / "fsw_node.cfg", cfg, header=f"scenario {sc.id}, law {law}, {mode}")
     return cfg, cfg_path
 
@@ -279,7 +299,8 @@ def write_fsw_config(opts: RunOptions, sc, law: str, mode: str, gains: dict, out
 def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
     """run.json: what was flown, how and with what (the metrics carry it on)."""
     sc = plan.sc
-    return {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "overrides": plan.overrides,
+    return {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "scenario_sha256": scenario_digest(sc),
+            "overrides": plan.overrides,
             "law": plan.law, "mode": plan.mode, "recorder": plan.recorder, "plant_lcm_lib": opts.plant_lcm_lib,
             "target": opts.target, "events": list(opts.events), "label": opts.label,
             "fsw_config": plan.fsw_config, "fsw_config_file": cfg_path.name, "fc_command": plan.fc_cmd,

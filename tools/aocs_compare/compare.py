@@ -31,7 +31,7 @@ from aocs_plant.scenario import load
 from aocs_report import markdown
 from aocs_report.document import Column, Document, Figure, Paragraph, Section, Table
 from aocs_runner import scenario_opts
-from aocs_runner.run import RunFailed, RunOptions, execute
+from aocs_runner.run import RunFailed, RunOptions, execute, planned_record
 from aocs_wire import lcmlog
 
 REPO = Path(__file__).resolve().parents[2]
@@ -117,7 +117,7 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
         if law == "none":
             s.append("control.enabled=false")
         curves = (curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
-                  if reuse and _reusable(row.out_dir, scenario, law, limit, duration, s) else None)
+                  if reuse and _reusable(row.out_dir, scenario, law, limit, duration, s, guidance) else None)
         # reused only when this build's wire types decode the log (one of an older wire version reads empty)
         if curves is not None and curves["t"].size:
             row.metrics = json.loads((row.out_dir / "metrics.json").read_text())
@@ -149,16 +149,22 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
     return result
 
 
-def _reusable(out_dir: Path, scenario, law, limit, duration, sets) -> bool:
-    """A finished, passed run in out_dir with the overrides this row would give (aocs results --reuse)."""
+def _reusable(out_dir: Path, scenario, law, limit, duration, sets, guidance=None) -> bool:
+    """A finished, passed run in out_dir with the overrides this row would give, of the same scenario file
+    (its SHA-256) and the same flight configuration (aocs results --reuse)."""
     try:
         meta = json.loads((out_dir / "run.json").read_text())
         m = json.loads((out_dir / "metrics.json").read_text())
     except (OSError, ValueError):
         return False
-    ov = scenario_opts.overrides(sets, duration, None, limit)
-    return (m.get("verdict", {}).get("passed") is True and meta.get("overrides") == ov
-            and meta.get("law") == ("none" if law == "none" else law) and (out_dir / "run.lcmlog").is_file())
+    ov = scenario_opts.overrides(sets, duration, None, limit, guidance)
+    if not (m.get("verdict", {}).get("passed") is True and meta.get("overrides") == ov
+            and meta.get("law") == ("none" if law == "none" else law) and (out_dir / "run.lcmlog").is_file()):
+        return False
+    now = planned_record(RunOptions(scenario=scenario, law=None if law == "none" else law, limit=limit,
+                                    duration=duration, sets=sets, guidance=guidance))
+    return (meta.get("scenario_sha256") == now["scenario_sha256"]
+            and meta.get("fsw_config") == json.loads(json.dumps(now["fsw_config"])))
 
 
 # --------------------------------------------------------------------------- table
