@@ -35,6 +35,7 @@ static const expected_table_t EXPECTED[] = {
     EXPECTED_ROW("orbit_lqr_q10", aocs_gains_orbit_lqr_q10_K),
     EXPECTED_ROW("lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K),
     EXPECTED_ROW("hinf_bounded", aocs_gains_hinf_bounded_K),
+    EXPECTED_ROW("lqr_quat_i_suite", aocs_gains_lqr_quat_i_suite_K),
 };
 #define N_EXPECTED ((int)(sizeof(EXPECTED) / sizeof(EXPECTED[0])))
 

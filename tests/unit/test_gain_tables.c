@@ -67,6 +67,7 @@ static const struct {
     const real_t (*k)[9];
 } all_tables9[] = {
     {"lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K},
+    {"lqr_quat_i_suite", aocs_gains_lqr_quat_i_suite_K},
 };
 
 static void test_tables_finite(void **state)

@@ -27,8 +27,9 @@ from . import compare as C
 #: the realistic-suite scenarios, the hold first (the IRASSI pointing figure)
 SCENARIOS = ("irassi_hold_mekf", "irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf", "irassi_rw_failed_mekf")
 HOLD = SCENARIOS[0]
-#: quat_pid stiffened for this suite (twice kp and ki, kd kept): a check that the 1.5 factor is a matter of gains
-STIFF_PID = ("laws.quat_pid.kp=800.0", "laws.quat_pid.ki=24.0")
+#: quat_pid with the reference scenarios' gains (half the suite's kp and ki, kd the same): what gains sized for a
+#: perfect rate give on this suite (the 1.5 factor is a matter of gains against the sensors' noise)
+REFERENCE_PID = ("laws.quat_pid.kp=400.0", "laws.quat_pid.ki=12.0")
 
 
 def plan_steps(steps) -> int:
@@ -117,8 +118,8 @@ def section(R) -> Section:
                     *R.plots(rows, "attitude", f"{sid}", f"{sid}_", requirement=0.3, goal=0.05, sc=sc))
         sec.add(sub)
     sc, rows = runs[HOLD]
-    _, stiff = R.rows(HOLD, [("quat_pid", None)], sets=STIFF_PID, prefix=False, tag="quat_pid_kp800")
-    sec.add(requirement_statement(sc, rows), integral_laws(sc, rows, stiff))
+    _, reference = R.rows(HOLD, [("quat_pid", None)], sets=REFERENCE_PID, prefix=False, tag="quat_pid_kp400")
+    sec.add(requirement_statement(sc, rows), integral_laws(sc, rows, reference))
     return sec
 
 
@@ -157,7 +158,7 @@ def requirement_statement(sc, rows) -> Section:
         "the control loop adds its own share (below)."))
 
 
-def integral_laws(sc, rows, stiff) -> Section:
+def integral_laws(sc, rows, reference) -> Section:
     """The integral laws' pointing rms against 1.5 times the knowledge rms, and where the excess comes from."""
     body = []
     for r in rows:
@@ -173,13 +174,14 @@ def integral_laws(sc, rows, stiff) -> Section:
                      "-" if d is None else f"{d['model_error']:.2g}", "-" if d is None else f"{d['t_peak']:.3f}"])
     integ = {r.name: C.pointing_over_knowledge(r) for r in rows if r.law in C.INTEGRAL_LAWS and _mw(r)}
     over = {n: x for n, x in integ.items() if x is not None and x > C.POINTING_OVER_KNOWLEDGE_MAX}
-    s = stiff[0] if stiff and _mw(stiff[0]) else None
+    s = reference[0] if reference and _mw(reference[0]) else None
     s_ratio = None if s is None else C.pointing_over_knowledge(s)
-    verdict = (f"**Both integral laws miss it with the reference gains: pointing rms / knowledge rms = "
+    verdict = (f"**Integral laws above it with this suite's gains: pointing rms / knowledge rms = "
                + ", ".join(f"{n} {x:.2f}" for n, x in over.items()) + "**." if over else
-               "Every integral law is within it: " + ", ".join(f"{n} {x:.2f}" for n, x in integ.items()) + ".")
-    rate = next((d["rate_rms_radps"] for r in rows if (d := decomposition(sc, r)) is not None), None) \
-        if over else None
+               "With this suite's gains (quat_pid kp 800 N m, ki 24 N m/s, kd 2000 N m s/rad; lqr_quat_i table "
+               "lqr_quat_i_suite, tools/gains.toml) every integral law is within it: "
+               + ", ".join(f"{n} {x:.2f}" for n, x in integ.items()) + ".")
+    rate = next((d["rate_rms_radps"] for r in rows if (d := decomposition(sc, r)) is not None), None)
     text = [Paragraph(
         f"Issue 20 asks the integral laws (quat_pid, lqr_quat_i) to point within {C.POINTING_OVER_KNOWLEDGE_MAX:g} "
         "times their knowledge rms over the last 100 s. " + verdict)]
@@ -193,9 +195,9 @@ def integral_laws(sc, rows, stiff) -> Section:
         "at the |T| shown near the closed-loop poles); the rest is the gyro's rate noise"
         + (f" ({rate:.3g} rad/s rms per axis: the MEKF's rate is the gyro less its bias estimate, white)"
            if rate is not None else "")
-        + " through the derivative gain kw, which the reference gains (sized for a perfect rate) make large "
-        "against the stiffness kq: on the two cross-boresight axes, where the knowledge error is smallest, it is "
-        "most of the pointing error. So the factor is a matter of gains against the sensors' noise, not of the "
+        + " through the derivative gain kw, which gains sized for a perfect rate (the reference scenarios') make "
+        "large against the stiffness kq: on the two cross-boresight axes, where the knowledge error is smallest, it "
+        "is then most of the pointing error. So the factor is a matter of gains against the sensors' noise, not of the "
         "filter: the loop must be stiff (kq) against its damping (kw) so that the rate noise it injects stays "
         "small, without pushing T's peak into the band where the knowledge error has its power."))
     text.append(Table(["law", "knowledge rms, last 100 s (as)", "pointing rms, last 100 s (as)",
@@ -205,10 +207,10 @@ def integral_laws(sc, rows, stiff) -> Section:
     if s is not None:
         mw = _mw(s)
         text.append(Paragraph(
-            f"Check: quat_pid stiffened for this suite (`aocs run irassi_hold_mekf --law quat_pid --set "
-            f"{' --set '.join(STIFF_PID)}`, kd kept) points to {mw['pointing_arcsec']['rms']:.3g} arcsec rms against "
-            f"{mw['knowledge_arcsec']['rms']:.3g} arcsec knowledge over the last 100 s: "
-            f"{s_ratio:.2f} times, {'within' if s_ratio <= C.POINTING_OVER_KNOWLEDGE_MAX else 'still above'} "
-            f"{C.POINTING_OVER_KNOWLEDGE_MAX:g}. The reference scenarios keep the reference gains; gains for a "
-            "particular sensor suite belong in that suite's scenario once chosen."))
+            f"Against: quat_pid with the reference scenarios' gains (`aocs run irassi_hold_mekf --law quat_pid --set "
+            f"{' --set '.join(REFERENCE_PID)}`, kd the same) points to {mw['pointing_arcsec']['rms']:.3g} arcsec rms "
+            f"against {mw['knowledge_arcsec']['rms']:.3g} arcsec knowledge over the last 100 s: {s_ratio:.2f} times, "
+            f"{'within' if s_ratio <= C.POINTING_OVER_KNOWLEDGE_MAX else 'above'} {C.POINTING_OVER_KNOWLEDGE_MAX:g}. "
+            "The reference scenarios keep the reference gains (their figures are the papers'); the realistic-suite "
+            "scenarios carry gains chosen for their sensors."))
     return Section(f"The integral laws against {C.POINTING_OVER_KNOWLEDGE_MAX:g} times the knowledge error").add(*text)
