@@ -27,7 +27,8 @@ class Peer:
         self.conns = []
         self.stop = threading.Event()
         self.sock.settimeout(0.2)
-        threading.Thread(target=self._serve, daemon=True).start()
+        self.server = threading.Thread(target=self._serve, daemon=True)
+        self.server.start()
 
     def _serve(self):
         while not self.stop.is_set():
@@ -43,7 +44,10 @@ class Peer:
         return f"tcp://127.0.0.1:{self.port}"
 
     def close(self):
+        """Stops accepting and closes the listener once no thread is in accept() on it (a listener closed
+        under a blocked accept() lives on in the kernel and resets the next connection instead of refusing it)."""
         self.stop.set()
+        self.server.join(timeout=10.0)
         for c in self.conns:
             c.close()
         self.sock.close()
