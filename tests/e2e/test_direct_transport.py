@@ -171,3 +171,40 @@ def test_the_run_record_names_the_transport(env, private_netns, aocs_lcm, tmp_pa
     meta = json.loads((tmp_path / "run.json").read_text())
     assert meta["transport"] == "direct" and "--transport direct" in meta["repeat_command"]
     assert r.metrics["transport"] == "direct"
+
+
+def test_the_loop_core_flies_the_direct_adapter_like_the_lcm_run(env, private_netns, aocs_lcm, tmp_path):
+    """aocs_loop.core.fly over DirectFlightComputer (the adapter beside LcmFlightComputer), on the configuration
+    file the LCM run's fsw_node read: irassi_rw's body and wheel torques of the slew, bit for bit."""
+    import numpy as np
+
+    from aocs_core import paths
+    from aocs_loop import core
+    from aocs_loop.direct_adapter import DirectFlightComputer, DirectNode
+    from aocs_loop.frames import PlantPort
+    from aocs_loop.lcm_adapter import LcmCodec
+    from aocs_plant import Plant
+    from aocs_plant.scenario import load
+    from aocs_wire import wire
+
+    out = tmp_path / "lcm"
+    execute(RunOptions(scenario="irassi_rw", duration=20.0, guidance="slew", out=str(out), plots=False, quiet=True))
+    log = lcmlog.read(out / "run.lcmlog")
+    sc = load("irassi_rw", json.loads((out / "run.json").read_text())["overrides"])
+    t = paths.import_bindings()
+    got = {"u": [], "uw": []}
+
+    class Rec(core.Hook):
+        def period(self, frame, reply, plant):
+            got["u"].append(reply.command.u)
+            got["uw"].append(reply.command.u_wheels)
+
+    with DirectNode.from_file(out / "fsw_node.cfg") as node:
+        n = core.fly(PlantPort(Plant(sc)), DirectFlightComputer(node, LcmCodec(wire.Codecs(t), t)), sc.n_steps,
+                     hooks=[Rec()])
+    nw = int(log.cmd["n_wheels"][0])
+    assert n == log.cmd["tick"].size == 200 and nw == 4
+    assert np.abs(log.cmd["u_wheels"][:, :nw]).max() > 0.05          # the wheels torque the slew
+    bits = lambda a: np.ascontiguousarray(np.asarray(a, np.float64)).view(np.uint64)  # noqa: E731
+    assert np.array_equal(bits(got["u"]), bits(log.cmd["u_sat"]))
+    assert np.array_equal(bits(got["uw"]), bits(log.cmd["u_wheels"][:, :nw]))
