@@ -294,9 +294,11 @@ def _fly(args, sc, plant, check, link, evs) -> int:
               f"{args.ready_timeout} s", file=sys.stderr)
         return EXIT_NOT_READY
     t_ready = time.perf_counter()
+    cpu_ready = time.process_time()
     loop = _Loop(plant, sc, link, evs, args, check)
     reason, code = loop.run_realtime() if args.mode == "realtime" else loop.run_lockstep()
     t_end = time.perf_counter()
+    cpu_loop = time.process_time() - cpu_ready
     rt = sorted(loop.rt_ns)
     summary = {
         "reason": reason, "mode": args.mode, "scenario": sc.id, "steps": loop.steps,
@@ -304,6 +306,9 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "last_answered_tick": loop.last_answered,
         "startup_s": t_ready - T_PROCESS, "startup_build_s": t_built - T_PROCESS,
         "loop_s": t_end - t_ready,
+        # this process's CPU time in the loop (a loaded machine's wall time is not the loop's cost; in process
+        # the flight computer's step is in it too)
+        "loop_cpu_s": cpu_loop,
         "roundtrip_ns": {"n": len(rt), "median": _pctl(rt, 50), "p99": _pctl(rt, 99),
                          "max": rt[-1] if rt else 0},
         "stale_replies": loop.stale_replies, "bad_replies": loop.bad_replies,
@@ -494,6 +499,9 @@ class _Loop:
 
         lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
         flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
+        # over LCM the log is written once per tick while the flight computer computes (free); in process
+        # nothing runs meanwhile: the recorder writes every LOG_FLUSH_EVENTS events (_Link._on_any) and at the end
+        flush_tick = (lambda: None) if self.link.direct else flush_log
         progress_every = self.progress_every
         waits = 0
         # the integration check of the last period (StepDoubling: the command to its shadow plant, the period
@@ -522,7 +530,7 @@ class _Loop:
                 # write per tick: a plant killed loses one tick at most), while the flight computer computes
                 checking = self._check_end(checking)
                 self.truth(tick)
-                flush_log()
+                flush_tick()
                 while box[0] is None:
                     left = timeout_ns - (perf() - t0)
                     if left <= 0 or _stop:
