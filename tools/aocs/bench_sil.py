@@ -138,6 +138,45 @@ def bench_lockstep(scenario: str, runs: int, variants=tuple(VARIANTS), duration:
     return out
 
 
+#: the direct loop's parts (plant_node._Loop.run_lockstep's callees) -> what they are, for the breakdown
+PARTS = {"publish": "transport: sensors_t to the node in process (ctypes, C decode, executive step, encode), "
+                    "both messages logged, reply unpacked",
+         "sensors": "plant sensing + sensors_t packing", "truth": "truth_t of the tick, packed and logged",
+         "advance": "plant: integrate one period", "apply": "plant: apply the command (actuator models)",
+         "command": "actuator_cmd_t values -> Command", "_check_end": "integration-error check (step doubling)",
+         "begin": "integration-error check: state kept"}
+
+
+def profile_direct(scenario: str, duration: float | None) -> list[tuple[str, float]]:
+    """cProfile of one direct run's plant process (plant_node in this process): each part of the lockstep
+    loop's per-period time as a fraction of the loop (profiling slows Python calls, not the C step: the
+    fractions, not the times, are what it says)."""
+    import contextlib
+    import cProfile
+    import io
+    import pstats
+
+    from aocs_runner import plant_node
+    from aocs_runner.run import plan_run, plant_arguments
+
+    with tempfile.TemporaryDirectory() as d:
+        opts = RunOptions(scenario=scenario, out=str(Path(d) / "p"), plots=False, quiet=True, duration=duration,
+                          transport="direct")
+        plan = plan_run(opts)
+        args = plant_arguments(opts, plan)
+        prof = cProfile.Profile()
+        with contextlib.redirect_stdout(io.StringIO()):
+            prof.runcall(plant_node.main, [str(a) for a in args])
+    st = pstats.Stats(prof).stats
+    loop = next(k for k in st if k[2] == "run_lockstep")
+    total = st[loop][3]
+    parts = [(name, edge[3] / total) for (f, ln, name), (cc, nc, tt, ct, callers) in st.items()
+             for caller, edge in callers.items() if caller == loop and edge[3] / total >= 0.005]
+    parts.sort(key=lambda p: -p[1])
+    parts.append(("run_lockstep itself", st[loop][2] / total))
+    return parts
+
+
 def _median(runs: list[dict]) -> dict:
     return {k: statistics.median(r[k] for r in runs) for k in runs[0] if k != "log_complete"}
 
@@ -148,6 +187,8 @@ def main(argv=None) -> int:
     p.add_argument("--runs", type=int, default=3, help="lockstep runs of each transport (the median is reported)")
     p.add_argument("--duration", type=float, default=None, help="run length, s (default the scenario's)")
     p.add_argument("--json", help="also write the figures here")
+    p.add_argument("--profile", action="store_true",
+                   help="only the breakdown of a direct run's loop (cProfile of its plant process)")
     args = p.parse_args(argv)
 
     netns.reexec_in_netns([sys.executable, "-m", "aocs.bench_sil", *(sys.argv[1:] if argv is None else argv)])
@@ -157,6 +198,11 @@ def main(argv=None) -> int:
     print(f"SIL lockstep benchmark: {sc.id}, {sc.n_steps} steps of {sc.dt:g} s "
           f"({sc.duration_s:g} s simulated), {args.runs} runs of each transport, interleaved "
           f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)", flush=True)
+    if args.profile:
+        print("direct loop, share of the loop's profiled time per part (cProfile of the plant process):")
+        for name, share in profile_direct(args.scenario, args.duration):
+            print(f"  {100 * share:5.1f} %  {name}: {PARTS.get(name, '')}")
+        return 0
     flown = bench_lockstep(args.scenario, args.runs, duration=args.duration)
     runs, runs_lib, runs_dir = flown["lcm"], flown["lcm_lib"], flown["direct"]
     transport = bench_transport(sc, sc.n_steps)
