@@ -156,6 +156,10 @@ def test_the_slots_are_static_and_bounded(cfg_text):
     (["run", "irassi_small", "--transport", "udp"], "--transport 'udp': not a transport"),
     (["run", "irassi_small", "--transport", "direct", "--realtime"], "--transport direct: lockstep"),
     (["compare", "irassi_small", "--transport", "pigeon"], "--transport 'pigeon': not a transport"),
+    (["campaign", "irassi_small", "--runs", "2", "--seed", "1", "--transport", "tcp"],
+     "--transport 'tcp': not a transport"),
+    (["campaign", "irassi_small", "--runs", "2", "--seed", "1", "--transport", "direct", "--refly-every", "-1"],
+     "--refly-every -1: must be a whole number >= 0"),
 ])
 def test_a_bad_transport_is_one_line_and_exit_2(env, tmp_path, argv, needle):
     p = subprocess.run([sys.executable, "-m", "aocs.cli", *argv, "--out", str(tmp_path / "o")], capture_output=True,
