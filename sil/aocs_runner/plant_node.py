@@ -39,8 +39,8 @@ import time
 import lcm
 
 from aocs_core import paths
-from aocs_loop.frames import ActuatorMismatch, PlantPort, SensorFrame, WheelMismatch
 from aocs_loop.direct_adapter import DirectBus, DirectError, DirectNode
+from aocs_loop.frames import ActuatorMismatch, PlantPort, SensorFrame, WheelMismatch
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
