@@ -212,3 +212,18 @@ def test_the_loop_core_flies_the_direct_adapter_like_the_lcm_run(env, private_ne
     bits = lambda a: np.ascontiguousarray(np.asarray(a, np.float64)).view(np.uint64)  # noqa: E731
     assert np.array_equal(bits(got["u"]), bits(log.cmd["u_sat"]))
     assert np.array_equal(bits(got["uw"]), bits(log.cmd["u_wheels"][:, :nw]))
+
+
+def test_compare_flies_every_law_in_process(env, tmp_path):
+    """`aocs compare --transport direct`: each law's run is a direct run (run.json), the plan records it."""
+    out = tmp_path / "cmp"
+    p = subprocess.run([sys.executable, "-m", "aocs.cli", "compare", "irassi_small", "--laws", "quat_pd,smc",
+                        "--duration", "5", "--transport", "direct", "--out", str(out), "-q"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    for law in ("quat_pd", "smc"):
+        meta = json.loads((out / law / "run.json").read_text())
+        assert meta["transport"] == "direct" and meta["law"] == law
+        assert not (out / law / "fsw_node.stderr").exists()      # no fsw_node process was started
+    plan = json.loads(next(out.glob("*plan*.json")).read_text())
+    assert plan["transport"] == "direct"
