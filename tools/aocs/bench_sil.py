@@ -151,13 +151,13 @@ def profile_direct(scenario: str, duration: float | None) -> list[tuple[str, flo
     """cProfile of one direct run's plant process (plant_node in this process): each part of the lockstep
     loop's per-period time as a fraction of the loop (profiling slows Python calls, not the C step: the
     fractions, not the times, are what it says)."""
-    import contextlib
-    import cProfile
-    import io
-    import pstats
+    import contextlib  # deferred: only --profile needs these
+    import cProfile  # deferred: see above
+    import io  # deferred: see above
+    import pstats  # deferred: see above
 
-    from aocs_runner import plant_node
-    from aocs_runner.run import plan_run, plant_arguments
+    from aocs_runner import plant_node  # deferred: see above
+    from aocs_runner.run import plan_run, plant_arguments  # deferred: see above
 
     with tempfile.TemporaryDirectory() as d:
         opts = RunOptions(scenario=scenario, out=str(Path(d) / "p"), plots=False, quiet=True, duration=duration,
