@@ -71,14 +71,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&prev, 0, sizeof(prev));
     while ((fuzz_more(&r) != 0) && (frames < 512)) {
         const uint8_t kind = fuzz_u8(&r);
-        uint16_t len = fuzz_u16(&r);
-        const size_t avail = r.n - r.pos;
+        const uint16_t len = fuzz_chunk(&r, buf);
         int32_t n;
-        if ((size_t)len > avail) {
-            len = (uint16_t)avail;
-        }
-        memcpy(buf, r.p + r.pos, len);
-        r.pos += len;
         ++frames;
         if ((kind & 1u) != 0u) {
             aocs_lcm_status_t st;
