@@ -501,7 +501,7 @@ class _Loop:
         flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
         # over LCM the log is written once per tick while the flight computer computes (free); in process
         # nothing runs meanwhile: the recorder writes every LOG_FLUSH_EVENTS events (_Link._on_any) and at the end
-        flush_tick = (lambda: None) if self.link.direct else flush_log
+        flush_every_tick = not self.link.direct
         progress_every = self.progress_every
         waits = 0
         # the integration check of the last period (StepDoubling: the command to its shadow plant, the period
@@ -530,7 +530,8 @@ class _Loop:
                 # write per tick: a plant killed loses one tick at most), while the flight computer computes
                 checking = self._check_end(checking)
                 self.truth(tick)
-                flush_tick()
+                if flush_every_tick:
+                    flush_log()
                 while box[0] is None:
                     left = timeout_ns - (perf() - t0)
                     if left <= 0 or _stop:

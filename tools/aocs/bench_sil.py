@@ -144,13 +144,16 @@ PARTS = {"publish": "transport: sensors_t to the node in process (ctypes, C deco
          "sensors": "plant sensing + sensors_t packing", "truth": "truth_t of the tick, packed and logged",
          "advance": "plant: integrate one period", "apply": "plant: apply the command (actuator models)",
          "command": "actuator_cmd_t values -> Command", "_check_end": "integration-error check (step doubling)",
-         "begin": "integration-error check: state kept"}
+         "begin": "integration-error check: state kept",
+         "handle_timeout": "waiting for fsw_node's reply (the LCM round trip: its receive, decode, step, "
+                           "encode, send, and the plant's socket read and dispatch)"}
 
 
-def profile_direct(scenario: str, duration: float | None) -> list[tuple[str, float]]:
-    """cProfile of one direct run's plant process (plant_node in this process): each part of the lockstep
-    loop's per-period time as a fraction of the loop (profiling slows Python calls, not the C step: the
-    fractions, not the times, are what it says)."""
+def profile_loop(scenario: str, duration: float | None, transport: str) -> list[tuple[str, float]]:
+    """cProfile of one run's plant process (plant_node in this process) over `transport`: each part of the
+    lockstep loop's per-period time as a fraction of the loop (profiling slows Python calls, not the C step
+    nor the wait: the fractions, not the times, are what it says). Over LCM fsw_node runs as its own process
+    and the plant publishes truth_t on the bus without recording (the runner's recorder is not there)."""
     import contextlib  # deferred: only --profile needs these
     import cProfile  # deferred: see above
     import io  # deferred: see above
@@ -161,12 +164,19 @@ def profile_direct(scenario: str, duration: float | None) -> list[tuple[str, flo
 
     with tempfile.TemporaryDirectory() as d:
         opts = RunOptions(scenario=scenario, out=str(Path(d) / "p"), plots=False, quiet=True, duration=duration,
-                          transport="direct")
+                          transport=transport, recorder="plant" if transport == "direct" else "builtin")
         plan = plan_run(opts)
         args = plant_arguments(opts, plan)
+        node = None if transport == "direct" else subprocess.Popen(
+            plan.fc_cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         prof = cProfile.Profile()
-        with contextlib.redirect_stdout(io.StringIO()):
-            prof.runcall(plant_node.main, [str(a) for a in args])
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                prof.runcall(plant_node.main, [str(a) for a in args])
+        finally:
+            if node is not None:
+                node.terminate()
+                node.wait(10)
     st = pstats.Stats(prof).stats
     loop = next(k for k in st if k[2] == "run_lockstep")
     total = st[loop][3]
@@ -188,7 +198,7 @@ def main(argv=None) -> int:
     p.add_argument("--duration", type=float, default=None, help="run length, s (default the scenario's)")
     p.add_argument("--json", help="also write the figures here")
     p.add_argument("--profile", action="store_true",
-                   help="only the breakdown of a direct run's loop (cProfile of its plant process)")
+                   help="only the breakdown of the loop over LCM and direct (cProfile of the plant process)")
     args = p.parse_args(argv)
 
     netns.reexec_in_netns([sys.executable, "-m", "aocs.bench_sil", *(sys.argv[1:] if argv is None else argv)])
@@ -199,9 +209,13 @@ def main(argv=None) -> int:
           f"({sc.duration_s:g} s simulated), {args.runs} runs of each transport, interleaved "
           f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)", flush=True)
     if args.profile:
-        print("direct loop, share of the loop's profiled time per part (cProfile of the plant process):")
-        for name, share in profile_direct(args.scenario, args.duration):
-            print(f"  {100 * share:5.1f} %  {name}: {PARTS.get(name, '')}")
+        for transport in ("lcm", "direct"):
+            print(f"{transport} loop, share of the loop's profiled time per part (cProfile of the plant process):")
+            for name, share in profile_loop(args.scenario, args.duration, transport):
+                what = PARTS.get(name, "")
+                if transport == "lcm" and name == "publish":
+                    what = "sensors_t sent on the udpm socket"
+                print(f"  {100 * share:5.1f} %  {name}: {what}")
         return 0
     flown = bench_lockstep(args.scenario, args.runs, duration=args.duration)
     runs, runs_lib, runs_dir = flown["lcm"], flown["lcm_lib"], flown["direct"]
