@@ -3,10 +3,12 @@
 
     scripts/command-history.py record DIR [--duration S]   # fly every reference case, write DIR/history.json
     scripts/command-history.py check DIR                    # fly them again, compare with DIR/history.json
+    scripts/command-history.py check DIR --transport direct # the same cases in process (`aocs run --transport
+                                                            # direct`) against the LCM lockstep history
 
 A case is a reference scenario (sil/scenarios/*.toml) with one of its laws (its own, every law it defines
 for the IRASSI ones, with and without slew guidance where it has [guidance]). Each is flown with
-`aocs run` in lockstep; the digest of a case is the SHA-256 of the decoded fields of its log that every
+`aocs run` in lockstep; the digest of a case (aocs_loop.history.digest) is the SHA-256 of the decoded fields of its log that every
 protocol version since 2 has, as exact bits: of every actuator_cmd_t the fields of COMMAND_FIELDS (all
 but the timing ones, utime, step_ns, overrun, n_overrun, and the protocol version), of every sensors_t
 those of SENSOR_FIELDS (the valid bits of version 2 only): the flight software's commands and the plant's
@@ -17,7 +19,6 @@ comparable digests (a new wire field changes the bytes of every message, not wha
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
 import os
 import subprocess
@@ -42,41 +43,18 @@ CASES = [
     ("irassi_rw_failed", "quat_pd", ["--guidance", "slew"]),
 ]
 
-#: sensors_t fields of protocol version 2 (sil/lcmtypes/sensors_t.lcm) in the digest; valid masked to its bits
-SENSOR_FIELDS = ("tick", "t_s", "valid", "q", "w", "pos", "vel", "n_wheels", "wheel_speed")
-VALID_V2 = 31   # VALID_ATTITUDE | RATE | POSITION | VELOCITY | WHEELS
-#: actuator_cmd_t fields of protocol version 2 in the digest: every one but the timing fields (utime, step_ns,
-#: overrun, n_overrun) and protocol_version (its value is the version)
-COMMAND_FIELDS = ("frame", "tick", "law_id", "mode", "u_sat", "u_unsat", "saturated", "status", "n_invalid",
-                  "n_stale", "n_missing", "n_law_error", "n_lost", "n_duplicate", "n_foreign", "n_malformed",
-                  "n_cmd_accepted", "n_cmd_rejected", "n_wheels", "u_wheels", "wheel_scale", "wheel_limited",
-                  "wheel_status", "h_total", "wheel_speed_margin")
-
-
-def _hash(table: dict, names, masks=None) -> str:
-    """SHA-256 of the named columns of a log table, in the given order, as exact bits (name, then bytes)."""
-    h = hashlib.sha256()
-    for name in names:
-        col = table[name]
-        if masks and name in masks:
-            col = col & masks[name]
-        h.update(name.encode())
-        h.update(col.tobytes())
-    return h.hexdigest()
-
-
 def _digest(log_path: Path) -> dict:
+    """aocs_loop.history.digest of the run's log (the fields and their order are defined there, once)."""
     sys.path[:0] = [str(ROOT / "sil"), str(ROOT / "tools")]
-    from aocs_wire import lcmlog  # noqa: E402  (the venv's packages, after the path is set)
-    log = lcmlog.read(log_path)
-    return {"commands": _hash(log.cmd, COMMAND_FIELDS), "n_commands": int(len(log.cmd["tick"])),
-            "sensors": _hash(log.sensors, SENSOR_FIELDS, {"valid": VALID_V2}),
-            "n_sensors": int(len(log.sensors["tick"]))}
+    from aocs_loop import history  # noqa: E402  (the venv's packages, after the path is set)
+    from aocs_wire import lcmlog  # noqa: E402
+    return history.digest(lcmlog.read(log_path))
 
 
-def _fly(scenario: str, law: str | None, extra: list[str], duration: float, out: Path) -> dict:
+def _fly(scenario: str, law: str | None, extra: list[str], duration: float, out: Path,
+         transport: str = "lcm") -> dict:
     args = [str(AOCS), "run", scenario, "--duration", str(duration), "--out", str(out), "--no-plots", "-q",
-            "--seed", "7"]
+            "--seed", "7", "--transport", transport]
     if law:
         args += ["--law", law]
     args += extra
@@ -101,6 +79,8 @@ def main() -> int:
     p.add_argument("action", choices=("record", "check"))
     p.add_argument("dir")
     p.add_argument("--duration", type=float, default=60.0, help="s of each case (default 60)")
+    p.add_argument("--transport", choices=("lcm", "direct"), default="lcm",
+                   help="aocs run --transport of every case (default lcm; a history is always compared as is)")
     a = p.parse_args()
     d = Path(a.dir)
     d.mkdir(parents=True, exist_ok=True)
@@ -109,7 +89,7 @@ def main() -> int:
     results, bad = {}, []
     for scenario, law, extra in CASES:
         k = _key(scenario, law, extra)
-        r = _fly(scenario, law, extra, duration, d / "runs" / k.replace(" ", "_"))
+        r = _fly(scenario, law, extra, duration, d / "runs" / k.replace(" ", "_"), a.transport)
         results[k] = r
         if ref is not None:
             same = ref["cases"].get(k) == r

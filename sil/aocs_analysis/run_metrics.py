@@ -469,6 +469,7 @@ def _run_info(out: dict, log, meta: dict, dt: float, *, wall_s, plant, fsw) -> N
         out["realtime"] = {"jitter_ns_max": jit,
                            "plant_wake_jitter_ns_max": (plant or {}).get("wake_jitter_ns_max")}
     out["target"] = meta.get("target", "host")
+    out["transport"] = meta.get("transport", "lcm")   # lcm | direct (docs/sil.md, Transports)
     if plant:
         loop = plant.get("loop_s") or 0.0
         out["lockstep" if run_mode == "lockstep" else "loop"] = {

@@ -16,8 +16,10 @@ the frame in its own encoding, has the flight computer run one executive step, a
 a Reply (frames.Reply: the Command and the step's telemetry). Starting and stopping the flight computer
 (processes, QEMU, a loaded library) is the adapter's own business, before and after fly(). Adapters today:
 aocs_loop.lcm_adapter.LcmFlightComputer (sensors_t / actuator_cmd_t, fsw_node or the PIL bridge),
-aocs_pil.adapter.PilFlightComputer (STEP / STEP_REPLY frames to the image under QEMU). plant_node keeps its
-own recording loop for speed, with the same PlantPort and LcmCodec (aocs_runner.plant_node).
+aocs_pil.adapter.PilFlightComputer (STEP / STEP_REPLY frames to the image under QEMU),
+aocs_loop.direct_adapter.DirectFlightComputer (the node logic in process, the same sensors_t / actuator_cmd_t
+bytes). plant_node keeps its own recording loop for speed, with the same PlantPort and LcmCodec
+(aocs_runner.plant_node), over LCM or over the in-process DirectBus.
 """
 from __future__ import annotations
 

@@ -45,6 +45,7 @@ class Flight:
     fc_cmd: list
     env: dict
     plant_launcher: object = None   # run.RunOptions.plant_launcher
+    transport: str = "lcm"          # lcm | direct (transport.py): direct starts the plant only
 
     @property
     def ready_file(self) -> Path:
@@ -78,6 +79,8 @@ class _Recording:
 
 def fly(f: Flight) -> Failure | None:
     """Starts the run's processes, waits for the end, stops them and ends the log; the first failure."""
+    if f.transport == "direct":
+        return _fly_direct(f)
     failure = None
     with orchestrate.Processes() as procs:
         plant = _start_plant(procs, f)
@@ -97,6 +100,17 @@ def fly(f: Flight) -> Failure | None:
             if failure is None and rc_p not in (None, 0):
                 failure = Failure("plant_node", rc_p, plant)
     return failure
+
+
+def _fly_direct(f: Flight) -> Failure | None:
+    """--transport direct: the plant process alone (the flight computer runs in it and it records the
+    log with its markers, plant_node.py); waits for its exit."""
+    with orchestrate.Processes() as procs:
+        plant = _start_plant(procs, f)
+        rc = plant.wait(None)
+        f.ready_file.unlink(missing_ok=True)
+        f.done_file.unlink(missing_ok=True)
+        return Failure("plant_node", rc, plant) if rc != 0 else None
 
 
 def _start_plant(procs: orchestrate.Processes, f: Flight) -> orchestrate.Proc:

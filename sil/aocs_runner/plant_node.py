@@ -39,17 +39,19 @@ import time
 import lcm
 
 from aocs_core import paths
+from aocs_loop.direct_adapter import DirectBus, DirectError, DirectNode
 from aocs_loop.frames import ActuatorMismatch, PlantPort, SensorFrame, WheelMismatch
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import Plant
 from aocs_plant.integration_error import StepDoubling
 from aocs_plant.scenario import ScenarioError, load
 from aocs_wire import netns, wire
-from aocs_wire.recorder import RUNNER_CHANNEL, EventLogWriter, marker_of
+from aocs_wire.recorder import RUNNER_CHANNEL, EventLogWriter, marker_message, marker_of
 from aocs_wire.udpm import Udpm
 
 from . import events as evmod
 from .scenario_opts import parse_sets
+from .transport import TRANSPORTS
 
 T_PROCESS = time.perf_counter()  # before the heavy imports: startup cost is measured from here
 
@@ -99,23 +101,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="truth_t published on the bus (default) or written to the --log file only")
     p.add_argument("--done-file", default=None,
                    help="with --log: written after the last tick; the plant then records until the end marker")
+    p.add_argument("--transport", choices=TRANSPORTS, default="lcm",
+                   help="lcm (default): the flight computer is another process on the bus; direct: fsw_node's "
+                        "node logic in this process (aocs_loop.direct_adapter), lockstep only")
+    p.add_argument("--fsw-config", default=None, metavar="PATH",
+                   help="--transport direct: the flight computer's configuration (fsw_node.cfg)")
+    p.add_argument("--fsw-summary", default=None, metavar="PATH",
+                   help="--transport direct: where the flight computer's exit summary goes (fsw_node.stdout)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
 
 class _Link:
     """LCM handle, codecs and the publish counters of this node."""
 
-    def __init__(self, url, lcm_lib=False):
-        if url is None:
-            netns.require_netns()
-            url = netns.LCM_URL
+    def __init__(self, url, lcm_lib=False, bus=None):
         self.t = paths.import_bindings()
         self.codecs = wire.Codecs(self.t)
         self.codec = LcmCodec(self.codecs, self.t)   # the loop's sensors_t packing, actuator_cmd_t reading
-        if lcm_lib or not url.startswith("udpm://"):
-            self.lc = lcm.LCM(url)
+        self.direct = bus is not None
+        if bus is not None:
+            self.lc = bus   # aocs_loop.direct_adapter.DirectBus: the node in this process, no socket
         else:
-            self.lc = Udpm(url)   # same packets, read in this thread (udpm.py)
+            if url is None:
+                netns.require_netns()
+                url = netns.LCM_URL
+            # udpm: the same packets, read in this thread (udpm.py)
+            self.lc = lcm.LCM(url) if lcm_lib or not url.startswith("udpm://") else Udpm(url)
         self.wire = wire
         self.frame_cmd = 0
         self.request = 0
@@ -142,6 +153,22 @@ class _Link:
             self.lc.publish("AOCS_TRUTH", data)
         else:
             self.log.add(_TRUTH, data)
+
+    def marker(self, what: str, **info) -> None:
+        """--transport direct: the runner's AOCS_RUNNER marker, published here (no runner on a bus)."""
+        self.lc.publish(RUNNER_CHANNEL, marker_message(what, f"{what}-1", **info))
+
+    def end_direct(self, reason: str, summary_path: str | None, sc) -> None:
+        """--transport direct, after the last tick: the node's last status_t, its exit summary (as fsw_node
+        prints it) written to summary_path, and the end marker (so the log is whole)."""
+        bus = self.lc
+        bus.heartbeat(exiting=True)
+        bus.handle_timeout(0)
+        rep = bus.node.report(reason)
+        if summary_path:
+            with open(summary_path, "w") as f:
+                f.write(json.dumps(rep) + "\n")
+        self.marker("end", scenario=sc.id)
 
     def record_until_end_marker(self, done_file: str | None) -> None:
         """After the last tick (--log): say so in done_file, then record until the runner's end marker."""
@@ -224,15 +251,38 @@ def run(args) -> int:
         print("plant_node: --log records the udpm socket the plant reads itself: not with --lcm-lib or "
               "another transport", file=sys.stderr)
         return EXIT_ARGS
+    node = None
+    if args.transport == "direct":
+        try:
+            node = _direct_node(args)
+        except (ValueError, OSError, DirectError) as exc:
+            print(f"plant_node: --transport direct: {exc}", file=sys.stderr)
+            return EXIT_ARGS
     plant = Plant(sc)
     check = StepDoubling(sc)   # the run's integration error (SPEC 4.3)
-    link = _Link(args.lcm_url, args.lcm_lib)
+    link = _Link(args.lcm_url, args.lcm_lib, bus=None if node is None else DirectBus(node))
     if args.log is not None:
         link.record(args.log, truth_on_bus=args.truth == "bus")
     try:
+        if node is not None:
+            link.marker("start", scenario=sc.id, mode=args.mode, transport="direct")
+            link.lc.heartbeat()   # the flight computer's first heartbeat, as fsw_node's
         return _fly(args, sc, plant, check, link, evs)
     finally:
         link.close_log()
+        if node is not None:
+            node.close()
+
+
+def _direct_node(args):
+    """--transport direct: the in-process node on --fsw-config (ValueError: what is missing)."""
+    if args.mode != "lockstep":
+        raise ValueError("lockstep only (not with --mode realtime)")
+    if args.fsw_config is None:
+        raise ValueError("needs --fsw-config PATH (the flight computer's configuration)")
+    if args.lcm_lib or args.lcm_url:
+        raise ValueError("no bus: not with --lcm-lib or --lcm-url")
+    return DirectNode.from_file(args.fsw_config)
 
 
 def _fly(args, sc, plant, check, link, evs) -> int:
@@ -244,9 +294,11 @@ def _fly(args, sc, plant, check, link, evs) -> int:
               f"{args.ready_timeout} s", file=sys.stderr)
         return EXIT_NOT_READY
     t_ready = time.perf_counter()
+    cpu_ready = time.process_time()
     loop = _Loop(plant, sc, link, evs, args, check)
     reason, code = loop.run_realtime() if args.mode == "realtime" else loop.run_lockstep()
     t_end = time.perf_counter()
+    cpu_loop = time.process_time() - cpu_ready
     rt = sorted(loop.rt_ns)
     summary = {
         "reason": reason, "mode": args.mode, "scenario": sc.id, "steps": loop.steps,
@@ -254,6 +306,9 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "last_answered_tick": loop.last_answered,
         "startup_s": t_ready - T_PROCESS, "startup_build_s": t_built - T_PROCESS,
         "loop_s": t_end - t_ready,
+        # this process's CPU time in the loop (a loaded machine's wall time is not the loop's cost; in process
+        # the flight computer's step is in it too)
+        "loop_cpu_s": cpu_loop,
         "roundtrip_ns": {"n": len(rt), "median": _pctl(rt, 50), "p99": _pctl(rt, 99),
                          "max": rt[-1] if rt else 0},
         "stale_replies": loop.stale_replies, "bad_replies": loop.bad_replies,
@@ -263,8 +318,11 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "integration_error": check.summary(),
         # what the direct udpm reader dropped (fragments beyond its bounds, garbage): udpm.Udpm.counters
         "udpm": getattr(link.lc, "counters", None),
+        "transport": "direct" if link.direct else "lcm",
     }
     print(json.dumps({"plant_node": summary}), flush=True)
+    if link.direct:
+        link.end_direct(reason, args.fsw_summary, sc)
     link.record_until_end_marker(args.done_file)
     return code
 
@@ -441,6 +499,9 @@ class _Loop:
 
         lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
         flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
+        # over LCM the log is written once per tick while the flight computer computes (free); in process
+        # nothing runs meanwhile: the recorder writes every LOG_FLUSH_EVENTS events (_Link._on_any) and at the end
+        flush_every_tick = not self.link.direct
         progress_every = self.progress_every
         waits = 0
         # the integration check of the last period (StepDoubling: the command to its shadow plant, the period
@@ -469,7 +530,8 @@ class _Loop:
                 # write per tick: a plant killed loses one tick at most), while the flight computer computes
                 checking = self._check_end(checking)
                 self.truth(tick)
-                flush_log()
+                if flush_every_tick:
+                    flush_log()
                 while box[0] is None:
                     left = timeout_ns - (perf() - t0)
                     if left <= 0 or _stop:

@@ -33,6 +33,7 @@ from aocs_wire import lcmlog, netns
 from . import events as evmod
 from . import orchestrate, scenario_gains, scenario_opts
 from .flight import Failure, Flight, RunFailed, fly
+from .transport import check_transport
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
@@ -50,6 +51,7 @@ class RunOptions:
     json_path: str | None = None
     limit: float | None = None
     target: str = "host"
+    transport: str = "lcm"        # lcm | direct: how the plant reaches the flight computer (transport.py)
     seed: int | None = None
     guidance: str | None = None     # step | slew: guidance.mode override (aocs run --guidance)
     sets: list = field(default_factory=list)
@@ -163,6 +165,14 @@ def check_options(opts: RunOptions) -> None:
     if rt is not None and not (math.isfinite(rt) and 0.0 < rt <= REPLY_TIMEOUT_MAX_S):
         raise ValueError(f"--reply-timeout {rt:g}: must be a finite number of seconds in "
                          f"(0, {REPLY_TIMEOUT_MAX_S:g}]")
+    check_transport(opts.transport)
+    if opts.transport == "direct":
+        for bad, what in ((opts.realtime, "--realtime"), (opts.target != "host", f"--target {opts.target}"),
+                          (opts.plant_lcm_lib, "--plant-lcm-lib"),
+                          (opts.recorder not in ("auto", "plant"), f"--recorder {opts.recorder}")):
+            if bad:
+                raise ValueError(f"--transport direct: lockstep on the host with the plant recording, not with "
+                                 f"{what}")
     if opts.recorder not in RECORDERS:
         raise ValueError(f"--recorder {opts.recorder!r}: one of {', '.join(RECORDERS)}")
     if opts.recorder == "plant" and (opts.realtime or opts.plant_lcm_lib):
@@ -226,7 +236,8 @@ class RunPlan:
 
 def execute(opts: RunOptions) -> RunResult:
     """One run; raises RunFailed (process failure) or ValueError / SetupError (bad input)."""
-    netns.require_netns()
+    if opts.transport != "direct":
+        netns.require_netns()
     t_wall0 = time.monotonic()
     plan = plan_run(opts)
     failure = fly(flight_of(opts, plan))
@@ -268,6 +279,10 @@ def flying_gains(sc) -> dict:
     return gains
 
 
+#: the flight computer's configuration in the run folder
+FSW_CFG = "fsw_node.cfg"
+
+
 def node_config_of(opts: RunOptions, sc, law: str, mode: str, gains: dict) -> dict:
     """The flight computer's configuration of a run (what write_fsw_config writes)."""
     return fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
@@ -292,7 +307,7 @@ def scenario_digest(sc) -> str:
 def write_fsw_config(opts: RunOptions, sc, law: str, mode: str, gains: dict, out: Path) -> tuple[dict, Path]:
     """The flight computer's configuration, and the file it was written to (OUT/fsw_node.cfg)."""
     cfg = node_config_of(opts, sc, law, mode, gains)
-    cfg_path = fsw_config.write(out / "fsw_node.cfg", cfg, header=f"scenario {sc.id}, law {law}, {mode}")
+    cfg_path = fsw_config.write(out / FSW_CFG, cfg, header=f"scenario {sc.id}, law {law}, {mode}")
     return cfg, cfg_path
 
 
@@ -302,7 +317,7 @@ def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
     return {"scenario": sc.id, "scenario_path": str(Path(sc.path).resolve()), "scenario_sha256": scenario_digest(sc),
             "overrides": plan.overrides,
             "law": plan.law, "mode": plan.mode, "recorder": plan.recorder, "plant_lcm_lib": opts.plant_lcm_lib,
-            "target": opts.target, "events": list(opts.events), "label": opts.label,
+            "target": opts.target, "transport": opts.transport, "events": list(opts.events), "label": opts.label,
             "fsw_config": plan.fsw_config, "fsw_config_file": cfg_path.name, "fc_command": plan.fc_cmd,
             "gains": {n: c.to_json() for n, c in plan.gains.items()},
             "pil_image": (str(plan.pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if plan.pil_root
@@ -322,6 +337,8 @@ def repeat_command(opts: RunOptions, plan: RunPlan) -> str:
         words += ["--event", e]
     if opts.target != "host":
         words += ["--target", opts.target]
+    if opts.transport != "lcm":
+        words += ["--transport", opts.transport]
     if opts.realtime:
         words.append("--realtime")
     if opts.recorder != "auto":
@@ -351,6 +368,10 @@ def plant_arguments(opts: RunOptions, plan: RunPlan) -> list[str]:
     if plan.recorder == "plant":
         # the plant records the bus itself, its truth in the log only (plant_node.py, --log)
         args += ["--log", str(plan.log_path), "--truth", "log", "--done-file", str(plan.out / "plant_node.done")]
+    if opts.transport == "direct":
+        # the flight computer in the plant's process, on the file fsw_node would read (plant_node.py)
+        args += ["--transport", "direct", "--fsw-config", str(plan.out / plan.meta.get("fsw_config_file", FSW_CFG)),
+                 "--fsw-summary", str(plan.out / "fsw_node.stdout")]
     return args + ["--ready-file", str(plan.out / "plant_node.ready")]
 
 
@@ -364,7 +385,7 @@ def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
                f"{opts.target}; output in {plan.out}/")
     fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
     return Flight(sc.id, plan.law, plan.mode, sc.duration_s, plan.out, plan.log_path, plan.recorder,
-                  plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher)
+                  plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher, opts.transport)
 
 
 def failure_message(failure: Failure, plan: RunPlan) -> str:

@@ -360,17 +360,12 @@ static int load_line(const char *path, unsigned lineno, char *line, aocs_node_co
     return 0;
 }
 
-int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
+int aocs_node_config_read(FILE *f, const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
 {
     char line[1024];
     unsigned lineno = 0u;
     int rc = 0;
-    FILE *f;
     config_defaults(cfg);
-    f = fopen(path, "r");
-    if (f == NULL) {
-        return fail(err, err_size, "%s: cannot open: %s", path, strerror(errno));
-    }
     while ((rc == 0) && (fgets(line, (int)sizeof(line), f) != NULL)) {
         ++lineno;
         if ((strchr(line, '\n') == NULL) && !feof(f)) {
@@ -383,7 +378,6 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
     if ((rc == 0) && ferror(f)) {
         rc = fail(err, err_size, "%s: read error", path);
     }
-    (void)fclose(f);
     if (rc == 0) {
         rc = exclusive_gain_keys(path, cfg->line_of, err, err_size);
     }
@@ -398,5 +392,18 @@ int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, 
         double p = (double)cfg->exec.period_s;
         cfg->exec.stale_timeout_ns = (p > 0.0) && (p < 1.0e6) ? (uint64_t)(2.0e9 * p + 0.5) : 0u;
     }
+    return rc;
+}
+
+int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size)
+{
+    int rc;
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        config_defaults(cfg);
+        return fail(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+    }
+    rc = aocs_node_config_read(f, path, cfg, err, err_size);
+    (void)fclose(f);
     return rc;
 }

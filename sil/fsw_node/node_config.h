@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "aocs/config_registry.h"
 #include "aocs/executive.h"
@@ -49,6 +50,12 @@ int aocs_node_config_slot(size_t slot, aocs_config_ref_t *ref, const char **own_
  * in err (size AOCS_NODE_ERR_MAX).
  */
 int aocs_node_config_load(const char *path, aocs_node_config_t *cfg, char *err, size_t err_size);
+
+/*
+ * aocs_node_config_load's reading of an open stream (a file, or the configuration text of the in-process
+ * node, sil/fsw_node/direct): `path` names it in the messages. The stream is not closed.
+ */
+int aocs_node_config_read(FILE *f, const char *path, aocs_node_config_t *cfg, char *err, size_t err_size);
 
 /*
  * Parses one `key = value` line into cfg (exposed for the loader and tests).

@@ -364,3 +364,44 @@ def test_a_timeout_that_fires_before_the_run_has_processes_never_passes(private_
     t.join(120)
     assert rows and rows[0]["status"] == W.STATUS_ERROR, rows
     assert "timed out after 1e-09 s" in rows[0]["error"], rows[0]["error"]
+
+
+def test_a_direct_campaign_re_flies_its_sample_over_lcm_bit_for_bit(private_netns, fsw_node_bin, tmp_path):
+    """--transport direct: runs 0 and 2 of 3 (--refly-every 2) flown again over LCM, both identical; the rows
+    and campaign.json name the transport; the repeat command flies the run in process."""
+    out = tmp_path / "c"
+    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", "3", "--seed", str(SEED), *SHORT,
+             "--disperse", "plant.w0=normal:0:1e-4", "--transport", "direct", "--refly-every", "2", "--workers", "1",
+             "--out", str(out), "--no-plots", "-q", check_rc=0)
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["transport"] == "direct" and doc["status"]["passed"] == 3
+    assert doc["refly"] == {"sampled": 2, "identical": 2, "differ": []}
+    assert "2 of 2 LCM re-flights bit-identical" in p.stdout
+    rows = [json.loads((out / "runs" / f"{i:06d}.json").read_text()) for i in range(3)]
+    assert [bool(r.get("refly")) for r in rows] == [True, False, True]
+    assert all(r["transport"] == "direct" and "--transport direct" in r["repeat_command"] for r in rows)
+
+
+def test_a_re_flight_that_differs_makes_the_run_an_error(private_netns, fsw_node_bin, tmp_path, monkeypatch):
+    """The LCM re-flight given another initial body rate (a real other flight, injected into the worker's
+    execute): the row is an error naming the fields that differ."""
+    import dataclasses
+
+    from aocs_campaign import worker as W
+    from aocs_wire import netns
+
+    monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
+    real = W.execute
+
+    def other_rate_over_lcm(opts):
+        if opts.transport == "lcm":
+            opts = dataclasses.replace(opts, sets=[*opts.sets, "plant.w0=[1e-4, 0.0, 0.0]"])
+        return real(opts)
+
+    monkeypatch.setattr(W, "execute", other_rate_over_lcm)
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
+    row = W.run_task(spec, str(tmp_path / "r"), fork=False, transport="direct", refly=True)
+    assert row["status"] == W.STATUS_ERROR and not row["refly"]["identical"]
+    assert row["error"].startswith("the LCM re-flight differs from the direct run: ")
+    assert "actuator_cmd_t.u_sat" in row["error"] and "sensors_t.q" in row["error"]

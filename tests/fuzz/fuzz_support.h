@@ -53,6 +53,20 @@ static inline uint16_t fuzz_u16(fuzz_reader_t *r)
     return v;
 }
 
+/* The next payload: a u16 little-endian length and that many bytes (fewer at the end of the input), copied
+ * into buf (room for 65535 bytes); returns its length. */
+static inline uint16_t fuzz_chunk(fuzz_reader_t *r, uint8_t *buf)
+{
+    uint16_t len = fuzz_u16(r);
+    const size_t avail = r->n - r->pos;
+    if ((size_t)len > avail) {
+        len = (uint16_t)avail;
+    }
+    memcpy(buf, r->p + r->pos, len);
+    r->pos += len;
+    return len;
+}
+
 static inline uint32_t fuzz_u32(fuzz_reader_t *r)
 {
     uint32_t v;

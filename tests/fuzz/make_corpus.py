@@ -282,11 +282,38 @@ def pil_seeds() -> None:
     _write("fuzz_pil_frame", "bad_crc", fr.encode(fr.T_STEP, 1, step)[:-1] + b"\0")
 
 
+def direct_seeds(t) -> None:
+    """fuzz_node_direct: (kind u8: 0 sensors_t, 1 command_t; u16 length; payload) chunks, the plant's order."""
+    s, c = t.sensors_t, t.command_t
+
+    def sensors(k, valid=s.VALID_ATTITUDE | s.VALID_RATE):
+        m = s()
+        m.protocol_version, m.frame, m.utime, m.tick, m.t_s, m.valid = s.PROTOCOL_VERSION, k, k * 100000, k, 0.1 * k, valid
+        m.q, m.w, m.pos, m.vel = list(Q), list(W), [0.0] * 3, [0.0] * 3
+        return m.encode()
+
+    def cmd(request, law_id=c.LAW_KEEP, mode=c.MODE_KEEP):
+        m = c()
+        m.protocol_version, m.frame, m.utime, m.request = c.PROTOCOL_VERSION, request, 0, request
+        m.law_id, m.mode, m.set_target, m.qd, m.wd = law_id, mode, False, [0.0, 0.0, 0.0, 1.0], [0.0] * 3
+        return m.encode()
+
+    def chunks(items) -> bytes:
+        return b"".join(bytes([kind]) + struct.pack("<H", len(p)) + p for kind, p in items)
+
+    good = [(0, sensors(k)) for k in range(8)]
+    _write("fuzz_node_direct", "lockstep_good", chunks(good))
+    _write("fuzz_node_direct", "commands_faults", chunks(good[:3] + [(1, cmd(1, mode=0)), (0, sensors(3)), (0, sensors(3)),
+                                                            (0, b"\0\1garbage"), (1, cmd(2, mode=1)), (0, sensors(5)),
+                                                            (0, sensors(6, valid=0)), (1, b"junk")] + good[7:]))
+
+
 def main(argv: list[str]) -> int:
     build = Path(argv[1]) if len(argv) > 1 else REPO / "build" / "host"
     t = _bindings(build.resolve())
     sensors_seeds(t)
     command_seeds(t)
+    direct_seeds(t)
     config_seeds()
     exec_seeds()
     mekf_seeds()

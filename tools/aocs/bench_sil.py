@@ -1,6 +1,6 @@
-"""SIL lockstep benchmark (`make bench`): what the LCM transport costs.
+"""SIL lockstep benchmark (`make bench`): what the LCM transport costs, and the in-process transport.
 
-    python -m aocs.bench_sil [--runs 3] [--scenario irassi_large] [--json FILE]
+    python -m aocs.bench_sil [--runs 3] [--scenario irassi_large] [--duration S] [--json FILE]
 
 Prints, for irassi_large (500 s at 10 Hz = 5000 control steps):
 
@@ -10,19 +10,24 @@ Prints, for irassi_large (500 s at 10 Hz = 5000 control steps):
    -> actuator_cmd_t handled, median / p99), startup (process start to the
    first step) and total wall time, reported separately from the loop;
    the same with the plant receiving through the LCM library (plant_node
-   --lcm-lib) instead of its direct udpm socket (aocs_wire.udpm);
+   --lcm-lib) instead of its direct udpm socket (aocs_wire.udpm); and the same run with
+   `--transport direct` (fsw_node's node logic in the plant's process, docs/sil.md "Transports"), the
+   three interleaved run by run (a shared machine's load drifts); each with the plant process's CPU time
+   of the loop per step, the figure a loaded machine does not inflate;
 2. the bare transport: a Python <-> fsw_node ping-pong of the same sensors_t
    through the LCM library, without plant or recorder (median / p99 round trip);
 3. the same plant integrated in process without LCM
    (aocs_plant.integrate_open_loop): time per step and real-time factor;
-and the ratio of 1 to 3 per step, i.e. what the transport and the process
-boundary cost. The target is a lockstep real-time factor above 1000. A
+and the ratio of 1 (LCM and direct) to 3 per step, i.e. what the transport and the process
+boundary cost. Targets (issue 24): lockstep over LCM >= 2000x, direct >= 20,000x. A
 benchmark, not a test: it prints figures and never fails on them.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -98,45 +103,130 @@ def bench_transport(sc, steps: int) -> dict:
             "roundtrip_us_p99": _pct(rt, 99) / 1e3, "step_us": loop / steps * 1e6}
 
 
-def bench_lockstep(scenario: str, runs: int, lcm_lib: bool = False) -> list[dict]:
-    out = []
+#: the lockstep variants, flown interleaved run by run: name -> RunOptions keywords
+VARIANTS = {"lcm": {}, "lcm_lib": {"plant_lcm_lib": True}, "direct": {"transport": "direct"}}
+
+
+def _plant_summary(out: Path) -> dict:
+    for line in reversed((out / "plant_node.stdout").read_text().splitlines()):
+        if line.startswith("{"):
+            return json.loads(line)["plant_node"]
+    return {}
+
+
+def bench_lockstep(scenario: str, runs: int, variants=tuple(VARIANTS), duration: float | None = None) -> dict:
+    """Each variant flown `runs` times, interleaved (A B C A B C ...): name -> the runs' figures."""
+    out = {v: [] for v in variants}
     with tempfile.TemporaryDirectory() as d:
         for i in range(runs):
-            res = execute(RunOptions(scenario=scenario, out=str(Path(d) / f"r{i}"), plots=False, quiet=True,
-                                     plant_lcm_lib=lcm_lib))
-            m = res.metrics
-            ls = m["lockstep"]
-            rt = ls["roundtrip_ns"]
-            out.append({"realtime_factor": ls["realtime_factor"], "loop_s": ls["loop_s"],
-                        "step_us": ls["loop_s"] / m["timing"]["steps"] * 1e6,
-                        "roundtrip_us_median": rt["median"] / 1e3, "roundtrip_us_p99": rt["p99"] / 1e3,
-                        "startup_s": ls["startup_s"], "wall_s": m["wall_s"], "log_complete": m["log_complete"],
-                        "fsw_step_ns_median": m["timing"]["step_ns_median"]})
+            for v in variants:
+                run_dir = Path(d) / f"{v}{i}"
+                res = execute(RunOptions(scenario=scenario, out=str(run_dir), plots=False, quiet=True,
+                                         duration=duration, telemetry_decimate=100, **VARIANTS[v]))
+                m = res.metrics
+                ls = m["lockstep"]
+                rt = ls["roundtrip_ns"]
+                steps = m["timing"]["steps"]
+                cpu = _plant_summary(run_dir).get("loop_cpu_s")
+                out[v].append({"realtime_factor": ls["realtime_factor"], "loop_s": ls["loop_s"],
+                               "step_us": ls["loop_s"] / steps * 1e6,
+                               "plant_cpu_step_us": cpu / steps * 1e6 if cpu is not None else None,
+                               "roundtrip_us_median": rt["median"] / 1e3, "roundtrip_us_p99": rt["p99"] / 1e3,
+                               "startup_s": ls["startup_s"], "wall_s": m["wall_s"],
+                               "log_complete": m["log_complete"], "fsw_step_ns_median": m["timing"]["step_ns_median"]})
+                shutil.rmtree(run_dir, ignore_errors=True)
     return out
+
+
+#: the direct loop's parts (plant_node._Loop.run_lockstep's callees) -> what they are, for the breakdown
+PARTS = {"publish": "transport: sensors_t to the node in process (ctypes, C decode, executive step, encode), "
+                    "both messages logged, reply unpacked",
+         "sensors": "plant sensing + sensors_t packing", "truth": "truth_t of the tick, packed and logged",
+         "advance": "plant: integrate one period", "apply": "plant: apply the command (actuator models)",
+         "command": "actuator_cmd_t values -> Command", "_check_end": "integration-error check (step doubling)",
+         "begin": "integration-error check: state kept",
+         "handle_timeout": "waiting for fsw_node's reply (the LCM round trip: its receive, decode, step, "
+                           "encode, send, and the plant's socket read and dispatch)"}
+
+
+def profile_loop(scenario: str, duration: float | None, transport: str) -> list[tuple[str, float]]:
+    """cProfile of one run's plant process (plant_node in this process) over `transport`: each part of the
+    lockstep loop's per-period time as a fraction of the loop (profiling slows Python calls, not the C step
+    nor the wait: the fractions, not the times, are what it says). Over LCM fsw_node runs as its own process
+    and the plant publishes truth_t on the bus without recording (the runner's recorder is not there)."""
+    import contextlib  # deferred: only --profile needs these
+    import cProfile  # deferred: see above
+    import io  # deferred: see above
+    import pstats  # deferred: see above
+
+    from aocs_runner import plant_node  # deferred: see above
+    from aocs_runner.run import plan_run, plant_arguments  # deferred: see above
+
+    with tempfile.TemporaryDirectory() as d:
+        opts = RunOptions(scenario=scenario, out=str(Path(d) / "p"), plots=False, quiet=True, duration=duration,
+                          transport=transport, recorder="plant" if transport == "direct" else "builtin")
+        plan = plan_run(opts)
+        args = plant_arguments(opts, plan)
+        node = None if transport == "direct" else subprocess.Popen(
+            plan.fc_cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        prof = cProfile.Profile()
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                prof.runcall(plant_node.main, [str(a) for a in args])
+        finally:
+            if node is not None:
+                node.terminate()
+                node.wait(10)
+    st = pstats.Stats(prof).stats
+    loop = next(k for k in st if k[2] == "run_lockstep")
+    total = st[loop][3]
+    parts = [(name, edge[3] / total) for (f, ln, name), (cc, nc, tt, ct, callers) in st.items()
+             for caller, edge in callers.items() if caller == loop and edge[3] / total >= 0.005]
+    parts.sort(key=lambda p: -p[1])
+    parts.append(("run_lockstep itself", st[loop][2] / total))
+    return parts
+
+
+def _median(runs: list[dict]) -> dict:
+    return {k: statistics.median(r[k] for r in runs) for k in runs[0] if k != "log_complete"}
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m aocs.bench_sil", description=__doc__.splitlines()[0])
     p.add_argument("--scenario", default="irassi_large")
-    p.add_argument("--runs", type=int, default=3, help="lockstep runs (the median is reported)")
+    p.add_argument("--runs", type=int, default=3, help="lockstep runs of each transport (the median is reported)")
+    p.add_argument("--duration", type=float, default=None, help="run length, s (default the scenario's)")
     p.add_argument("--json", help="also write the figures here")
+    p.add_argument("--profile", action="store_true",
+                   help="only the breakdown of the loop over LCM and direct (cProfile of the plant process)")
     args = p.parse_args(argv)
 
     netns.reexec_in_netns([sys.executable, "-m", "aocs.bench_sil", *(sys.argv[1:] if argv is None else argv)])
 
-    sc = load(args.scenario)
+    sc = load(args.scenario, None if args.duration is None else {"duration_s": args.duration,
+                                                                "metrics.window_s": args.duration})
     print(f"SIL lockstep benchmark: {sc.id}, {sc.n_steps} steps of {sc.dt:g} s "
-          f"({sc.duration_s:g} s simulated), {args.runs} runs", flush=True)
-    runs = bench_lockstep(args.scenario, args.runs)
-    runs_lib = bench_lockstep(args.scenario, args.runs, lcm_lib=True)
+          f"({sc.duration_s:g} s simulated), {args.runs} runs of each transport, interleaved "
+          f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)", flush=True)
+    if args.profile:
+        for transport in ("lcm", "direct"):
+            print(f"{transport} loop, share of the loop's profiled time per part (cProfile of the plant process):")
+            for name, share in profile_loop(args.scenario, args.duration, transport):
+                what = PARTS.get(name, "")
+                if transport == "lcm" and name == "publish":
+                    what = "sensors_t sent on the udpm socket"
+                print(f"  {100 * share:5.1f} %  {name}: {what}")
+        return 0
+    flown = bench_lockstep(args.scenario, args.runs, duration=args.duration)
+    runs, runs_lib, runs_dir = flown["lcm"], flown["lcm_lib"], flown["direct"]
     transport = bench_transport(sc, sc.n_steps)
     plant = bench_in_process(sc, max(3, args.runs))
-    med = {k: statistics.median(r[k] for r in runs) for k in runs[0] if k != "log_complete"}
-    med_lib = {k: statistics.median(r[k] for r in runs_lib) for k in runs_lib[0] if k != "log_complete"}
+    med, med_lib, med_dir = _median(runs), _median(runs_lib), _median(runs_dir)
     rows = [
         ("lockstep run, real-time factor (median)", f"{med['realtime_factor']:.0f}x  (runs: "
-         + ", ".join(f"{r['realtime_factor']:.0f}x" for r in runs) + "; target > 1000x)"),
-        ("  control loop", f"{med['loop_s']:.3f} s, {med['step_us']:.1f} us per step"),
+         + ", ".join(f"{r['realtime_factor']:.0f}x" for r in runs) + "; target >= 2000x)"),
+        ("  control loop", f"{med['loop_s']:.3f} s, {med['step_us']:.1f} us per step, plant process CPU "
+         f"{med['plant_cpu_step_us']:.1f} us per step"),
         ("  per-step round trip (plant view)", f"median {med['roundtrip_us_median']:.1f} us, "
          f"p99 {med['roundtrip_us_p99']:.1f} us"),
         ("  startup (process start to first step)", f"{med['startup_s']:.2f} s"),
@@ -148,8 +238,15 @@ def main(argv=None) -> int:
          f"{med_lib['roundtrip_us_median']:.1f} us"),
         ("bare transport ping-pong (Python <-> fsw_node)", f"median {transport['roundtrip_us_median']:.1f} us, "
          f"p99 {transport['roundtrip_us_p99']:.1f} us, {transport['step_us']:.1f} us per step"),
+        ("direct (--transport direct), real-time factor", f"{med_dir['realtime_factor']:.0f}x  (runs: "
+         + ", ".join(f"{r['realtime_factor']:.0f}x" for r in runs_dir) + "; target >= 20,000x)"),
+        ("  control loop", f"{med_dir['loop_s']:.3f} s, {med_dir['step_us']:.1f} us per step, process CPU "
+         f"{med_dir['plant_cpu_step_us']:.1f} us per step (flight software included)"),
+        ("  log complete", ", ".join(str(r["log_complete"]) for r in runs_dir)),
         ("plant in process, no LCM", f"{plant['step_us']:.1f} us per step, {plant['realtime_factor']:.0f}x real time"),
         ("ratio lockstep / in-process per step", f"{med['step_us'] / plant['step_us']:.1f}"),
+        ("ratio direct / in-process per step", f"{med_dir['step_us'] / plant['step_us']:.1f}"),
+        ("direct speed-up over lockstep LCM", f"{med_dir['realtime_factor'] / med['realtime_factor']:.1f}x"),
     ]
     w = max(len(k) for k, _ in rows)
     for k, v in rows:
@@ -157,6 +254,7 @@ def main(argv=None) -> int:
     if args.json:
         Path(args.json).write_text(json.dumps({"scenario": sc.id, "lockstep_runs": runs, "lockstep_median": med,
                                                "lockstep_lcm_lib_runs": runs_lib,
+                                               "direct_runs": runs_dir, "direct_median": med_dir,
                                                "transport": transport, "in_process": plant}, indent=1) + "\n")
     return 0
 

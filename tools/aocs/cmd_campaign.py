@@ -44,6 +44,13 @@ def add_arguments(p) -> None:
                         "KEY[i] one element (repeatable; docs/campaigns.md)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="scenario override for every run, as aocs run --set (repeatable)")
+    p.add_argument("--transport", default="lcm", metavar="lcm|direct",
+                   help="lcm (default): each run's fsw_node over LCM; direct: the same node logic in the plant's "
+                        "process (docs/sil.md Transports), and every --refly-every-th run flown again over LCM: "
+                        "its command history must be the same bit for bit, or the run is an error")
+    p.add_argument("--refly-every", type=int, default=P.REFLY_EVERY, metavar="N",
+                   help=f"--transport direct: re-fly runs 0, N, 2N, ... over LCM and compare (default "
+                        f"{P.REFLY_EVERY}; 0: none)")
     p.add_argument("--workers", type=int, help="local Dask worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, tcp://HOST:PORT")
     p.add_argument("--out", help="campaign folder (default out/campaign-<scenario>-<law>-s<seed>); rerunning "
@@ -74,7 +81,8 @@ def _campaign(args) -> P.Campaign:
         raise P.CampaignError("--seed: missing (or campaign.seed in a campaign file)")
     law = args.law or sec.get("law")
     return P.Campaign(scenario, law, int(runs), int(seed), list(sec.get("set", [])) + list(args.set),
-                      list(sec.get("disperse", [])) + list(args.disperse))
+                      list(sec.get("disperse", [])) + list(args.disperse), transport=args.transport,
+                      refly_every=args.refly_every)
 
 
 def _commit() -> str | None:
@@ -145,6 +153,12 @@ def run(args) -> int:
         print(f"aocs campaign: INCOMPLETE: {doc['rows']} of {c.runs} runs recorded; the same command resumes",
               file=sys.stderr)
         return EXIT_INTERRUPTED if outcome.interrupted else EXIT_FAILED
+    refly = doc.get("refly") or {}
+    if refly.get("differ"):
+        print(f"aocs campaign: FAILED: the LCM re-flight of run(s) {', '.join(map(str, refly['differ']))} differs "
+              f"from the direct run (the two transports must fly the same commands; rows in {out}/runs/)",
+              file=sys.stderr)
+        return EXIT_FAILED
     bad = doc["status"]["failed"] + doc["status"]["error"]
     if bad:
         print(f"aocs campaign: FAILED: {bad} of {c.runs} runs did not pass (listed in {out}/report.md, logs in "
@@ -164,4 +178,8 @@ def _print_summary(doc: dict, out: Path) -> None:
         w = r["wilson95"]
         print(f"  {r['what']}: {r['passed']}/{r['n']}" + (f" = {r['fraction']:.4f}, 95 % Wilson [{w[0]:.4f}, "
                                                           f"{w[1]:.4f}]" if w else ""))
+    refly = doc.get("refly")
+    if refly:
+        print(f"  transport {doc.get('transport')}: {refly['identical']} of {refly['sampled']} LCM re-flights "
+              f"bit-identical" + (f"; DIFFERENT: runs {refly['differ']}" if refly["differ"] else ""))
     print(f"  results.parquet, results.csv, campaign.json, report.md and plots in {out}/")

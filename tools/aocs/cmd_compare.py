@@ -30,6 +30,9 @@ def add_arguments(p) -> None:
                         "eigenaxis bang-bang bound and settle / bound per law")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="scenario override for every run (repeatable)")
+    p.add_argument("--transport", default="lcm", metavar="lcm|direct",
+                   help="lcm (default): fsw_node as its own process over LCM; direct: the same node logic loaded into "
+                        "the plant's process (lockstep, bit-identical commands, docs/sil.md Transports)")
     p.add_argument("--json", help="also write the list of metrics here")
     p.add_argument("--out", help="output folder (default out/compare/<scenario>)")
     p.add_argument("--html", metavar="FILE", help="also write the comparison's interactive report here (one "
@@ -85,7 +88,7 @@ def run(args) -> int:
     try:
         res = compare(args.scenario, out=out, laws=args.laws, limit=args.limit, duration=args.duration,
                       guidance=args.guidance, sets=args.set, run_plots=args.run_plots, quiet=args.quiet,
-                      telemetry_decimate=args.telemetry_decimate, html=args.html)
+                      telemetry_decimate=args.telemetry_decimate, html=args.html, transport=args.transport)
     except AocsError as exc:
         print(exc.line("compare"), file=sys.stderr)
         return exc.exit_code

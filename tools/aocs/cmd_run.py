@@ -33,6 +33,9 @@ def add_arguments(p) -> None:
                    help="per-axis actuator limit (N m, or N for orbit), plant and flight software")
     p.add_argument("--target", choices=TARGETS, default="host",
                    help="flight computer: host fsw_node, or processor in the loop (QEMU)")
+    p.add_argument("--transport", default="lcm", metavar="lcm|direct",
+                   help="lcm (default): fsw_node as its own process over LCM; direct: the same node logic loaded into "
+                        "the plant's process (lockstep, bit-identical commands, docs/sil.md Transports)")
     p.add_argument("--seed", type=int, help="seed of the plant's random streams")
     p.add_argument("--guidance", metavar="MODE",
                    help="flight software guidance: step (the target at once) or slew (rest-to-rest eigenaxis "
@@ -66,6 +69,7 @@ def add_arguments(p) -> None:
 def options_from_args(args) -> RunOptions:
     return RunOptions(scenario=args.scenario, law=args.law, duration=args.duration, realtime=args.realtime,
                       out=args.out, json_path=args.json, limit=args.limit, target=args.target, seed=args.seed,
+                      transport=args.transport,
                       guidance=args.guidance,
                       sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,

@@ -50,7 +50,7 @@ class CompareResult:
 
 def compare(scenario, *, laws: str = "all", overrides: dict | None = None, sets=(), limit: float | None = None,
             duration: float | None = None, guidance: str | None = None, out=None, telemetry_decimate: int = 1,
-            html=None, run_plots: bool = False, quiet: bool = True) -> CompareResult:
+            html=None, run_plots: bool = False, quiet: bool = True, transport: str = "lcm") -> CompareResult:
     """`aocs compare`: one lockstep SIL run per applicable law (laws: "all" or "quat_pd,smc")."""
     check_output_file("--html", html)
     try:
@@ -62,7 +62,7 @@ def compare(scenario, *, laws: str = "all", overrides: dict | None = None, sets=
         folder.mkdir(parents=True, exist_ok=True)
         sc, rows, _ = in_private_netns(lambda: compare_runs(
             name, folder, laws=laws, limit=limit, duration=duration, guidance=guidance, sets=s, run_plots=run_plots,
-            quiet=quiet, telemetry_decimate=telemetry_decimate))
+            quiet=quiet, telemetry_decimate=telemetry_decimate, transport=transport))
     except BAD_INPUT as exc:
         raise usage(exc) from None
     except orchestrate.RunAborted as exc:

@@ -222,7 +222,8 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
         if s is None:
             return False
         f = client.submit(W.run_task, s.to_dict(), str(runs_dir(out) / f"{s.index:06d}"), keep_logs,
-                          timeout_s, key=f"aocs-run-{fingerprint}-{s.index}", pure=False)
+                          timeout_s, transport=c.transport, refly=c.refly(s.index),
+                          key=f"aocs-run-{fingerprint}-{s.index}", pure=False)
         inflight[f] = s
         ac.add(f)
         return True
@@ -236,7 +237,7 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
             row = {"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
                    "error": f"crashed: the run ended its worker process {ALLOWED_FAILURES + 1} times "
                             f"({type(exc).__name__}: {exc})", "wall_s": None, "worker_pid": None}
-        record(out, s, row)
+        record(out, s, row, c.transport)
         finished += 1
         if bar is not None:
             bar.update(1)
@@ -310,12 +311,13 @@ def _close(client, cluster) -> None:
             pass
 
 
-def record(out: Path, spec: P.RunSpec, row: dict) -> None:
-    """The row of one finished run, with its inputs and the command that repeats it."""
+def record(out: Path, spec: P.RunSpec, row: dict, transport: str = "lcm") -> None:
+    """The row of one finished run, with its inputs, its transport and the command that repeats it."""
     row = dict(row)
     row["inputs"] = spec.inputs
     row["overrides"] = spec.overrides
-    row["repeat_command"] = P.repeat_command(spec, f"run-{spec.index:06d}.json")
+    row["transport"] = transport
+    row["repeat_command"] = P.repeat_command(spec, f"run-{spec.index:06d}.json", transport)
     _write_atomic(row_path(out, spec.index), json.dumps(row) + "\n")
 
 

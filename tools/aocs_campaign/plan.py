@@ -29,11 +29,15 @@ from pathlib import Path
 
 from aocs_plant import scenario as scmod
 from aocs_runner import scenario_opts
+from aocs_runner.transport import check_transport
 
 from . import dispersions as D
 
 #: most runs of one campaign (a campaign folder holds one result file per run)
 RUNS_MAX = 1_000_000
+#: --transport direct: run i is flown again over LCM when i % REFLY_EVERY == 0 (run 0 always), and the two
+#: command histories must be the same bit for bit (worker.run_task; docs/campaigns.md)
+REFLY_EVERY = 50
 CAMPAIGN_KEYS = ("scenario", "law", "runs", "seed", "set", "disperse")
 
 
@@ -49,6 +53,14 @@ class Campaign:
     seed: int
     sets: list = field(default_factory=list)
     disperse: list = field(default_factory=list)
+    #: lcm | direct (aocs_runner.transport); not part of the identity: both fly the same rows
+    transport: str = "lcm"
+    #: direct: every how many runs one is re-flown over LCM (0: none)
+    refly_every: int = REFLY_EVERY
+
+    def refly(self, index: int) -> bool:
+        """Whether run index is re-flown over LCM and compared (a direct campaign's sample)."""
+        return self.transport == "direct" and self.refly_every > 0 and index % self.refly_every == 0
 
     def identity(self) -> dict:
         """What defines the campaign's rows, recorded in its folder (campaign-plan.json): the scenario file and
@@ -122,6 +134,9 @@ def check(c: Campaign) -> list[D.Dispersion]:
         raise CampaignError(f"--runs {c.runs}: must be in [1, {RUNS_MAX}]")
     if c.seed < 0:
         raise CampaignError(f"--seed {c.seed}: must be >= 0")
+    check_transport(c.transport)
+    if isinstance(c.refly_every, bool) or not isinstance(c.refly_every, int) or c.refly_every < 0:
+        raise CampaignError(f"--refly-every {c.refly_every}: must be a whole number >= 0 (0: no LCM re-flight)")
     disps = D.parse_all(c.disperse)
     base = scenario_opts.parse_sets(c.sets)
     for d in disps:
@@ -158,12 +173,14 @@ def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:
     return list(iter_plan(c, disps, indices))
 
 
-def repeat_command(spec: RunSpec, json_path: str = "run.json") -> str:
+def repeat_command(spec: RunSpec, json_path: str = "run.json", transport: str = "lcm") -> str:
     """The `aocs run` command that repeats this run alone (same metrics JSON, bit for bit)."""
     words = ["aocs", "run", spec.scenario]
     if spec.law:
         words += ["--law", spec.law]
     words += scenario_opts.to_args(spec.overrides)
+    if transport != "lcm":
+        words += ["--transport", transport]
     words += ["--recorder", "plant", "--json", json_path, "--no-plots", "-q"]   # the campaign's recorder (worker.py)
     return shlex.join(words)
 

@@ -137,6 +137,8 @@ def build(out: Path, campaign, rows: list[dict], *, outcome=None, command: str |
                      "seed": campaign.seed, "sets": list(campaign.sets), "disperse": list(campaign.disperse),
                      "command": command, "commit": commit, "created": time.strftime("%Y-%m-%dT%H:%M:%S")},
         "rows": len(rows), "status": counts,
+        "transport": getattr(campaign, "transport", "lcm"),
+        "refly": refly_summary(rows),
         "complete": len(rows) == campaign.runs,
         "throughput": None if outcome is None else {
             "runs_this_call": outcome.finished, "wall_s": outcome.wall_s, "workers": outcome.workers,
@@ -154,6 +156,16 @@ def build(out: Path, campaign, rows: list[dict], *, outcome=None, command: str |
     (out / "campaign.json").write_text(json.dumps(doc, indent=1) + "\n")
     (out / "report.md").write_text(report_md(doc, sc))
     return doc
+
+
+def refly_summary(rows: list[dict]) -> dict | None:
+    """A direct campaign's LCM re-flights (worker.run_task): how many, how many identical, the runs that
+    differ; None when no row was re-flown."""
+    flown = [r for r in rows if r.get("refly")]
+    if not flown:
+        return None
+    return {"sampled": len(flown), "identical": sum(1 for r in flown if r["refly"]["identical"]),
+            "differ": [r["index"] for r in flown if not r["refly"]["identical"]]}
 
 
 def _sets(campaign) -> dict:

@@ -18,6 +18,7 @@ root, or a worker started under `unshare --user --map-root-user`
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import shutil
 import threading
@@ -134,9 +135,23 @@ class _Watchdog:
 PLANT_SERVER = PlantServer()
 
 
+def _refly_lcm(opts: RunOptions, out: Path) -> dict:
+    """--transport direct, a sampled run: the same run again over LCM (plant_node + fsw_node) in out/lcm, its
+    command history compared bit for bit with the direct run's (aocs_loop.history.differences)."""
+    from aocs_loop import history  # deferred: only a sampled run compares logs
+    from aocs_wire import lcmlog  # deferred: see above
+
+    lcm_out = out / "lcm"
+    execute(dataclasses.replace(opts, out=str(lcm_out), transport="lcm"))
+    diff = history.differences(lcmlog.read(out / "run.lcmlog"), lcmlog.read(lcm_out / "run.lcmlog"))
+    return {"transport": "lcm", "identical": not diff, "differences": diff[:10]}
+
+
 def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float | None = None,
-             fork: bool = True) -> dict:
-    """Fly one run (spec: plan.RunSpec.to_dict()); the result row (never raises for the run itself)."""
+             fork: bool = True, transport: str = "lcm", refly: bool = False) -> dict:
+    """Fly one run (spec: plan.RunSpec.to_dict()); the result row (never raises for the run itself).
+    transport: lcm or direct (aocs_runner.transport); refly (direct): fly it again over LCM and compare the
+    command histories: a difference makes the row an error naming it."""
     t0 = time.monotonic()
     row = {"index": spec["index"], "status": STATUS_ERROR, "error": None, "metrics": None, "series": None,
            "worker_pid": os.getpid(), "run_dir": run_dir}
@@ -151,7 +166,7 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
         # the plant records the bus, its truth in the log only (aocs_runner.plant_node --log): no recorder
         # thread in this worker, ~0.3 s less CPU per 500 s run
         opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
-                          quiet=True, reply_timeout=REPLY_TIMEOUT_S, recorder="plant",
+                          quiet=True, reply_timeout=REPLY_TIMEOUT_S, recorder="plant", transport=transport,
                           plant_launcher=PLANT_SERVER.launch if fork else None)
         with _Watchdog(timeout_s) as wd:
             try:
@@ -162,6 +177,8 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
                 raise
             if wd.fired:   # fired before the run had a process to kill (a tiny --timeout): still over time
                 raise RunFailed(f"timed out after {timeout_s:g} s (the run took {time.monotonic() - t0:.3g} s)")
+            if refly:
+                row["refly"] = _refly_lcm(opts, out)
         m = res.metrics
         row["metrics"] = m
         row["series"] = _decimate(res.series)
@@ -170,6 +187,9 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
             from aocs_analysis import verdict  # deferred: only a failed verdict needs its summary
 
             row["error"] = verdict.summary(m["verdict"])
+        if refly and not row["refly"]["identical"]:
+            row["status"] = STATUS_ERROR
+            row["error"] = ("the LCM re-flight differs from the direct run: " + "; ".join(row["refly"]["differences"]))
     except (ScenarioError, ValueError, fsw_config.ConfigError, evmod.EventError, paths.SetupError,
             netns.NetnsError) as exc:
         row["error"] = f"refused: {exc}"

@@ -32,6 +32,7 @@ from aocs_report import markdown
 from aocs_report.document import Column, Document, Figure, Paragraph, Section, Table
 from aocs_runner import scenario_opts
 from aocs_runner.run import RunFailed, RunOptions, execute, planned_record
+from aocs_runner.transport import check_transport
 from aocs_wire import lcmlog
 
 REPO = Path(__file__).resolve().parents[2]
@@ -101,7 +102,7 @@ def curves_from_log(log_path: Path, kind: str, dt: float) -> dict:
 
 def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, limit=None, duration=None,
              sets=(), run_plots=False, quiet=False, tag="", guidance=None, progress=None,
-             reuse=False, telemetry_decimate: int = 1) -> list[Row]:
+             reuse=False, telemetry_decimate: int = 1, transport: str = "lcm") -> list[Row]:
     """One SIL run per row (must be called inside the private network namespace).
     progress: called with the row name before each run (instead of the 'compare:' line).
     reuse: a row whose folder already holds a passed run of the same configuration (run.json's
@@ -136,7 +137,7 @@ def run_rows(scenario: str, rows: list[tuple[str, str | None]], out: Path, *, li
             res = execute(RunOptions(scenario=scenario, law=None if law == "none" else law, limit=limit,
                                      duration=duration, sets=s, out=str(row.out_dir), label=table,
                                      plots=run_plots, quiet=True, guidance=guidance,
-                                     telemetry_decimate=telemetry_decimate))
+                                     telemetry_decimate=telemetry_decimate, transport=transport))
             row.metrics = res.metrics
             row.curves = curves_from_log(row.out_dir / "run.lcmlog", sc.kind, sc.dt)
             if not res.metrics["verdict"]["passed"]:  # the run ended, but did not do what was asked
@@ -448,11 +449,14 @@ def columns_explained(sc) -> str:
 
 
 def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, sets=(), run_plots=False,
-            quiet=False, guidance=None, telemetry_decimate: int = 1) -> tuple[object, list[Row], list[Path]]:
+            quiet=False, guidance=None, telemetry_decimate: int = 1,
+            transport: str = "lcm") -> tuple[object, list[Row], list[Path]]:
     ov = scenario_opts.overrides(sets, None, None, limit, guidance)  # duration: per run (cmd_run adapts the window)
+    check_transport(transport)
     sc = load(scenario, ov)
     rows = run_rows(scenario, variants(sc, laws), out, limit=limit, duration=duration, sets=sets,
-                    run_plots=run_plots, quiet=quiet, guidance=guidance, telemetry_decimate=telemetry_decimate)
+                    run_plots=run_plots, quiet=quiet, guidance=guidance, telemetry_decimate=telemetry_decimate,
+                    transport=transport)
     plots = overlay_plots(rows, out, sc.id + ("" if limit is None else f", limit {limit:g}"), sc.kind,
                           norm_bounds=known_norm_bounds(sc, rows), settle=settle_line(sc),
                           requirement=sc.metrics.requirement_arcsec if sc.kind == "attitude" else None,
@@ -461,7 +465,7 @@ def compare(scenario: str, out: Path, *, laws="all", limit=None, duration=None, 
           for r in rows]
     (out / "compare.json").write_text(json.dumps(ms, indent=1) + "\n")
     plan = {"scenario": scenario, "laws": laws, "limit": limit, "duration": duration, "sets": list(sets),
-            "guidance": guidance, "rows": [{"row": r.name, "law": r.law, "table": r.table} for r in rows]}
+            "guidance": guidance, "transport": transport, "rows": [{"row": r.name, "law": r.law, "table": r.table} for r in rows]}
     (out / PLAN_FILE).write_text(json.dumps(plan, indent=1) + "\n")
     (out / "report.md").write_text(report_md(sc, rows, plots, limit, duration, bound=guidance == "slew"))
     return sc, rows, plots
