@@ -378,6 +378,11 @@ def plant_arguments(opts: RunOptions, plan: RunPlan) -> list[str]:
 def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
     """The processes to start for the plan (flight.py), announced on stderr."""
     env = paths.python_env()
+    if netns.in_netns():
+        # the children check that they run in one of our namespaces by this variable: it names the namespace of
+        # the thread that starts them (another thread of this process may have entered a fresh one since, and
+        # the process-wide variable names only the last: the API's run thread, a campaign worker's runs)
+        env[netns.ENV_VAR] = netns.current_netns_id()
     if plan.pil_root is not None:
         env["AOCS_PIL_BUILD_ROOT"] = str(plan.pil_root)
     sc = plan.sc
