@@ -213,7 +213,9 @@ def run(args) -> int:
     signal.signal(signal.SIGINT, _on_signal)
     try:
         sc = load(args.scenario, parse_sets(args.set))
-        evs = evmod.schedule(evmod.parse_all(args.event), sc.dt, sc.n_steps, args.start_tick)
+        # the --event commands and faults, and the observation plan's targets (events.plan_events)
+        evs = evmod.schedule(sorted(evmod.parse_all(args.event) + evmod.plan_events(sc), key=lambda e: e.t),
+                             sc.dt, sc.n_steps, args.start_tick)
     except (ScenarioError, evmod.EventError, ValueError) as exc:
         print(f"plant_node: {exc}", file=sys.stderr)
         return EXIT_ARGS
@@ -261,12 +263,26 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "wake_jitter_ns_max": loop.jitter_max_ns,
         "handle_calls": loop.handle_calls,
         "integration_error": check.summary(),
+        # the unloading actuators' own integrals at the end (run JSON momentum.unloading.plant)
+        "unloading_actuators": _unloading_totals(plant),
         # what the direct udpm reader dropped (fragments beyond its bounds, garbage): udpm.Udpm.counters
         "udpm": getattr(link.lc, "counters", None),
     }
     print(json.dumps({"plant_node": summary}), flush=True)
     link.record_until_end_marker(args.done_file)
     return code
+
+
+#: the plant's effector truth fields reported in the summary (the unloading actuators' integrals)
+_UNLOADING_TOTALS = ("thrusters.propellant_kg", "thrusters.pulses", "magnetorquers.dipole_s_am2s")
+
+
+def _unloading_totals(plant) -> dict | None:
+    """The thrusters' propellant and pulses and the magnetorquers' dipole integral at the end, None without them."""
+    if not ({"thruster_on_s", "u_dipole_am2"} & set(getattr(plant, "command_fields", {}))):
+        return None
+    tr = plant.effector_truth()
+    return {k: (list(tr[k]) if isinstance(tr[k], tuple) else tr[k]) for k in _UNLOADING_TOTALS if k in tr}
 
 
 class _Loop:
@@ -308,7 +324,7 @@ class _Loop:
                             if self.wheels is None and self.gyro is None else None)
         if self.attitude:
             self.qd0 = sc.target.qd0
-            self.fixed_target = not any(sc.target.wd)
+            self.fixed_target = not any(sc.target.wd) and sc.plan is None
 
     # -------------------------------------------------------------- messages
     def truth(self, tick):
