@@ -315,6 +315,7 @@ class _Loop:
         self.nw = self.wheels.n if self.wheels is not None else 0
         self.wmax = link.t.sensors_t.MAX_WHEELS
         self.progress_every = max(1, sc.n_steps // 10)
+        self.t_loop0 = time.perf_counter()   # the progress lines' elapsed wall time and ETA
         self._zero_wheel_truth = (0,) + (0.0,) * (3 * self.wmax) + (0,) + (0.0,) * 6
         # what an attitude estimate is judged against (truth_t, protocol version 3): the gyro's true bias, from
         # its truth fields (Plant.truth()["sensors"]["gyro.bias_rad_s"]); zero without a gyro
@@ -425,8 +426,11 @@ class _Loop:
             if flush_log is not None:
                 flush_log()   # what a progress line reports is in the log
             n = self.sc.n_steps
-            print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s",
-                  file=sys.stderr, flush=True)
+            # elapsed wall time and the rest at this pace (a day-long run's ETA)
+            wall = time.perf_counter() - self.t_loop0
+            eta = wall * (n - k - 1) / (k + 1)
+            print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s, "
+                  f"wall {wall:.1f} s, ETA {eta:.1f} s", file=sys.stderr, flush=True)
 
     # -------------------------------------------------------------- lockstep
     def run_lockstep(self):

@@ -111,3 +111,26 @@ def test_momentum_section_maxima_in_and_out_of_holds():
     assert (m["max_nms"], m["final_nms"], m["max_in_holds_nms"]) == (9.0, 2.5, 4.0)
     assert m["capacity_nms"] == [48.0] * 4 and m["policy"] == "thrusters"
     assert momentum.metrics(log, load("irassi_large"), {}, None) is None
+
+
+def test_the_day_timeline_is_drawn_at_150_dpi_or_more(tmp_path):
+    from PIL import Image
+
+    from aocs_analysis import day_timeline
+    sc = _sc()
+    t = np.round(np.arange(0, 701) * 0.1, 10)
+    ang = _angles(t)
+    hs = holds.metrics(sc, {"t": t, "true_angle": ang}, ang < 10.0)
+    speed = np.stack([100 + t, -100 - t, 50 + 0 * t, -50 + 0 * t], axis=1)
+    series = {"t": t, "true_angle": ang, "t_cmd": t[:-1], "mode": np.ones(700, int),
+              "wheels": {"t": t, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
+                         "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
+              "unloading": {"t": t[:-1], "flag": (t[:-1] > 20) & (t[:-1] < 30), "cumulative": np.cumsum(t[:-1]),
+                            "cumulative_label": "propellant used (kg)"}}
+    metrics = {"holds": hs, "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0,
+                                         "capacity_nms": [48.0] * 4},
+               "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
+    assert day_timeline.applies(metrics) and not day_timeline.applies({"holds": None, "momentum": None})
+    p = day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
+    with Image.open(p) as im:
+        assert im.info["dpi"][0] >= 150 and im.size[0] >= 1500
