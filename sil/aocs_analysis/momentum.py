@@ -41,11 +41,13 @@ def metrics(log, scenario, wheel_series: dict, plant: dict | None = None, hold_w
             mask |= (t >= a) & (t < b)
         in_holds = _f(h[mask].max()) if mask.any() else None
     mom = scenario.momentum
+    threshold = mom.policy != "none" and mom.trigger == "threshold"   # the thresholds mean something
     out = {"max_nms": _f(h.max()) if h.size else None, "final_nms": _f(h[-1]) if h.size else None,
            "max_in_holds_nms": in_holds,
            "capacity_nms": [float(c) for c in w.momentum_capacity_nms()],
-           "policy": mom.policy, "h_start_nms": mom.h_start_nms if mom.policy != "none" else None,
-           "h_stop_nms": mom.h_stop_nms if mom.policy != "none" else None,
+           "policy": mom.policy, "trigger": mom.trigger if mom.policy != "none" else None,
+           "h_start_nms": mom.h_start_nms if threshold else None,
+           "h_stop_nms": mom.h_stop_nms if threshold else None,
            "unloading": unloading(log, scenario, plant)}
     return out
 

@@ -109,7 +109,11 @@ def test_momentum_section_maxima_in_and_out_of_holds():
     log = _log(np.zeros((6, 12)), np.zeros((6, 3)), [0] * 6, [0] * 6, sc.dt)
     m = momentum.metrics(log, sc, series, None, hold_windows=((2.0, 4.0), (5.0, 9.0)))
     assert (m["max_nms"], m["final_nms"], m["max_in_holds_nms"]) == (9.0, 2.5, 4.0)
-    assert m["capacity_nms"] == [48.0] * 4 and m["policy"] == "thrusters"
+    assert m["capacity_nms"] == [48.0] * 4 and m["policy"] == "thrusters" and m["trigger"] == "threshold"
+    assert (m["h_start_nms"], m["h_stop_nms"]) == (20.0, 3.0)
+    leo = momentum.metrics(log, load("leo_day", {"duration_s": 6.0, "metrics.window_s": 1.0}),
+                           {**series, "h_wheels_norm": series["h_wheels_norm"] * 1e-3}, None)
+    assert leo["trigger"] == "continuous" and leo["h_start_nms"] is None and leo["capacity_nms"] == [6e-3] * 4
     assert momentum.metrics(log, load("irassi_large"), {}, None) is None
 
 
