@@ -18,10 +18,11 @@ from aocs_core import paths, registry
 from aocs_core.conventions import quat_from_rotvec_rows as quat_from_rotvec
 from aocs_core.limits import UNLIMITED
 from aocs_core.modes import mode_value
+from aocs_core.ticks import first_tick
 
 from . import estimation as E
+from . import holds, momentum, wheels
 from . import metrics as M
-from . import wheels
 from .gain_tables import designed_gamma
 from .slew_bound import scenario_slew_bound_s
 
@@ -30,14 +31,27 @@ RAD2AS = M.ARCSEC_PER_RAD
 
 # --------------------------------------------------------------------------- attitude helpers
 def target_quat(scenario, t: np.ndarray) -> np.ndarray:
-    """qd(t) = dq(wd t) (x) qd0 (docs/scenarios.md [target]), (n, 4)."""
+    """qd(t) = dq(wd t) (x) qd0 (docs/scenarios.md [target]), (n, 4); with an observation plan ([[plan]]) the
+    target of the observation commanded at t."""
+    t = np.asarray(t, float)
+    plan = getattr(scenario, "plan", None)
+    if plan is not None:
+        qds = np.array([ob.qd for ob in plan.observations], float)
+        return qds[plan_index(plan, t, scenario.dt)]
     qd0 = np.asarray(scenario.target.qd0, float)
     wd = np.asarray(scenario.target.wd, float)
-    t = np.asarray(t, float)
     if not np.any(wd):
         return np.broadcast_to(qd0, (t.size, 4)).copy()
     dq = quat_from_rotvec(t[:, None] * wd[None, :])
     return M.quat_mul(dq, np.broadcast_to(qd0, dq.shape))
+
+
+def plan_index(plan, t: np.ndarray, dt: float) -> np.ndarray:
+    """The observation commanded at each time t (ObservationPlan.index_at, vectorised): its command acts from
+    the first tick with t_k >= T_i."""
+    first = np.array([first_tick(T, dt) for T in plan.command_times_s])
+    k = np.rint(np.asarray(t, float) / dt).astype(np.int64)
+    return np.maximum(np.searchsorted(first, k, side="right") - 1, 0)
 
 
 def dcm(q: np.ndarray) -> np.ndarray:
@@ -180,6 +194,10 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["truth_not_finite"] = (int(np.count_nonzero(~np.all(np.isfinite(np.hstack(qw)), axis=1)))
                                if qw and len(tr["t_s"]) else 0)
     out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
+    plan = getattr(sc, "plan", None)
+    out["holds"] = (holds.metrics(sc, series, series["settle_inside"]) if sc.kind == "attitude" else None)
+    out["momentum"] = momentum.metrics(log, sc, series["wheels"], plant,
+                                       plan.hold_windows_s() if plan is not None else None)
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     return out, series
@@ -255,6 +273,7 @@ def _accuracy(out: dict, series: dict, log, sc) -> None:
         s = attitude_series(sc, log)
         series.update(s)
         inside, used = settle_mask(sc, s)
+        series["settle_inside"] = inside
         out["settle_time_s"] = M.settle_time(t, inside)
         out["pointing_error_arcsec"] = {
             "initial": _f(s["true_angle"][0]),
@@ -641,6 +660,10 @@ def table_rows(m: dict) -> list[tuple[str, str]]:
     rows.append(("limit", limit_text(m)))
     if m.get("wheels"):
         rows += wheels.table_rows(m["wheels"])
+    if m.get("momentum"):
+        rows += momentum.table_rows(m["momentum"])
+    if m.get("holds") is not None:
+        rows += holds.table_rows(m["holds"], (m.get("pointing_error_arcsec") or {}).get("requirement_arcsec"))
     dv = divergence(m)
     if dv:
         rows.append(("DIVERGING", dv))

@@ -4,8 +4,11 @@
     envelope(scenario)     -> the wheel envelope along the slew's eigenaxis and its bang-bang bound
 
 Per wheel: peak |speed| against its limit, peak |motor torque| against its limit, the time its
-command sat at the torque limit and the time its motor was cut at the speed limit (truth_t
-wheel_at_limit bits, one control period each); the total momentum H = J w + sum Js g Omega (true,
+command sat at the torque limit, the time its motor was cut at the speed limit (truth_t
+wheel_at_limit bits, one control period each: time_speed_cut_s) and the time it spent at the speed limit
+(time_at_speed_limit_s: periods ending with the motor cut or the speed within SPEED_LIMIT_REL of the
+limit, where the flight software's allocation holds a saturated wheel; also as one list per wheel,
+wheels.time_at_speed_limit_s); the total momentum H = J w + sum Js g Omega (true,
 truth_t h_total: peak and final |H|), the wheels' own share |sum Js g Omega| (what they must store),
 the flight software's smallest speed margin (actuator_cmd_t wheel_speed_margin), and which wheels
 the scenario declared failed (removed from the allocation).
@@ -21,6 +24,9 @@ import math
 import numpy as np
 
 from .slew_bound import alpha_max, eigenaxis
+
+#: a wheel within this fraction of its speed limit is at the limit (time_at_speed_limit_s)
+SPEED_LIMIT_REL = 1e-6
 
 
 def _f(x):
@@ -58,6 +64,8 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
     # truth sample k reports the period before it: every sample after the first is one period
     at_t = np.array([[(b >> i) & 1 for i in range(n)] for b in bits[1:]]) if bits.size > 1 else np.zeros((0, n))
     at_s = np.array([[(b >> (8 + i)) & 1 for i in range(n)] for b in bits[1:]]) if bits.size > 1 else np.zeros((0, n))
+    wmax = np.asarray(w.speed_limit_rad_s, float)
+    at_end = np.abs(speed[1:]) >= wmax[None, :] * (1.0 - SPEED_LIMIT_REL)
     per = []
     for i in range(n):
         per.append({
@@ -67,7 +75,11 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
             "peak_motor_torque_nm": _f(np.max(np.abs(torque[:, i]))) if torque.size else None,
             "torque_limit_nm": w.torque_limit_nm[i],
             "time_at_torque_limit_s": _f(at_t[:, i].sum() * dt) if at_t.size else 0.0,
-            "time_at_speed_limit_s": _f(at_s[:, i].sum() * dt) if at_s.size else 0.0,
+            # periods that end with the wheel at its limit: the plant cut its motor, or the flight software holds
+            # it within SPEED_LIMIT_REL of the limit (its allocation scales the command down rather than cross it)
+            "time_at_speed_limit_s": _f(np.count_nonzero(at_s[:, i].astype(bool) | at_end[:, i]) * dt)
+            if at_s.size else 0.0,
+            "time_speed_cut_s": _f(at_s[:, i].sum() * dt) if at_s.size else 0.0,
         })
     tol = 1e-9
     within = all(p["peak_motor_torque_nm"] is None or p["peak_motor_torque_nm"] <= p["torque_limit_nm"] * (1 + tol)
@@ -87,6 +99,8 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
         "total_momentum_nms": {"peak": _f(Hn.max()) if Hn.size else None, "final": _f(Hn[-1]) if Hn.size else None},
         "wheel_momentum_nms": {"peak": _f(h_w.max()) if h_w.size else None, "final": _f(h_w[-1]) if h_w.size else None,
                                "capacity_per_wheel": [float(c) for c in w.momentum_capacity_nms()]},
+        # per wheel, the issue's name (the same figures as per_wheel[i]["time_at_speed_limit_s"])
+        "time_at_speed_limit_s": [p["time_at_speed_limit_s"] for p in per],
         "min_speed_margin": _f(margin.min()) if margin.size else None,
         "time_scaled_s": _f(np.count_nonzero(scale < 1.0) * dt) if scale.size else 0.0,
         "within_limits": bool(within),

@@ -98,6 +98,7 @@ class Plant:
                 self._coupled = rk4_coupled_stepper(self._f, self._effector_rhs(self._general))
             self._qd0 = sc.target.qd0
             self._wd = sc.target.wd
+            self._plan = sc.plan
         else:
             p = sc.orbit
             if p.model == "linear":
@@ -203,10 +204,13 @@ class Plant:
 
     # ------------------------------------------------------------------ target
     def target(self, t: float | None = None):
-        """(qd, wd) at t: qd(t) = dq(wd t) (x) qd0, the solution of qd' = 0.5 Xi(qd) wd."""
+        """(qd, wd) at t: qd(t) = dq(wd t) (x) qd0, the solution of qd' = 0.5 Xi(qd) wd; with an observation
+        plan, the target of the observation commanded at t (observation_plan.py)."""
         t = self.t if t is None else t
         if self.kind != "attitude":
             raise ValueError("an orbit scenario has no attitude target")
+        if self._plan is not None:
+            return self._plan.observations[self._plan.index_at(t, self.dt)].qd, (0.0, 0.0, 0.0)
         wd = self._wd
         if wd == (0.0, 0.0, 0.0):
             return self._qd0, wd

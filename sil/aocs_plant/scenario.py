@@ -36,6 +36,7 @@ from aocs_core.conventions import (
 from . import effectors, environment, sensors
 from .effectors.actuator import ActuatorConfig
 from .environment import EnvironmentConfig
+from .observation_plan import Observation, ObservationPlan
 from .orbit import MU_EARTH, mean_motion
 from .sensors import SensorsConfig
 
@@ -246,6 +247,8 @@ class Scenario:
     estimator: EstimatorConfig = EstimatorConfig()
     # [momentum]: the flight software's momentum management (none unless the scenario says)
     momentum: MomentumConfig = MomentumConfig()
+    # [[plan]]: the observation plan (None: the one [target]); observation_plan.py
+    plan: ObservationPlan | None = None
 
     @property
     def dt(self) -> float:
@@ -628,16 +631,42 @@ def _read_plant(root: _Section, kind: str):
     return att, orb
 
 
-def _read_target(root: _Section, kind: str):
+def _read_target(root: _Section, kind: str, plan: ObservationPlan | None = None):
     if kind == "orbit":
         if root.has("target"):
             root.fail("target", "an orbit scenario has no [target] (the reference point is the origin)")
         return None
+    if plan is not None:
+        if root.has("target"):
+            root.fail("target", "give the first target as the first [[plan]] entry, not also as [target]")
+        first = plan.observations[0]
+        return TargetConfig(first.qd, (0.0, 0.0, 0.0), first.target_input)
     sec = root.table("target")
     qd, src = _read_attitude_input(sec, "target attitude")
     wd = sec.vector("wd", required=False, default=(0.0, 0.0, 0.0))
     sec.done()
     return TargetConfig(qd, wd, src)
+
+
+def _read_plan(root: _Section, kind: str) -> ObservationPlan | None:
+    """[[plan]]: the observation plan (observation_plan.py): each entry one target (exactly one of the
+    attitude inputs), slew_s and hold_s > 0. A run shorter than the plan (--duration) flies the observations
+    commanded before its end."""
+    secs = root.table_list("plan")
+    if not secs:
+        return None
+    if kind != "attitude":
+        root.fail("plan", "an observation plan applies to attitude scenarios only")
+    obs = []
+    for sec in secs:
+        if not isinstance(sec.data, dict):
+            sec.fail(sec.path, f"expected a table, got {_tname(sec.data)}")
+        qd, src = _read_attitude_input(sec, "target attitude")
+        slew = sec.number("slew_s", positive=True)
+        hold = sec.number("hold_s", positive=True)
+        sec.done()
+        obs.append(Observation(qd, slew, hold, src))
+    return ObservationPlan(tuple(obs))
 
 
 # the firmware's bound on the jerk ramp (aocs/guidance/slew.h), read from the header: one source
@@ -907,7 +936,8 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
         isec.done()
     control = _read_control(root, kind)
     att, orb = _read_plant(root, kind)
-    target = _read_target(root, kind)
+    plan = _read_plan(root, kind)
+    target = _read_target(root, kind, plan)
     guidance = _read_guidance(root, kind, target)
     configs = _read_effectors(root, kind, duration, rate, substeps, att if kind == "attitude" else orb)
     disturbances = Disturbances({k: c for k, c in configs.items()
@@ -917,6 +947,10 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     estimator = _read_estimator(root, kind, sensor_config, att)
     momentum = _read_momentum(root, kind, configs, sensor_config)
     env = environment.read(root, kind, orb)
+    gge = configs.get("gravity_gradient_earth")
+    if gge is not None and gge.orbit_rate_rad_s is None and env.orbit is None:
+        root.fail("disturbances.gravity_gradient_earth.orbit_rate_rad_s",
+                  "required without [environment.orbit] (the orbit whose nadir and rate it takes otherwise)")
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
@@ -924,7 +958,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env, estimator=estimator, momentum=momentum)
+                    environment=env, estimator=estimator, momentum=momentum, plan=plan)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

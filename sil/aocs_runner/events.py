@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 from aocs_core import registry
 from aocs_core.modes import mode_value, mode_values
+from aocs_core.ticks import first_tick
 
 KINDS = ("law", "mode", "target", "malformed", "foreign", "drop", "duplicate", "stale")
 #: law id sent for a law name the flight software does not know
@@ -93,6 +94,17 @@ def parse(spec: str) -> Event:
     return Event(t, key, text=spec)
 
 
+def plan_events(sc) -> list[Event]:
+    """The observation plan's commands (docs/scenarios.md [[plan]]): a set_target of observation i >= 1 at its
+    command time T_i (observation 0 is the flight software's initial target), those inside the run only."""
+    plan = getattr(sc, "plan", None)
+    if plan is None:
+        return []
+    return [Event(t, "target", target=tuple(ob.qd), text=f"plan[{i}]")
+            for i, (t, ob) in enumerate(zip(plan.command_times_s, plan.observations))
+            if i > 0 and first_tick(t, sc.dt) < sc.n_steps]
+
+
 def parse_all(specs) -> list[Event]:
     return sorted((parse(s) for s in specs or ()), key=lambda e: e.t)
 
@@ -101,7 +113,7 @@ def schedule(events: list[Event], dt: float, n_steps: int, start_tick: int = 0) 
     """tick -> events fired before that tick's sensors (first tick with t_k >= T)."""
     out: dict[int, list[Event]] = {}
     for e in events:
-        k = max(start_tick, int(math.ceil(e.t / dt - 1e-9)))
+        k = max(start_tick, first_tick(e.t, dt))
         if k >= start_tick + n_steps:
             raise EventError(f"--event {e.text!r}: t = {e.t} s is after the end of the run")
         out.setdefault(k, []).append(e)

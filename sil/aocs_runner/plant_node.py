@@ -240,7 +240,9 @@ def run(args) -> int:
     signal.signal(signal.SIGINT, _on_signal)
     try:
         sc = load(args.scenario, parse_sets(args.set))
-        evs = evmod.schedule(evmod.parse_all(args.event), sc.dt, sc.n_steps, args.start_tick)
+        # the --event commands and faults, and the observation plan's targets (events.plan_events)
+        evs = evmod.schedule(sorted(evmod.parse_all(args.event) + evmod.plan_events(sc), key=lambda e: e.t),
+                             sc.dt, sc.n_steps, args.start_tick)
     except (ScenarioError, evmod.EventError, ValueError) as exc:
         print(f"plant_node: {exc}", file=sys.stderr)
         return EXIT_ARGS
@@ -316,6 +318,8 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "wake_jitter_ns_max": loop.jitter_max_ns,
         "handle_calls": loop.handle_calls,
         "integration_error": check.summary(),
+        # the unloading actuators' own integrals at the end (run JSON momentum.unloading.plant)
+        "unloading_actuators": _unloading_totals(plant),
         # what the direct udpm reader dropped (fragments beyond its bounds, garbage): udpm.Udpm.counters
         "udpm": getattr(link.lc, "counters", None),
         "transport": "direct" if link.direct else "lcm",
@@ -325,6 +329,18 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         link.end_direct(reason, args.fsw_summary, sc)
     link.record_until_end_marker(args.done_file)
     return code
+
+
+#: the plant's effector truth fields reported in the summary (the unloading actuators' integrals)
+_UNLOADING_TOTALS = ("thrusters.propellant_kg", "thrusters.pulses", "magnetorquers.dipole_s_am2s")
+
+
+def _unloading_totals(plant) -> dict | None:
+    """The thrusters' propellant and pulses and the magnetorquers' dipole integral at the end, None without them."""
+    if not ({"thruster_on_s", "u_dipole_am2"} & set(getattr(plant, "command_fields", {}))):
+        return None
+    tr = plant.effector_truth()
+    return {k: (list(tr[k]) if isinstance(tr[k], tuple) else tr[k]) for k in _UNLOADING_TOTALS if k in tr}
 
 
 class _Loop:
@@ -357,6 +373,7 @@ class _Loop:
         self.nw = self.wheels.n if self.wheels is not None else 0
         self.wmax = link.t.sensors_t.MAX_WHEELS
         self.progress_every = max(1, sc.n_steps // 10)
+        self.t_loop0 = time.perf_counter()   # the progress lines' elapsed wall time and ETA
         self._zero_wheel_truth = (0,) + (0.0,) * (3 * self.wmax) + (0,) + (0.0,) * 6
         # what an attitude estimate is judged against (truth_t, protocol version 3): the gyro's true bias, from
         # its truth fields (Plant.truth()["sensors"]["gyro.bias_rad_s"]); zero without a gyro
@@ -366,7 +383,7 @@ class _Loop:
                             if self.wheels is None and self.gyro is None else None)
         if self.attitude:
             self.qd0 = sc.target.qd0
-            self.fixed_target = not any(sc.target.wd)
+            self.fixed_target = not any(sc.target.wd) and sc.plan is None
 
     # -------------------------------------------------------------- messages
     def truth(self, tick):
@@ -467,8 +484,11 @@ class _Loop:
             if flush_log is not None:
                 flush_log()   # what a progress line reports is in the log
             n = self.sc.n_steps
-            print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s",
-                  file=sys.stderr, flush=True)
+            # elapsed wall time and the rest at this pace (a day-long run's ETA)
+            wall = time.perf_counter() - self.t_loop0
+            eta = wall * (n - k - 1) / (k + 1)
+            print(f"plant_node: {100 * (k + 1) // n:3d}% tick {k + 1}/{n} t = {(k + 1) * self.sc.dt:.1f} s, "
+                  f"wall {wall:.1f} s, ETA {eta:.1f} s", file=sys.stderr, flush=True)
 
     # -------------------------------------------------------------- lockstep
     def run_lockstep(self):

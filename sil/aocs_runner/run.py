@@ -22,7 +22,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from aocs_analysis import estimation_plots, telemetry, verdict
+from aocs_analysis import day_timeline, estimation_plots, telemetry, verdict
 from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
 from aocs_core import paths
@@ -467,6 +467,9 @@ def draw_plots(opts: RunOptions, plan: RunPlan, metrics: dict, series: dict) -> 
                               settle_time_s=metrics["settle_time_s"])
     if series.get("estimation") is not None:   # a filter flew: knowledge error with its 3 sigma, bias, NEES
         plots = list(plots) + list(estimation_plots.run_plots(series["estimation"], plan.out, title))
+    if day_timeline.applies(metrics):          # an observation plan or momentum management: the day's timeline
+        series["unloading"] = day_timeline.unloading_series(lcmlog.read(plan.log_path), sc)
+        plots = list(plots) + [day_timeline.timeline(series, metrics, plan.out / day_timeline.FILE, title)]
     metrics["plots"] = [p.name for p in plots]
     return plots
 

@@ -8,7 +8,9 @@
   (circular orbit of rate n), d = o3_N(t) the nadir of the LVLH frame O
   (Bryson's: x along-track, z nadir, y = -orbit normal), which coincides with
   N at t = 0: A_ON(t) = A2(-n t), o3_N(t) = (-sin nt, 0, cos nt). Not together
-  with the L2 form.
+  with the L2 form. Without `orbit_rate_rad_s` it follows the environment's
+  orbit ([environment.orbit], needed then): d = o3_N(t) = -r_c(t) / R of that
+  circular orbit (its nadir), c = 3 mu / R^3.
 
 Both are ATTITUDE-form effectors: a closure of q evaluated at every RK4 stage.
 The Earth form's direction moves with time; it is frozen at the midpoint of
@@ -129,7 +131,7 @@ class GravityGradientL2(Effector):
 class GravityGradientEarthConfig:
     enabled: bool
     scale: float
-    orbit_rate_rad_s: float
+    orbit_rate_rad_s: float | None    # None: the environment's orbit (its rate and its nadir)
 
     @property
     def coefficient(self) -> float:
@@ -147,15 +149,27 @@ class GravityGradientEarth(Effector):
     @classmethod
     def read(cls, sec, ctx) -> GravityGradientEarthConfig:
         en, scale = onoff(sec)
-        return GravityGradientEarthConfig(en, scale, sec.number("orbit_rate_rad_s", positive=True))
+        return GravityGradientEarthConfig(en, scale, sec.number("orbit_rate_rad_s", required=False, positive=True))
 
     def __init__(self, config: GravityGradientEarthConfig, body):
         super().__init__(config, body)
-        self._n = config.orbit_rate_rad_s
-        self._g, self._point = gg_term(body.inertia, config.coefficient, earth_nadir_inertial(self._n, 0.0))
+        self._orbit = None
+        if config.orbit_rate_rad_s is None:
+            env = getattr(body, "environment", None)
+            self._orbit = None if env is None else env.orbit
+            if self._orbit is None:
+                raise ValueError("gravity_gradient_earth without orbit_rate_rad_s needs [environment.orbit]")
+            c = config.scale * earth_gg_coefficient(self._orbit.n)
+            self._g, self._point = gg_term(body.inertia, c, self._orbit.frame(0.0)[2])
+        else:
+            self._n = config.orbit_rate_rad_s
+            self._g, self._point = gg_term(body.inertia, config.coefficient, earth_nadir_inertial(self._n, 0.0))
 
     def term(self):
         return self._g
 
     def at_time(self, t: float) -> None:
-        self._point(earth_nadir_inertial(self._n, t))
+        if self._orbit is not None:
+            self._point(self._orbit.frame(t)[2])
+        else:
+            self._point(earth_nadir_inertial(self._n, t))

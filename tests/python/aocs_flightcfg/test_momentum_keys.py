@@ -34,8 +34,14 @@ def _with(sc, momentum, **effectors):
     return dataclasses.replace(sc, momentum=momentum, effectors=MappingProxyType({**sc.effectors, **effectors}))
 
 
+#: the mission days (issue 21) manage their momentum: the other scenarios must not
+DAY_IDS = ("irassi_day", "leo_day")
+
+
 def test_no_reference_scenario_writes_a_momentum_key():
     for sid in list_scenarios():
+        if sid in DAY_IDS:
+            continue
         sc = load(sid)
         assert sc.momentum == MomentumConfig()
         for law in sc.control.laws:

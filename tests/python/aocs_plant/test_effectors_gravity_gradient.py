@@ -134,3 +134,33 @@ def test_the_two_forms_are_exclusive_and_only_for_attitude(tmp_path):
         load("landsat8_q1", {"disturbances.gravity_gradient_l2": {"enabled": True}})
     with pytest.raises(ScenarioError, match=r"disturbances.gravity_gradient_earth.orbit_rate_rad_s: must be > 0"):
         load("geo_hinf", {"disturbances.gravity_gradient_earth.orbit_rate_rad_s": 0.0})
+
+
+def test_earth_form_follows_the_environment_orbit_without_a_rate():
+    """leo_day's gravity gradient (no orbit_rate_rad_s): 3 mu / R^3 (o3 x J o3) with o3 = A(q) (-r / R), r the
+    circular orbit of [environment.orbit] written out here, at t = 0 and after 300 periods of flight."""
+    sc = load("leo_day", {"disturbances.constant_torque.enabled": False, "residual_dipole.enabled": False})
+    assert sc.disturbances.gravity_gradient_earth.orbit_rate_rad_s is None
+    o = sc.environment.orbit
+    n = math.sqrt(o.mu / o.radius_m ** 3)
+    i, raan = math.radians(o.inclination_deg), math.radians(o.raan_deg)
+    node = np.array([math.cos(raan), math.sin(raan), 0.0])
+    h = np.array([math.sin(i) * math.sin(raan), -math.sin(i) * math.cos(raan), math.cos(i)])
+    J = np.array(sc.attitude.inertia, float).reshape(3, 3)
+    p = Plant(sc)
+    zero = {f: (0.0,) * k for f, k in p.command_fields.items()}
+    for steps in (0, 300):
+        for _ in range(steps):
+            p.apply(zero)
+            p.advance()
+        u = n * p.t
+        nadir = -(math.cos(u) * node + math.sin(u) * np.cross(h, node))
+        want = hand(p.body.q, J, 3.0 * n * n, nadir)
+        assert np.linalg.norm(want) > 1e-9          # the start is 2.7 deg off nadir: a real torque
+        np.testing.assert_allclose(p.disturbance(), want, rtol=1e-9, atol=1e-20)
+
+
+def test_earth_form_without_a_rate_needs_an_orbit():
+    with pytest.raises(ScenarioError, match=r"disturbances.gravity_gradient_earth.orbit_rate_rad_s: required without "
+                                            r"\[environment.orbit\]"):
+        load("geo_hinf", {"disturbances.gravity_gradient_earth.orbit_rate_rad_s": None})

@@ -17,7 +17,9 @@ SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3
 # 5.6: the IRASSI hold on a star tracker and a gyro through the MEKF, issue 20, and the slews and wheel
 # scenarios on the same suite)
 MEKF_IDS = ["irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf", "irassi_rw_failed_mekf"]
-SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS]
+# 5.11: the mission days (issue 21)
+DAY_IDS = ["irassi_day", "leo_day"]
+SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS, *DAY_IDS]
 
 
 def test_every_spec_scenario_has_a_file_and_nothing_else():
