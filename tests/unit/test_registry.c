@@ -62,7 +62,6 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     {"MEKF_ST_Q_SB", 69u}, {"MEKF_ST_SIGMA_CROSS", 70u}, {"MEKF_ST_SIGMA_ABOUT", 71u}, {"MEKF_GYRO_ARW", 72u},
     {"MEKF_GYRO_RRW", 73u}, {"MEKF_BIAS0", 74u}, {"MEKF_P0_ATT_SIGMA", 75u}, {"MEKF_P0_BIAS_SIGMA", 76u},
     {"MEKF_GATE_CHI2", 77u}, {"MEKF_MAX_GAP", 78u}, {"MEKF_INIT_MODE", 79u}, {"MEKF_INIT_Q_BN", 80u},
-    {"MEKF_GATE_CHI2", 77u}, {"MEKF_MAX_GAP", 78u},
     {"MOM_POLICY", 81u}, {"MOM_TRIGGER", 82u}, {"MOM_H_TARGET", 83u}, {"MOM_H_START", 84u}, {"MOM_H_STOP", 85u},
     {"MOM_K_MTQ", 86u}, {"MOM_MTQ_AXES", 87u}, {"MOM_MTQ_MAX_DIPOLE", 88u}, {"MOM_DUMP_TORQUE", 89u},
     {"MOM_THR_COUNT", 90u}, {"MOM_THR_THRUST", 91u}, {"MOM_THR_MIN_ON", 92u}, {"MOM_THR_QUANTUM", 93u},
