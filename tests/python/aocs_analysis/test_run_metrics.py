@@ -56,6 +56,23 @@ def test_settle_mask_uses_every_criterion():
     assert inside.tolist() == [False, False, False, True, True, True]
 
 
+def test_a_180_deg_error_never_counts_as_settled():
+    """q4 = 0 exactly: rho = q_vec / q4 is not finite (inf, or NaN where a component of q_vec is 0 too); such a
+    sample is outside the rho criterion however small the rate, the way every other criterion would see it."""
+    sc = load("rtc_ex2a")
+    qe = np.array([[1e-5, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 0.0], [0.0, 1e-5, 0.0, 1.0], [0.6, 0.48, 0.64, 0.0],
+                   [0.0, 0.0, 1e-5, 1.0]])
+    qe /= np.linalg.norm(qe, axis=1)[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = qe[:, :3] / qe[:, 3:]                    # the definition, as attitude_series computes it
+    assert np.isnan(rho[1]).any() and np.isinf(rho[3]).all()
+    s = {"t": np.arange(5) * 1.0, "rho": rho, "we": np.zeros((5, 3)), "true_angle": np.zeros(5),
+         "euler_err": np.zeros((5, 3)), "sigma": np.zeros((5, 3))}
+    inside, used = results.settle_mask(sc, s)
+    assert "rho_norm_max" in used
+    assert inside.tolist() == [True, False, True, False, True]
+
+
 def _summary_metrics(**kw):
     lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_slew_rate_limit_per_s": None,
            "plant_lag_tau_s": None}
