@@ -416,6 +416,13 @@ static void test_hurwitz_condition_at_its_boundary(void **state)
     assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_OK);
     c = pid_cfg(2.0, 3.0, 1.001 * 6.0 / 13.0, 1.0, &jc);
     assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_ERR_PID_NOT_HURWITZ);
+    /* exactly on the boundary (every product exact in float and double): kd kp = 4 * 2 = 8 = lambda_max ki with
+       lambda_max = 4, ki = 2 is marginal (a pair of roots on the imaginary axis), so refused; ki just below passes */
+    const dmat_t jd = {{{4.0, 0.0, 0.0}, {0.0, 3.0, 0.0}, {0.0, 0.0, 2.0}}};
+    c = pid_cfg(2.0, 4.0, 2.0, 1.0, &jd);
+    assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_ERR_PID_NOT_HURWITZ);
+    c = pid_cfg(2.0, 4.0, 1.75, 1.0, &jd);
+    assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_OK);
 }
 
 /* an accepted config near the boundary is stable in closed loop (the condition is not too loose) */
