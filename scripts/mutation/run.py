@@ -110,12 +110,15 @@ def load_equivalent() -> dict[tuple, str]:
     return out
 
 
-def all_mutants(area: Area) -> list[mut.Mutant]:
+def all_mutants(area: Area, sources: dict[str, str]) -> list[mut.Mutant]:
+    """Every mutant of the area; sources gets each file's text as read now (the run's pristine copy: edits to
+    the worktree while the run goes on change neither the mutants nor what is restored)."""
     ext = ".c" if area.lang == "c" else ".py"
     out = []
     for f in sorted((REPO / area.root).rglob(f"*{ext}")):
         rel = str(f.relative_to(REPO))
-        out.extend(mut.mutants_of(rel, f.read_text(), area.lang))
+        sources[rel] = f.read_text()
+        out.extend(mut.mutants_of(rel, sources[rel], area.lang))
     return out
 
 
@@ -240,8 +243,9 @@ def main() -> None:
     equivalent = load_equivalent()
     counts = {"firmware": a.c, "plant": a.plant, "metrics": a.metrics}
     sample: list[tuple[Area, mut.Mutant]] = []
+    sources: dict[str, str] = {}
     for name, area in AREAS.items():
-        pool = all_mutants(area)
+        pool = all_mutants(area, sources)
         if a.only:
             chosen = [m for m in pool if any(m.ident.startswith(p) for p in a.only)]
         else:
@@ -256,6 +260,9 @@ def main() -> None:
         return
 
     refresh_scratch()
+    for rel, text in sources.items():  # the scratch copy holds exactly the text the mutants were made from
+        if (SRC / rel).read_text() != text:
+            fail(f"{rel} changed while the mutants were drawn; run again")
     used = {area.name for area, m in sample if (m.path, m.line_text, m.old, m.new, m.occurrence) not in equivalent}
     cb = CBuilds(a.jobs)
     if "firmware" in used:
@@ -270,7 +277,7 @@ def main() -> None:
     results = []
     t_start = time.monotonic()
     for i, (area, m) in enumerate(sample):
-        pristine = (REPO / m.path).read_text()
+        pristine = sources[m.path]
         target = SRC / m.path
         eq = equivalent.get(m.key())
         t0 = time.monotonic()

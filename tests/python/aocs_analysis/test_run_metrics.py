@@ -73,6 +73,13 @@ def test_a_180_deg_error_never_counts_as_settled():
     assert inside.tolist() == [True, False, True, False, True]
 
 
+def test_a_requirement_is_met_at_equality_and_never_by_an_undefined_error():
+    assert results.meets_limit(0.5, 0.5) is True
+    assert results.meets_limit(0.5, math.nextafter(0.5, 0.0)) is False
+    assert results.meets_limit(0.25, 0.5) is True
+    assert results.meets_limit(None, 0.5) is False
+
+
 def _summary_metrics(**kw):
     lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_slew_rate_limit_per_s": None,
            "plant_lag_tau_s": None}
