@@ -16,6 +16,7 @@ tests/mutation/equivalent.toml are marked equivalent with their reason and not r
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import random
@@ -182,6 +183,10 @@ def _nm(path: Path) -> list[str]:
     return [ln.split()[-1] for ln in r.stdout.splitlines() if ln.strip() and ln.split()[-2] in ("T", "D", "R", "B")]
 
 
+def _sha(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 def _tail(out: str, n: int = 400) -> str:
     return " ".join(out.strip().splitlines()[-4:])[-n:]
 
@@ -233,6 +238,9 @@ def main() -> None:
     ap.add_argument("--only", action="append", default=[], help="run the mutants whose id starts with this "
                     "(path:line:col:op); repeatable; no sampling")
     ap.add_argument("--list", action="store_true", help="print the sample and stop")
+    ap.add_argument("--resume-from", type=Path, help="a report.json of an earlier run: its killed, timeout and "
+                    "build_error rows are kept when the mutated file is byte for byte the same (tests may only have "
+                    "been added since); every other drawn mutant runs")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", type=Path, default=OUT)
     a = ap.parse_args()
@@ -259,11 +267,19 @@ def main() -> None:
             print(f"{area.name:8s} {m.ident}  |  {m.line_text}")
         return
 
+    kept = {}
+    if a.resume_from is not None:
+        try:
+            prev = json.loads(a.resume_from.read_text())
+        except (OSError, ValueError) as e:
+            fail(f"--resume-from {a.resume_from}: {e}")
+        kept = {r["id"]: r for r in prev.get("mutants", []) if r.get("status") in ("killed", "timeout", "build_error")
+                and r.get("file_sha256") == _sha(sources.get(r.get("file"), ""))}
     refresh_scratch()
     for rel, text in sources.items():  # the scratch copy holds exactly the text the mutants were made from
         if (SRC / rel).read_text() != text:
             fail(f"{rel} changed while the mutants were drawn; run again")
-    used = {area.name for area, m in sample if (m.path, m.line_text, m.old, m.new, m.occurrence) not in equivalent}
+    used = {area.name for area, m in sample if m.key() not in equivalent and m.ident not in kept}
     cb = CBuilds(a.jobs)
     if "firmware" in used:
         print("mutation: building the unmutated scratch host and host-float unit tests", flush=True)
@@ -283,6 +299,8 @@ def main() -> None:
         t0 = time.monotonic()
         if eq is not None:
             status, detail = "equivalent", eq
+        elif m.ident in kept:
+            status, detail = kept[m.ident]["status"], kept[m.ident]["detail"] + f" (from {a.resume_from})"
         else:
             try:
                 target.write_text(m.apply(pristine))
@@ -291,7 +309,7 @@ def main() -> None:
                 target.write_text(pristine)
         row = {"area": area.name, "id": m.ident, "file": m.path, "line": m.line, "op": m.op, "old": m.old,
                "new": m.new, "occurrence": m.occurrence, "original": m.line_text,
-               "mutated": m.diff_line(pristine), "status": status, "detail": detail,
+               "mutated": m.diff_line(pristine), "file_sha256": _sha(pristine), "status": status, "detail": detail,
                "seconds": round(time.monotonic() - t0, 1)}
         results.append(row)
         print(f"[{i + 1}/{len(sample)}] {status:11s} {area.name:8s} {m.ident}  ({row['seconds']} s)", flush=True)
@@ -316,7 +334,7 @@ def write_report(a, results: list[dict], seconds: float) -> dict:
                          "score_pct": round(100.0 * (c["killed"] + c["timeout"]) / scored, 1) if scored else None}
     a.out.mkdir(parents=True, exist_ok=True)
     (a.out / "report.json").write_text(json.dumps(
-        {"seed": a.seed, "only": a.only, "seconds": round(seconds), "summary": summary, "mutants": results}, indent=1))
+        {"seed": a.seed, "only": a.only, "resumed_from": str(a.resume_from) if a.resume_from else None, "seconds": round(seconds), "summary": summary, "mutants": results}, indent=1))
     md = ["# Mutation report", "",
           f"Seed {a.seed}" + (f", only {a.only}" if a.only else f", drawn: firmware {a.c}, plant {a.plant}, "
                                                                f"metrics {a.metrics}") + f"; {seconds:.0f} s.", "",
