@@ -13,7 +13,8 @@ Tokens come from a small C lexer (comments, strings, character literals and
 preprocessor lines skipped) or Python's tokenize, so nothing in a comment or a
 string is mutated. A mutant is named by file, line, column, operator and the
 text it replaces; `key()` is the line-number-free identity the equivalence
-list uses (file, the stripped line, the replacement, its occurrence on the line).
+list uses (file, the stripped line, the replacement, and which of the same replacements on lines of that
+text it is, in file order).
 """
 from __future__ import annotations
 
@@ -56,7 +57,7 @@ class Mutant:
     old: str
     new: str
     line_text: str  # the original line, stripped
-    occurrence: int  # the how-manieth (from 0) mutant with the same old -> new on this line
+    occurrence: int  # the how-manieth (from 0) mutant with the same old -> new on a line of this text in the file
 
     @property
     def ident(self) -> str:
@@ -220,10 +221,10 @@ def mutants_of(path: str, source: str, lang: str) -> list[Mutant]:
             elif ONE.match(t.text):
                 raw.append((t.line, t.col, "const", t.text, "0" + t.text[1:]))
     out: list[Mutant] = []
-    seen: dict[tuple[int, str, str], int] = {}
+    seen: dict[tuple[str, str, str], int] = {}
     for line, col, op, old, new in raw:
-        k = (line, old, new)
+        k = (lines[line - 1].strip(), old, new)  # the same replacement on a line of the same text, in file order
         occ = seen.get(k, 0)
         seen[k] = occ + 1
-        out.append(Mutant(path, line, col, op, old, new, lines[line - 1].strip(), occ))
+        out.append(Mutant(path, line, col, op, old, new, k[0], occ))
     return out

@@ -198,6 +198,22 @@ def test_the_plain_scenarios_have_no_wheels():
     assert "wheel_speed" not in p.sense()
 
 
+def test_a_body_lighter_than_its_wheels_is_refused_and_a_light_one_is_not():
+    """J - sum Js g g^T must be positive definite (the plant integrates with it). The reference pyramid has
+    sum g g^T = (4/3) I, so with Js = 0.08 the margin is J_ii - 0.1067 kg m^2 on a diagonal J: a small
+    positive margin (0.49 kg m^2, below 1) loads and flies; a negative one is refused by key."""
+    sum_ggT = 4.0 / 3.0 * JS
+    light = [[0.6, 0.0, 0.0], [0.0, 0.7, 0.0], [0.0, 0.0, 0.8]]
+    p = Plant(load("gao_mrp", {"wheels": _wheels(), "plant.inertia": light}))
+    less = np.array(p.body.J).reshape(3, 3) - sum_ggT * np.eye(3)
+    assert 0.0 < np.min(np.linalg.eigvalsh(less)) < 1.0
+    too_light = [[0.1, 0.0, 0.0], [0.0, 0.7, 0.0], [0.0, 0.0, 0.8]]
+    assert 0.1 - sum_ggT < 0.0
+    with pytest.raises(ScenarioError, match=r"wheels.spin_inertia_kg_m2: 0.08 kg m\^2: the body inertia less the "
+                                            r"wheels' spin inertia .* not positive definite"):
+        load("gao_mrp", {"wheels": _wheels(), "plant.inertia": too_light})
+
+
 def test_explicit_axes_and_section_errors():
     axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
     p = _plant(array="explicit", pyramid_axis=None, axes=axes)
