@@ -176,6 +176,25 @@ def test_no_motor_torque_drives_a_wheel_beyond_its_speed_limit():
     assert p.truth()["effectors"]["wheels.speed_rad_s"][0] < peak - 0.2
 
 
+def test_the_motor_is_cut_at_exactly_the_speed_limit_in_either_direction():
+    """axial_torques at |Omega| = Omega_max exactly: a motor torque that would speed the wheel up is cut (the
+    bearing alone acts), one that brakes it is not; just below the limit the motor acts."""
+    p = _plant(viscous_nms=2e-4, coulomb_nm=3e-3, coulomb_width_rad_s=0.5)
+    e = p.actuator
+
+    def friction(o):
+        return 2e-4 * o + 3e-3 * math.tanh(o / 0.5)
+
+    e.u = (0.2, -0.2, 0.2, -0.2)
+    om = (WMAX, -WMAX, -WMAX, WMAX)                   # the first two speed up, the last two brake
+    np.testing.assert_allclose(e.axial_torques(om), [-friction(o) for o in om[:2]] +
+                               [0.2 - friction(om[2]), -0.2 - friction(om[3])], rtol=1e-15, atol=0)
+    below = math.nextafter(WMAX, 0.0)
+    om = (below, -below, 0.0, 0.0)
+    np.testing.assert_allclose(e.axial_torques(om)[:2], [0.2 - friction(below), -0.2 + friction(below)],
+                               rtol=1e-15, atol=0)
+
+
 def test_tachometers_in_the_sensor_sample():
     p = _plant(speed0_rad_s=[123.456, -7.0, 0.0, 1.0], tach_quantum_rad_s=0.1)
     s = p.sense()
