@@ -126,6 +126,15 @@ def test_nees_of_a_known_error_and_a_broken_covariance():
     assert E.nees(np.array([[1.0, 1.0]]), pc)[0] == pytest.approx(2.0 / 3.0)
 
 
+def test_autocorrelation_of_the_fewest_samples():
+    """Two samples a, b about their mean +-d: rho(0) = 1, rho(1) = (-d^2 / 1) / (2 d^2 / 2) = -1, by hand;
+    one sample (or one left by the mask and the NaNs) has no autocorrelation."""
+    np.testing.assert_array_equal(E.autocorrelation([1.0, 3.0]), [1.0, -1.0])
+    np.testing.assert_array_equal(E.autocorrelation([1.0, np.nan, 3.0]), [1.0, np.nan, -1.0])
+    assert np.isnan(E.autocorrelation([2.0])).all()
+    assert np.isnan(E.autocorrelation([1.0, np.nan, 3.0], mask=[True, True, False])).all()
+
+
 def test_steady_state_window_and_convergence_time():
     t = np.arange(100) * 0.5
     ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
