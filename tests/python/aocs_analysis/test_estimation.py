@@ -145,6 +145,11 @@ def test_steady_state_window_and_convergence_time():
     assert t[m][0] == 25.0 and m[-1]          # t >= 49.5 - 24.75
     m = E.steady_state_mask(t, window_s=10.0, start_s=45.0, valid=t != 47.0)
     assert t[m][0] == 45.0 and 47.0 not in t[m] and np.count_nonzero(m) == 9
+    # the fraction is in (0, 1]: the whole run at 1, nothing at or below 0 or above 1
+    assert E.steady_state_mask(t, fraction=1.0).all()
+    for bad in (0.0, -0.5, math.nextafter(1.0, 2.0)):
+        with pytest.raises(ValueError, match=r"fraction must be in \(0, 1\]"):
+            E.steady_state_mask(t, fraction=bad)
 
 
 def test_bounds_in_b_follow_the_mounting():
