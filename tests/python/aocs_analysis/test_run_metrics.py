@@ -120,6 +120,52 @@ def test_hinf_measured_gain_against_an_analytic_error():
         assert g["z_peak"] == pytest.approx(np.max(np.abs(z)), rel=1e-3)
 
 
+def test_commanded_torque_figures_by_hand_and_without_any_command():
+    """_commands: the largest |u| per axis and |u|_2, and the effort sum |u|_1 dt (each command held one period);
+    a run in which the flight software never commanded has zeros, not the figures of some other run."""
+    sc = load("irassi_small")
+    dt = sc.dt
+    u = np.array([[1.0, -2.0, 0.5], [0.0, 0.0, 3.0]])
+
+    def log_of(u):
+        n = u.shape[0]
+        cmd = {"tick": np.arange(n, dtype=np.int64), "u_sat": u, "u_unsat": u, "mode": np.zeros(n),
+               "step_ns": np.zeros(n)}
+        return types.SimpleNamespace(truth={"torque_applied": np.zeros((3, 3))}, cmd=cmd)
+
+    out, series = {}, {}
+    results._commands(out, series, log_of(u), sc)
+    assert out["max_abs_torque_nm"] == [1.0, 2.0, 3.0]
+    assert out["max_torque_norm_nm"] == 3.0          # |u_1| = 3 > |u_0| = sqrt(5.25)
+    assert out["effort"] == pytest.approx((3.5 + 3.0) * dt, rel=1e-15)
+    out = {}
+    results._commands(out, series, log_of(np.zeros((0, 3))), sc)
+    assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
+    assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+
+
+def test_commands_over_the_flight_limits_are_counted_within_1e_12():
+    """_limits: the flight software's axis and norm limits from its configuration, a command counted over a
+    limit only beyond it by more than 1e-12 relative, a non-finite command counted apart; an axis limit at or
+    above UNLIMITED means no limit."""
+    sc = load("irassi_small")
+    u = np.array([[0.5, 0.0, 0.0], [0.5 * (1 + 2e-12), 0.0, 0.0], [0.5 * (1 + 1e-13), 0.0, 0.0],
+                  [0.3, 0.3, 0.3], [np.nan, 0.0, 0.0]])
+    out = {}
+    results._limits(out, {}, u, {"u_max_axis": "0.5 0.5 0.5", "u_max_norm": "0.5"}, sc)
+    lim = out["limits"]
+    assert (lim["axis"], lim["norm"], lim["unlimited"]) == (0.5, 0.5, False)
+    # over the axis limit: row 1; over the norm limit: row 1 and row 3 (|u| = 0.52); row 2 is within 1e-12
+    assert lim["commands_over_limit"] == 3 and lim["commands_not_finite"] == 1
+    out = {}
+    results._limits(out, {}, u[:1], {"u_max_axis": f"{results.UNLIMITED:g} 0 0"}, sc)
+    assert out["limits"]["unlimited"] is True and out["limits"]["axis"] is None
+    out = {}
+    results._limits(out, {}, u[:1], {}, sc)
+    assert out["limits"]["unlimited"] is False and out["limits"]["axis"] is None
+    assert out["limits"]["commands_over_limit"] == 0
+
+
 def test_limit_line_reads_as_english():
     assert results.limit_text(_summary_metrics()) == "none: the reference actuator (no saturation)"
     m = _summary_metrics(limits={"axis": 0.5, "unlimited": False, "commands_over_limit": 0})
