@@ -166,6 +166,26 @@ def test_commands_over_the_flight_limits_are_counted_within_1e_12():
     assert out["limits"]["commands_over_limit"] == 0
 
 
+def test_step_budget_in_slew_and_step_modes_and_a_step_of_exactly_its_budget():
+    """_timing: a NOMINAL attitude step's budget is the law's plus the estimator's, plus the slew allowance
+    (timing.h AOCS_EXEC_SLEW_BUDGET_NS = 2000 ns) in guidance mode slew only (executive.c step_budget); a step
+    of exactly its budget is not over it, one nanosecond more is."""
+    from aocs_core import registry
+    from aocs_core.modes import mode_value
+
+    law = registry.law_ids()["quat_pd"]
+    base = registry.law_budget_ns("quat_pd") + registry.estimator_budget_ns("passthrough")
+    assert registry.law_budget_ns("quat_pd") == 2000        # laws.def BUDGET_NS (test_executive_timing.c too)
+    for cfg, budget in (({"guidance.mode": "slew"}, base + 2000), ({"guidance.mode": "step"}, base), ({}, base)):
+        steps = np.array([budget, budget + 1, 0], dtype=np.int64)
+        cmd = {"tick": np.arange(3), "law_id": np.full(3, law), "mode": np.full(3, mode_value("nominal")),
+               "step_ns": steps, "overrun": np.zeros(3)}
+        out, series = {}, {}
+        results._timing(out, series, cmd, {"law": "quat_pd"}, cfg, None)
+        np.testing.assert_array_equal(series["budget_ns"], [budget] * 3)
+        assert out["timing"]["over_step_budget"] == 1, cfg
+
+
 def test_limit_line_reads_as_english():
     assert results.limit_text(_summary_metrics()) == "none: the reference actuator (no saturation)"
     m = _summary_metrics(limits={"axis": 0.5, "unlimited": False, "commands_over_limit": 0})
