@@ -135,6 +135,22 @@ def test_autocorrelation_of_the_fewest_samples():
     assert np.isnan(E.autocorrelation([1.0, np.nan, 3.0], mask=[True, True, False])).all()
 
 
+def test_trailing_rms_over_its_window_only():
+    """r(t_k) = rms over t in (t_k - W, t_k]: a constant 2 has rms 2 at every sample however long the run (the
+    count of the window, not of the run so far); a NaN sample is left out; a step from 0 to 3 shows its rms
+    sqrt(9 m / n) while the window holds m of the n samples after it."""
+    from aocs_analysis.estimation_transients import trailing_rms
+    t = np.arange(20) * 1.0
+    np.testing.assert_allclose(trailing_rms(t, np.full((20, 1), 2.0), window_s=5.0)[:, 0], 2.0, rtol=1e-15)
+    x = np.where(t >= 10, 3.0, 0.0)[:, None]
+    x[12, 0] = np.nan
+    r = trailing_rms(t, x, window_s=5.0)[:, 0]
+    assert r[9] == 0.0
+    assert r[11] == pytest.approx(math.sqrt(9.0 * 2 / 5))        # 7 .. 11: two samples of 3
+    assert r[13] == pytest.approx(math.sqrt(9.0 * 3 / 4))        # 9 .. 13 without 12: 10, 11, 13
+    assert r[19] == pytest.approx(3.0)
+
+
 def test_steady_state_window_and_convergence_time():
     t = np.arange(100) * 0.5
     ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
