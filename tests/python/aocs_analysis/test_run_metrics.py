@@ -186,6 +186,19 @@ def test_step_budget_in_slew_and_step_modes_and_a_step_of_exactly_its_budget():
         assert out["timing"]["over_step_budget"] == 1, cfg
 
 
+def test_comparison_table_columns_with_and_without_the_slew_bound():
+    m = {"law": "smc", "label": "slew", "limits": {"unlimited": False, "axis": 1.0}, "settle_time_s": 150.0,
+         "slew_bound_s": 120.0, "pointing_error_arcsec": {"final_max": 0.25, "qe_arcsec_final_max": [0.1, 0.2, 0.05]},
+         "max_torque_norm_nm": 1.5, "effort": 42.0, "timing": {"step_ns_p99": 812.4}, "counters": {"time_in_safe_mode_s": 0.0}}
+    plain, guided = results.comparison_table([m]).splitlines(), results.comparison_table([m], bound=True).splitlines()
+    assert plain[0].split() == ["law", "limit", "settle", "s", "final", "max", "as", "|qe_i|", "max", "as", "max", "|u|",
+                                "N", "m", "effort", "step", "ns", "p99", "safe", "s"]
+    assert plain[2].split() == ["smc", "(slew)", "1", "150.0", "0.25", "0.2", "1.5", "42", "812", "0"]
+    assert guided[0].split()[4:8] == ["bound", "s", "settle/bound", "final"]
+    assert guided[2].split()[4:6] == ["120.0", "1.250"]
+    assert len(guided) == len(plain) == 3 and set(plain[1]) == {"-", " "}
+
+
 def test_limit_line_reads_as_english():
     assert results.limit_text(_summary_metrics()) == "none: the reference actuator (no saturation)"
     m = _summary_metrics(limits={"axis": 0.5, "unlimited": False, "commands_over_limit": 0})
