@@ -16,6 +16,7 @@ tests/mutation/equivalent.toml are marked equivalent with their reason and not r
 from __future__ import annotations
 
 import argparse
+import fcntl
 import hashlib
 import json
 import os
@@ -275,6 +276,12 @@ def main() -> None:
             fail(f"--resume-from {a.resume_from}: {e}")
         kept = {r["id"]: r for r in prev.get("mutants", []) if r.get("status") in ("killed", "timeout", "build_error")
                 and r.get("file_sha256") == _sha(sources.get(r.get("file"), ""))}
+    OUT.mkdir(parents=True, exist_ok=True)
+    lock = open(OUT / ".lock", "w")  # noqa: SIM115  (held for the whole run)
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        fail(f"another mutation run uses {SRC} (lock {OUT / '.lock'}); wait for it")
     refresh_scratch()
     for rel, text in sources.items():  # the scratch copy holds exactly the text the mutants were made from
         if (SRC / rel).read_text() != text:
@@ -337,7 +344,9 @@ def write_report(a, results: list[dict], seconds: float) -> dict:
         {"seed": a.seed, "only": a.only, "resumed_from": str(a.resume_from) if a.resume_from else None, "seconds": round(seconds), "summary": summary, "mutants": results}, indent=1))
     md = ["# Mutation report", "",
           f"Seed {a.seed}" + (f", only {a.only}" if a.only else f", drawn: firmware {a.c}, plant {a.plant}, "
-                                                               f"metrics {a.metrics}") + f"; {seconds:.0f} s.", "",
+                                                               f"metrics {a.metrics}") + f"; {seconds:.0f} s"
+          + (f"; resumed from {a.resume_from}: {sum('(from ' in str(r['detail']) for r in results)} killed or "
+             "build_error rows carried over (same file bytes), the rest run now" if a.resume_from else "") + ".", "",
           "| area | drawn | killed (incl. timeout) | survived | equivalent | build error | killed / non-equivalent |",
           "|---|---|---|---|---|---|---|"]
     for name, s in summary.items():
