@@ -570,6 +570,26 @@ static void test_no_torque_drives_a_wheel_beyond_its_negative_speed_limit(void *
     assert_true(al.speed_limited_mask == 1u);
 }
 
+/* the last guard of aocs_wheels_allocate (unreachable from accepted inputs): a non-finite motor command, here
+   from a corrupted Gs^+ after init, is no command: every output zero and AOCS_ERR_WHEEL_CMD_INVALID */
+static void test_a_corrupted_allocation_gives_no_command_and_says_so(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    wa.pinv[0][0] = (real_t)INFINITY;
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0)), ZERO_SPEEDS, &al),
+                     AOCS_ERR_WHEEL_CMD_INVALID);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        assert_close(al.u_s_nm[i], 0.0, 0.0);
+    }
+    assert_close(al.scale, 0.0, 0.0);
+    assert_close(aocs_vec3_norm(al.u_body_B_nm), 0.0, 0.0);
+}
+
 static void test_the_speed_headroom_bounds_the_net_torque(void **state)
 {
     (void)state;
@@ -849,6 +869,7 @@ int main(void)
         cmocka_unit_test(test_the_friction_feedforward_delivers_the_net_torque),
         cmocka_unit_test(test_the_friction_model_is_clamped_at_the_speed_limit),
         cmocka_unit_test(test_the_speed_headroom_bounds_the_net_torque),
+        cmocka_unit_test(test_a_corrupted_allocation_gives_no_command_and_says_so),
         cmocka_unit_test(test_no_torque_drives_a_wheel_beyond_its_negative_speed_limit),
         cmocka_unit_test(test_the_null_space_management_gives_no_body_torque),
         cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
