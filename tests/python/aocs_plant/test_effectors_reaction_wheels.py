@@ -150,6 +150,11 @@ def test_applied_torque_is_the_reaction_of_the_motors():
     assert tr["commanded"] == (1.0, 2.0, 3.0)
     assert tr["effectors"]["wheels.at_torque_limit"] == (False, False, False, True)
     np.testing.assert_allclose(tr["effectors"]["wheels.motor_torque_nm"], clipped)
+    # the same from spinning wheels: the period's mean torque is the change of h over it, not h itself
+    p = _plant(w0=(0.0, 0.0, 0.0), speed0_rad_s=[100.0, -50.0, 20.0, 0.0])
+    p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": tuple(u)})
+    p.advance()
+    np.testing.assert_allclose(p.applied, -_gs(p) @ clipped, rtol=1e-9, atol=1e-12)
 
 
 def test_a_failed_wheel_gives_no_torque():
