@@ -151,6 +151,15 @@ def test_trailing_rms_over_its_window_only():
     assert r[19] == pytest.approx(3.0)
 
 
+def test_the_sample_period_of_the_fewest_samples():
+    assert E.sample_period_s([3.0, 3.25]) == 0.25
+    for t in ([3.0], []):
+        with pytest.raises(ValueError, match="need at least two samples"):
+            E.sample_period_s(t)
+    with pytest.raises(ValueError, match="uniform in time"):
+        E.sample_period_s([0.0, 1.0, 3.0])
+
+
 def test_steady_state_window_and_convergence_time():
     t = np.arange(100) * 0.5
     ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
