@@ -160,6 +160,29 @@ def test_the_sample_period_of_the_fewest_samples():
         E.sample_period_s([0.0, 1.0, 3.0])
 
 
+def test_window_errors_by_hand():
+    """Knowledge, control and pointing errors over the last window: small rotations about x by known angles
+    (true angle 2 asin |qe_vec| = the angle), valid samples only, the window's first and last sample."""
+    t = np.arange(10) * 1.0
+    asec = math.pi / 180.0 / 3600.0
+
+    def about_x(arcsec):
+        a = np.asarray(arcsec, float) * asec
+        return np.stack([np.sin(a / 2), 0 * a, 0 * a, np.cos(a / 2)], axis=1)
+
+    qd = about_x(np.zeros(10))
+    q_true = about_x(np.full(10, 3.0))
+    q_est = about_x(np.arange(10.0))             # the estimate walks from 0 to 9 arcsec
+    valid = np.ones(10, bool)
+    valid[8] = False
+    w = E.window_errors(t, q_true, q_est, qd, valid, window_s=3.0)    # t = 6, 7, 9 (8 not valid)
+    assert (w["samples"], w["start_s"], w["end_s"]) == (3, 6.0, 9.0)
+    assert w["pointing_arcsec"]["max"] == pytest.approx(3.0, rel=1e-6)
+    assert w["control_arcsec"]["max"] == pytest.approx(9.0, rel=1e-6)
+    assert w["control_arcsec"]["rms"] == pytest.approx(math.sqrt((36 + 49 + 81) / 3), rel=1e-6)
+    assert w["knowledge_arcsec"]["max"] == pytest.approx(6.0, rel=1e-6)      # |3 - 9|
+
+
 def test_steady_state_window_and_convergence_time():
     t = np.arange(100) * 0.5
     ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
