@@ -35,3 +35,9 @@ def test_wheel_commands_over_their_limit_and_not_finite():
     assert out["min_speed_margin"] == 0.5
     assert out["time_scaled_s"] == pytest.approx(2 * sc.dt)
     assert series["n"] == n
+    # the summary lines: the wheels, and a limit exceeded said in capitals
+    rows = dict(wheels.table_rows(out))
+    assert rows["wheels"] == "4 wheels, removed: none" + ("" if out["within_limits"] else "; A LIMIT WAS EXCEEDED")
+    assert rows["peak wheel speed"] == "[10 20 0 300] rad/s (limit 600)"
+    out["within_limits"], out["removed"] = False, [2]
+    assert dict(wheels.table_rows(out))["wheels"] == "4 wheels, removed: wheel 2; A LIMIT WAS EXCEEDED"
