@@ -10,7 +10,7 @@ JOBS      ?= 2
 
 .PHONY: sil test setup build $(addprefix build-,$(PRESETS)) unit-test \
         image-test py-test static-analysis lint no-malloc size-report bench-laws bench \
-        pil-test pil-report pil-mekf hostile results demo clean bench-campaign bench-telemetry build-host-sanitize build-fuzz fuzz fuzz-smoke
+        pil-test pil-report pil-mekf hostile mutation results demo clean bench-campaign bench-telemetry build-host-sanitize build-fuzz fuzz fuzz-smoke
 
 setup:
 	@scripts/setup.sh
@@ -117,6 +117,17 @@ pil-mekf: build-host build-cortex-m4f build-cortex-m7
 # array (make test flies 4000 of them); prints the counts
 hostile: build-host build-host-sanitize
 	AOCS_HOSTILE_FRAMES=$${AOCS_HOSTILE_FRAMES:-100000} $(PY) -m pytest tests/e2e/test_hostile_sensors.py -q -s
+
+# issue 25: a seeded sample of single-line mutants of firmware/src, the plant and the metrics, each run against
+# the tests that can see it in a scratch copy of the tree (docs/mutation.md); not part of make test.
+# Report: build/mutation/report.md and report.json; equivalent mutants: tests/mutation/equivalent.toml
+MUTATION_SEED    ?= 25
+MUTATION_C       ?= 60
+MUTATION_PLANT   ?= 20
+MUTATION_METRICS ?= 20
+mutation: build-host
+	$(PY) scripts/mutation/run.py --seed $(MUTATION_SEED) --c $(MUTATION_C) --plant $(MUTATION_PLANT) \
+		--metrics $(MUTATION_METRICS) --jobs $(JOBS)
 
 clean:
 	rm -rf build

@@ -134,6 +134,12 @@ def settle_mask(scenario, s: dict) -> tuple[np.ndarray, dict]:
     return inside, used
 
 
+def meets_limit(final_max: float | None, limit: float) -> bool:
+    """A pointing requirement or goal is met when the final error is at most the limit (equality meets it);
+    an undefined error (None: not finite) never meets it."""
+    return bool(final_max is not None and final_max <= limit)
+
+
 def _f(x):
     """JSON-safe float (None for NaN / inf)."""
     x = float(x)
@@ -287,10 +293,9 @@ def _accuracy(out: dict, series: dict, log, sc) -> None:
         }
         pe = out["pointing_error_arcsec"]
         if sc.metrics.requirement_arcsec is not None:
-            pe["meets_requirement"] = bool(pe["final_max"] is not None
-                                           and pe["final_max"] <= sc.metrics.requirement_arcsec)
+            pe["meets_requirement"] = meets_limit(pe["final_max"], sc.metrics.requirement_arcsec)
         if sc.metrics.goal_arcsec is not None:
-            pe["meets_goal"] = bool(pe["final_max"] is not None and pe["final_max"] <= sc.metrics.goal_arcsec)
+            pe["meets_goal"] = meets_limit(pe["final_max"], sc.metrics.goal_arcsec)
         out["position_error_m"] = None
     else:
         s = {"pos": tr["pos"], "vel": tr["vel"]}

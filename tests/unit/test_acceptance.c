@@ -100,6 +100,31 @@ static void test_gaps_count_missing_samples(void **state)
     assert_int_equal(acc.missing_run, 1u);
 }
 
+/* the edge of the tick rule (acceptance.h): a jump of exactly G = AOCS_EXEC_TICK_JUMP_MAX continues the
+   reference (its G - 1 missing samples counted), G + 1 does not (stale, the reference kept) */
+static void test_a_tick_jump_of_exactly_g_continues(void **state)
+{
+    (void)state;
+    aocs_accept_t acc;
+    uint32_t missing = 0u;
+    const uint32_t g = AOCS_EXEC_TICK_JUMP_MAX;
+    lockstep(&acc);
+    assert_int_equal(feed(&acc, 5u, T_NS, &missing), AOCS_OK);
+    assert_int_equal(feed(&acc, 5u + g, (1u + (uint64_t)g) * T_NS, &missing), AOCS_ERR_INPUT_MISSING);
+    assert_int_equal(missing, g - 1u);
+    assert_int_equal(acc.last_tick, 5u + g);
+    lockstep(&acc);
+    assert_int_equal(feed(&acc, 5u, T_NS, &missing), AOCS_OK);
+    assert_int_equal(feed(&acc, 5u + g + 1u, (2u + (uint64_t)g) * T_NS, &missing), AOCS_ERR_INPUT_STALE);
+    assert_int_equal(missing, 0u);
+    assert_int_equal(acc.last_tick, 5u);
+    /* across the wrap of the counter: the same edge */
+    lockstep(&acc);
+    assert_int_equal(feed(&acc, UINT32_MAX - 3u, T_NS, &missing), AOCS_OK);
+    assert_int_equal(feed(&acc, g - 4u, (1u + (uint64_t)g) * T_NS, &missing), AOCS_ERR_INPUT_MISSING);
+    assert_int_equal(acc.last_tick, g - 4u);
+}
+
 static void test_k_consecutive_candidates_resynchronise(void **state)
 {
     (void)state;
@@ -298,6 +323,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_first_and_continuing_samples_are_fresh),
         cmocka_unit_test(test_gaps_count_missing_samples),
+        cmocka_unit_test(test_a_tick_jump_of_exactly_g_continues),
         cmocka_unit_test(test_k_consecutive_candidates_resynchronise),
         cmocka_unit_test(test_real_time_sample_off_the_hal_clock_is_stale),
         cmocka_unit_test(test_time_rule_rows),

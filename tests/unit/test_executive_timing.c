@@ -119,6 +119,54 @@ static void test_default_budget_is_the_law_budget(void **state)
     assert_int_equal(out.counters.overrun, 1u);
 }
 
+/* guidance mode SLEW adds its BUDGET_NS (guidance_modes.def) to the attitude law's; a step of exactly the budget
+   is not an overrun (io.h: overrun when step_time_ns > budget_ns), one nanosecond more is */
+static void test_slew_mode_step_budget_and_its_edge(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    pd_config(&cfg);
+    cfg.budget_ns = 0u;
+    cfg.guidance.mode = AOCS_GUIDANCE_MODE_SLEW;
+    cfg.guidance.slew.margin = AOCS_R(0.8);
+    cfg.guidance.slew.inertia_kgm2 = aocs_mat3_diag(aocs_vec3_make(AOCS_R(10.0), AOCS_R(12.0), AOCS_R(14.0)));
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    fake_now_ns = 0u;
+    fake_tick_ns = 1u;
+    aocs_exec_input_t in = sample(1u, PERIOD_NS);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
+    /* quat_pd 2000 ns + slew 2000 ns (timing.h) + the estimator's and the momentum stage's, both 0 here */
+    const uint64_t expected = 2000u + 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum);
+    assert_int_equal(AOCS_EXEC_SLEW_BUDGET_NS, 2000u);
+    assert_int_equal(aocs_det_budget_ns(&exec.det), 0u);
+    assert_int_equal(aocs_mom_budget_ns(&exec.momentum), 0u);
+    assert_int_equal(out.budget_ns, expected);
+    /* a step of exactly the budget: no overrun */
+    fake_tick_ns = expected;
+    in = sample(2u, 2u * PERIOD_NS);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.step_time_ns, expected);
+    assert_int_equal(out.budget_ns, expected);
+    assert_int_equal(out.overrun, 0);
+    assert_int_equal(out.counters.overrun, 0u);
+    /* one nanosecond over it: overrun */
+    fake_tick_ns = expected + 1u;
+    in = sample(3u, 3u * PERIOD_NS);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.overrun, 1);
+    assert_int_equal(out.counters.overrun, 1u);
+    /* the same law in mode STEP: the law's budget alone */
+    cfg.guidance.mode = AOCS_GUIDANCE_MODE_STEP;
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    fake_tick_ns = 1u;
+    in = sample(1u, PERIOD_NS);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.budget_ns, 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum));
+}
+
 static void test_realtime_stale_against_hal_clock(void **state)
 {
     (void)state;
@@ -269,6 +317,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_overrun_with_tiny_budget),
+        cmocka_unit_test(test_slew_mode_step_budget_and_its_edge),
         cmocka_unit_test(test_default_budget_is_the_law_budget),
         cmocka_unit_test(test_realtime_stale_against_hal_clock),
         cmocka_unit_test(test_periods_without_sample),

@@ -5,7 +5,8 @@
  * ANY_NONZERO rejects only the all-zero table (one entry of either sign
  * passes); POS_DIAG needs k[i][i] > 0 on every row (0, -0 and negative
  * rejected, other entries of any sign allowed); POS_DIAGS needs that and
- * k[i][3+i] > 0; an unknown rule rejects even a good table; the product is
+ * k[i][3+i] > 0; an unknown rule rejects even a good table; a malformed
+ * shape (cols 0, 4, 5, 12 or a NULL row) is rejected under every rule; the product is
  * sign * K x with hand-computed values, sign -1 is the exact negation of
  * sign +1 bit for bit (a zero row gives -0.0, as -acc did in the laws).
  */
@@ -121,6 +122,33 @@ static void test_unknown_rule_rejects(void **state)
                      AOCS_ERR_GAIN_TABLE_INVALID);
 }
 
+/* the shape (gain_matrix.h): 3 rows, none NULL, cols a multiple of 3 in [3, AOCS_GAIN_COLS_MAX]; any other is
+   AOCS_ERR_GAIN_TABLE_INVALID under every rule, before its entries are read */
+static void test_a_malformed_shape_rejects(void **state)
+{
+    (void)state;
+    real_t k[3][6];
+    good_table(k);
+    const real_t big[3][12] = {{1.0}, {0.0, 1.0}, {0.0, 0.0, 1.0}};
+    for (int r = 0; r < 3; ++r) {
+        aocs_gain_rows_t g = {{k[0], k[1], k[2]}, 6U};
+        assert_int_equal(aocs_gain_rows_check(g, RULES[r]), AOCS_OK);
+        const uint32_t bad_cols[4] = {0U, 4U, 12U, 5U};
+        for (int c = 0; c < 4; ++c) {
+            g.cols = bad_cols[c];
+            g.row[0] = (bad_cols[c] > 6U) ? big[0] : k[0];
+            g.row[1] = (bad_cols[c] > 6U) ? big[1] : k[1];
+            g.row[2] = (bad_cols[c] > 6U) ? big[2] : k[2];
+            assert_int_equal(aocs_gain_rows_check(g, RULES[r]), AOCS_ERR_GAIN_TABLE_INVALID);
+        }
+        for (int missing = 0; missing < 3; ++missing) {
+            aocs_gain_rows_t h = {{k[0], k[1], k[2]}, 6U};
+            h.row[missing] = NULL;
+            assert_int_equal(aocs_gain_rows_check(h, RULES[r]), AOCS_ERR_GAIN_TABLE_INVALID);
+        }
+    }
+}
+
 static void test_product(void **state)
 {
     (void)state;
@@ -175,6 +203,7 @@ int main(void)
         cmocka_unit_test(test_any_nonzero),
         cmocka_unit_test(test_positive_diagonals),
         cmocka_unit_test(test_unknown_rule_rejects),
+        cmocka_unit_test(test_a_malformed_shape_rejects),
         cmocka_unit_test(test_product),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1419,6 +1419,14 @@ static void covariance_rule(void **state)
         in = input_of(b.t, wm, 1, sim_tracker(&b.s, &b.c, 0), b.t);
         assert_int_equal(aocs_mekf_step(&b.f, &in, &o), AOCS_OK);
         assert_output_sane(&o);
+        /* indefinite in the last pivot of the factorisation (attitude z with bias z): found as well */
+        b.f.P.m[2][5] = AOCS_R(10.0) * AOCS_SQRT(b.f.P.m[2][2] * b.f.P.m[5][5]);
+        b.f.P.m[5][2] = b.f.P.m[2][5];
+        b.t += 100000000u;
+        in = input_of(b.t, wm, 0, b.s.q, b.t);
+        assert_int_equal(aocs_mekf_step(&b.f, &in, &o), AOCS_ERR_MEKF_COV_INVALID);
+        assert_output_zero(&o);
+        assert_int_equal(o.n_restarts, 2u);
     }
 }
 

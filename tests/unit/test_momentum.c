@@ -124,6 +124,8 @@ static void test_errors_give_zero(void **state)
     assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
     c.trigger = 7u;
     assert_int_equal(aocs_mom_init(&m, &c), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+    c.trigger = (uint32_t)AOCS_MOM_TRIGGER_COUNT; /* the first value past the rows: refused too */
+    assert_int_equal(aocs_mom_init(&m, &c), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
     c.trigger = (uint32_t)AOCS_MOM_TRIGGER_CONTINUOUS;
     c.k_mtq_per_s = AOCS_R(0.0);
     assert_int_equal(aocs_mom_init(&m, &c), AOCS_ERR_MOMENTUM_CONFIG_INVALID);

@@ -305,6 +305,28 @@ static void test_anti_windup_bounds_the_overshoot(void **state)
     assert_true(with.final_err_rad < 1.0 / 3600.0 * deg);
 }
 
+/* the saturated-direction rule alone (integral.h), the clamp far away (z_max = 1e6): only the rule keeps the
+   integral from winding up over the saturated arc, so flipping its direction test shows here */
+static void test_conditional_integration_alone_bounds_the_overshoot(void **state)
+{
+    (void)state;
+    const double axis[3] = {1.0, 0.0, 0.0};
+    dq_t qd = dq_euler321_deg(30.0, -20.0, 1.0);
+    dq_t q0 = dq_mul(dq_axis_angle(-1.0, 0.0, 0.0, 20.0 * PI / 180.0), qd);
+    const double deg = PI / 180.0;
+    aocs_quat_pid_t loose = make_law(pid_cfg(400.0, 2000.0, 12.0, 1.0e6, &J_IRASSI));
+    aocs_quat_pid_t pd = make_law(pid_cfg(400.0, 2000.0, 1.0e-9, 0.01, &J_IRASSI));
+    sat_loop_result_t r = run_loop(&loose, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
+    sat_loop_result_t pd_only = run_loop(&pd, &J_IRASSI, q0, qd, 1.0, 1, ZERO3, axis, 6000);
+    print_message("conditional integration alone: overshoot %.4f deg (PD alone %.4f deg), |z| %.3g, final %.3g arcsec\n",
+                  r.overshoot_rad / deg, pd_only.overshoot_rad / deg, fabs((double)loose.z.v[0]),
+                  r.final_err_rad / deg * 3600.0);
+    /* stated amount: the unclamped integral, built while inside the limits, adds at most 0.25 deg to the PD
+       overshoot (0.18 deg here); integrating while saturated winds it up to tens of degrees */
+    assert_true(r.overshoot_rad < pd_only.overshoot_rad + 0.25 * deg);
+    assert_true(r.final_err_rad < 1.0 / 3600.0 * deg);
+}
+
 static void test_integral_rejects_a_constant_disturbance(void **state)
 {
     (void)state;
@@ -394,6 +416,13 @@ static void test_hurwitz_condition_at_its_boundary(void **state)
     assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_OK);
     c = pid_cfg(2.0, 3.0, 1.001 * 6.0 / 13.0, 1.0, &jc);
     assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_ERR_PID_NOT_HURWITZ);
+    /* exactly on the boundary (every product exact in float and double): kd kp = 4 * 2 = 8 = lambda_max ki with
+       lambda_max = 4, ki = 2 is marginal (a pair of roots on the imaginary axis), so refused; ki just below passes */
+    const dmat_t jd = {{{4.0, 0.0, 0.0}, {0.0, 3.0, 0.0}, {0.0, 0.0, 2.0}}};
+    c = pid_cfg(2.0, 4.0, 2.0, 1.0, &jd);
+    assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_ERR_PID_NOT_HURWITZ);
+    c = pid_cfg(2.0, 4.0, 1.75, 1.0, &jd);
+    assert_int_equal(aocs_quat_pid_init(&law, &c), AOCS_OK);
 }
 
 /* an accepted config near the boundary is stable in closed loop (the condition is not too loose) */
@@ -447,6 +476,7 @@ int main(void)
         cmocka_unit_test(test_clamp_holds_exactly),
         cmocka_unit_test(test_conditional_integration_rules),
         cmocka_unit_test(test_anti_windup_bounds_the_overshoot),
+        cmocka_unit_test(test_conditional_integration_alone_bounds_the_overshoot),
         cmocka_unit_test(test_integral_rejects_a_constant_disturbance),
         cmocka_unit_test(test_every_invalid_config_has_its_status),
         cmocka_unit_test(test_hurwitz_condition_at_its_boundary),

@@ -20,6 +20,7 @@
  *  - each invalid config its own status; the feedforward formula.
  */
 #include "law_test_support.h"
+#include "wheel_test_support.h"
 
 #include "aocs/guidance/slew.h"
 
@@ -327,6 +328,42 @@ static void irassi_bound(void **state)
     }
 }
 
+/* the wheel kind of envelope (slew.h env.wheels): an initialised array bounds the acceleration by its
+   aocs_wheels_alpha_envelope (tested against its own reference in test_wheel_array.c) times the margin;
+   an array that is not initialised is no envelope at all (the body limits alone) */
+static void test_the_wheel_envelope_bounds_the_slew(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t wc;
+    aocs_wheels_t wa;
+    test_wheels_pyramid(&wc);
+    wc.period_s = AOCS_R(0.1);
+    assert_int_equal(aocs_wheels_init(&wa, &wc), AOCS_OK);
+    test_rng_t r = {0x3a3aULL};
+    slew_case_t c = random_case(&r, AOCS_SLEW_PROFILE_BANG_COAST_BANG, 0, 0);
+    c.env.wheels = &wa;
+    aocs_slew_t s;
+    assert_int_equal(aocs_slew_plan(&s, &c.cfg, &c.env, c.q0, c.qf), AOCS_OK);
+    double e[3];
+    const double th = ref_axis_angle(c.q0, c.qf, e);
+    const aocs_vec3_t ev = aocs_vec3_make((real_t)e[0], (real_t)e[1], (real_t)e[2]);
+    const aocs_vec3_t a = aocs_mat3_mul_vec(c.cfg.inertia_kgm2, ev);
+    const aocs_vec3_t b = aocs_vec3_scale(aocs_vec3_cross(ev, a), (real_t)th);
+    const double alpha_w = (double)c.cfg.margin * (double)aocs_wheels_alpha_envelope(&wa, a, b);
+    assert_true(alpha_w > 0.0);
+    assert_close(s.accel_radps2, alpha_w, 1e-4 * alpha_w);
+    /* the same array not initialised, with body axis limits: those alone, as with no array */
+    c = random_case(&r, AOCS_SLEW_PROFILE_BANG_COAST_BANG, 0, 1);
+    aocs_slew_t s_none;
+    c.env.wheels = NULL;
+    assert_int_equal(aocs_slew_plan(&s_none, &c.cfg, &c.env, c.q0, c.qf), AOCS_OK);
+    wa.initialised = 0;
+    c.env.wheels = &wa;
+    assert_int_equal(aocs_slew_plan(&s, &c.cfg, &c.env, c.q0, c.qf), AOCS_OK);
+    assert_close(s.accel_radps2, s_none.accel_radps2, 0.0);
+    assert_close(s.t_end_s, s_none.t_end_s, 0.0);
+}
+
 static double torque_ratio(const slew_case_t *c, const aocs_slew_ref_t *ref)
 {
     /* u = J wd_dot + wd x J wd in double, its largest use of the envelope */
@@ -509,6 +546,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(profile_matches_independent_model),
         cmocka_unit_test(irassi_bound),
+        cmocka_unit_test(test_the_wheel_envelope_bounds_the_slew),
         cmocka_unit_test(never_exceeds_envelope),
         cmocka_unit_test(sign_invariance),
         cmocka_unit_test(invalid_configs),

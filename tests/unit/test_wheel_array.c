@@ -517,6 +517,79 @@ static void test_the_friction_model_is_clamped_at_the_speed_limit(void **state)
     assert_close(al.friction_nm[2], friction_d(-50.0), TOL_TIGHT);
 }
 
+/* the same at negative speeds: a wheel near -Omega_max is never driven past -Omega_max */
+static void test_no_torque_drives_a_wheel_beyond_its_negative_speed_limit(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    /* a body torque along +g0 asks wheel 0 to speed up in -: u_s = -Gs^+ u_c */
+    aocs_vec3_t uc = aocs_vec3_scale(cfg.axis_B[0], AOCS_R(0.2));
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(-599.9), 0, 0, 0, 0, 0};
+    double us[AOCS_WHEELS_MAX];
+    double ucd[3] = {(double)uc.v[0], (double)uc.v[1], (double)uc.v[2]};
+    min_norm_d(&cfg, ucd, us);
+    assert_true(us[0] < -0.1); /* -0.15 N m: more than the headroom below, within u_s,max */
+    double head = JS * (WMAX - 599.9) / 0.1; /* 0.08 N m */
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.u_s_nm[0], -head, TOL_LOOSE);
+    assert_close(al.scale, head / -us[0], TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+    assert_true((double)om[0] + (double)al.u_s_nm[0] * 0.1 / JS >= -WMAX * (1.0 + 1e-6));
+    /* at -Omega_max: nothing more in that direction ... */
+    om[0] = AOCS_R(-WMAX);
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.scale, 0.0, 0.0);
+    assert_true(al.speed_limited_mask == 1u);
+    /* ... braking (toward 0) is always allowed */
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_neg(uc), om, &al), AOCS_OK);
+    assert_close(al.scale, 1.0, 0.0);
+    assert_true(al.u_s_nm[0] > AOCS_R(0.0));
+    /* from rest the headroom bounds either direction: a 384 s step leaves Js Omega_max / T = 0.125 N m */
+    cfg.period_s = AOCS_R(384.0);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    om[0] = AOCS_R(0.0);
+    const double head_rest = JS * WMAX / 384.0;
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.u_s_nm[0], -head_rest, TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_neg(uc), om, &al), AOCS_OK);
+    assert_close(al.u_s_nm[0], head_rest, TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+    /* with the bearing: the net torque (motor minus friction) gets the headroom */
+    friction_array(&cfg, &wa);
+    om[0] = AOCS_R(-599.9);
+    double tau[AOCS_WHEELS_MAX];
+    min_norm_d(&cfg, ucd, tau);
+    assert_int_equal(aocs_wheels_allocate(&wa, uc, om, &al), AOCS_OK);
+    assert_close(al.scale, head / -tau[0], TOL_LOOSE);
+    assert_close((double)al.u_s_nm[0] - friction_d(-599.9), -head, TOL_LOOSE);
+    assert_true(al.speed_limited_mask == 1u);
+}
+
+/* the last guard of aocs_wheels_allocate (unreachable from accepted inputs): a non-finite motor command, here
+   from a corrupted Gs^+ after init, is no command: every output zero and AOCS_ERR_WHEEL_CMD_INVALID */
+static void test_a_corrupted_allocation_gives_no_command_and_says_so(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    wa.pinv[0][0] = (real_t)INFINITY;
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0)), ZERO_SPEEDS, &al),
+                     AOCS_ERR_WHEEL_CMD_INVALID);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        assert_close(al.u_s_nm[i], 0.0, 0.0);
+    }
+    assert_close(al.scale, 0.0, 0.0);
+    assert_close(aocs_vec3_norm(al.u_body_B_nm), 0.0, 0.0);
+}
+
 static void test_the_speed_headroom_bounds_the_net_torque(void **state)
 {
     (void)state;
@@ -796,6 +869,8 @@ int main(void)
         cmocka_unit_test(test_the_friction_feedforward_delivers_the_net_torque),
         cmocka_unit_test(test_the_friction_model_is_clamped_at_the_speed_limit),
         cmocka_unit_test(test_the_speed_headroom_bounds_the_net_torque),
+        cmocka_unit_test(test_a_corrupted_allocation_gives_no_command_and_says_so),
+        cmocka_unit_test(test_no_torque_drives_a_wheel_beyond_its_negative_speed_limit),
         cmocka_unit_test(test_the_null_space_management_gives_no_body_torque),
         cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
         cmocka_unit_test(test_every_friction_and_null_space_error_has_its_code),

@@ -126,6 +126,63 @@ def test_nees_of_a_known_error_and_a_broken_covariance():
     assert E.nees(np.array([[1.0, 1.0]]), pc)[0] == pytest.approx(2.0 / 3.0)
 
 
+def test_autocorrelation_of_the_fewest_samples():
+    """Two samples a, b about their mean +-d: rho(0) = 1, rho(1) = (-d^2 / 1) / (2 d^2 / 2) = -1, by hand;
+    one sample (or one left by the mask and the NaNs) has no autocorrelation."""
+    np.testing.assert_array_equal(E.autocorrelation([1.0, 3.0]), [1.0, -1.0])
+    np.testing.assert_array_equal(E.autocorrelation([1.0, np.nan, 3.0]), [1.0, np.nan, -1.0])
+    assert np.isnan(E.autocorrelation([2.0])).all()
+    assert np.isnan(E.autocorrelation([1.0, np.nan, 3.0], mask=[True, True, False])).all()
+
+
+def test_trailing_rms_over_its_window_only():
+    """r(t_k) = rms over t in (t_k - W, t_k]: a constant 2 has rms 2 at every sample however long the run (the
+    count of the window, not of the run so far); a NaN sample is left out; a step from 0 to 3 shows its rms
+    sqrt(9 m / n) while the window holds m of the n samples after it."""
+    from aocs_analysis.estimation_transients import trailing_rms
+    t = np.arange(20) * 1.0
+    np.testing.assert_allclose(trailing_rms(t, np.full((20, 1), 2.0), window_s=5.0)[:, 0], 2.0, rtol=1e-15)
+    x = np.where(t >= 10, 3.0, 0.0)[:, None]
+    x[12, 0] = np.nan
+    r = trailing_rms(t, x, window_s=5.0)[:, 0]
+    assert r[9] == 0.0
+    assert r[11] == pytest.approx(math.sqrt(9.0 * 2 / 5))        # 7 .. 11: two samples of 3
+    assert r[13] == pytest.approx(math.sqrt(9.0 * 3 / 4))        # 9 .. 13 without 12: 10, 11, 13
+    assert r[19] == pytest.approx(3.0)
+
+
+def test_the_sample_period_of_the_fewest_samples():
+    assert E.sample_period_s([3.0, 3.25]) == 0.25
+    for t in ([3.0], []):
+        with pytest.raises(ValueError, match="need at least two samples"):
+            E.sample_period_s(t)
+    with pytest.raises(ValueError, match="uniform in time"):
+        E.sample_period_s([0.0, 1.0, 3.0])
+
+
+def test_window_errors_by_hand():
+    """Knowledge, control and pointing errors over the last window: small rotations about x by known angles
+    (true angle 2 asin |qe_vec| = the angle), valid samples only, the window's first and last sample."""
+    t = np.arange(10) * 1.0
+    asec = math.pi / 180.0 / 3600.0
+
+    def about_x(arcsec):
+        a = np.asarray(arcsec, float) * asec
+        return np.stack([np.sin(a / 2), 0 * a, 0 * a, np.cos(a / 2)], axis=1)
+
+    qd = about_x(np.zeros(10))
+    q_true = about_x(np.full(10, 3.0))
+    q_est = about_x(np.arange(10.0))             # the estimate walks from 0 to 9 arcsec
+    valid = np.ones(10, bool)
+    valid[8] = False
+    w = E.window_errors(t, q_true, q_est, qd, valid, window_s=3.0)    # t = 6, 7, 9 (8 not valid)
+    assert (w["samples"], w["start_s"], w["end_s"]) == (3, 6.0, 9.0)
+    assert w["pointing_arcsec"]["max"] == pytest.approx(3.0, rel=1e-6)
+    assert w["control_arcsec"]["max"] == pytest.approx(9.0, rel=1e-6)
+    assert w["control_arcsec"]["rms"] == pytest.approx(math.sqrt((36 + 49 + 81) / 3), rel=1e-6)
+    assert w["knowledge_arcsec"]["max"] == pytest.approx(6.0, rel=1e-6)      # |3 - 9|
+
+
 def test_steady_state_window_and_convergence_time():
     t = np.arange(100) * 0.5
     ang = np.r_[np.linspace(10.0, 0.5, 40), np.full(60, 0.5)]
@@ -136,6 +193,11 @@ def test_steady_state_window_and_convergence_time():
     assert t[m][0] == 25.0 and m[-1]          # t >= 49.5 - 24.75
     m = E.steady_state_mask(t, window_s=10.0, start_s=45.0, valid=t != 47.0)
     assert t[m][0] == 45.0 and 47.0 not in t[m] and np.count_nonzero(m) == 9
+    # the fraction is in (0, 1]: the whole run at 1, nothing at or below 0 or above 1
+    assert E.steady_state_mask(t, fraction=1.0).all()
+    for bad in (0.0, -0.5, math.nextafter(1.0, 2.0)):
+        with pytest.raises(ValueError, match=r"fraction must be in \(0, 1\]"):
+            E.steady_state_mask(t, fraction=bad)
 
 
 def test_bounds_in_b_follow_the_mounting():

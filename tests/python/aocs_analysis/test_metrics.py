@@ -58,6 +58,11 @@ def test_effort_integrates_the_held_command_one_norm():
     u = np.array([[1.0, -2.0, 0.0], [0.5, 0.5, 0.5], [100.0, 100.0, 100.0]])
     # first command held 0.1 s, second 0.2 s, last one never applied
     assert metrics.effort(t, u) == pytest.approx(3.0 * 0.1 + 1.5 * 0.2)
+    # the fewest samples: two (one command held 0.1 s), one or none (nothing held)
+    assert metrics.effort(t[:2], u[:2]) == pytest.approx(3.0 * 0.1)
+    assert metrics.effort(t[:1], u[:1]) == 0.0 and metrics.effort(t[:0], u[:0]) == 0.0
+    assert metrics.time_in_saturation(t[:2], np.array([True, True])) == pytest.approx(0.1)
+    assert metrics.time_in_saturation(t[:1], np.array([True])) == 0.0
 
 
 def test_window_and_timing_summary():

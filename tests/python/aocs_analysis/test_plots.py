@@ -46,10 +46,14 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     seen = []
     real_save = plots.save
 
+    lines = {}
+
     def spy(fig, path):
         ax = fig.axes[0]
         seen.append((path.name, [t.get_text() for t in ax.get_legend().get_texts()],
                      [t.get_text() for t in ax.texts]))
+        lines[path.name] = [(tuple(ln.get_ydata()), ln.get_linewidth()) for ln in ax.get_lines()
+                            if ln.get_linestyle() == "--" and ln.get_color() == "red"]
         return real_save(fig, path)
 
     monkeypatch.setattr(plots, "save", spy)
@@ -62,3 +66,7 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     assert any("drawn at 1e-12" in n for n in notes)
     labels = dict((n, lb) for n, lb, _ in seen)["torques.png"]
     assert "axis limit" in labels
+    # the axis limit at +lim and -lim, both visible
+    limit = [(y[0], lw) for y, lw in lines["torques.png"] if len(set(y)) == 1]
+    ys = sorted(y for y, _ in limit)
+    assert len(ys) == 2 and ys[0] == -ys[1] < 0 and all(lw > 0 for _, lw in limit)

@@ -7,8 +7,10 @@ or numbers worked out here.
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
+import pytest
 
 from aocs_analysis import run_metrics as results
 from aocs_core import conventions as rot
@@ -56,6 +58,30 @@ def test_settle_mask_uses_every_criterion():
     assert inside.tolist() == [False, False, False, True, True, True]
 
 
+def test_a_180_deg_error_never_counts_as_settled():
+    """q4 = 0 exactly: rho = q_vec / q4 is not finite (inf, or NaN where a component of q_vec is 0 too); such a
+    sample is outside the rho criterion however small the rate, the way every other criterion would see it."""
+    sc = load("rtc_ex2a")
+    qe = np.array([[1e-5, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 0.0], [0.0, 1e-5, 0.0, 1.0], [0.6, 0.48, 0.64, 0.0],
+                   [0.0, 0.0, 1e-5, 1.0]])
+    qe /= np.linalg.norm(qe, axis=1)[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = qe[:, :3] / qe[:, 3:]                    # the definition, as attitude_series computes it
+    assert np.isnan(rho[1]).any() and np.isinf(rho[3]).all()
+    s = {"t": np.arange(5) * 1.0, "rho": rho, "we": np.zeros((5, 3)), "true_angle": np.zeros(5),
+         "euler_err": np.zeros((5, 3)), "sigma": np.zeros((5, 3))}
+    inside, used = results.settle_mask(sc, s)
+    assert "rho_norm_max" in used
+    assert inside.tolist() == [True, False, True, False, True]
+
+
+def test_a_requirement_is_met_at_equality_and_never_by_an_undefined_error():
+    assert results.meets_limit(0.5, 0.5) is True
+    assert results.meets_limit(0.5, math.nextafter(0.5, 0.0)) is False
+    assert results.meets_limit(0.25, 0.5) is True
+    assert results.meets_limit(None, 0.5) is False
+
+
 def _summary_metrics(**kw):
     lim = {"axis": None, "norm": None, "unlimited": True, "commands_over_limit": 0, "plant_slew_rate_limit_per_s": None,
            "plant_lag_tau_s": None}
@@ -66,6 +92,111 @@ def _summary_metrics(**kw):
          "timing": {}}
     m.update(kw)
     return m
+
+
+def test_hinf_measured_gain_against_an_analytic_error():
+    """z = 1e-3 M q'' (SPEC 2.6) by central second differences of the logged error angles: a roll error
+    phi(t) = A sin(w t) about the rotating target has q'' = -A w^2 sin(w t) exactly, so with a known disturbance
+    d the gain ||z||_2 / ||d||_2 is known to the differences' O((w dt)^2 / 12) here 1e-4."""
+    sc = load("geo_hinf")
+    dt = sc.dt
+    t = np.arange(2001) * dt
+    amp, w = 1e-3, 2.0 * math.pi / (200.0 * dt)
+    phi = amp * np.sin(w * t)
+    qe = np.stack([np.sin(phi / 2), 0.0 * t, 0.0 * t, np.cos(phi / 2)], axis=1)
+    q = rot.quat_mul_rows(qe, results.target_quat(sc, t))        # qe = q (x) qd^-1 (SPEC 1)
+    d = np.tile([1e-4, 2e-4, -1e-4], (t.size, 1)) * (1.0 + 0.5 * np.cos(0.01 * t))[:, None]
+    log = types.SimpleNamespace(truth={"t_s": t, "q": q, "w": np.zeros((t.size, 3)), "torque_dist": d})
+    ixx = np.asarray(sc.attitude.inertia, float)[0, 0]
+    for t_from in (0.0, t[1000]):
+        keep = t[1:-1] >= t_from
+        z = 1e-3 * ixx * (-amp * w * w * np.sin(w * t[1:-1]))[keep]
+        z_l2 = math.sqrt(np.sum(z ** 2) * dt)
+        d_l2 = math.sqrt(np.sum(d[1:-1][keep] ** 2) * dt)
+        g = results.hinf_measured_gain(log, sc, t_from)
+        assert g["z_l2"] == pytest.approx(z_l2, rel=1e-3)
+        assert g["d_l2"] == pytest.approx(d_l2, rel=1e-12)
+        assert g["gain"] == pytest.approx(z_l2 / d_l2, rel=1e-3)
+        assert g["z_peak"] == pytest.approx(np.max(np.abs(z)), rel=1e-3)
+
+
+def test_commanded_torque_figures_by_hand_and_without_any_command():
+    """_commands: the largest |u| per axis and |u|_2, and the effort sum |u|_1 dt (each command held one period);
+    a run in which the flight software never commanded has zeros, not the figures of some other run."""
+    sc = load("irassi_small")
+    dt = sc.dt
+    u = np.array([[1.0, -2.0, 0.5], [0.0, 0.0, 3.0]])
+
+    def log_of(u):
+        n = u.shape[0]
+        cmd = {"tick": np.arange(n, dtype=np.int64), "u_sat": u, "u_unsat": u, "mode": np.zeros(n),
+               "step_ns": np.zeros(n)}
+        return types.SimpleNamespace(truth={"torque_applied": np.zeros((3, 3))}, cmd=cmd)
+
+    out, series = {}, {}
+    results._commands(out, series, log_of(u), sc)
+    assert out["max_abs_torque_nm"] == [1.0, 2.0, 3.0]
+    assert out["max_torque_norm_nm"] == 3.0          # |u_1| = 3 > |u_0| = sqrt(5.25)
+    assert out["effort"] == pytest.approx((3.5 + 3.0) * dt, rel=1e-15)
+    out = {}
+    results._commands(out, series, log_of(np.zeros((0, 3))), sc)
+    assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
+    assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+
+
+def test_commands_over_the_flight_limits_are_counted_within_1e_12():
+    """_limits: the flight software's axis and norm limits from its configuration, a command counted over a
+    limit only beyond it by more than 1e-12 relative, a non-finite command counted apart; an axis limit at or
+    above UNLIMITED means no limit."""
+    sc = load("irassi_small")
+    u = np.array([[0.5, 0.0, 0.0], [0.5 * (1 + 2e-12), 0.0, 0.0], [0.5 * (1 + 1e-13), 0.0, 0.0],
+                  [0.3, 0.3, 0.3], [np.nan, 0.0, 0.0]])
+    out = {}
+    results._limits(out, {}, u, {"u_max_axis": "0.5 0.5 0.5", "u_max_norm": "0.5"}, sc)
+    lim = out["limits"]
+    assert (lim["axis"], lim["norm"], lim["unlimited"]) == (0.5, 0.5, False)
+    # over the axis limit: row 1; over the norm limit: row 1 and row 3 (|u| = 0.52); row 2 is within 1e-12
+    assert lim["commands_over_limit"] == 3 and lim["commands_not_finite"] == 1
+    out = {}
+    results._limits(out, {}, u[:1], {"u_max_axis": f"{results.UNLIMITED:g} 0 0"}, sc)
+    assert out["limits"]["unlimited"] is True and out["limits"]["axis"] is None
+    out = {}
+    results._limits(out, {}, u[:1], {}, sc)
+    assert out["limits"]["unlimited"] is False and out["limits"]["axis"] is None
+    assert out["limits"]["commands_over_limit"] == 0
+
+
+def test_step_budget_in_slew_and_step_modes_and_a_step_of_exactly_its_budget():
+    """_timing: a NOMINAL attitude step's budget is the law's plus the estimator's, plus the slew allowance
+    (timing.h AOCS_EXEC_SLEW_BUDGET_NS = 2000 ns) in guidance mode slew only (executive.c step_budget); a step
+    of exactly its budget is not over it, one nanosecond more is."""
+    from aocs_core import registry
+    from aocs_core.modes import mode_value
+
+    law = registry.law_ids()["quat_pd"]
+    base = registry.law_budget_ns("quat_pd") + registry.estimator_budget_ns("passthrough")
+    assert registry.law_budget_ns("quat_pd") == 2000        # laws.def BUDGET_NS (test_executive_timing.c too)
+    for cfg, budget in (({"guidance.mode": "slew"}, base + 2000), ({"guidance.mode": "step"}, base), ({}, base)):
+        steps = np.array([budget, budget + 1, 0], dtype=np.int64)
+        cmd = {"tick": np.arange(3), "law_id": np.full(3, law), "mode": np.full(3, mode_value("nominal")),
+               "step_ns": steps, "overrun": np.zeros(3)}
+        out, series = {}, {}
+        results._timing(out, series, cmd, {"law": "quat_pd"}, cfg, None)
+        np.testing.assert_array_equal(series["budget_ns"], [budget] * 3)
+        assert out["timing"]["over_step_budget"] == 1, cfg
+
+
+def test_comparison_table_columns_with_and_without_the_slew_bound():
+    m = {"law": "smc", "label": "slew", "limits": {"unlimited": False, "axis": 1.0}, "settle_time_s": 150.0,
+         "slew_bound_s": 120.0, "pointing_error_arcsec": {"final_max": 0.25, "qe_arcsec_final_max": [0.1, 0.2, 0.05]},
+         "max_torque_norm_nm": 1.5, "effort": 42.0, "timing": {"step_ns_p99": 812.4}, "counters": {"time_in_safe_mode_s": 0.0}}
+    plain, guided = results.comparison_table([m]).splitlines(), results.comparison_table([m], bound=True).splitlines()
+    assert plain[0].split() == ["law", "limit", "settle", "s", "final", "max", "as", "|qe_i|", "max", "as", "max", "|u|",
+                                "N", "m", "effort", "step", "ns", "p99", "safe", "s"]
+    assert plain[2].split() == ["smc", "(slew)", "1", "150.0", "0.25", "0.2", "1.5", "42", "812", "0"]
+    assert guided[0].split()[4:8] == ["bound", "s", "settle/bound", "final"]
+    assert guided[2].split()[4:6] == ["120.0", "1.250"]
+    assert len(guided) == len(plain) == 3 and set(plain[1]) == {"-", " "}
 
 
 def test_limit_line_reads_as_english():

@@ -94,6 +94,10 @@ def test_decimation_keeps_every_nth_and_the_last_row():
     assert T.decimated(cols, 4)["x"].tolist() == [0, 8, 16, 18]
     with pytest.raises(ValueError, match="--telemetry-decimate 0"):
         T.decimated(cols, 0)
+    # every row: the table itself, not a copy of a long run's columns; an empty table stays empty
+    assert T.decimated(cols, 1) is cols
+    empty = {"t_s": np.zeros(0), "x": np.zeros(0)}
+    assert T.decimated(empty, 4) is empty
 
 
 def test_parquet_round_trip_with_its_description(tmp_path):

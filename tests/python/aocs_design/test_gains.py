@@ -123,6 +123,22 @@ def test_uncontrollable_lqr_is_rejected():
         riccati.lqr("bad", "lqr_quat", a, b, np.eye(6), np.eye(3))
 
 
+def test_lqr_refuses_an_r_not_positive_definite_and_a_q_not_semidefinite():
+    a, b = models.lqr_quat_model(J_IRASSI)
+    q = np.eye(6)
+    # R singular (its smallest eigenvalue exactly 0) or indefinite: refused before the solver
+    for r in (np.diag([1.0, 1.0, 0.0]), np.diag([1.0, -1e-3, 1.0])):
+        with pytest.raises(checks.DesignError, match="R is not positive definite"):
+            riccati.lqr("bad", "lqr_quat", a, b, q, r)
+    # Q with a negative eigenvalue, however small: refused
+    with pytest.raises(checks.DesignError, match="Q is not positive semidefinite"):
+        riccati.lqr("bad", "lqr_quat", a, b, np.diag([1.0, 1.0, 1.0, 1.0, 1.0, -1e-9]), np.eye(3))
+    # Q semidefinite with eigenvalues exactly 0 (the rates unweighted; the attitude weight still makes the pair
+    # detectable): accepted, and the closed loop is stable
+    d = riccati.lqr("ok", "lqr_quat", a, b, np.diag([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]), np.eye(3))
+    assert d.slowest_pole_re < 0.0
+
+
 def test_uncontrollable_hinf_is_rejected():
     ix, iy, iz, w0 = GEO
     p = models.hinf_model(ix, iy, iz, w0)

@@ -178,6 +178,22 @@ def test_section_errors_name_the_key(sec, match):
         load("irassi_large", {"magnetorquers": sec})
 
 
+def test_rod_axes_are_refused_exactly_when_they_do_not_span():
+    """Generic axes (no zero entry, so every term of the determinant counts): three rods in one plane are
+    refused, three independent ones accepted, against numpy's determinant."""
+    rng = np.random.default_rng(21)
+    for _ in range(5):
+        r0, r1 = (v / np.linalg.norm(v) for v in rng.normal(size=(2, 3)))
+        r2 = 0.6 * r0 - 0.8 * r1
+        r2 /= np.linalg.norm(r2)
+        assert abs(np.linalg.det(np.array([r0, r1, r2]))) < 1e-12
+        with pytest.raises(ScenarioError, match=r"magnetorquers.axes: the three rod axes do not span"):
+            load("irassi_large", {"magnetorquers": {"max_dipole_am2": 1.0, "axes": [*r0, *r1, *r2]}})
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        sc = load("irassi_large", {"magnetorquers": {"max_dipole_am2": 1.0, "axes": [float(x) for x in q.T.ravel()]}})
+        assert sc is not None
+
+
 def test_residual_dipole_section_errors():
     with pytest.raises(ScenarioError, match=r"residual_dipole.dipole_am2: expected 3 numbers"):
         load("irassi_large", {"residual_dipole": {"dipole_am2": [1.0, 2.0]}})

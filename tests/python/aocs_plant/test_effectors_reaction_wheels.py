@@ -150,6 +150,11 @@ def test_applied_torque_is_the_reaction_of_the_motors():
     assert tr["commanded"] == (1.0, 2.0, 3.0)
     assert tr["effectors"]["wheels.at_torque_limit"] == (False, False, False, True)
     np.testing.assert_allclose(tr["effectors"]["wheels.motor_torque_nm"], clipped)
+    # the same from spinning wheels: the period's mean torque is the change of h over it, not h itself
+    p = _plant(w0=(0.0, 0.0, 0.0), speed0_rad_s=[100.0, -50.0, 20.0, 0.0])
+    p.apply({"u_body": (0.0, 0.0, 0.0), "u_wheels": tuple(u)})
+    p.advance()
+    np.testing.assert_allclose(p.applied, -_gs(p) @ clipped, rtol=1e-9, atol=1e-12)
 
 
 def test_a_failed_wheel_gives_no_torque():
@@ -176,6 +181,25 @@ def test_no_motor_torque_drives_a_wheel_beyond_its_speed_limit():
     assert p.truth()["effectors"]["wheels.speed_rad_s"][0] < peak - 0.2
 
 
+def test_the_motor_is_cut_at_exactly_the_speed_limit_in_either_direction():
+    """axial_torques at |Omega| = Omega_max exactly: a motor torque that would speed the wheel up is cut (the
+    bearing alone acts), one that brakes it is not; just below the limit the motor acts."""
+    p = _plant(viscous_nms=2e-4, coulomb_nm=3e-3, coulomb_width_rad_s=0.5)
+    e = p.actuator
+
+    def friction(o):
+        return 2e-4 * o + 3e-3 * math.tanh(o / 0.5)
+
+    e.u = (0.2, -0.2, 0.2, -0.2)
+    om = (WMAX, -WMAX, -WMAX, WMAX)                   # the first two speed up, the last two brake
+    np.testing.assert_allclose(e.axial_torques(om), [-friction(o) for o in om[:2]] +
+                               [0.2 - friction(om[2]), -0.2 - friction(om[3])], rtol=1e-15, atol=0)
+    below = math.nextafter(WMAX, 0.0)
+    om = (below, -below, 0.0, 0.0)
+    np.testing.assert_allclose(e.axial_torques(om)[:2], [0.2 - friction(below), -0.2 + friction(below)],
+                               rtol=1e-15, atol=0)
+
+
 def test_tachometers_in_the_sensor_sample():
     p = _plant(speed0_rad_s=[123.456, -7.0, 0.0, 1.0], tach_quantum_rad_s=0.1)
     s = p.sense()
@@ -196,6 +220,22 @@ def test_the_plain_scenarios_have_no_wheels():
     p = Plant(load("irassi_large"))
     assert not any(isinstance(e, ReactionWheels) for e in p.effectors)
     assert "wheel_speed" not in p.sense()
+
+
+def test_a_body_lighter_than_its_wheels_is_refused_and_a_light_one_is_not():
+    """J - sum Js g g^T must be positive definite (the plant integrates with it). The reference pyramid has
+    sum g g^T = (4/3) I, so with Js = 0.08 the margin is J_ii - 0.1067 kg m^2 on a diagonal J: a small
+    positive margin (0.49 kg m^2, below 1) loads and flies; a negative one is refused by key."""
+    sum_ggT = 4.0 / 3.0 * JS
+    light = [[0.6, 0.0, 0.0], [0.0, 0.7, 0.0], [0.0, 0.0, 0.8]]
+    p = Plant(load("gao_mrp", {"wheels": _wheels(), "plant.inertia": light}))
+    less = np.array(p.body.J).reshape(3, 3) - sum_ggT * np.eye(3)
+    assert 0.0 < np.min(np.linalg.eigvalsh(less)) < 1.0
+    too_light = [[0.1, 0.0, 0.0], [0.0, 0.7, 0.0], [0.0, 0.0, 0.8]]
+    assert 0.1 - sum_ggT < 0.0
+    with pytest.raises(ScenarioError, match=r"wheels.spin_inertia_kg_m2: 0.08 kg m\^2: the body inertia less the "
+                                            r"wheels' spin inertia .* not positive definite"):
+        load("gao_mrp", {"wheels": _wheels(), "plant.inertia": too_light})
 
 
 def test_explicit_axes_and_section_errors():

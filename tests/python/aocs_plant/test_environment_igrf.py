@@ -189,6 +189,11 @@ def test_a_scenario_selects_igrf_and_its_field_follows_the_orbit():
         exact = np.array(env.magnetic_field(t, env.orbit_state(t)[0]))
         err = np.abs(np.array(f(t)) - exact).max()
         assert err <= (0.0 if abs(t / sc.dt - round(t / sc.dt)) < 1e-9 else 1e-12), (t, err)
+    # its cache of the bracketing grid values: any order of calls (forward by one grid step, back by one, a
+    # jump) gives bit for bit what a fresh instance gives
+    dt = sc.dt
+    for t in (10.25 * dt, 11.25 * dt, 10.5 * dt, 11.75 * dt, 12.5 * dt, 11.5 * dt, 40.5 * dt, 39.5 * dt):
+        assert f(t) == FieldAlongOrbit(env, dt)(t), t
 
 
 def test_outside_the_coefficients_the_model_says_so():

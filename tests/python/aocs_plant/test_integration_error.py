@@ -41,6 +41,10 @@ def test_local_estimate_matches_the_true_error_of_a_period():
     est = chk.summary()["attitude_arcsec_local_max"]
     assert true_err > 1e-6                      # a real error, so the comparison means something
     assert est == pytest.approx(true_err, rel=0.1)
+    # the rate: the same estimate of |w - w_ref|, rad/s, kept apart from the attitude's
+    true_rate_err = float(np.linalg.norm(np.array(p.body.w) - ref[4:]))
+    assert true_rate_err > 1e-12
+    assert chk.summary()["rate_rad_s_local_max"] == pytest.approx(true_rate_err, rel=0.1)
 
 
 def _pd_run(sid, substeps, every=None):

@@ -1,0 +1,43 @@
+"""The wheel section of a run's metrics (aocs_analysis.wheels.metrics) on a hand-made log of irassi_rw's four
+wheels: every wheel torque command against its wheel's limit (1e-9 relative allowed), non-finite ones apart,
+the peaks and the time scaled."""
+from __future__ import annotations
+
+import types
+
+import numpy as np
+import pytest
+
+from aocs_analysis import wheels
+from aocs_plant.scenario import load
+
+
+def test_wheel_commands_over_their_limit_and_not_finite():
+    sc = load("irassi_rw")
+    n, umax = 4, 0.25
+    assert list(sc.effectors["wheels"].torque_limit_nm) == [umax] * n
+    u = np.zeros((5, 6))
+    u[0, 0] = umax                       # at the limit: within
+    u[1, 1] = -umax * (1 + 1e-10)        # inside the 1e-9 allowance
+    u[2, 2] = umax * (1 + 2e-9)          # beyond it: over
+    u[3, 3] = np.nan                     # not finite (and not counted over)
+    u[4, 1] = -0.1
+    truth = {"t_s": np.arange(3) * sc.dt, "wheel_speed": np.array([[0, 0, 0, 0], [10, -20, 0, 0], [5, 0, 0, -300.0]]),
+             "wheel_torque": np.array([[0, 0, 0, 0], [0.1, -0.2, 0, 0], [0, 0, 0.25, 0]]),
+             "wheel_at_limit": np.array([0, 0b100, 0]), "h_total": np.zeros((3, 3))}
+    cmd = {"tick": np.arange(5), "u_wheels": u, "wheel_speed_margin": np.array([0.9, 0.5, 0.8, 0.7, 0.6]),
+           "wheel_scale": np.array([1.0, 1.0, 0.5, 1.0, 0.25])}
+    out, series = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
+    assert out["commands_over_limit"] == 1 and out["commands_not_finite"] == 1
+    assert [p["peak_speed_rad_s"] for p in out["per_wheel"]] == [10.0, 20.0, 0.0, 300.0]
+    assert [p["peak_motor_torque_nm"] for p in out["per_wheel"]] == [0.1, 0.2, 0.25, 0.0]
+    assert out["per_wheel"][2]["time_at_torque_limit_s"] == pytest.approx(sc.dt)
+    assert out["min_speed_margin"] == 0.5
+    assert out["time_scaled_s"] == pytest.approx(2 * sc.dt)
+    assert series["n"] == n
+    # the summary lines: the wheels, and a limit exceeded said in capitals
+    rows = dict(wheels.table_rows(out))
+    assert rows["wheels"] == "4 wheels, removed: none" + ("" if out["within_limits"] else "; A LIMIT WAS EXCEEDED")
+    assert rows["peak wheel speed"] == "[10 20 0 300] rad/s (limit 600)"
+    out["within_limits"], out["removed"] = False, [2]
+    assert dict(wheels.table_rows(out))["wheels"] == "4 wheels, removed: wheel 2; A LIMIT WAS EXCEEDED"
