@@ -29,6 +29,7 @@ import os
 import shutil
 import subprocess
 import sys
+import threading
 from typing import Sequence
 
 ENV_VAR = "AOCS_NETNS"
@@ -139,7 +140,11 @@ def enter_netns(fresh: bool = False) -> str:
         res = subprocess.run(list(c), capture_output=True, text=True)
         if res.returncode != 0:
             raise NetnsError(f"{' '.join(c)} failed: {res.stderr.strip()}")
-    os.environ[ENV_VAR] = after
+    if threading.current_thread() is threading.main_thread():
+        # the variable is process-wide and tells children which namespace is ours: only the main thread's
+        # namespace may name it (a thread's fresh one, a campaign run's or a probe's, would leave every later
+        # child of the process refusing to open udpm; a run's children get their own: aocs_runner.run)
+        os.environ[ENV_VAR] = after
     _OURS.add(after)
     return after
 
