@@ -14,6 +14,7 @@ import json
 import os
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -401,7 +402,14 @@ def test_a_re_flight_that_differs_makes_the_run_an_error(private_netns, fsw_node
     monkeypatch.setattr(W, "execute", other_rate_over_lcm)
     spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
             "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
-    row = W.run_task(spec, str(tmp_path / "r"), fork=False, transport="direct", refly=True)
+    # in a thread of its own, as a worker flies it: run_task moves its thread into a fresh namespace, which
+    # must not be this test process's main thread (every later child of the process would be in the wrong one)
+    box = {}
+    t = threading.Thread(target=lambda: box.update(row=W.run_task(spec, str(tmp_path / "r"), fork=False,
+                                                                  transport="direct", refly=True)))
+    t.start()
+    t.join()
+    row = box["row"]
     assert row["status"] == W.STATUS_ERROR and not row["refly"]["identical"]
     assert row["error"].startswith("the LCM re-flight differs from the direct run: ")
     assert "actuator_cmd_t.u_sat" in row["error"] and "sensors_t.q" in row["error"]
