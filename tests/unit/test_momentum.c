@@ -288,6 +288,46 @@ static void test_mtq_cross_product_law(void **state)
     }
 }
 
+/*
+ * dh along B (the fuzz finding f9a15516: h = 1e6 B, canted rods): the cross product dh x b is rounding only,
+ * of order eps |dh|, in no particular direction; the dipole must still be perpendicular to B (before the
+ * projection onto B's normal plane the angle's cosine was 0.08).
+ */
+static void test_mtq_dh_along_field(void **state)
+{
+    (void)state;
+    aocs_mom_config_t c;
+    aocs_mom_t m;
+    base_config(&c, AOCS_MOM_MAGNETORQUERS);
+    c.k_mtq_per_s = AOCS_R(0.001953125);
+    c.h_target_B_Nms = aocs_vec3_zero();
+    c.mtq_max_dipole_Am2 = aocs_vec3_make(AOCS_R(122.0703125), AOCS_R(122.0703125), AOCS_R(281.4453125));
+    c.mtq_axes = aocs_mat3_identity();
+    c.mtq_axes.m[1][0] = AOCS_R(0.00049609375);
+    c.mtq_axes.m[1][1] = AOCS_R(1.0000001678466797);
+    c.mtq_axes.m[2][1] = AOCS_R(-0.0005);
+    c.mtq_axes.m[2][2] = AOCS_R(0.9995);
+    assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+    const aocs_vec3_t b = aocs_vec3_make(AOCS_R(-2.3378906250000003e-05), AOCS_R(1.3242187499999996e-05),
+                                         AOCS_R(-6.0e-05));
+    aocs_mom_input_t in = input(aocs_vec3_scale(b, AOCS_R(1.0e6)), b, 0.1);
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    double mB[3] = {0.0, 0.0, 0.0};
+    double bd[3];
+    for (int rod = 0; rod < 3; ++rod) {
+        for (int i = 0; i < 3; ++i) {
+            mB[i] += (double)m.out.dipole_Am2.v[rod] * (double)c.mtq_axes.m[rod][i];
+        }
+    }
+    for (int i = 0; i < 3; ++i) {
+        bd[i] = (double)b.v[i];
+    }
+    /* perpendicular to B to the rounding of the rods' inverse (or zero) */
+    assert_true(fabs(d_dot(mB, bd)) <= (TOL_LOOSE * d_norm(mB) * d_norm(bd)));
+    /* and negligible: below eps |dh| k / |B| */
+    assert_true(d_norm(mB) <= (1e-3 * (double)c.k_mtq_per_s * 1e6));
+}
+
 /* ---- thrusters ---- */
 
 #define N_THR 12
@@ -599,6 +639,7 @@ int main(void)
         cmocka_unit_test(test_errors_give_zero),
         cmocka_unit_test(test_hysteresis),
         cmocka_unit_test(test_mtq_cross_product_law),
+        cmocka_unit_test(test_mtq_dh_along_field),
         cmocka_unit_test(test_thr_pwm),
         cmocka_unit_test(test_thr_small_torque_carried),
         cmocka_unit_test(test_thr_config_errors),

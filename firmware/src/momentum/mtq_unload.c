@@ -55,7 +55,11 @@ aocs_status_t aocs_mom_mtq_step(aocs_mom_t *m, const aocs_mom_input_t *in)
         /* dh x B / |B|^2 computed as (dh x b) / |B| with b the unit field: no overflow of |B|^2 */
         const real_t b_norm = AOCS_SQRT(b2);
         const aocs_vec3_t b_unit = aocs_vec3_scale(in->b_B_T, AOCS_R(1.0) / b_norm);
-        const aocs_vec3_t m_B = aocs_vec3_scale(aocs_vec3_cross(out->dh_B_Nms, b_unit), m->cfg.k_mtq_per_s / b_norm);
+        const aocs_vec3_t m_cross =
+            aocs_vec3_scale(aocs_vec3_cross(out->dh_B_Nms, b_unit), m->cfg.k_mtq_per_s / b_norm);
+        /* projected onto the field's normal plane, m_B = m - (m . b) b: with dh nearly along B the cross
+         * product is all rounding (of order eps |dh|), in no particular direction */
+        const aocs_vec3_t m_B = aocs_vec3_sub(m_cross, aocs_vec3_scale(b_unit, aocs_vec3_dot(m_cross, b_unit)));
         aocs_vec3_t m_rod = aocs_mat3_mul_vec(m->mtq_inv, m_B);
         real_t scale = AOCS_R(1.0);
         for (uint32_t i = 0u; i < 3u; ++i) {
