@@ -23,7 +23,7 @@
 #define AOCS_GAINS_GEO_IZ_KGM2 AOCS_R(3030.4299999999998) /* hinf design inertia, SPEC 2.6 */
 #define AOCS_GAINS_GEO_W0_RADPS AOCS_R(7.2921149999999999e-05) /* orbit rate, SPEC 2.6 */
 
-#define AOCS_GAINS_TABLE_COUNT 10
+#define AOCS_GAINS_TABLE_COUNT 11
 
 /* lqr_quat_ref: SPEC 2.5 lqr_quat, u = -K [sign(qe4) qe_vec; we] */
 extern const real_t aocs_gains_lqr_quat_ref_K[3][6];
@@ -45,5 +45,7 @@ extern const real_t aocs_gains_lqr_quat_i_ref_K[3][9];
 extern const real_t aocs_gains_hinf_bounded_K[3][6];
 /* lqr_quat_i_suite: SPEC 5.2 lqr_quat_i, u = -K [z; sign(qe4) qe_vec; we], z' = sign(qe4) qe_vec */
 extern const real_t aocs_gains_lqr_quat_i_suite_K[3][9];
+/* lqr_quat_i_rw_suite: SPEC 5.2 lqr_quat_i, u = -K [z; sign(qe4) qe_vec; we], z' = sign(qe4) qe_vec */
+extern const real_t aocs_gains_lqr_quat_i_rw_suite_K[3][9];
 
 #endif /* AOCS_GAINS_H */

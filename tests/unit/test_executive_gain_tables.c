@@ -36,6 +36,7 @@ static const expected_table_t EXPECTED[] = {
     EXPECTED_ROW("lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K),
     EXPECTED_ROW("hinf_bounded", aocs_gains_hinf_bounded_K),
     EXPECTED_ROW("lqr_quat_i_suite", aocs_gains_lqr_quat_i_suite_K),
+    EXPECTED_ROW("lqr_quat_i_rw_suite", aocs_gains_lqr_quat_i_rw_suite_K),
 };
 #define N_EXPECTED ((int)(sizeof(EXPECTED) / sizeof(EXPECTED[0])))
 

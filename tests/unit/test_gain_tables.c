@@ -68,6 +68,7 @@ static const struct {
 } all_tables9[] = {
     {"lqr_quat_i_ref", aocs_gains_lqr_quat_i_ref_K},
     {"lqr_quat_i_suite", aocs_gains_lqr_quat_i_suite_K},
+    {"lqr_quat_i_rw_suite", aocs_gains_lqr_quat_i_rw_suite_K},
 };
 
 static void test_tables_finite(void **state)

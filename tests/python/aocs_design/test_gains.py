@@ -86,7 +86,8 @@ def test_lqr_quat_i_model_matches_spec_equations():
 
 
 @pytest.mark.parametrize("name", ["lqr_quat_ref", "lqr_quat_strong", "orbit_lqr_q1", "orbit_lqr_q01",
-                                  "orbit_lqr_q10", "lqr_quat_i_ref", "lqr_quat_i_suite"])
+                                  "orbit_lqr_q10", "lqr_quat_i_ref", "lqr_quat_i_suite",
+                                  "lqr_quat_i_rw_suite"])
 def test_are_solution_satisfies_equation(generated, name):
     d = generated[0][name]
     s = d.s
@@ -96,7 +97,8 @@ def test_are_solution_satisfies_equation(generated, name):
 
 
 @pytest.mark.parametrize("name", ["lqr_quat_ref", "lqr_quat_strong", "orbit_lqr_q1", "orbit_lqr_q01",
-                                  "orbit_lqr_q10", "lqr_quat_i_ref", "lqr_quat_i_suite"])
+                                  "orbit_lqr_q10", "lqr_quat_i_ref", "lqr_quat_i_suite",
+                                  "lqr_quat_i_rw_suite"])
 def test_k_equals_python_control_lqr(generated, name):
     import control
 
@@ -315,7 +317,7 @@ def test_committed_tables_contain_provenance():
     for name in ("lqr_quat_ref", "lqr_quat_strong", "orbit_lqr_q1", "orbit_lqr_q01", "orbit_lqr_q10",
                  "hinf_min", "hinf_regional", "hinf_bounded"):
         assert f"const real_t aocs_gains_{name}_K[3][6]" in text
-    for name in ("lqr_quat_i_ref", "lqr_quat_i_suite"):
+    for name in ("lqr_quat_i_ref", "lqr_quat_i_suite", "lqr_quat_i_rw_suite"):
         assert f"const real_t aocs_gains_{name}_K[3][9]" in text   # SPEC 5.2: x = [z; qe_vec; we]
     designs = tomllib.loads((REPO / "tools" / "gains.toml").read_text())["designs"]
     n_hinf = sum(d["kind"] == "hinf" for d in designs.values())
@@ -333,7 +335,7 @@ def test_json_has_required_keys(generated, tmp_path):
     data = json.loads(path.read_text())
     assert set(data) == {"lqr_quat_ref", "lqr_quat_strong", "orbit_lqr_q1", "orbit_lqr_q01",
                          "orbit_lqr_q10", "hinf_min", "hinf_regional", "lqr_quat_i_ref", "hinf_bounded",
-                         "lqr_quat_i_suite"}
+                         "lqr_quat_i_suite", "lqr_quat_i_rw_suite"}
     for name, e in data.items():
         n = 9 if e["kind"] == "lqr_quat_i" else 6   # the state of the law: [z; qe_vec; we] for lqr_quat_i
         assert np.array(e["K"]).shape == (3, n)

@@ -47,21 +47,26 @@ SUITE_GAIN_LAWS = ("quat_pid", "lqr_quat_i")
 @pytest.mark.parametrize("sid", MEKF_IDS)
 def test_the_realistic_suite_scenarios_are_their_reference_with_the_holds_sensors(sid):
     """Each *_mekf file is its reference scenario (plant, target, disturbances, laws, gains, wheels) flown on
-    irassi_hold_mekf's sensors and filter, the integral laws with the suite's gains (the same in every one:
-    quat_pid's kp and ki twice the reference's, kd the same; lqr_quat_i's table lqr_quat_i_suite); the wheel
-    ones with the slew guidance."""
+    irassi_hold_mekf's sensors and filter, the integral laws with the suite's gains (quat_pid's kp and ki twice
+    the reference's, kd the same, lqr_quat_i's table lqr_quat_i_suite, as irassi_hold_mekf; on the wheels four
+    times the reference's kp and ki and the table lqr_quat_i_rw_suite); the wheel ones with the slew guidance."""
     sc, ref, hold = load(sid), load(sid.removesuffix("_mekf")), load("irassi_hold_mekf")
     assert (sc.attitude, sc.target, sc.disturbances, sc.effectors, sc.duration_s, sc.metrics) == \
         (ref.attitude, ref.target, ref.disturbances, ref.effectors, ref.duration_s, ref.metrics)
     assert (sc.control.enabled, sc.control.law) == (ref.control.enabled, ref.control.law)
     assert {k: v for k, v in sc.control.laws.items() if k not in SUITE_GAIN_LAWS} == \
         {k: v for k, v in ref.control.laws.items() if k not in SUITE_GAIN_LAWS}
+    on_wheels = bool(sc.effectors.get("wheels"))
     pid, pid_ref = sc.control.laws["quat_pid"].params, ref.control.laws["quat_pid"].params
-    assert (pid["kp"], pid["ki"], pid["kd"]) == (2 * pid_ref["kp"], 2 * pid_ref["ki"], pid_ref["kd"])
-    assert sc.control.laws["lqr_quat_i"].table == "lqr_quat_i_suite"
+    stiff = 4 if on_wheels else 2
+    assert (pid["kp"], pid["ki"], pid["kd"]) == (stiff * pid_ref["kp"], stiff * pid_ref["ki"], pid_ref["kd"])
+    assert sc.control.laws["lqr_quat_i"].table == ("lqr_quat_i_rw_suite" if on_wheels else "lqr_quat_i_suite")
     assert ref.control.laws["lqr_quat_i"].table == "lqr_quat_i_ref"
-    for law in SUITE_GAIN_LAWS:
-        assert sc.control.laws[law] == hold.control.laws[law]
+    if on_wheels:
+        assert sc.control.laws["quat_pid"] == load("irassi_rw_mekf").control.laws["quat_pid"]
+    else:
+        for law in SUITE_GAIN_LAWS:
+            assert sc.control.laws[law] == hold.control.laws[law]
     for name in ("star_tracker", "gyro"):
         assert sc.sensors.sensors[name] == hold.sensors.sensors[name]
         assert name not in ref.sensors.sensors
