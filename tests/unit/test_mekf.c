@@ -1430,6 +1430,38 @@ static void covariance_rule(void **state)
     }
 }
 
+/* S = H P H^T + R must be positive definite: a zero pivot of its factorisation is refused as an invalid
+ * covariance and restarts the filter, like a negative one; it is never used as a divisor (d^2 would be inf or
+ * NaN and the sample would count as gated). Here the last pivot, S_22 - L_20^2 - L_21^2 = P_22 + R_22 = 0
+ * exactly: a sample at the estimate's time (h = 0) with q_SB = identity, so that R = diag(r_S), and P_22's
+ * row decoupled from the attitude x and y errors (a zero pivot earlier would make the next one non-finite) */
+static void innovation_covariance_zero_pivot(void **state)
+{
+    (void)state;
+    bench_t b;
+    aocs_mekf_output_t o;
+    harness_start(&b, 20);
+    const uint32_t restarts = b.f.n_restarts;
+    const uint32_t gated = b.f.n_gated;
+    b.t += 100000000u;
+    assert_int_equal(aocs_mekf_propagate(&b.f, aocs_vec3_zero(), b.t), AOCS_OK);
+    for (int j = 0; j < 2; ++j) {
+        b.f.P.m[2][j] = AOCS_R(0.0);
+        b.f.P.m[j][2] = AOCS_R(0.0);
+    }
+    b.f.P.m[2][2] = -b.f.r_S[2];
+    aocs_mekf_st_sample_t smp;
+    memset(&smp, 0, sizeof(smp));
+    smp.valid = 1u;
+    smp.q_SN = rq_to(sim_tracker(&b.s, &b.c, 0));
+    smp.t_meas_ns = b.t;
+    assert_int_equal(aocs_mekf_update(&b.f, &smp), AOCS_ERR_MEKF_COV_INVALID);
+    assert_int_equal(b.f.n_restarts, restarts + 1u);
+    assert_int_equal(b.f.n_gated, gated);
+    assert_int_equal(aocs_mekf_get_output(&b.f, &o), AOCS_ERR_MEKF_NO_ATTITUDE);
+    assert_output_zero(&o);
+}
+
 static void hostile_inputs(void **state)
 {
     (void)state;
@@ -1642,6 +1674,7 @@ int main(void)
         cmocka_unit_test(configured_start),
         cmocka_unit_test(quaternion_reset),
         cmocka_unit_test(covariance_rule),
+        cmocka_unit_test(innovation_covariance_zero_pivot),
         cmocka_unit_test(gating),
         cmocka_unit_test(hostile_inputs),
         cmocka_unit_test(convergence),
