@@ -226,3 +226,25 @@ def test_pil_target_precision_in_the_run_line():
     assert results._run_text(m) == ("lockstep on pil-m4f (float, image under QEMU, step time from instructions "
                                     "at 168 MHz)")
     assert results._run_text(_summary_metrics()) == "lockstep on host (double)"
+
+
+def test_attitude_series_against_the_error_rotation_by_hand():
+    """The truth is the target turned by theta about a fixed unit axis n (qe = q (x) qd^-1, SPEC 1): the
+    true angle is theta, the Gibbs vector rho = tan(theta / 2) n, the MRP sigma = tan(theta / 4) n (Schaub
+    and Junkins, "Analytical Mechanics of Space Systems", 3.6 and 3.7), and the rate error is w minus the
+    target's rate in B, w_e = w - A(qe) w_d. theta up to 170 deg, where rho and sigma differ most."""
+    sc = load("geo_hinf")
+    t = np.arange(5) * sc.dt
+    theta = np.radians([0.5, 30.0, 90.0, 120.0, 170.0])
+    n = np.array([2.0, -1.0, 2.0]) / 3.0
+    qe = np.column_stack([np.sin(theta / 2)[:, None] * n, np.cos(theta / 2)])
+    q = rot.quat_mul_rows(qe, results.target_quat(sc, t))
+    wd = np.asarray(sc.target.wd, float)
+    dw = np.array([[1e-4, 0.0, -2e-4]] * 5)
+    wd_b = np.array([np.asarray(rot.quat_to_dcm(tuple(e)), float) @ wd for e in qe])
+    log = types.SimpleNamespace(truth={"t_s": t, "q": q, "w": wd_b + dw})
+    s = results.attitude_series(sc, log)
+    np.testing.assert_allclose(s["true_angle"], np.degrees(theta) * 3600.0, rtol=1e-9)
+    np.testing.assert_allclose(s["rho"], np.tan(theta / 2)[:, None] * n, rtol=1e-9)
+    np.testing.assert_allclose(s["sigma"], np.tan(theta / 4)[:, None] * n, rtol=1e-9)
+    np.testing.assert_allclose(s["we"], dw, rtol=1e-9, atol=1e-15)
