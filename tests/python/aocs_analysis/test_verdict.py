@@ -45,6 +45,9 @@ def test_thresholds_are_where_they_are_stated():
     standby = _metrics(counters={"law_error": 100})
     standby["law"] = "none"
     assert verdict.judge(standby, [], realtime=False)["passed"]
+    # no control step at all: no law was refused (the law-refused check needs at least one step)
+    no_steps = verdict.judge(_metrics(timing={"steps": 0}), [], realtime=False)
+    assert "law-refused" not in [f["check"] for f in no_steps["failures"]]
 
 
 def _diverged(**extra):
