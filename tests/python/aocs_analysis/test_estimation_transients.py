@@ -54,24 +54,29 @@ def test_the_predicted_convergence_is_its_definition_by_brute_force():
 
 def test_an_outage_report_by_hand():
     """1 Hz log, outage [200, 300): the error is 5 bound_S during it, 20 bound_S for the first 60 s after it,
-    then 0.5 bound_S; the filter's sigma is at its pre-update steady state throughout. The trailing rms
-    (30 s) of the samples since the end first stays inside 3 bound_S at t = 389 (the window 360 .. 389; at
-    388 it still holds t = 359: sqrt((400 + 29 x 0.25) / 30) = 3.68 bound_S), so the recovery takes 89 s;
-    the rms over [end + 60, end + 260] is 0.5 bound_S; the largest ratio to 3 sigma during it is
-    5 bound_S / (3 sigma)."""
+    then 0.5 bound_S up to 460 s, 1 bound_S up to 560 s and 2 bound_S to the end (999 s); the filter's sigma
+    is at its pre-update steady state throughout. The trailing rms (30 s) of the samples since the end first
+    stays inside 3 bound_S at t = 389 (the window 360 .. 389; at 388 it still holds t = 359:
+    sqrt((400 + 29 x 0.25) / 30) = 3.68 bound_S), so the recovery takes 89 s; the rms over [end + 60,
+    end + 260] = [360, 560] (100 samples of 0.5, 101 of 1) is sqrt((25 + 101) / 201) bound_S; the largest
+    ratio to 3 sigma during it is 5 bound_S / (3 sigma). A last sample far outside: never recovered."""
     sensors = SensorSet(3.0, 20.0, 1.0, SIGMA_V, SIGMA_U)
     bound = steady_rms_S_arcsec(sensors, 1.0)
     t = np.arange(1000.0)
-    level = np.where(t < 200, 0.5, np.where(t < 300, 5.0, np.where(t < 360, 20.0, 0.5)))
+    level = np.select([t < 200, t < 300, t < 360, t < 460, t <= 560], [0.5, 5.0, 20.0, 0.5, 1.0], 2.0)
     dth = level[:, None] * bound[None, :] / ARCSEC_PER_RAD
     pre = np.array([farrenkopf(a / ARCSEC_PER_RAD, SIGMA_V, SIGMA_U, 1.0).attitude_pre for a in (3.0, 3.0, 20.0)])
     p_att = np.broadcast_to(np.diag(pre ** 2), (t.size, 3, 3))
     (rep,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
     assert rep["recovery_time_s"] == 89.0
     assert rep["rms_span_s"] == [360.0, 560.0]
-    np.testing.assert_allclose(rep["rms_over_bound"], 0.5, rtol=1e-12)
+    np.testing.assert_allclose(rep["rms_over_bound"], math.sqrt((25.0 + 101.0) / 201.0), rtol=1e-12)
     assert rep["max_ratio_to_3sigma_per_axis"] == pytest.approx(list(5.0 * bound / (3.0 * pre * ARCSEC_PER_RAD)))
     assert rep["inside_3sigma_fraction"] == float(np.mean(5.0 * bound <= 3.0 * pre * ARCSEC_PER_RAD))
     # the recovery rule as trailing_rms sees it: 388 outside, 389 inside
     r = trailing_rms(t, np.where((t >= 300)[:, None], dth * ARCSEC_PER_RAD, np.nan), 30.0)
     assert np.any(r[388] > 3.0 * bound) and np.all(r[389:] <= 3.0 * bound)
+    # the recovery must hold up to the last sample
+    dth[-1] *= 1000.0
+    (late,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
+    assert late["recovery_time_s"] is None
