@@ -127,21 +127,26 @@ def test_commanded_torque_figures_by_hand_and_without_any_command():
     dt = sc.dt
     u = np.array([[1.0, -2.0, 0.5], [0.0, 0.0, 3.0]])
 
-    def log_of(u):
+    def log_of(u, applied):
         n = u.shape[0]
         cmd = {"tick": np.arange(n, dtype=np.int64), "u_sat": u, "u_unsat": u, "mode": np.zeros(n),
                "step_ns": np.zeros(n)}
-        return types.SimpleNamespace(truth={"torque_applied": np.zeros((3, 3))}, cmd=cmd)
+        return types.SimpleNamespace(truth={"torque_applied": applied}, cmd=cmd)
 
     out, series = {}, {}
-    results._commands(out, series, log_of(u), sc)
+    applied = np.array([[0.5, -1.0, 0.0], [0.2, 0.3, -0.4], [0.0, 0.0, 0.0]])
+    results._commands(out, series, log_of(u, applied), sc)
     assert out["max_abs_torque_nm"] == [1.0, 2.0, 3.0]
     assert out["max_torque_norm_nm"] == 3.0          # |u_1| = 3 > |u_0| = sqrt(5.25)
     assert out["effort"] == pytest.approx((3.5 + 3.0) * dt, rel=1e-15)
-    out = {}
-    results._commands(out, series, log_of(np.zeros((0, 3))), sc)
-    assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
-    assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+    assert out["max_abs_applied"] == [0.5, 1.0, 0.4]
+    # nothing commanded, and (a run stopped before its first period) nothing applied either
+    for applied in (np.zeros((3, 3)), np.zeros((0, 3))):
+        out = {}
+        results._commands(out, series, log_of(np.zeros((0, 3)), applied), sc)
+        assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
+        assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+        assert out["max_abs_applied"] == [0.0, 0.0, 0.0]
 
 
 def test_commands_over_the_flight_limits_are_counted_within_1e_12():
