@@ -8,8 +8,13 @@ import pytest
 
 from aocs_analysis.estimation import SensorSet
 from aocs_analysis.estimation_bounds import between_updates, farrenkopf
-from aocs_analysis.estimation_transients import (outage_report, predicted_convergence, predicted_rms_history,
-                                                 steady_rms_S_arcsec, trailing_rms)
+from aocs_analysis.estimation_transients import (
+    outage_report,
+    predicted_convergence,
+    predicted_rms_history,
+    steady_rms_S_arcsec,
+    trailing_rms,
+)
 from aocs_core.conventions import ARCSEC_PER_RAD
 
 SIGMA_N = 5.0 / ARCSEC_PER_RAD   # star tracker, rad
