@@ -273,6 +273,18 @@ static void test_enum_names_are_the_enums_values(void **state)
     assert_int_equal(aocs_config_enum_value(ref_of("law").field, "quat_pid", &v), 1);
     assert_int_equal(v, AOCS_LAW_QUAT_PID);
     assert_int_equal(aocs_config_enum_value(ref_of("k_safe").field, "1", &v), 0);
+    /* total for any row: an ENUM row without names has no values, and names on a row of another kind are
+     * not values of it (the function reads the names only of an ENUM row) */
+    {
+        aocs_config_field_t odd = *mode;
+        odd.names = NULL;
+        v = 99u;
+        assert_int_equal(aocs_config_enum_value(&odd, "step", &v), 0);
+        odd = *ref_of("k_safe").field;
+        odd.names = "step,slew";
+        assert_int_equal(aocs_config_enum_value(&odd, "slew", &v), 0);
+        assert_int_equal(v, 99u);
+    }
 }
 
 /* "mom.policy" takes the names of the rows of momentum/momentum.def, in id order; the mom.* rows reach their

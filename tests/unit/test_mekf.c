@@ -742,6 +742,73 @@ static void riccati_ode(void **state)
     }
 }
 
+/* The coefficient functions of spec 5.6.3 (f2 = (th - sin th) / th^3, f3 = (th^2/2 - 1 + cos th) / th^4,
+ * f4 = (th^3/3 - 2 th + 2 sin th) / th^5) as their power series summed in long double to 20 terms, each term
+ * from its factorial (not the firmware's Horner form): f2 = sum_k>=0 (-1)^k th^2k / (2k+3)!,
+ * f3 = sum (-1)^k th^2k / (2k+4)!, f4 = 2 sum (-1)^k th^2k / (2k+5)!. */
+static long double series_f(int first_factorial, long double scale, long double th)
+{
+    long double sum = 0.0L, term = scale;
+    for (int n = 1; n <= first_factorial; ++n) {
+        term /= (long double)n;
+    }
+    for (int k = 0; k < 20; ++k) {
+        sum += term;
+        term *= -th * th / ((long double)(first_factorial + 2 * k + 1) * (long double)(first_factorial + 2 * k + 2));
+    }
+    return sum;
+}
+
+/* Q_d of one propagation from P = 0 is all of P, and with r = w dt in the x-y plane its elements isolate
+ * the coefficient functions (spec 5.6.4): P11_xy = su^2 dt^3 f4 r_x r_y, P12_xy = -su^2 dt^2 f3 r_x r_y,
+ * P12_xz = su^2 dt^2 f2 r_y. Checked against the series above on both sides of the series/closed-form switch
+ * (0.1 rad in double, 0.5 in float): in double to 2e-14, where dropping or flipping the fifth term of a
+ * series (a relative change of th^6 / 332640, 3e-12 at 0.1 rad) is seen. */
+static void propagation_coefficients(void **state)
+{
+    (void)state;
+    const double thetas[4] = {0.02, 0.0999, 0.4999, 2.0};
+#if defined(AOCS_REAL_IS_FLOAT)
+    const double tol = 2e-6;
+#else
+    const double tol = 2e-14;
+#endif
+    for (int n = 0; n < 4; ++n) {
+        sim_sensors_t c = {10.0 * ARCSEC, 10.0 * ARCSEC, 2e-4, 3e-5, 0.1, 1, 0u, {{0.0, 0.0, 0.0, 1.0}}};
+        aocs_mekf_config_t cfg = cfg_for(&c, 0.01, 1e-3);
+        aocs_mekf_t f;
+        aocs_mekf_output_t o;
+        rq_t q0 = {{0.0, 0.0, 0.0, 1.0}};
+        double zero[3] = {0.0, 0.0, 0.0};
+        const uint64_t t0 = 2u * NS;
+        aocs_mekf_input_t in = input_of(t0, zero, 1, q0, t0);
+        if ((thetas[n] > 0.45) && (thetas[n] < 0.55) && (tol < 1e-10)) {
+            continue; /* double's closed forms just above 0.1 rad lose digits to cancellation (by design) */
+        }
+        assert_int_equal(aocs_mekf_init(&f, &cfg), AOCS_OK);
+        assert_int_equal(aocs_mekf_step(&f, &in, &o), AOCS_OK);
+        memset(&f.P, 0, sizeof(f.P));
+        f.bias_B_hat = aocs_vec3_zero();
+        /* |w| dt = theta along (0.6, 0.8, 0) over dt = 0.1 s */
+        const aocs_vec3_t w = aocs_vec3_make((real_t)(6.0 * thetas[n]), (real_t)(8.0 * thetas[n]), AOCS_R(0.0));
+        assert_int_equal(aocs_mekf_propagate(&f, w, t0 + 100000000u), AOCS_OK);
+        const real_t dt = (real_t)100000000u * AOCS_R(1.0e-9);
+        const long double rx = (long double)(w.v[0] * dt), ry = (long double)(w.v[1] * dt);
+        const long double th = sqrtl(rx * rx + ry * ry);
+        const long double su2 = (long double)(cfg.gyro_rrw_radps1p5 * cfg.gyro_rrw_radps1p5);
+        const long double d = (long double)dt;
+        const long double f2 = (long double)f.P.m[0][5] / (su2 * d * d * ry);
+        const long double f3 = -(long double)f.P.m[0][4] / (su2 * d * d * rx * ry);
+        const long double f4 = (long double)f.P.m[0][1] / (su2 * d * d * d * rx * ry);
+        const long double e2 = series_f(3, 1.0L, th), e3 = series_f(4, 1.0L, th), e4 = series_f(5, 2.0L, th);
+        print_message("theta %.4g rad: f2, f3, f4 relative errors %.2Lg %.2Lg %.2Lg\n", (double)th,
+                      fabsl(f2 / e2 - 1.0L), fabsl(f3 / e3 - 1.0L), fabsl(f4 / e4 - 1.0L));
+        assert_true(fabsl(f2 / e2 - 1.0L) <= (long double)tol);
+        assert_true(fabsl(f3 / e3 - 1.0L) <= (long double)tol);
+        assert_true(fabsl(f4 / e4 - 1.0L) <= (long double)tol);
+    }
+}
+
 typedef struct {
     double sig_filter[3];  /* the filter's attitude 1-sigma at the end (mean over runs), rad */
     double sig_bias[3];
@@ -1430,6 +1497,38 @@ static void covariance_rule(void **state)
     }
 }
 
+/* S = H P H^T + R must be positive definite: a zero pivot of its factorisation is refused as an invalid
+ * covariance and restarts the filter, like a negative one; it is never used as a divisor (d^2 would be inf or
+ * NaN and the sample would count as gated). Here the last pivot, S_22 - L_20^2 - L_21^2 = P_22 + R_22 = 0
+ * exactly: a sample at the estimate's time (h = 0) with q_SB = identity, so that R = diag(r_S), and P_22's
+ * row decoupled from the attitude x and y errors (a zero pivot earlier would make the next one non-finite) */
+static void innovation_covariance_zero_pivot(void **state)
+{
+    (void)state;
+    bench_t b;
+    aocs_mekf_output_t o;
+    harness_start(&b, 20);
+    const uint32_t restarts = b.f.n_restarts;
+    const uint32_t gated = b.f.n_gated;
+    b.t += 100000000u;
+    assert_int_equal(aocs_mekf_propagate(&b.f, aocs_vec3_zero(), b.t), AOCS_OK);
+    for (int j = 0; j < 2; ++j) {
+        b.f.P.m[2][j] = AOCS_R(0.0);
+        b.f.P.m[j][2] = AOCS_R(0.0);
+    }
+    b.f.P.m[2][2] = -b.f.r_S[2];
+    aocs_mekf_st_sample_t smp;
+    memset(&smp, 0, sizeof(smp));
+    smp.valid = 1u;
+    smp.q_SN = rq_to(sim_tracker(&b.s, &b.c, 0));
+    smp.t_meas_ns = b.t;
+    assert_int_equal(aocs_mekf_update(&b.f, &smp), AOCS_ERR_MEKF_COV_INVALID);
+    assert_int_equal(b.f.n_restarts, restarts + 1u);
+    assert_int_equal(b.f.n_gated, gated);
+    assert_int_equal(aocs_mekf_get_output(&b.f, &o), AOCS_ERR_MEKF_NO_ATTITUDE);
+    assert_output_zero(&o);
+}
+
 static void hostile_inputs(void **state)
 {
     (void)state;
@@ -1641,7 +1740,9 @@ int main(void)
         cmocka_unit_test(reference_filter),
         cmocka_unit_test(configured_start),
         cmocka_unit_test(quaternion_reset),
+        cmocka_unit_test(propagation_coefficients),
         cmocka_unit_test(covariance_rule),
+        cmocka_unit_test(innovation_covariance_zero_pivot),
         cmocka_unit_test(gating),
         cmocka_unit_test(hostile_inputs),
         cmocka_unit_test(convergence),

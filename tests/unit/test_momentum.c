@@ -451,21 +451,46 @@ static void test_thr_pwm(void **state)
     for (int rep = 0; rep < 100; ++rep) {
         thr_check_case(&c, pos, dir, test_random_vec3(&r, 20.0), 0.1);
     }
-    /* a dump torque beyond what the thrusters give in a period: the duties scaled, the direction kept */
+    /* a dump torque beyond what the thrusters give in a period: the duties scaled by the largest, the
+     * direction kept; for the momentum along each signed axis, the diagonals and one oblique, and with the
+     * thrusters numbered otherwise (0 and 1 swapped: then thruster 0 carries the -x dump): the on-times are
+     * the same ones, renumbered (to one quantum) */
     c.dump_torque_Nm = AOCS_R(100.0);
-    aocs_mom_t m;
-    assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
-    aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(30.0), AOCS_R(-10.0), AOCS_R(5.0)), aocs_vec3_zero(), 0.1);
-    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
-    real_t tmax = AOCS_R(0.0);
-    for (int i = 0; i < N_THR; ++i) {
-        tmax = (m.out.thruster_on_s[i] > tmax) ? m.out.thruster_on_s[i] : tmax;
-    }
-    assert_close(tmax, 0.1, TOL_TIGHT);
-    const aocs_vec3_t u = m.out.u_unload_B_Nm;
-    for (int a = 0; a < 3; ++a) {
-        assert_close(u.v[a] / aocs_vec3_norm(u), -in.h_wheels_B_Nms.v[a] / aocs_vec3_norm(in.h_wheels_B_Nms),
-                     TOL_LOOSE);
+    aocs_mom_config_t swapped = c;
+    swapped.thr_arm_x_m[0] = c.thr_arm_x_m[1];
+    swapped.thr_arm_y_m[0] = c.thr_arm_y_m[1];
+    swapped.thr_arm_z_m[0] = c.thr_arm_z_m[1];
+    swapped.thr_arm_x_m[1] = c.thr_arm_x_m[0];
+    swapped.thr_arm_y_m[1] = c.thr_arm_y_m[0];
+    swapped.thr_arm_z_m[1] = c.thr_arm_z_m[0];
+    for (int k = 0; k < 28; ++k) {
+        /* h = 30 (a, b, c), a, b, c in {-1, 0, 1}, not all 0; and (30, -10, 5) */
+        const int a3[3] = {(k % 3) - 1, ((k / 3) % 3) - 1, (k / 9) - 1};
+        const aocs_vec3_t h = (k == 27) ? aocs_vec3_make(AOCS_R(30.0), AOCS_R(-10.0), AOCS_R(5.0))
+                                        : aocs_vec3_make((real_t)(30 * a3[0]), (real_t)(30 * a3[1]), (real_t)(30 * a3[2]));
+        if ((k != 27) && (a3[0] == 0) && (a3[1] == 0) && (a3[2] == 0)) {
+            continue;
+        }
+        aocs_mom_t m;
+        aocs_mom_t m2;
+        aocs_mom_input_t in = input(h, aocs_vec3_zero(), 0.1);
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+        assert_int_equal(aocs_mom_init(&m2, &swapped), AOCS_OK);
+        assert_int_equal(aocs_mom_step(&m2, &in), AOCS_OK);
+        real_t tmax = AOCS_R(0.0);
+        for (int i = 0; i < N_THR; ++i) {
+            const int j = (i < 2) ? (1 - i) : i;
+            tmax = (m.out.thruster_on_s[i] > tmax) ? m.out.thruster_on_s[i] : tmax;
+            assert_true(fabs((double)m2.out.thruster_on_s[j] - (double)m.out.thruster_on_s[i]) <=
+                        (double)c.thr_quantum_s + 1e-6);
+        }
+        assert_close(tmax, 0.1, TOL_TIGHT);
+        const aocs_vec3_t u = m.out.u_unload_B_Nm;
+        for (int a = 0; a < 3; ++a) {
+            assert_close(u.v[a] / aocs_vec3_norm(u), -in.h_wheels_B_Nms.v[a] / aocs_vec3_norm(in.h_wheels_B_Nms),
+                         TOL_LOOSE);
+        }
     }
 }
 

@@ -464,12 +464,14 @@ def _png_size_and_dpi(path):
 
 def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
     series = farrenkopf_runs[2][0][2]
-    seen = {}
+    seen, spans, lines = {}, {}, {}
     real_save = estimation_plots.save
 
     def spy(fig, path):
         seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
                            for ax in fig.axes]
+        spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
+        lines[path.name] = [ln for ax in fig.axes for ln in ax.lines if not ln.get_label().startswith("_")]
         return real_save(fig, path)
 
     monkeypatch.setattr(estimation_plots, "save", spy)
@@ -488,6 +490,22 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
     assert [y for y, _, _ in nees] == ["NEES, 6 dof (-)", "NEES, 3 dof (-)"]
     assert all(any(s.startswith("95 % band of the mean") for s in lab) and any(s.startswith("expected") for s in lab)
                for _, _, lab in nees)
+    # every panel shades the tested window from its first to its last sample, and every trace in a legend is
+    # drawn (a line of width 0 without a marker is in the legend but not on the figure)
+    ts = np.asarray(series["t"])[np.asarray(series["steady"], dtype=bool)]
+    for name, per_axes in spans.items():
+        assert per_axes == [[pytest.approx((ts[0], ts[-1]), rel=1e-9)]] * len(per_axes), name
+    for name, drawn in lines.items():
+        invisible = [ln.get_label() for ln in drawn
+                     if not (ln.get_linewidth() > 0.0 and ln.get_linestyle() not in ("None", "", " "))
+                     and ln.get_marker() in (None, "None", "", " ")]
+        assert not invisible, (name, invisible)
+
+
+def _x_extent(patch):
+    """(x0, x1) in data units of an axvspan (a Rectangle in data x, or an older matplotlib's Polygon)."""
+    v = patch.get_patch_transform().transform(patch.get_path().vertices)
+    return float(v[:, 0].min()), float(v[:, 0].max())
 
 
 def test_a_run_too_short_for_its_correlation_time_gives_no_fraction():

@@ -72,3 +72,11 @@ def test_window_and_timing_summary():
     assert summary.step_ns_median == 50.5
     assert summary.step_ns_max == 100
     assert summary.overruns == 50
+
+
+def test_time_in_saturation_holds_each_flag_over_its_own_interval():
+    """A flag at t_k holds until t_(k+1) (the command is held one period); the last sample's flag adds nothing:
+    uneven steps 1, 2, 3 s, saturated on the second and third samples: 2 + 3 = 5 s; on the first and last: 1 s."""
+    t = np.array([0.0, 1.0, 3.0, 6.0])
+    assert metrics.time_in_saturation(t, np.array([False, True, True, False])) == 5.0
+    assert metrics.time_in_saturation(t, np.array([True, False, False, True])) == 1.0

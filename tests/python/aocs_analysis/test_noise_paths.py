@@ -41,3 +41,36 @@ def test_the_peak_of_t_is_one_for_pd_and_above_one_for_the_reference_pid():
     kq = 2.0 * 2000.0 ** 2 / (4.0 * J)    # kw^2 = 4 J kq/2: critically damped
     peak_pd, _ = NP.t_peak(J, NP.AxisGains(kq, 2000.0))
     assert peak_pd == pytest.approx(1.0, abs=1e-3)
+
+
+def test_the_noises_of_a_log_are_estimate_minus_truth_on_the_ticks_both_sides_logged():
+    """n_att = -(knowledge error) = estimate - truth and n_rate = w_est - w_true, paired by tick (a command
+    tick the truth did not log is left out, the commands' order kept); pointing = 2 qe_i against the target.
+    The estimate is the truth turned by +a about x (n_att = (a, 0, 0)), the truth the target turned by b about
+    y (pointing (0, 2 sin(b / 2), 0))."""
+    import types
+
+    from aocs_analysis.run_metrics import target_quat
+    from aocs_core import conventions as rot
+    from aocs_plant.scenario import load
+
+    sc = load("geo_hinf")
+    ticks = np.arange(10)
+    t = ticks * sc.dt
+    a, b = 3e-5, -2e-4
+    row = lambda v: np.tile(v, (t.size, 1))  # noqa: E731
+    q_true = rot.quat_mul_rows(row([0.0, np.sin(b / 2), 0.0, np.cos(b / 2)]), target_quat(sc, t))
+    w_true = np.column_stack([1e-3 * t, -2e-3 * np.ones_like(t), 5e-4 * np.cos(t)])
+    cmd_ticks = np.array([9, 2, 11, 5])
+    on = np.array([9, 2, 9, 5])               # the truth row of each command (11: none)
+    q_est = rot.quat_mul_rows(row([np.sin(a / 2), 0.0, 0.0, np.cos(a / 2)])[on], q_true[on])
+    dw = np.array([[1e-6, -2e-6, 3e-6], [4e-6, 5e-6, -6e-6], [0.0, 0.0, 0.0], [-7e-6, 8e-6, 9e-6]])
+    log = types.SimpleNamespace(truth={"tick": ticks, "t_s": t, "q": q_true, "w": w_true},
+                                cmd={"tick": cmd_ticks, "q_est": q_est, "w_est": w_true[on] + dw})
+    n = NP.noises_from_log(log, sc)
+    keep = [0, 1, 3]
+    np.testing.assert_array_equal(n["t"], t[on[keep]])
+    np.testing.assert_allclose(n["n_att_rad"], np.tile([a, 0.0, 0.0], (3, 1)), rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(n["n_rate_radps"], dw[keep], rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(n["pointing_rad"], np.tile([0.0, 2.0 * np.sin(b / 2), 0.0], (3, 1)), rtol=1e-9,
+                               atol=1e-14)

@@ -108,12 +108,12 @@ def test_hinf_measured_gain_against_an_analytic_error():
     d = np.tile([1e-4, 2e-4, -1e-4], (t.size, 1)) * (1.0 + 0.5 * np.cos(0.01 * t))[:, None]
     log = types.SimpleNamespace(truth={"t_s": t, "q": q, "w": np.zeros((t.size, 3)), "torque_dist": d})
     ixx = np.asarray(sc.attitude.inertia, float)[0, 0]
-    for t_from in (0.0, t[1000]):
-        keep = t[1:-1] >= t_from
+    for t_from in (None, t[1000]):              # None: the default, the whole run (as results_doc asks it)
+        keep = t[1:-1] >= (t[0] if t_from is None else t_from)
         z = 1e-3 * ixx * (-amp * w * w * np.sin(w * t[1:-1]))[keep]
         z_l2 = math.sqrt(np.sum(z ** 2) * dt)
         d_l2 = math.sqrt(np.sum(d[1:-1][keep] ** 2) * dt)
-        g = results.hinf_measured_gain(log, sc, t_from)
+        g = results.hinf_measured_gain(log, sc) if t_from is None else results.hinf_measured_gain(log, sc, t_from)
         assert g["z_l2"] == pytest.approx(z_l2, rel=1e-3)
         assert g["d_l2"] == pytest.approx(d_l2, rel=1e-12)
         assert g["gain"] == pytest.approx(z_l2 / d_l2, rel=1e-3)
@@ -127,21 +127,26 @@ def test_commanded_torque_figures_by_hand_and_without_any_command():
     dt = sc.dt
     u = np.array([[1.0, -2.0, 0.5], [0.0, 0.0, 3.0]])
 
-    def log_of(u):
+    def log_of(u, applied):
         n = u.shape[0]
         cmd = {"tick": np.arange(n, dtype=np.int64), "u_sat": u, "u_unsat": u, "mode": np.zeros(n),
                "step_ns": np.zeros(n)}
-        return types.SimpleNamespace(truth={"torque_applied": np.zeros((3, 3))}, cmd=cmd)
+        return types.SimpleNamespace(truth={"torque_applied": applied}, cmd=cmd)
 
     out, series = {}, {}
-    results._commands(out, series, log_of(u), sc)
+    applied = np.array([[0.5, -1.0, 0.0], [0.2, 0.3, -0.4], [0.0, 0.0, 0.0]])
+    results._commands(out, series, log_of(u, applied), sc)
     assert out["max_abs_torque_nm"] == [1.0, 2.0, 3.0]
     assert out["max_torque_norm_nm"] == 3.0          # |u_1| = 3 > |u_0| = sqrt(5.25)
     assert out["effort"] == pytest.approx((3.5 + 3.0) * dt, rel=1e-15)
-    out = {}
-    results._commands(out, series, log_of(np.zeros((0, 3))), sc)
-    assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
-    assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+    assert out["max_abs_applied"] == [0.5, 1.0, 0.4]
+    # nothing commanded, and (a run stopped before its first period) nothing applied either
+    for applied in (np.zeros((3, 3)), np.zeros((0, 3))):
+        out = {}
+        results._commands(out, series, log_of(np.zeros((0, 3)), applied), sc)
+        assert out["max_abs_torque_nm"] == [0.0, 0.0, 0.0]
+        assert out["max_torque_norm_nm"] == 0.0 and out["effort"] == 0.0
+        assert out["max_abs_applied"] == [0.0, 0.0, 0.0]
 
 
 def test_commands_over_the_flight_limits_are_counted_within_1e_12():
@@ -226,3 +231,25 @@ def test_pil_target_precision_in_the_run_line():
     assert results._run_text(m) == ("lockstep on pil-m4f (float, image under QEMU, step time from instructions "
                                     "at 168 MHz)")
     assert results._run_text(_summary_metrics()) == "lockstep on host (double)"
+
+
+def test_attitude_series_against_the_error_rotation_by_hand():
+    """The truth is the target turned by theta about a fixed unit axis n (qe = q (x) qd^-1, SPEC 1): the
+    true angle is theta, the Gibbs vector rho = tan(theta / 2) n, the MRP sigma = tan(theta / 4) n (Schaub
+    and Junkins, "Analytical Mechanics of Space Systems", 3.6 and 3.7), and the rate error is w minus the
+    target's rate in B, w_e = w - A(qe) w_d. theta up to 170 deg, where rho and sigma differ most."""
+    sc = load("geo_hinf")
+    t = np.arange(5) * sc.dt
+    theta = np.radians([0.5, 30.0, 90.0, 120.0, 170.0])
+    n = np.array([2.0, -1.0, 2.0]) / 3.0
+    qe = np.column_stack([np.sin(theta / 2)[:, None] * n, np.cos(theta / 2)])
+    q = rot.quat_mul_rows(qe, results.target_quat(sc, t))
+    wd = np.asarray(sc.target.wd, float)
+    dw = np.array([[1e-4, 0.0, -2e-4]] * 5)
+    wd_b = np.array([np.asarray(rot.quat_to_dcm(tuple(e)), float) @ wd for e in qe])
+    log = types.SimpleNamespace(truth={"t_s": t, "q": q, "w": wd_b + dw})
+    s = results.attitude_series(sc, log)
+    np.testing.assert_allclose(s["true_angle"], np.degrees(theta) * 3600.0, rtol=1e-9)
+    np.testing.assert_allclose(s["rho"], np.tan(theta / 2)[:, None] * n, rtol=1e-9)
+    np.testing.assert_allclose(s["sigma"], np.tan(theta / 4)[:, None] * n, rtol=1e-9)
+    np.testing.assert_allclose(s["we"], dw, rtol=1e-9, atol=1e-15)

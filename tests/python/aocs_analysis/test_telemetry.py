@@ -114,3 +114,13 @@ def test_parquet_round_trip_with_its_description(tmp_path):
     assert T.read(T.write(tmp_path / "all.parquet", cols, {}))["answered"].tolist() == [True] * 3 + [False] + [True] * 3
     assert df["tick"].dtype == "int64" and df["tick"].tolist() == [0, 2, 4, 6]
     assert T.read_meta(path) == {"scenario": "irassi_rw", "law": "quat_pid", "decimate": 2}
+
+
+def test_alignment_takes_the_last_message_of_a_tick_and_leaves_rows_outside_the_source():
+    """_align: for each row tick the last source message carrying it; rows whose tick no message carries are
+    left out, those before the first and after the last source tick included (a command stream that stops
+    early)."""
+    rows, src = T._align(np.array([0, 1, 2, 3, 4, 5]), np.array([1, 1, 3, 2, 3]))
+    assert rows.tolist() == [1, 2, 3] and src.tolist() == [1, 3, 4]
+    rows, src = T._align(np.array([7, 8]), np.array([1, 2]))
+    assert rows.size == 0 and src.size == 0

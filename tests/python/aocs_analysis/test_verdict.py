@@ -45,6 +45,9 @@ def test_thresholds_are_where_they_are_stated():
     standby = _metrics(counters={"law_error": 100})
     standby["law"] = "none"
     assert verdict.judge(standby, [], realtime=False)["passed"]
+    # no control step at all: no law was refused (the law-refused check needs at least one step)
+    no_steps = verdict.judge(_metrics(timing={"steps": 0}), [], realtime=False)
+    assert "law-refused" not in [f["check"] for f in no_steps["failures"]]
 
 
 def _diverged(**extra):
@@ -72,6 +75,10 @@ def test_a_run_that_did_not_fly_fails_with_its_reason():
         assert verdict.judge(m, [], realtime=False, allow=[check])["passed"]
     nan_pointing = _diverged(pointing_error_arcsec={"initial": 10.0, "final_max": None, "final_rms": None})
     assert [f["check"] for f in verdict.judge(nan_pointing, [], realtime=False)["failures"]] == ["non-finite"]
+    # an integration error that is not a number (NaN, or null in the metrics JSON) fails like a huge one
+    for err in (float("nan"), None):
+        ie = _diverged(integration_error={"attitude_arcsec_sum": err, "tolerance_arcsec": 1.0})
+        assert [f["check"] for f in verdict.judge(ie, [], realtime=False)["failures"]] == ["integration-error"]
 
 
 def test_requested_safe_injected_faults_and_small_errors_pass():

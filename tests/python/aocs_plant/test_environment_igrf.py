@@ -196,6 +196,18 @@ def test_a_scenario_selects_igrf_and_its_field_follows_the_orbit():
         assert f(t) == FieldAlongOrbit(env, dt)(t), t
 
 
+def test_the_first_and_last_epochs_of_the_file_are_inside_with_their_own_rows():
+    """The model covers its file's epochs inclusively: at the first (1900) and the last (the secular-variation
+    end) the coefficients are ppigrf's rows of those dates."""
+    m = Igrf()
+    g, h = ppigrf.read_shc(ppigrf.shc_fn)
+    for row in (0, -1):
+        day = g.index[row].to_pydatetime().replace(tzinfo=timezone.utc)
+        gm, hm = m.coefficients(ep.julian_date(day))
+        np.testing.assert_allclose(gm, g.iloc[row].values, rtol=1e-12, atol=1e-9)
+        np.testing.assert_allclose(hm, h.iloc[row].values, rtol=1e-12, atol=1e-9)
+
+
 def test_outside_the_coefficients_the_model_says_so():
     with pytest.raises(ValueError, match="IGRF14.shc cover Julian dates"):
         Igrf().field_n_t(ep.julian_date(datetime(2045, 1, 1, tzinfo=timezone.utc)), (7e6, 0.0, 0.0))

@@ -93,3 +93,13 @@ def test_exact_linear_orbit_has_no_integration_error():
         chk.end(p)
     s = chk.summary()
     assert s["position_m_sum"] < 1e-9 and not s["exceeds_tolerance"] and math.isfinite(s["velocity_m_s_local_max"])
+
+
+def test_a_sum_exactly_at_the_tolerance_does_not_exceed_it():
+    """exceeds_tolerance means more than the tolerance: a summed estimate equal to it (the boundary, as the
+    verdict's factor and the requirements are judged) does not exceed it, the next float above does."""
+    chk = StepDoubling(load("gao_mrp"))
+    chk.local_sum[0] = chk.tolerance
+    assert not chk.summary()["exceeds_tolerance"]
+    chk.local_sum[0] = math.nextafter(chk.tolerance, math.inf)
+    assert chk.summary()["exceeds_tolerance"]

@@ -61,6 +61,16 @@ def test_state_matrix_is_spec_2_8_as_written():
     np.testing.assert_allclose(B, np.vstack([np.eye(3) / MASS, np.zeros((3, 3))]))
 
 
+def test_the_derivative_is_the_state_equation_with_the_force():
+    """derivative(x, F) (the RK4 path when an effector has state) = A x + B F of bryson_matrices (SPEC 2.8),
+    with a force on every axis."""
+    A, B = bryson_matrices(N, MASS)
+    x = np.array([0.3, -0.2, 0.1, 50.0, -100.0, 350.0])
+    force = np.array([0.4, -0.7, 0.9])
+    got = LinearOrbit(N, MASS, tuple(x)).derivative(tuple(x), tuple(force))
+    np.testing.assert_allclose(got, A @ x + B @ force, rtol=1e-14, atol=1e-18)
+
+
 def test_linear_model_free_motion_matches_clohessy_wiltshire():
     x0 = (1.0, -1.0, -6.0, 50.0, -100.0, 350.0)  # SPEC 4 landsat initial state
     r0, v0 = bryson_to_hill(x0)

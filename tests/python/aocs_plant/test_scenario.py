@@ -465,3 +465,36 @@ def test_a_law_parameter_must_fly_in_both_precisions(value):
     either precision of the flight software cannot represent as a normal number."""
     with pytest.raises(ScenarioError, match=re.escape("laws.quat_pd.kp: ") + ".*both precisions"):
         load("irassi_small", {"laws.quat_pd.kp": value})
+
+
+def test_an_integer_is_read_over_the_whole_64_bit_range_and_refused_beyond_it():
+    """-2^63 and 2^63 - 1 are 64-bit integers (here refused by the seed's own minimum, or accepted), one beyond
+    either end is refused as out of range: each in one line naming the key."""
+    for v, msg in ((-2 ** 63, r"seed: must be >= 0, got -9223372036854775808"),
+                   (-2 ** 63 - 1, r"seed: an integer of 19 digits is beyond the range of a 64-bit integer"),
+                   (2 ** 63, r"seed: an integer of 19 digits is beyond the range of a 64-bit integer")):
+        with pytest.raises(ScenarioError, match=msg):
+            load("gao_mrp", {"seed": v})
+    assert load("gao_mrp", {"seed": 2 ** 63 - 1}).seed == 2 ** 63 - 1
+
+
+def test_a_law_field_is_read_with_its_own_sign_rule():
+    """_read_field applies a registry field's rule: pos refuses 0, nonneg takes 0 and refuses a negative, any
+    takes a negative (today's real and vec3 law fields are all pos; laws.def allows the other two)."""
+    import dataclasses
+
+    from aocs_core import registry
+    from aocs_plant.scenario import _read_field, _Section
+
+    kp = registry.load().fields_of("quat_pd")[0]
+    assert kp.param == "kp" and kp.rule == "pos"
+
+    def read(rule, v):
+        return _read_field(_Section("x.toml", "laws.quat_pd", {"kp": v}), dataclasses.replace(kp, rule=rule))
+
+    with pytest.raises(ScenarioError, match=r"x.toml: laws.quat_pd.kp: must be > 0, got 0.0"):
+        read("pos", 0.0)
+    assert read("nonneg", 0.0) == 0.0
+    with pytest.raises(ScenarioError, match=r"laws.quat_pd.kp: must be >= 0, got -2.0"):
+        read("nonneg", -2.0)
+    assert read("any", -2.0) == -2.0

@@ -1,0 +1,87 @@
+"""The filter's transients (estimation_transients): the predicted rms history against Farrenkopf's closed form,
+the predicted convergence against its definition evaluated by brute force, and an outage's report on a
+synthetic error whose recovery time and rms can be worked out by hand."""
+import math
+
+import numpy as np
+import pytest
+
+from aocs_analysis.estimation import SensorSet
+from aocs_analysis.estimation_bounds import between_updates, farrenkopf
+from aocs_analysis.estimation_transients import (
+    outage_report,
+    predicted_convergence,
+    predicted_rms_history,
+    steady_rms_S_arcsec,
+    trailing_rms,
+)
+from aocs_core.conventions import ARCSEC_PER_RAD
+
+SIGMA_N = 5.0 / ARCSEC_PER_RAD   # star tracker, rad
+SIGMA_V = 1e-5                   # ARW, rad/s^0.5
+SIGMA_U = 1e-7                   # RRW, rad/s^1.5
+
+
+def test_the_predicted_history_settles_at_farrenkopfs_steady_state():
+    """From no initial error the history is the filter's own covariance recursion (Joseph form with its
+    gains, N_0 = 0 but the same fixed point): after enough updates, the value just after an update is
+    Farrenkopf's post-update sigma (an independent closed form) and the rms over one update interval is
+    between_updates' (the log at the control rate); between updates it grows."""
+    dt, n = 0.1, 10
+    out = predicted_rms_history(SIGMA_N, SIGMA_V, SIGMA_U, dt, n, 1e-3, 1e-5, 0.0, 0.0, 4001)
+    post = farrenkopf(SIGMA_N, SIGMA_V, SIGMA_U, dt * n).attitude_post
+    k = 4000                                    # an update step
+    assert out[k] == pytest.approx(post, rel=1e-4)
+    assert out[k - n] == pytest.approx(post, rel=1e-4)
+    assert np.all(np.diff(out[k - n:k]) > 0.0)  # propagation only between the updates
+    rms = math.sqrt(np.mean(out[k - n:k] ** 2))
+    assert rms == pytest.approx(between_updates(SIGMA_N, SIGMA_V, SIGMA_U, dt * n, n), rel=1e-4)
+
+
+def test_the_predicted_convergence_is_its_definition_by_brute_force():
+    """rms_S_arcsec: per axis of S, the root of the mean of the predicted squares over the window's samples
+    (the samples so far at the start); time_s: the first t from which every axis stays inside k bound_S."""
+    sensors = SensorSet(5.0, 40.0, 1.0, SIGMA_V, SIGMA_U)
+    rate, window, k = 10.0, 30.0, 3.0
+    e0_att, e0_b = (2e-3, -1e-3, 5e-3), (2e-5, 0.0, -1e-5)
+    p = predicted_convergence(sensors, rate, 1e-2, 1e-4, e0_att, e0_b, 100.0, k=k, window_s=window)
+    w = int(round(window * rate))
+    per = (5.0, 5.0, 40.0)
+    h2 = np.column_stack([predicted_rms_history(per[i] / ARCSEC_PER_RAD, SIGMA_V, SIGMA_U, 1.0 / rate, 10, 1e-2,
+                                                1e-4, e0_att[i], e0_b[i], 1000) ** 2 for i in range(3)])
+    r = np.array([np.sqrt(h2[max(0, j - w + 1):j + 1].mean(axis=0)) for j in range(h2.shape[0])]) * ARCSEC_PER_RAD
+    np.testing.assert_allclose(p["rms_S_arcsec"], r, rtol=1e-9)
+    inside = np.all(r <= k * steady_rms_S_arcsec(sensors, rate), axis=1)
+    first = next(j for j in range(inside.size) if inside[j:].all())
+    assert 0 < first < inside.size - 1
+    assert p["time_s"] == pytest.approx(first / rate, abs=1e-9)
+
+
+def test_an_outage_report_by_hand():
+    """1 Hz log, outage [200, 300): the error is 5 bound_S during it, 20 bound_S for the first 60 s after it,
+    then 0.5 bound_S up to 460 s, 1 bound_S up to 560 s and 2 bound_S to the end (999 s); the filter's sigma
+    is at its pre-update steady state throughout. The trailing rms (30 s) of the samples since the end first
+    stays inside 3 bound_S at t = 389 (the window 360 .. 389; at 388 it still holds t = 359:
+    sqrt((400 + 29 x 0.25) / 30) = 3.68 bound_S), so the recovery takes 89 s; the rms over [end + 60,
+    end + 260] = [360, 560] (100 samples of 0.5, 101 of 1) is sqrt((25 + 101) / 201) bound_S; the largest
+    ratio to 3 sigma during it is 5 bound_S / (3 sigma). A last sample far outside: never recovered."""
+    sensors = SensorSet(3.0, 20.0, 1.0, SIGMA_V, SIGMA_U)
+    bound = steady_rms_S_arcsec(sensors, 1.0)
+    t = np.arange(1000.0)
+    level = np.select([t < 200, t < 300, t < 360, t < 460, t <= 560], [0.5, 5.0, 20.0, 0.5, 1.0], 2.0)
+    dth = level[:, None] * bound[None, :] / ARCSEC_PER_RAD
+    pre = np.array([farrenkopf(a / ARCSEC_PER_RAD, SIGMA_V, SIGMA_U, 1.0).attitude_pre for a in (3.0, 3.0, 20.0)])
+    p_att = np.broadcast_to(np.diag(pre ** 2), (t.size, 3, 3))
+    (rep,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
+    assert rep["recovery_time_s"] == 89.0
+    assert rep["rms_span_s"] == [360.0, 560.0]
+    np.testing.assert_allclose(rep["rms_over_bound"], math.sqrt((25.0 + 101.0) / 201.0), rtol=1e-12)
+    assert rep["max_ratio_to_3sigma_per_axis"] == pytest.approx(list(5.0 * bound / (3.0 * pre * ARCSEC_PER_RAD)))
+    assert rep["inside_3sigma_fraction"] == float(np.mean(5.0 * bound <= 3.0 * pre * ARCSEC_PER_RAD))
+    # the recovery rule as trailing_rms sees it: 388 outside, 389 inside
+    r = trailing_rms(t, np.where((t >= 300)[:, None], dth * ARCSEC_PER_RAD, np.nan), 30.0)
+    assert np.any(r[388] > 3.0 * bound) and np.all(r[389:] <= 3.0 * bound)
+    # the recovery must hold up to the last sample
+    dth[-1] *= 1000.0
+    (late,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
+    assert late["recovery_time_s"] is None
