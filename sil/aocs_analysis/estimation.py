@@ -56,7 +56,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import chi2
 
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_to_dcm
 
@@ -262,6 +261,7 @@ def nees_band(dof: int, samples_per_window: int, confidence: float = 0.95) -> tu
     """Two-sided band of the mean of M independent chi2(dof) samples: chi2.ppf((1 -+ c)/2, M dof) / M."""
     a = 0.5 * (1.0 - confidence)
     k = samples_per_window * dof
+    from scipy.stats import chi2  # deferred: scipy.stats costs ~1 s of every `aocs run` start, filter runs only
     return (float(chi2.ppf(a, k) / samples_per_window), float(chi2.ppf(1.0 - a, k) / samples_per_window))
 
 

@@ -22,8 +22,9 @@ to the caller's thread through a pipe, two thread switches per message on a
 2-core machine whose other core runs the flight computer. Reading the socket
 directly in the plant's own thread saved ~10 us of the ~60 us Python <->
 fsw_node round trip (measured, 5000 ping-pongs). Publishing is a plain
-sendto, as in the library. fsw_node, the recorder and every LCM tool keep
-using the library; they cannot tell the difference. handle_timeout asks the
+sendto, as in the library. The recorder reads with this class too, and fsw_node
+with its own C reader (sil/fsw_node/node_udpm.c, the same reasons); lcm-logger
+and every LCM tool keep using the library; none can tell the difference. handle_timeout asks the
 socket with a zero-timeout poll before each read instead of reading until a
 recv fails: a failed non-blocking recv (and its exception) costs several times
 an empty poll, and a lockstep tick ended three reads that way.

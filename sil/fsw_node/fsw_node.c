@@ -11,6 +11,10 @@
  * is bounded; SIGINT/SIGTERM end the run; the final statistics go to stderr
  * (text) and stdout (one JSON line).
  *
+ * Transport: a udpm:// URL (the default, LCM's) is read and written in this thread (node_udpm.h: the
+ * LCM library's receive thread and pipe cost a second thread wake-up per message); any other URL goes
+ * through the LCM library. The datagrams are the library's either way.
+ *
  * Host code only (links liblcm); the firmware rules apply to firmware/.
  */
 #include <errno.h>
@@ -30,6 +34,7 @@
 #include "aocs_lcm_status_t.h"
 #include "node_config.h"
 #include "node_core.h"
+#include "node_udpm.h"
 #include "node_wire.h"
 
 #define CH_SENSORS "AOCS_SENSORS"
@@ -42,9 +47,14 @@
 #define LCM_WAIT_MAX_MS 100
 #define LCM_ERRORS_MAX 100u
 #define NS_PER_MS 1000000ull
+/* the LCM library's URL when none is configured nor in LCM_DEFAULT_URL (lcm.h) */
+#define LCM_URL_DEFAULT "udpm://239.255.76.67:7667?ttl=0"
 
 typedef struct {
-    lcm_t *lcm;
+    lcm_t *lcm;                   /* the LCM library, for a URL that is not udpm:// (else NULL) */
+    int use_udpm;                 /* udpm read and written in this thread (node_udpm.h) */
+    node_udpm_t udpm;
+    uint8_t enc[NODE_UDPM_DATAGRAM_MAX]; /* an outgoing message, encoded */
     aocs_node_core_t core;        /* the node logic (node_core.h), shared with the in-process node */
     uint64_t t_start_ns;
     uint64_t t_last_sensor_ns;    /* HAL time of the last AOCS_SENSORS message */
@@ -72,7 +82,17 @@ static int64_t hal_utime(void)
 
 static void publish_actuator(node_t *n, const aocs_lcm_actuator_cmd_t *m)
 {
-    if (aocs_lcm_actuator_cmd_t_publish(n->lcm, CH_ACTUATOR, m) != 0) {
+    int rc;
+    if (n->use_udpm != 0) {
+        const int size = aocs_lcm_actuator_cmd_t_encoded_size(m);
+        rc = ((size > 0) && ((size_t)size <= sizeof(n->enc)) &&
+              (aocs_lcm_actuator_cmd_t_encode(n->enc, 0, size, m) == size))
+                 ? node_udpm_publish(&n->udpm, CH_ACTUATOR, n->enc, (size_t)size)
+                 : -1;
+    } else {
+        rc = aocs_lcm_actuator_cmd_t_publish(n->lcm, CH_ACTUATOR, m);
+    }
+    if (rc != 0) {
         (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_ACTUATOR);
     }
 }
@@ -92,28 +112,36 @@ static void step_realtime(node_t *n, const aocs_exec_input_t *in, int deadline_m
 static void publish_status(node_t *n, int exiting)
 {
     aocs_lcm_status_t m;
+    int rc;
     aocs_node_core_status(&n->core, exiting, hal_utime(), &m);
-    if (aocs_lcm_status_t_publish(n->lcm, CH_STATUS, &m) != 0) {
+    if (n->use_udpm != 0) {
+        const int size = aocs_lcm_status_t_encoded_size(&m);
+        rc = ((size > 0) && ((size_t)size <= sizeof(n->enc)) && (aocs_lcm_status_t_encode(n->enc, 0, size, &m) == size))
+                 ? node_udpm_publish(&n->udpm, CH_STATUS, n->enc, (size_t)size)
+                 : -1;
+    } else {
+        rc = aocs_lcm_status_t_publish(n->lcm, CH_STATUS, &m);
+    }
+    if (rc != 0) {
         (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_STATUS);
     }
 }
 
 /* ---- AOCS_SENSORS ------------------------------------------------------- */
-static void on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+static void on_sensors(const void *data, size_t size, void *user)
 {
     node_t *n = (node_t *)user;
-    (void)channel;
     n->t_last_sensor_ns = aocs_hal_time_ns();
     if (n->core.cfg.run_mode == AOCS_NODE_RUN_LOCKSTEP) {
         /* bytes in -> actuator_cmd_t out: the one function the in-process node calls too */
         aocs_lcm_actuator_cmd_t m;
-        if (aocs_node_core_lockstep(&n->core, rbuf->data, rbuf->data_size, &m) != 0) {
+        if (aocs_node_core_lockstep(&n->core, data, (uint32_t)size, &m) != 0) {
             publish_actuator(n, &m);
         }
     } else {
         /* real time: keep the newest sample for the next deadline */
         aocs_lcm_sensors_t msg;
-        if (aocs_node_core_receive(&n->core, rbuf->data, rbuf->data_size, &msg) == AOCS_NODE_RX_ACCEPTED) {
+        if (aocs_node_core_receive(&n->core, data, (uint32_t)size, &msg) == AOCS_NODE_RX_ACCEPTED) {
             n->latest = msg;
             n->latest_rx_ns = n->t_last_sensor_ns;
             n->latest_tick = msg.tick;
@@ -124,11 +152,10 @@ static void on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 }
 
 /* ---- AOCS_COMMAND ------------------------------------------------------- */
-static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+static void on_command(const void *data, size_t size, void *user)
 {
     node_t *n = (node_t *)user;
-    (void)channel;
-    if (aocs_node_core_command(&n->core, rbuf->data, rbuf->data_size) == 0) {
+    if (aocs_node_core_command(&n->core, data, (uint32_t)size) == 0) {
         return;
     }
     if (n->core.last_request_status != (int32_t)AOCS_OK) {
@@ -136,6 +163,19 @@ static void on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *us
                       aocs_status_name((aocs_status_t)n->core.last_request_status));
     }
     publish_status(n, 0); /* acknowledgement */
+}
+
+/* the two handlers as the LCM library calls them (a URL that is not udpm://) */
+static void lcm_on_sensors(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    on_sensors(rbuf->data, rbuf->data_size, user);
+}
+
+static void lcm_on_command(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    on_command(rbuf->data, rbuf->data_size, user);
 }
 
 /* ---- configuration ------------------------------------------------------ */
@@ -160,7 +200,7 @@ static int lcm_wait(node_t *n, uint64_t wait_ns, unsigned *errors)
     if (ms < 1) {
         ms = 1;
     }
-    rc = lcm_handle_timeout(n->lcm, ms);
+    rc = (n->use_udpm != 0) ? node_udpm_handle_timeout(&n->udpm, ms) : lcm_handle_timeout(n->lcm, ms);
     if ((rc < 0) && (g_stop == 0)) {
         (*errors)++;
         if (*errors > LCM_ERRORS_MAX) {
@@ -289,6 +329,51 @@ static void report(node_t *n, const char *reason)
     (void)fflush(stdout);
 }
 
+/* the bus: a udpm:// URL (configured, else LCM_DEFAULT_URL, else the library's default) read in this thread,
+ * any other through the LCM library; 0, or 1 with the reason on stderr */
+static int open_transport(node_t *n)
+{
+    const char *env = getenv("LCM_DEFAULT_URL");
+    const char *url = (n->core.cfg.lcm_url[0] != '\0') ? n->core.cfg.lcm_url
+                      : ((env != NULL) && (env[0] != '\0')) ? env
+                                                            : LCM_URL_DEFAULT;
+    if (node_udpm_url_ok(url) != 0) {
+        if (node_udpm_open(&n->udpm, url) != 0) {
+            (void)fprintf(stderr, "fsw_node: cannot open %s: %s\n", url, strerror(errno));
+            return 1;
+        }
+        n->use_udpm = 1;
+        if ((node_udpm_subscribe(&n->udpm, CH_SENSORS, on_sensors, n) != 0) ||
+            (node_udpm_subscribe(&n->udpm, CH_COMMAND, on_command, n) != 0)) {
+            (void)fprintf(stderr, "fsw_node: udpm subscribe failed\n");
+            node_udpm_close(&n->udpm);
+            return 1;
+        }
+        return 0;
+    }
+    n->lcm = lcm_create(url);
+    if (n->lcm == NULL) {
+        (void)fprintf(stderr, "fsw_node: lcm_create(%s) failed\n", url);
+        return 1;
+    }
+    if ((lcm_subscribe(n->lcm, CH_SENSORS, lcm_on_sensors, n) == NULL) ||
+        (lcm_subscribe(n->lcm, CH_COMMAND, lcm_on_command, n) == NULL)) {
+        (void)fprintf(stderr, "fsw_node: lcm_subscribe failed\n");
+        lcm_destroy(n->lcm);
+        return 1;
+    }
+    return 0;
+}
+
+static void close_transport(node_t *n)
+{
+    if (n->use_udpm != 0) {
+        node_udpm_close(&n->udpm);
+    } else {
+        lcm_destroy(n->lcm);
+    }
+}
+
 static void usage(void)
 {
     (void)fprintf(stderr, "usage: fsw_node CONFIG_FILE\n"
@@ -321,16 +406,7 @@ int main(int argc, char **argv)
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
 
-    n->lcm = lcm_create((n->core.cfg.lcm_url[0] != '\0') ? n->core.cfg.lcm_url : NULL);
-    if (n->lcm == NULL) {
-        (void)fprintf(stderr, "fsw_node: lcm_create(%s) failed\n",
-                      (n->core.cfg.lcm_url[0] != '\0') ? n->core.cfg.lcm_url : "default");
-        return EXIT_RUNTIME;
-    }
-    if ((lcm_subscribe(n->lcm, CH_SENSORS, on_sensors, n) == NULL) ||
-        (lcm_subscribe(n->lcm, CH_COMMAND, on_command, n) == NULL)) {
-        (void)fprintf(stderr, "fsw_node: lcm_subscribe failed\n");
-        lcm_destroy(n->lcm);
+    if (open_transport(n) != 0) {
         return EXIT_RUNTIME;
     }
     (void)fprintf(stderr, "fsw_node: %s, law %s, period %.6f s, ready\n",
@@ -344,6 +420,6 @@ int main(int argc, char **argv)
     }
     publish_status(n, 1);
     report(n, reason);
-    lcm_destroy(n->lcm);
+    close_transport(n);
     return (failed != 0) ? EXIT_RUNTIME : 0;
 }

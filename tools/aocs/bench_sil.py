@@ -1,6 +1,7 @@
 """SIL lockstep benchmark (`make bench`): what the LCM transport costs, and the in-process transport.
 
     python -m aocs.bench_sil [--runs 3] [--scenario irassi_large] [--duration S] [--json FILE]
+    python -m aocs.bench_sil --breakdown [--scenario S] [--law L] [--duration S]   # the period part by part, us
 
 Prints, for irassi_large (500 s at 10 Hz = 5000 control steps):
 
@@ -45,6 +46,8 @@ from aocs_plant import integrate_open_loop
 from aocs_plant.scenario import load
 from aocs_runner.run import RunOptions, execute
 from aocs_wire import netns, wire
+
+from .bench_breakdown import breakdown, print_breakdown
 
 
 def _pct(vals, p):
@@ -199,6 +202,9 @@ def main(argv=None) -> int:
     p.add_argument("--json", help="also write the figures here")
     p.add_argument("--profile", action="store_true",
                    help="only the breakdown of the loop over LCM and direct (cProfile of the plant process)")
+    p.add_argument("--breakdown", action="store_true",
+                   help="only the loop's period part by part in us over LCM and direct (aocs.bench_breakdown)")
+    p.add_argument("--law", default=None, help="--breakdown: the law flown (default the scenario's)")
     args = p.parse_args(argv)
 
     netns.reexec_in_netns([sys.executable, "-m", "aocs.bench_sil", *(sys.argv[1:] if argv is None else argv)])
@@ -208,6 +214,10 @@ def main(argv=None) -> int:
     print(f"SIL lockstep benchmark: {sc.id}, {sc.n_steps} steps of {sc.dt:g} s "
           f"({sc.duration_s:g} s simulated), {args.runs} runs of each transport, interleaved "
           f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)", flush=True)
+    if args.breakdown:
+        for transport in ("lcm", "direct"):
+            print_breakdown(breakdown(args.scenario, args.duration, transport, args.law))
+        return 0
     if args.profile:
         for transport in ("lcm", "direct"):
             print(f"{transport} loop, share of the loop's profiled time per part (cProfile of the plant process):")

@@ -9,12 +9,29 @@ that return results instead of printing them. The command line is a thin layer o
 
 Bad input and failed runs raise AocsError, whose message is the one line the command line prints.
 """
-from .campaigns import CampaignResult, campaign, load_campaign
-from .comparisons import CompareResult, compare
+import importlib
+
 from .errors import AocsError
-from .reports import report
 from .runs import RunResult, load_run, run
 from .scenario import Scenario, scenario
 
+#: name -> the module of this package that defines it, imported on first use (PEP 562): `aocs run` imports this
+#: package for its runs and does not pay for the campaign, comparison and report modules (scipy, dask: about 1 s
+#: of every run's start). (The names eager above share a submodule's name or are what a run needs.)
+_LAZY = {"CampaignResult": "campaigns", "campaign": "campaigns", "load_campaign": "campaigns",
+         "CompareResult": "comparisons", "compare": "comparisons", "report": "reports"}
+
 __all__ = ["AocsError", "Scenario", "scenario", "run", "load_run", "RunResult", "compare", "CompareResult",
            "campaign", "CampaignResult", "load_campaign", "report"]
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -260,3 +260,39 @@ def test_explicit_axes_and_section_errors():
             _plant(**kw)
     with pytest.raises(ScenarioError, match=r"\[wheels\] does not apply to a orbit scenario"):
         load("landsat8_q1", {"wheels": _wheels()})
+
+
+def test_derivative_is_the_reaction_of_the_axial_torques_bit_for_bit():
+    """derivative() (speeds and axial torques fused in one loop for speed) against the equations written with
+    numpy, -(w x Gs h) - Gs tau and dh/dt = tau, and exactly (==) the composition axial_torques(speeds()) that it
+    replaced, over random states, one wheel at its speed limit (the motor cut, its flag set) and a failed one."""
+    rng = np.random.default_rng(7)
+    p = _plant(viscous_nms=2e-4, coulomb_nm=3e-3, coulomb_width_rad_s=0.5, failed=[2])
+    e = p.actuator
+    G = _gs(p)
+    js = np.array(e.js)
+    cuts = 0
+    for k in range(200):
+        q = rng.normal(size=4)
+        w = rng.normal(scale=0.1, size=3)
+        body = tuple(q / np.linalg.norm(q)) + tuple(w)
+        om = rng.normal(scale=300.0, size=4)
+        if k % 4 == 0:
+            om[0] = WMAX + 1.0                           # beyond the limit, the motor pushing it further: cut
+        e.command_wheels(tuple(rng.uniform(-0.3, 0.3, size=4)) if k % 4 else (0.2, 0.1, 0.1, -0.1))
+        h = tuple(js * (om + G.T @ w))                    # Omega = h / Js - g . w, solved for h
+        e.at_speed_limit = [False] * 4
+        torque, tau = e.derivative(0.0, body, h)
+        flags = list(e.at_speed_limit)
+        e.at_speed_limit = [False] * 4
+        assert tau == e.axial_torques(e.speeds(body, h))  # bit for bit, the flags too
+        assert flags == e.at_speed_limit
+        u = np.array(e.u)
+        om = np.array(e.speeds(body, h))
+        cut = (u * om > 0.0) & (np.abs(om) >= WMAX)
+        assert flags == list(cut)
+        cuts += int(cut[0])
+        expect_tau = np.where(cut, 0.0, u) - (2e-4 * om + 3e-3 * np.tanh(om / 0.5))
+        np.testing.assert_allclose(tau, expect_tau, rtol=1e-9, atol=1e-15)
+        np.testing.assert_allclose(torque, -np.cross(w, G @ np.array(h)) - G @ expect_tau, rtol=1e-9, atol=1e-12)
+    assert cuts >= 50                                     # every fourth state (at least) cut wheel 0's motor
