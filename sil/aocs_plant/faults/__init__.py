@@ -1,7 +1,8 @@
-"""Injected faults (issue 26; docs/spec.md 5.12): the catalogue of sensor, actuator and link faults the plant
+"""Injected faults (issue 26; docs/spec.md 5.14): the catalogue of sensor, actuator and link faults the plant
 can inject during a run, from the scenario's top-level [[faults]] entries and `aocs run --fault`.
 
-- catalogue.py: the kinds, their devices, parameters and what the flight software is expected to do;
+- aocs_core/fault_catalogue.py (shared with the analysis): the kinds, their devices, parameters and what
+  the flight software is expected to do;
 - fault.py: one fault and the rule of when it is active; reader.py: [[faults]]; option.py: --fault;
 - one model module per device: star_tracker.py, gyro.py, wheels.py, tachometer.py, thrusters.py, link.py;
 - attach.py: hands each fault to the device it acts on (Plant.__init__).
@@ -10,8 +11,9 @@ The older sensor-integrity faults ([[sensors.faults]]: dropout, nan, nonunit) st
 """
 from __future__ import annotations
 
+from aocs_core.fault_catalogue import KINDS, Kind
+
 from .attach import attach
-from .catalogue import KINDS, Kind
 from .fault import Fault
 from .option import FaultOptionError
 from .option import parse as parse_option

@@ -3,7 +3,8 @@
 transport's (link.py). Nothing is attached without faults: a run without faults is unchanged bit for bit."""
 from __future__ import annotations
 
-from .catalogue import GYRO, STAR_TRACKER, THRUSTERS, WHEELS
+from aocs_core.fault_catalogue import GYRO, STAR_TRACKER, THRUSTERS, WHEELS
+
 from .gyro import GyroFaults
 from .star_tracker import StarTrackerFaults
 from .tachometer import TachometerFaults

@@ -3,9 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from aocs_core.fault_catalogue import KINDS
 from aocs_core.ticks import first_tick
-
-from .catalogue import KINDS
 
 
 @dataclass(frozen=True)
@@ -39,3 +38,24 @@ class Fault:
         out = {"kind": self.kind, "unit": self.unit, "start_s": self.start_s, "end_s": self.end_s}
         out.update({k: (list(v) if isinstance(v, tuple) else v) for k, v in self.params})
         return out
+
+
+class DeviceFaults:
+    """The faults acting on one device, and which of them are active at a time (the device models' base)."""
+
+    def __init__(self, faults, dt: float):
+        self.faults = tuple(faults)
+        self.dt = dt
+
+    def active_at(self, t: float) -> list:
+        return [f for f in self.faults if f.active(t, self.dt)]
+
+    def per_unit(self, t: float, values: tuple, value_of) -> tuple:
+        """values with the element of each active fault's unit replaced by value_of(fault)."""
+        on = self.active_at(t)
+        if not on:
+            return values
+        v = list(values)
+        for f in on:
+            v[f.unit] = value_of(f)
+        return tuple(v)

@@ -1,4 +1,4 @@
-"""Gyro faults (docs/spec.md 5.12.2), inside the gyro's measurement (sensors/gyro.py), at the sample's time t:
+"""Gyro faults (docs/spec.md 5.14.2), inside the gyro's measurement (sensors/gyro.py), at the sample's time t:
 
     gyro_bias_step (db, rad/s):        w_k += db before saturation and quantisation; the true bias of the
                                        truth is beta + db (what an estimate is judged against)
@@ -10,33 +10,31 @@ from __future__ import annotations
 
 import math
 
+from .fault import DeviceFaults
 
-class GyroFaults:
+
+class GyroFaults(DeviceFaults):
     def __init__(self, faults, dt: float):
-        self.faults = tuple(faults)
-        self.dt = dt
+        super().__init__(faults, dt)
         self.last = None          # the last output delivered
         self.held = {}            # axis -> held output of an active stuck-axis fault
-
-    def _on(self, t):
-        return [f for f in self.faults if f.active(t, self.dt)]
 
     def bias_step(self, t: float) -> tuple:
         """The sum of the active bias steps at t (rad/s, B)."""
         b = [0.0, 0.0, 0.0]
-        for f in self._on(t):
+        for f in self.active_at(t):
             if f.kind == "gyro_bias_step":
                 b = [x + y for x, y in zip(b, f.param("bias_rad_s"))]
         return tuple(b)
 
     def rate(self, t: float, y: list, sat: list) -> None:
         """The rate before quantisation (in place): the bias steps added, the reduced ranges applied."""
-        for f in self._on(t):
+        for f in self.active_at(t):
             if f.kind == "gyro_bias_step":
                 b = f.param("bias_rad_s")
                 for i in range(3):
                     y[i] += b[i]
-        for f in self._on(t):
+        for f in self.active_at(t):
             if f.kind == "gyro_saturation":
                 s = f.param("saturation_rad_s")
                 for i in range(3):
@@ -46,7 +44,7 @@ class GyroFaults:
 
     def output(self, t: float, out: tuple) -> tuple:
         """The delivered output: a stuck axis holds its last value."""
-        stuck = {f.unit for f in self._on(t) if f.kind == "gyro_stuck_axis"}
+        stuck = {f.unit for f in self.active_at(t) if f.kind == "gyro_stuck_axis"}
         for i in list(self.held):
             if i not in stuck:
                 del self.held[i]

@@ -1,4 +1,4 @@
-"""Link faults (docs/spec.md 5.12.6): link_drop_burst drops every sensor message of its interval, carried out by
+"""Link faults (docs/spec.md 5.14.6): link_drop_burst drops every sensor message of its interval, carried out by
 the transport's `drop` event (aocs_runner.events) at each tick of the interval: the plant holds the previous
 command, the flight software counts the frames missing."""
 from __future__ import annotations

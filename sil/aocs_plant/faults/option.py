@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 import tomllib
 
-from .catalogue import KINDS
+from aocs_core.fault_catalogue import KINDS
 
 _NUM = r"\d+(?:\.\d*)?(?:[eE][+-]?\d+)?"
 _WHEN = re.compile(rf"^({_NUM})(?:-({_NUM}))?$")

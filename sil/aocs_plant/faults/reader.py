@@ -1,9 +1,10 @@
 """The scenario's top-level `[[faults]]` entries (docs/scenarios.md), validated against the devices the
 scenario has: kind, unit (where the kind has units), start_s, optional end_s (default: the end of the run),
-the kind's parameters (catalogue.py). A bad entry fails in one line naming file, entry and key."""
+the kind's parameters (aocs_core.fault_catalogue). A bad entry fails in one line naming file, entry and key."""
 from __future__ import annotations
 
-from .catalogue import GYRO, KINDS, LINK, OPTIONAL, STAR_TRACKER, THRUSTERS, WHEELS, check_param
+from aocs_core.fault_catalogue import GYRO, KINDS, LINK, OPTIONAL, STAR_TRACKER, THRUSTERS, WHEELS, check_param
+
 from .fault import Fault
 
 BASE_KEYS = ("kind", "unit", "start_s", "end_s")

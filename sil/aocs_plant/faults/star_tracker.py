@@ -1,4 +1,4 @@
-"""Star tracker faults (docs/spec.md 5.12.1), applied to each sample after the tracker's own model.
+"""Star tracker faults (docs/spec.md 5.14.1), applied to each sample after the tracker's own model.
 
 The tracker keeps, of its last sample, the true q_SN, the error rotation e = b + n + l and its white part n
 (sensors/star_tracker.py). With the faults active at the sample time t:
@@ -18,18 +18,19 @@ import math
 
 from aocs_core.conventions import ARCSEC_PER_RAD, quat_from_rotvec, quat_mul
 
+from .fault import DeviceFaults
 
-class StarTrackerFaults:
+
+class StarTrackerFaults(DeviceFaults):
     def __init__(self, faults, dt: float, sensor):
-        self.faults = tuple(faults)
-        self.dt = dt
+        super().__init__(faults, dt)
         self.sensor = sensor
         self.last_out = sensor.initial_last     # the attitude delivered by the last sample
         self.frozen = None                      # the attitude held by an active st_frozen
 
     def __call__(self, t: float, value: tuple) -> tuple:
         s = self.sensor
-        on = [f for f in self.faults if f.active(t, self.dt)]
+        on = self.active_at(t)
         kinds = {f.kind for f in on}
         if "st_frozen" not in kinds:
             self.frozen = None

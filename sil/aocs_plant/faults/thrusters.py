@@ -1,4 +1,4 @@
-"""Thruster faults (docs/spec.md 5.12.5), on the on-times of each control period starting at t:
+"""Thruster faults (docs/spec.md 5.14.5), on the on-times of each control period starting at t:
 
     thruster_stuck_closed (unit i):  tau_i = 0 whatever the command (no thrust)
     thruster_stuck_open (unit i):    tau_i = dt (full thrust over the whole period, its propellant counted
@@ -6,17 +6,9 @@
 """
 from __future__ import annotations
 
+from .fault import DeviceFaults
 
-class ThrusterFaults:
-    def __init__(self, faults, dt: float):
-        self.faults = tuple(faults)
-        self.dt = dt
 
+class ThrusterFaults(DeviceFaults):
     def on_times(self, t: float, on: tuple) -> tuple:
-        active = [f for f in self.faults if f.active(t, self.dt)]
-        if not active:
-            return on
-        v = list(on)
-        for f in active:
-            v[f.unit] = 0.0 if f.kind == "thruster_stuck_closed" else self.dt
-        return tuple(v)
+        return self.per_unit(t, on, lambda f: 0.0 if f.kind == "thruster_stuck_closed" else self.dt)

@@ -1,4 +1,4 @@
-"""Reaction wheel faults (docs/spec.md 5.12.4), in the wheel array's dynamics (effectors/reaction_wheels.py),
+"""Reaction wheel faults (docs/spec.md 5.14.4), in the wheel array's dynamics (effectors/reaction_wheels.py),
 per control period starting at t (the array's hdot_i = tau_i, its reaction -g_i tau_i on the body):
 
     wheel_torque_loss (i):        u_i = 0 (the motor is dead), friction stays: tau_i = -f_i(Omega_i)
@@ -14,11 +14,12 @@ from __future__ import annotations
 
 import math
 
+from .fault import DeviceFaults
 
-class WheelFaults:
+
+class WheelFaults(DeviceFaults):
     def __init__(self, faults, dt: float, n: int):
-        self.faults = tuple(faults)
-        self.dt = dt
+        super().__init__(faults, dt)
         self.n = n
         self.dead = (False,) * n             # motor lost, this period
         self.friction = (1.0,) * n           # friction factor, this period
@@ -27,7 +28,7 @@ class WheelFaults:
 
     def begin(self, t: float) -> None:
         """The faults of the period starting at t."""
-        on = [f for f in self.faults if f.active(t, self.dt)]
+        on = self.active_at(t)
         self.active = tuple(on)
         dead = [False] * self.n
         fr = [1.0] * self.n

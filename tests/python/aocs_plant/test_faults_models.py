@@ -1,4 +1,4 @@
-"""The injected faults' models (aocs_plant/faults, docs/spec.md 5.12) against independent evaluations written
+"""The injected faults' models (aocs_plant/faults, docs/spec.md 5.14) against independent evaluations written
 here: the star tracker's error rotation with numpy rotation matrices, the noise fault against the tracker's
 own model at a larger sigma (same seeded draws), the gyro's output differences, a stuck / dead / rubbing wheel
 against a one-axis ODE integrated by scipy and the total momentum of the array, the thrusters' torque and
@@ -7,7 +7,6 @@ propellant on hand values, the link's dropped ticks; a run without faults unchan
 import math
 
 import numpy as np
-import pytest
 from scipy.integrate import solve_ivp
 
 from aocs_core.conventions import ARCSEC_PER_RAD
@@ -237,30 +236,26 @@ POSITIONS = [0, 1.2, 0, 0, -1.2, 0]
 DIRECTIONS = [0, 0, 1, 0, 0, -1]
 
 
-def _thruster_plant(faults):
+def _thrusters_flown(fault, n, on):
+    """Two thrusters of 1 N (a +-z pair on +-y arms), the fault, n periods of the on-times `on`: the truth."""
     thr = {"thrust_n": 1.0, "positions_m": POSITIONS, "directions": DIRECTIONS, "isp_s": 220.0}
-    return Plant(load("irassi_large", {"thrusters": thr, "disturbances": None, "faults": list(faults)}))
+    p = Plant(load("irassi_large", {"thrusters": thr, "disturbances": None, "faults": [fault]}))
+    for _ in range(n):
+        p.sense()
+        p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": on})
+        p.advance()
+    return p.truth()["effectors"]
 
 
 def test_a_thruster_stuck_open_fires_the_whole_period_and_burns_propellant():
-    p = _thruster_plant([{"kind": "thruster_stuck_open", "unit": 0, "start_s": 0.0}])
-    for _ in range(50):
-        p.sense()
-        p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": (0.0, 0.0)})
-        p.advance()
-    tr = p.truth()["effectors"]
+    tr = _thrusters_flown({"kind": "thruster_stuck_open", "unit": 0, "start_s": 0.0}, 50, (0.0, 0.0))
     # r x d = (1.2, 0, 0) x ... : (0, 1.2, 0) x (0, 0, 1) = (1.2, 0, 0) N m with 1 N
     np.testing.assert_allclose(tr["thrusters.torque_nm"], (1.2, 0.0, 0.0), atol=1e-15)
     np.testing.assert_allclose(tr["thrusters.propellant_kg"], 1.0 * 5.0 / (220.0 * 9.80665), rtol=1e-12)
 
 
 def test_a_thruster_stuck_closed_gives_nothing_whatever_its_command():
-    p = _thruster_plant([{"kind": "thruster_stuck_closed", "unit": 1, "start_s": 0.0}])
-    for _ in range(10):
-        p.sense()
-        p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": (0.05, 0.1)})
-        p.advance()
-    tr = p.truth()["effectors"]
+    tr = _thrusters_flown({"kind": "thruster_stuck_closed", "unit": 1, "start_s": 0.0}, 10, (0.05, 0.1))
     assert tr["thrusters.on_time_s"] == (0.05, 0.0)
     np.testing.assert_allclose(tr["thrusters.propellant_kg"], 10 * 0.05 / (220.0 * 9.80665), rtol=1e-12)
 

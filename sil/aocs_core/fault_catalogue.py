@@ -1,10 +1,11 @@
-"""The fault catalogue (issue 26; docs/spec.md 5.12): every kind the plant can inject, what it affects, its
-parameters, and what the flight software is expected to do about it.
+"""The fault catalogue (issue 26; docs/spec.md 5.14): every kind the plant can inject (aocs_plant.faults), what
+it affects, its parameters, and what the flight software is expected to do about it (aocs_analysis.faults).
 
 One row per kind: the device it acts on (the scenario must have it), whether it takes a unit index (wheel,
 thruster, gyro axis), the unit kind the flight software isolates (the event table's unit kinds:
 star_tracker, gyro, wheel, thruster, link), whether a detection and an isolation are expected, and its
-parameters with their defaults and rules. The models are in the device modules of this package.
+parameters with their defaults and rules. The models are in the device modules of aocs_plant.faults; the
+table is here, below both the plant and the analysis that reads it.
 """
 from __future__ import annotations
 
