@@ -478,7 +478,7 @@ def draw_plots(opts: RunOptions, plan: RunPlan, metrics: dict, series: dict) -> 
     title = f"{sc.id} / {plan.law}" + (f" ({opts.label})" if opts.label else "")
     plots = plotmod.run_plots(series, plan.out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
                               settle=metrics["settle_criterion"]["criteria"],
-                              settle_time_s=metrics["settle_time_s"])
+                              settle_time_s=metrics["settle_time_s"], faults=metrics.get("faults"))
     if series.get("estimation") is not None:   # a filter flew: knowledge error with its 3 sigma, bias, NEES
         plots = list(plots) + list(estimation_plots.run_plots(series["estimation"], plan.out, title))
     if day_timeline.applies(metrics):          # an observation plan or momentum management: the day's timeline
