@@ -468,6 +468,17 @@ class Plant:
         t = self.t if t is None else t
         return tuple(f.active(t, self.dt) for f in self.faults)
 
+    def fault_state(self) -> dict:
+        """The effectors' fault models' state carried between periods ({effector kind: state}; the wheels' held
+        speeds): a shadow plant integrating the same period (integration_error.StepDoubling) takes it."""
+        return {e.kind: e.fault_model.state() for e in self.effectors
+                if getattr(e, "fault_model", None) is not None and hasattr(e.fault_model, "state")}
+
+    def set_fault_state(self, state: dict) -> None:
+        for e in self.effectors:
+            if e.kind in state:
+                e.fault_model.set_state(state[e.kind])
+
     def truth(self) -> dict:
         act = self.actuator
         out = {"t": self.t, "seq": self.k, "commanded": act.commanded if act is not None else _Z3,

@@ -46,6 +46,13 @@ class WheelFaults(DeviceFaults):
                 stuck[f.unit] = (speed, f.param("stop_time_s"))
         self.dead, self.friction, self.stuck = tuple(dead), tuple(fr), stuck
 
+    def state(self) -> dict:
+        """What the model carries from period to period (the held speeds), for a shadow plant (set_state)."""
+        return dict(self.stuck)
+
+    def set_state(self, state: dict) -> None:
+        self.stuck = dict(state)
+
     def motor(self, u: tuple) -> tuple:
         """The motor torques held over the period (a dead motor gives none)."""
         if not any(self.dead):

@@ -278,3 +278,25 @@ def test_faults_are_deterministic_and_a_run_without_faults_is_unchanged():
     empty = _fly(_plant([]), 20, u_wheels=(0.1, 0.1, -0.1, 0.05))
     assert [(s, tr) for s, tr in plain] == [(s, tr) for s, tr in empty]
     assert "faults_active" not in plain[0][1]
+
+
+def test_the_integration_error_check_holds_the_stuck_wheel_where_the_plant_does():
+    """The step-doubling shadow plant checks every 10th period: it takes the main plant's held speed, so its
+    period differs from the main one's by the integration error only (not by another held speed)."""
+    from aocs_plant.integration_error import StepDoubling
+
+    sc = load("irassi_rw", {"disturbances": None, "wheels.speed0_rad_s": [120.0, -80.0, 60.0, -40.0],
+                            "faults": [{"kind": "wheel_stuck", "unit": 2, "start_s": 0.35}]})
+    p, check = Plant(sc), StepDoubling(sc, every=10)
+    for _ in range(60):
+        p.sense()
+        cmd = {"u_body": (0.0, 0.0, 0.0), "u_wheels": (0.1, -0.1, 0.2, -0.1)}   # wheel 2 accelerates until 0.35 s
+        p.apply(cmd)
+        check.apply(cmd)
+        check.begin(p)
+        p.advance()
+        check.end(p)
+    held = p.effectors[[e.kind for e in p.effectors].index("wheels")].fault_model.stuck[2][0]
+    shadow = check.shadow.effectors[[e.kind for e in check.shadow.effectors].index("wheels")].fault_model.stuck
+    assert shadow[2][0] == held
+    assert check.local_max[0] < 1e-6    # arcsec: an RK4 error, not a model difference
