@@ -122,9 +122,20 @@ def _command_plot(series: dict, path: Path, title: str, ylabel: str, symbol: str
     return save(fig, path)
 
 
+def fault_marks(ax, faults) -> None:
+    """The injected faults (metrics `faults`) on a time axis: each one's interval shaded, its detection (when
+    there was one) a dotted line."""
+    for i, f in enumerate(faults or ()):
+        ax.axvspan(f["start_s"], f["end_s"], color="tab:red", alpha=0.08, lw=0,
+                   label="injected fault" if i == 0 else None)
+        if f.get("detected_s") is not None:
+            ax.axvline(f["detected_s"], color="tab:red", ls=":", lw=1.0, label="detected" if i == 0 else None)
+
+
 def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, settle: dict | None = None,
-              settle_time_s: float | None = None) -> list[Path]:
-    """settle: the settle criteria used (metrics settle_criterion.criteria), drawn where they apply."""
+              settle_time_s: float | None = None, faults=None) -> list[Path]:
+    """settle: the settle criteria used (metrics settle_criterion.criteria), drawn where they apply; faults: the
+    run's injected faults (metrics `faults`), shaded on the pointing error."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     files = []
@@ -141,6 +152,7 @@ def run_plots(series: dict, out_dir, title: str, requirement=None, goal=None, se
             ax.axhline(goal, color="green", ls="--", lw=1.0, label=f"goal {goal:g} arcsec")
         settle_marks(ax, settle_time_s, f"settle threshold {settle.get('pointing_arcsec_max', 0):g} arcsec",
                      settle.get("pointing_arcsec_max"))
+        fault_marks(ax, faults)
         legend(ax)
         files.append(save(fig, out / "attitude_error.png"))
 

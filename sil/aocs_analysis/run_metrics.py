@@ -21,7 +21,7 @@ from aocs_core.modes import mode_value
 from aocs_core.ticks import first_tick
 
 from . import estimation as E
-from . import holds, momentum, wheels
+from . import faults, holds, momentum, wheels
 from . import metrics as M
 from .gain_tables import designed_gamma
 from .slew_bound import scenario_slew_bound_s
@@ -206,7 +206,20 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
                                        plan.hold_windows_s() if plan is not None else None)
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
+    _faults(out, series, sc)
     return out, series
+
+
+def _faults(out: dict, series: dict, sc) -> None:
+    """The `faults` section (aocs_analysis.faults): each injected fault joined with the event log (`events`,
+    empty without one) and the true pointing error; absent from a run without injected faults."""
+    injected = getattr(sc, "faults", ())
+    if not injected:
+        return
+    pointing = series.get("true_angle") if sc.kind == "attitude" else None
+    t = series["t"] if pointing is not None else []
+    out["faults"] = faults.entries(injected, out.get("events") or [], t, pointing if pointing is not None else [],
+                                   faults.requirement_of(sc) if pointing is not None else None, sc.metrics.window_s)
 
 
 def _estimation(log, sc) -> tuple[dict | None, dict | None]:
@@ -218,17 +231,15 @@ def _estimation(log, sc) -> tuple[dict | None, dict | None]:
     if est is None or est.type == "passthrough" or sc.kind != "attitude":
         return None, None
     tr, cmd = log.truth, log.cmd
-    rows = {int(k): i for i, k in enumerate(tr["tick"])}
-    pairs = [(rows[int(k)], j) for j, k in enumerate(cmd["tick"]) if int(k) in rows]
-    if not pairs:
+    it, ic, held = _estimate_rows(tr["tick"], cmd["tick"])
+    if it.size == 0:
         return None, None
-    it, ic = (np.asarray(x, dtype=np.int64) for x in zip(*pairs))
     t = tr["t_s"][it]
     names = sc.sensors.sensors
     sensors = (E.SensorSet.from_configs(names["star_tracker"], names["gyro"])
                if "star_tracker" in names and "gyro" in names else None)
     outages = getattr(names.get("star_tracker"), "outages", ()) or ()
-    qd, valid = target_quat(sc, t), cmd["est_status"][ic] == 0
+    qd, valid = target_quat(sc, t), (cmd["est_status"][ic] == 0) & ~held
     section, series = E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it],
                                 cmd["est_p"][ic], qd=qd, valid=valid, sensors=sensors,
                                 control_rate_hz=sc.control_rate_hz, outages=outages,
@@ -238,6 +249,27 @@ def _estimation(log, sc) -> tuple[dict | None, dict | None]:
     section["metric_window"] = E.window_errors(t, tr["q"][it], cmd["q_est"][ic], qd, valid,
                                                window_s=sc.metrics.window_s)
     return section, series
+
+
+def _estimate_rows(truth_ticks, cmd_ticks) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(truth rows, reply rows, held) on the uniform grid of the truth ticks from the first answered tick to
+    the last: a tick without a reply (its sensor frame dropped: --event drop, an injected link_drop_burst) takes
+    the previous reply's row, flagged held (not a valid estimate of that tick), so the series stays one sample
+    per control step."""
+    reply = {int(k): j for j, k in enumerate(cmd_ticks)}
+    rows = [(i, reply.get(int(k))) for i, k in enumerate(truth_ticks)]
+    answered = [n for n, (_, j) in enumerate(rows) if j is not None]
+    if not answered:
+        z = np.zeros(0, np.int64)
+        return z, z, np.zeros(0, bool)
+    it, ic, held = [], [], []
+    last = None
+    for i, j in rows[answered[0]:answered[-1] + 1]:
+        it.append(i)
+        held.append(j is None)
+        last = j if j is not None else last
+        ic.append(last)
+    return np.asarray(it, np.int64), np.asarray(ic, np.int64), np.asarray(held, bool)
 
 
 def _filter_start(sc, q_true0, bias_true0) -> dict | None:
@@ -669,6 +701,8 @@ def table_rows(m: dict) -> list[tuple[str, str]]:
         rows += momentum.table_rows(m["momentum"])
     if m.get("holds") is not None:
         rows += holds.table_rows(m["holds"], (m.get("pointing_error_arcsec") or {}).get("requirement_arcsec"))
+    if m.get("faults"):
+        rows += faults.table_rows(m["faults"])
     dv = divergence(m)
     if dv:
         rows.append(("DIVERGING", dv))

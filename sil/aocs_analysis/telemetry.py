@@ -11,6 +11,7 @@ Every name carries its unit and frame: `t_s`, `q_true_1` .. `q_true_4` (q_BN sca
 sample of tick k; the sensors and the command of the same tick are on it (NaN where the log has none, e.g. a
 dropped frame); the flight computer's status_t (about once a second) is carried forward to the ticks after it.
 Without a wheel array there are no wheel columns; without a filter (estimator passthrough) no estimator columns.
+Each injected fault i (1-based, the scenario's [[faults]] then --fault) has `fault_<i>_<kind>_active`.
 The table's key-value metadata `aocs` holds the scenario, law, control period and decimation (JSON).
 """
 from __future__ import annotations
@@ -95,6 +96,12 @@ def columns(log, scenario) -> dict:
         _vec(out, "wheel_momentum_true", "nms", np.asarray(tr["wheel_momentum"])[:, :nw], wn)
         _vec(out, "wheel_torque_true", "nm", np.asarray(tr["wheel_torque"])[:, :nw], wn)
         out["wheel_at_limit_bits"] = np.asarray(tr["wheel_at_limit"], np.int64)
+
+    # the injected faults' truth: fault_<i>_<kind>_active, True on the ticks the plant applies fault i (the plant's
+    # own rule, aocs_plant.faults.fault.Fault.ticks)
+    for i, f in enumerate(getattr(sc, "faults", ())):
+        a, b = f.ticks(sc.dt)
+        out[f"fault_{i + 1}_{f.kind}_active"] = (tick >= a) & (tick < b)
 
     # sensors of the same tick
     rows, src = _align(tick, np.asarray(sen["tick"], np.int64))

@@ -25,6 +25,9 @@ user allowed it on purpose (`aocs run --allow CHECK`, to study the case):
   both and far below a diverged plant (the issue-25 run rejected 1795 of 2000);
 - law-errors: the law returned an error on more than LAW_ERROR_MAX_FRACTION (1 %) of the steps
   (law-refused is the case "every step");
+- fault-management: an injected fault (aocs_plant.faults, metrics["faults"]) was not handled: never detected
+  where its kind expects a detection, no isolation where it expects one, or the pointing never back inside
+  the requirement (aocs_analysis.faults); a run with faults the flight software cannot yet handle fails;
 - integration-error: the plant's integration error exceeds its tolerance by more than
   INTEGRATION_MAX_FACTOR (100x): the truth itself is not trustworthy. Between 1x and 100x the run
   only warns (raise [integrator] substeps), as before.
@@ -33,8 +36,10 @@ from __future__ import annotations
 
 import math
 
+from .faults import not_handled as fault_reasons
+
 CHECKS = ("incomplete-log", "unanswered", "law-refused", "over-limit", "non-finite", "unrequested-safe",
-          "invalid-inputs", "law-errors", "integration-error")
+          "invalid-inputs", "law-errors", "integration-error", "fault-management")
 #: fraction of the steps whose input may be rejected as invalid / whose law may fail (see above)
 INVALID_MAX_FRACTION = 0.01
 LAW_ERROR_MAX_FRACTION = 0.01
@@ -108,6 +113,9 @@ def judge(metrics: dict, log_problems: list[str], *, realtime: bool, allow=(), i
             failed.append(("integration-error", f"the plant's integration error {err if err is not None else 'nan'}"
                                                 f" {unit} is more than {INTEGRATION_MAX_FACTOR:g} times its "
                                                 f"tolerance {tol:g} {unit}"))
+    unhandled = fault_reasons(metrics.get("faults"))
+    if unhandled:
+        failed.append(("fault-management", "injected faults not handled: " + "; ".join(unhandled)))
     return {"passed": all(check in allow for check, _ in failed),
             "failures": [{"check": k, "reason": r} for k, r in failed if k not in allow],
             "allowed": [k for k, _ in failed if k in allow]}

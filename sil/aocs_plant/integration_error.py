@@ -67,7 +67,8 @@ class StepDoubling:
 
     def begin(self, main: Plant) -> None:
         due = main.k % self.every == 0 or self._last[0] > self.threshold
-        self._start = (main.body_state(), main._x, main.k) if due else None
+        self._start = (main.body_state(), main._x, main.k, main.fault_state() if main.faults else None) \
+            if due else None
 
     def end(self, main: Plant) -> None:
         self.periods += 1
@@ -75,11 +76,13 @@ class StepDoubling:
             self.local_sum[0] += self._last[0]
             self.local_sum[1] += self._last[1]
             return
-        body, x, k = self._start
+        body, x, k, faults = self._start
         s = self.shadow
         s._set_body(body)
         s._x = x
         s.k = k
+        if faults:                # an injected fault's state (a stuck wheel's held speed) as the main plant's
+            s.set_fault_state(faults)
         s.advance()
         if self.kind == "attitude":
             a = pointing_error_rad(main.body.q, s.body.q) * ARCSEC_PER_RAD

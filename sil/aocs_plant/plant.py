@@ -40,7 +40,7 @@ import numpy as np
 
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec, quat_from_rotvec, quat_mul
 
-from . import effectors, sensors
+from . import effectors, faults, sensors
 from .effectors import FORMS, BodyContext, Effector, Form
 from .environment import Environment
 from .integrator import rk4
@@ -107,7 +107,9 @@ class Plant:
                 self.orbit = NonlinearOrbit(p.mu, p.orbit_radius_m, p.mass_kg, p.x0)
         self._applied = _Z3
         self.sensors = sensors.build(sc.sensors, sensors.SensorContext(self.kind, self.dt, sc.seed, env))
-        self._suite = sensors.SensorSuite(self.sensors, sc.sensors.latency_periods, sc.sensors.faults, self)
+        self.faults = tuple(getattr(sc, "faults", ()))   # injected faults (faults/, [[faults]], --fault)
+        hooks = faults.attach(self, self.faults) if self.faults else None
+        self._suite = sensors.SensorSuite(self.sensors, sc.sensors.latency_periods, sc.sensors.faults, self, hooks)
         self._suite.record()
         self._sample = None
 
@@ -461,11 +463,29 @@ class Plant:
         state added), the Sun and Earth directions, the magnetic field."""
         return self.environment.at(self.t, self.orbit.x if self.kind == "orbit" else None)
 
+    def faults_active(self, t: float | None = None) -> tuple:
+        """Which injected faults are active at t (default now), in the order of the fault list."""
+        t = self.t if t is None else t
+        return tuple(f.active(t, self.dt) for f in self.faults)
+
+    def fault_state(self) -> dict:
+        """The effectors' fault models' state carried between periods ({effector kind: state}; the wheels' held
+        speeds): a shadow plant integrating the same period (integration_error.StepDoubling) takes it."""
+        return {e.kind: e.fault_model.state() for e in self.effectors
+                if getattr(e, "fault_model", None) is not None and hasattr(e.fault_model, "state")}
+
+    def set_fault_state(self, state: dict) -> None:
+        for e in self.effectors:
+            if e.kind in state:
+                e.fault_model.set_state(state[e.kind])
+
     def truth(self) -> dict:
         act = self.actuator
         out = {"t": self.t, "seq": self.k, "commanded": act.commanded if act is not None else _Z3,
                "applied": self._applied, "disturbance": self.disturbance(), "effectors": self.effector_truth(),
                "sensors": self.sensor_truth()}
+        if self.faults:
+            out["faults_active"] = self.faults_active()
         if self.kind == "attitude":
             q, w = self.body.q, self.body.w
             qd, wd = self.target()

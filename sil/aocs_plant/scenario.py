@@ -33,7 +33,7 @@ from aocs_core.conventions import (
     quat_normalize,
 )
 
-from . import effectors, environment, sensors
+from . import effectors, environment, faults, sensors
 from .effectors.actuator import ActuatorConfig
 from .environment import EnvironmentConfig
 from .observation_plan import Observation, ObservationPlan
@@ -249,6 +249,8 @@ class Scenario:
     momentum: MomentumConfig = MomentumConfig()
     # [[plan]]: the observation plan (None: the one [target]); observation_plan.py
     plan: ObservationPlan | None = None
+    # [[faults]]: the injected faults (aocs_plant.faults; aocs run --fault appends to them)
+    faults: tuple = ()
 
     @property
     def dt(self) -> float:
@@ -953,12 +955,13 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
                   "required without [environment.orbit] (the orbit whose nadir and rate it takes otherwise)")
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration)
+    injected = faults.read(root, duration, sensor_config, configs)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env, estimator=estimator, momentum=momentum, plan=plan)
+                    environment=env, estimator=estimator, momentum=momentum, plan=plan, faults=injected)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

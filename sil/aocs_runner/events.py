@@ -17,6 +17,9 @@ in lockstep they are deterministic and a replay of the log reproduces them.
                             stamp t_s (time not advancing: n_stale, safe mode)
 
 T is in seconds of simulation time.
+
+An injected link_drop_burst fault (aocs_plant.faults.link; [[faults]], --fault) is carried out by the same
+`drop` at every tick of its interval (fault_events).
 """
 from __future__ import annotations
 
@@ -26,6 +29,8 @@ from dataclasses import dataclass
 from aocs_core import registry
 from aocs_core.modes import mode_value, mode_values
 from aocs_core.ticks import first_tick
+from aocs_plant.faults.fault import Fault
+from aocs_plant.faults.link import drop_ticks
 
 KINDS = ("law", "mode", "target", "malformed", "foreign", "drop", "duplicate", "stale")
 #: law id sent for a law name the flight software does not know
@@ -120,7 +125,22 @@ def schedule(events: list[Event], dt: float, n_steps: int, start_tick: int = 0) 
     return out
 
 
-def dropped_ticks(specs, dt: float, n_steps: int) -> set[int]:
-    """Ticks whose sensor frame a `drop` event keeps from the wire (absent from the log on purpose)."""
-    return {tick for tick, evs in schedule(parse_all(specs), dt, n_steps).items()
-            if any(e.kind == "drop" for e in evs)}
+def _as_fault(f) -> Fault:
+    """A Fault, or its run-JSON form ({"kind", "start_s", "end_s", ...}: run.json "faults")."""
+    if isinstance(f, Fault):
+        return f
+    return Fault(f["kind"], f.get("unit"), float(f["start_s"]), float(f["end_s"]))
+
+
+def fault_events(faults, dt: float, n_steps: int, start_tick: int = 0) -> list[Event]:
+    """The `drop` events of the injected link_drop_burst faults: one at each tick of their intervals."""
+    return [Event(k * dt, "drop", text="fault link_drop_burst")
+            for k in drop_ticks([_as_fault(f) for f in faults or ()], dt, n_steps, start_tick)]
+
+
+def dropped_ticks(specs, dt: float, n_steps: int, faults=()) -> set[int]:
+    """Ticks whose sensor frame a `drop` event (--event, or an injected link_drop_burst fault) keeps from the
+    wire (absent from the log on purpose)."""
+    out = {tick for tick, evs in schedule(parse_all(specs), dt, n_steps).items()
+           if any(e.kind == "drop" for e in evs)}
+    return out | set(drop_ticks([_as_fault(f) for f in faults or ()], dt, n_steps))

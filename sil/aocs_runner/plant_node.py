@@ -240,8 +240,11 @@ def run(args) -> int:
     signal.signal(signal.SIGINT, _on_signal)
     try:
         sc = load(args.scenario, parse_sets(args.set))
-        # the --event commands and faults, and the observation plan's targets (events.plan_events)
-        evs = evmod.schedule(sorted(evmod.parse_all(args.event) + evmod.plan_events(sc), key=lambda e: e.t),
+        # the --event commands and faults, the observation plan's targets (events.plan_events) and the drops of
+        # the injected link faults (events.fault_events)
+        evs = evmod.schedule(sorted(evmod.parse_all(args.event) + evmod.plan_events(sc)
+                                    + evmod.fault_events(sc.faults, sc.dt, sc.n_steps, args.start_tick),
+                                    key=lambda e: e.t),
                              sc.dt, sc.n_steps, args.start_tick)
     except (ScenarioError, evmod.EventError, ValueError) as exc:
         print(f"plant_node: {exc}", file=sys.stderr)

@@ -27,7 +27,8 @@ from aocs_analysis import plots as plotmod
 from aocs_analysis import run_metrics as results
 from aocs_core import paths
 from aocs_flightcfg import fsw_config
-from aocs_plant.scenario import load
+from aocs_plant.faults import parse_options as parse_fault_options
+from aocs_plant.scenario import document, load
 from aocs_wire import lcmlog, netns
 
 from . import events as evmod
@@ -56,6 +57,7 @@ class RunOptions:
     guidance: str | None = None     # step | slew: guidance.mode override (aocs run --guidance)
     sets: list = field(default_factory=list)
     events: list = field(default_factory=list)
+    faults: list = field(default_factory=list)   # --fault KIND@START[-END][:unit=N][:k=v] (aocs_plant.faults.option)
     reply_timeout: float | None = None
     label: str | None = None
     plots: bool = True
@@ -198,6 +200,8 @@ def prepare(opts: RunOptions):
     """Scenario (with overrides), law and the run folder; raises on bad input."""
     check_options(opts)
     ov = scenario_opts.overrides(opts.sets, opts.duration, opts.seed, opts.limit, opts.guidance)
+    if opts.faults:
+        ov["faults"] = with_faults(opts.scenario, ov, opts.faults)
     if opts.duration is not None and "metrics.window_s" not in ov:
         # a shortened run keeps the scenario's metric window where it fits, else the whole run
         base = load(opts.scenario, {k: v for k, v in ov.items() if k != "duration_s"})
@@ -212,6 +216,14 @@ def prepare(opts: RunOptions):
     if out.exists() and not out.is_dir():
         raise ValueError(f"output folder {out}: exists and is not a folder")
     return sc, ov, law, out
+
+
+def with_faults(scenario, ov: dict, specs) -> list:
+    """The scenario's [[faults]] (after the overrides ov) with the --fault entries appended: the value of the
+    `faults` override (aocs_plant.faults.option; FaultOptionError, a ValueError, names a bad --fault)."""
+    added = parse_fault_options(specs)
+    base = document(scenario, ov).get("faults", [])
+    return list(base if isinstance(base, list) else [base]) + added
 
 
 @dataclass
@@ -318,6 +330,7 @@ def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
             "overrides": plan.overrides,
             "law": plan.law, "mode": plan.mode, "recorder": plan.recorder, "plant_lcm_lib": opts.plant_lcm_lib,
             "target": opts.target, "transport": opts.transport, "events": list(opts.events), "label": opts.label,
+            "faults": [f.to_json() for f in sc.faults],
             "fsw_config": plan.fsw_config, "fsw_config_file": cfg_path.name, "fc_command": plan.fc_cmd,
             "gains": {n: c.to_json() for n, c in plan.gains.items()},
             "pil_image": (str(plan.pil_root / PIL_PRESETS[opts.target] / "aocs_pil.elf") if plan.pil_root
@@ -417,7 +430,8 @@ def judge(opts: RunOptions, plan: RunPlan, wall: float, plant_sum: dict | None, 
     metrics["log_complete"] = not log_problems
     metrics["verdict"] = verdict.judge(metrics, log_problems, realtime=opts.realtime, allow=opts.allow,
                                        injected=sum(e.kind in verdict.FRAME_FAULTS
-                                                    for e in evmod.parse_all(opts.events)))
+                                                    for e in evmod.parse_all(opts.events))
+                                       + len(evmod.fault_events(plan.sc.faults, plan.sc.dt, plan.sc.n_steps)))
     plots = draw_plots(opts, plan, metrics, series) if opts.plots else []
     text = json.dumps(metrics, indent=1) + "\n"
     (plan.out / "metrics.json").write_text(text)
@@ -443,7 +457,7 @@ def write_telemetry(opts: RunOptions, plan: RunPlan, log) -> Path:
 def log_completeness(opts: RunOptions, plan: RunPlan, log) -> list[str]:
     """What the log misses (empty: every tick recorded), with the likely reason."""
     sc = plan.sc
-    dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps)
+    dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps, sc.faults)
     try:
         lcmlog.scan(plan.log_path)
         problems = lcmlog.completeness_problems(
@@ -464,7 +478,7 @@ def draw_plots(opts: RunOptions, plan: RunPlan, metrics: dict, series: dict) -> 
     title = f"{sc.id} / {plan.law}" + (f" ({opts.label})" if opts.label else "")
     plots = plotmod.run_plots(series, plan.out, title, sc.metrics.requirement_arcsec, sc.metrics.goal_arcsec,
                               settle=metrics["settle_criterion"]["criteria"],
-                              settle_time_s=metrics["settle_time_s"])
+                              settle_time_s=metrics["settle_time_s"], faults=metrics.get("faults"))
     if series.get("estimation") is not None:   # a filter flew: knowledge error with its 3 sigma, bias, NEES
         plots = list(plots) + list(estimation_plots.run_plots(series["estimation"], plan.out, title))
     if day_timeline.applies(metrics):          # an observation plan or momentum management: the day's timeline

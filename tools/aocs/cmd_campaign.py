@@ -82,7 +82,7 @@ def _campaign(args) -> P.Campaign:
     law = args.law or sec.get("law")
     return P.Campaign(scenario, law, int(runs), int(seed), list(sec.get("set", [])) + list(args.set),
                       list(sec.get("disperse", [])) + list(args.disperse), transport=args.transport,
-                      refly_every=args.refly_every)
+                      refly_every=args.refly_every, faults=sec.get("faults"))
 
 
 def _commit() -> str | None:

@@ -110,7 +110,7 @@ def replay(log_path: Path, target: str = "host", config: str | None = None, repl
         log = lcmlog.read(log_path, keep_raw=True)
     except lcmlog.LogIntegrityError as exc:
         raise ReplayError(str(exc)) from None
-    dropped = (evmod.dropped_ticks(meta.get("events"), meta["dt"], meta["n_steps"])
+    dropped = (evmod.dropped_ticks(meta.get("events"), meta["dt"], meta["n_steps"], meta.get("faults"))
                if "dt" in meta and "n_steps" in meta else ())
     problems = lcmlog.completeness_problems(log, meta.get("n_steps"), dropped_ticks=dropped)
     if problems:

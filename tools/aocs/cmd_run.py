@@ -44,6 +44,9 @@ def add_arguments(p) -> None:
                    help="scenario override, e.g. control.enabled=false (repeatable)")
     p.add_argument("--event", action="append", default=[], metavar="T:WHAT",
                    help="scheduled command or transport fault, e.g. 100:law=smc, 5:malformed (docs/sil.md)")
+    p.add_argument("--fault", action="append", default=[], metavar="KIND@START[-END][:unit=N][:KEY=VALUE]",
+                   help="inject a fault of the catalogue, e.g. wheel_torque_loss@60:unit=1, st_bias_step@100-160:"
+                        "bias_arcsec=30 (appended to the scenario's [[faults]]; docs/scenarios.md; repeatable)")
     p.add_argument("--reply-timeout", type=float, default=None,
                    help="lockstep: max wait for each command, s (default 2; 10 for pil targets)")
     p.add_argument("--recorder", choices=RECORDERS, default="auto",
@@ -71,7 +74,7 @@ def options_from_args(args) -> RunOptions:
                       out=args.out, json_path=args.json, limit=args.limit, target=args.target, seed=args.seed,
                       transport=args.transport,
                       guidance=args.guidance,
-                      sets=args.set, events=args.event, reply_timeout=args.reply_timeout, label=args.label,
+                      sets=args.set, events=args.event, faults=args.fault, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
                       plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow),
                       telemetry_decimate=args.telemetry_decimate, command=command_line.typed("run"))

@@ -96,14 +96,16 @@ def run_campaign(c: P.Campaign, *, out=None, workers: int | None = None, schedul
 def campaign(scenario, *, runs: int, seed: int, law: str | None = None, overrides: dict | None = None, sets=(),
              disperse=(), out=None, workers: int | None = None, keep_logs: bool = False, timeout: float | None = None,
              progress: bool = False, plots: bool = True, html=None, transport: str = "lcm",
-             refly_every: int = P.REFLY_EVERY) -> CampaignResult:
+             refly_every: int = P.REFLY_EVERY, faults: dict | None = None) -> CampaignResult:
     """`aocs campaign`: runs dispersed runs of scenario (disperse: "KEY=normal:MEAN:SIGMA" texts as --disperse);
-    transport direct re-flies every refly_every-th run over LCM and compares."""
+    transport direct re-flies every refly_every-th run over LCM and compares; faults: a [campaign.faults] table
+    (one injected fault per run, its kind and times drawn; docs/campaigns.md)."""
     try:
         name, s = sets_of(scenario, sets, overrides)
     except TypeError as exc:
         raise usage(exc) from None
-    c = P.Campaign(name, law, int(runs), int(seed), s, list(disperse), transport=transport, refly_every=refly_every)
+    c = P.Campaign(name, law, int(runs), int(seed), s, list(disperse), transport=transport, refly_every=refly_every,
+                   faults=faults)
     return run_campaign(c, out=out, workers=workers, keep_logs=keep_logs, timeout=timeout, progress=progress,
                         plots=plots, html=html)
 

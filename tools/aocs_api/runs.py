@@ -118,16 +118,17 @@ def run_options(opts: RunOptions, html: str | None = None) -> RunResult:
 def run(scenario, law: str | None = None, *, overrides: dict | None = None, sets=(), duration: float | None = None,
         limit: float | None = None, guidance: str | None = None, seed: int | None = None, events=(),
         out=None, telemetry_decimate: int = 1, html=None, plots: bool = False, label: str | None = None,
-        allow=(), target: str = "host", quiet: bool = True, transport: str = "lcm") -> RunResult:
+        allow=(), target: str = "host", quiet: bool = True, transport: str = "lcm", faults=()) -> RunResult:
     """One lockstep SIL run of scenario (an id, a file or a Scenario) with law (default the scenario's); the
-    keyword arguments are `aocs run`'s options (overrides: {dotted key: value}, as --set)."""
+    keyword arguments are `aocs run`'s options (overrides: {dotted key: value}, as --set; faults: --fault texts)."""
     try:
         name, s = sets_of(scenario, sets, overrides)
     except TypeError as exc:
         raise usage(exc) from None
     opts = RunOptions(scenario=name, law=law, duration=duration, out=None if out is None else str(out), limit=limit,
                       target=target, transport=transport, seed=seed, guidance=guidance, sets=s, events=list(events), label=label,
-                      plots=plots, quiet=quiet, allow=tuple(allow), telemetry_decimate=telemetry_decimate)
+                      plots=plots, quiet=quiet, allow=tuple(allow), telemetry_decimate=telemetry_decimate,
+                      faults=list(faults))
     return run_options(opts, None if html is None else str(html))
 
 

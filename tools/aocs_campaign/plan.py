@@ -32,13 +32,14 @@ from aocs_runner import scenario_opts
 from aocs_runner.transport import check_transport
 
 from . import dispersions as D
+from . import fault_dispersion as FD
 
 #: most runs of one campaign (a campaign folder holds one result file per run)
 RUNS_MAX = 1_000_000
 #: --transport direct: run i is flown again over LCM when i % REFLY_EVERY == 0 (run 0 always), and the two
 #: command histories must be the same bit for bit (worker.run_task; docs/campaigns.md)
 REFLY_EVERY = 50
-CAMPAIGN_KEYS = ("scenario", "law", "runs", "seed", "set", "disperse")
+CAMPAIGN_KEYS = ("scenario", "law", "runs", "seed", "set", "disperse", "faults")
 
 
 class CampaignError(ValueError):
@@ -57,6 +58,8 @@ class Campaign:
     transport: str = "lcm"
     #: direct: every how many runs one is re-flown over LCM (0: none)
     refly_every: int = REFLY_EVERY
+    #: [campaign.faults]: one injected fault per run, its kind and times drawn (fault_dispersion.py); None: none
+    faults: dict | None = None
 
     def refly(self, index: int) -> bool:
         """Whether run index is re-flown over LCM and compared (a direct campaign's sample)."""
@@ -70,6 +73,8 @@ class Campaign:
         d = {"scenario": str(scmod.resolve(self.scenario)),
              "scenario_sha256": hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest(),
              "law": self.law, "seed": self.seed, "sets": list(self.sets), "disperse": list(self.disperse)}
+        if self.faults is not None:      # (absent without: the fingerprints of campaigns without faults unchanged)
+            d["faults"] = self.faults
         return {"fingerprint": hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16], **d}
 
     def fingerprint(self) -> str:
@@ -113,6 +118,8 @@ def read_file_section(path: str) -> dict:
             raise CampaignError(f"{p}: campaign.{k}: must be an integer")
         if k in ("scenario", "law") and not isinstance(v, str):
             raise CampaignError(f"{p}: campaign.{k}: must be a string")
+        if k == "faults" and not isinstance(v, dict):
+            raise CampaignError(f"{p}: campaign.faults: must be a table (kinds, start_s, ...; docs/campaigns.md)")
     sec = dict(sec)
     if "kind" in data:            # a scenario file: it is the scenario
         if "scenario" in sec:
@@ -145,12 +152,15 @@ def check(c: Campaign) -> list[D.Dispersion]:
     doc = document(c)
     sid = doc.get("id", c.scenario)
     D.check_against(disps, doc, sid)
+    FD.check(c.faults)
     # every dispersed key goes through the loader once (a key the loader does not know is named by it)
     ov, _ = D.sample(disps, doc, c.seed, 0)
+    ov.update(FD.overrides(c.faults, doc, c.seed, 0)[0])
     try:
         sc = scmod.load(c.scenario, {**base, **ov})
     except scmod.ScenarioError as exc:
-        names = ", ".join(d.text for d in disps) or "(none)"
+        names = ", ".join([d.text for d in disps] + (["[campaign.faults]"] if c.faults is not None else [])) \
+            or "(none)"
         raise D.DispersionError(f"--disperse {names}: the scenario refuses run 0's values: {exc}") from None
     try:
         scenario_opts.resolve_law(sc, c.law)      # a law the scenario cannot fly: refused before any cluster
@@ -166,7 +176,8 @@ def iter_plan(c: Campaign, disps: list[D.Dispersion], indices=None):
     base = scenario_opts.parse_sets(c.sets)
     for i in (range(c.runs) if indices is None else indices):
         ov, inputs = D.sample(disps, doc, c.seed, i)
-        yield RunSpec(i, c.scenario, c.law, {**base, **ov}, inputs)
+        fov, finputs = FD.overrides(c.faults, doc, c.seed, i)
+        yield RunSpec(i, c.scenario, c.law, {**base, **ov, **fov}, {**inputs, **finputs})
 
 
 def plan(c: Campaign, disps: list[D.Dispersion], indices=None) -> list[RunSpec]:

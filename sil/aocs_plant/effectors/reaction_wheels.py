@@ -254,6 +254,8 @@ class ReactionWheels(Effector):
         self._h0 = (0.0,) * n
         self._applied = ZERO3
         self.command_fields = {U_BODY: 3, U_WHEELS: n}
+        self.fault_model = None          # injected faults (aocs_plant.faults.wheels), set by faults.attach
+        self.u_motor = self.u            # the motor torques before the injected faults
 
     def initial_state(self) -> tuple:
         """h_i = Js_i (g_i . w0 + Omega_i(0)): the wheel speeds are given relative to the body."""
@@ -285,7 +287,7 @@ class ReactionWheels(Effector):
             if nz is not None:
                 lim += nz[i]
             out.append(0.0 if i in self.failed else lim)
-        self.u = tuple(out)
+        self.u = self.u_motor = tuple(out)
         self.at_torque_limit = tuple(at)
 
     # ---------------------------------------------------------------- dynamics
@@ -297,6 +299,8 @@ class ReactionWheels(Effector):
 
     def axial_torques(self, om) -> tuple:
         """tau_i = u_i - f_i(Omega_i), the motor cut when it would drive |Omega_i| beyond the limit."""
+        if self.fault_model is not None:
+            return self.fault_model.axial_torques(self, om)
         tanh = math.tanh
         b, c, eps = self.b, self.c, self.eps
         out = []
@@ -339,6 +343,10 @@ class ReactionWheels(Effector):
     def begin_period(self, t, x) -> None:
         self._h0 = x
         self.at_speed_limit = [False] * self.n
+        fm = self.fault_model
+        if fm is not None:
+            fm.begin(t)
+            self.u = fm.motor(self.u_motor)
 
     def end_period(self, t, x) -> None:
         """The mean axial torque over the period is exactly (h(t+dt) - h(t)) / dt (RK4 sums its stages

@@ -153,6 +153,8 @@ class Thrusters(Effector):
         self.on_cmd = (0.0,) * n
         self._off = (0.0,) * n
         self.on = self._off                          # on-times flown this period
+        self.on_nominal = self._off                  # on-times commanded (quantised), before injected faults
+        self.fault_model = None                      # injected faults (aocs_plant.faults.thrusters)
         self.thrust = tuple(config.thrust_n)         # actual thrust of the period
         self.force_b = ZERO3
         self.torque_b = ZERO3
@@ -169,13 +171,16 @@ class Thrusters(Effector):
             return
         self.on_cmd = c = tuple(c)          # Plant.apply hands finite floats
         if not any(c):
-            self.on = self._off
+            self.on = self.on_nominal = self._off
             return
         cfg = self.config
-        self.on = tuple(quantise_on_time(v, self.dt, cfg.on_time_quantum_s, cfg.min_on_time_s) for v in c)
+        self.on = self.on_nominal = tuple(quantise_on_time(v, self.dt, cfg.on_time_quantum_s, cfg.min_on_time_s)
+                                          for v in c)
 
     def begin_period(self, t, x) -> None:
         """The thrust of the period (noise drawn in every period) and the held force and torque."""
+        if self.fault_model is not None:   # injected faults (aocs_plant.faults.thrusters) on the on-times
+            self.on = self.fault_model.on_times(t, self.on_nominal)
         nom = self.config.thrust_n
         if self.noise is not None:
             z = self.noise.next()

@@ -22,7 +22,8 @@ rate mode to quantum_rad_s; angle mode to quantum_rad, carrying the remainder in
 
 The first sample (no earlier period end) measures the true rate w(t_0) over one control period. It is
 a delayed sensor (the suite's latency_periods applies, as to the ideal rate sensor). Sample: gyro_w
-(rad/s, rate mode) or gyro_dtheta (rad, angle mode), gyro_valid. Faults: dropout, nan. Seeded stream
+(rad/s, rate mode) or gyro_dtheta (rad, angle mode), gyro_valid. Faults: dropout, nan; the injected faults
+(bias step, stuck axis, reduced range) of aocs_plant.faults.gyro act inside the measurement. Seeded stream
 "gyro" (7), one draw of 6 normals (N_v, N_u) per sample when sigma_v or sigma_u is set.
 """
 from __future__ import annotations
@@ -138,6 +139,8 @@ class Gyro(Sensor):
         self.prev = None                # (t, q) of the last sample's truth
         self.rate_true, self.bias_mean, self.h = ZERO3, self.beta, self.dt
         self.saturated = (False, False, False)
+        self.fault_model = None         # injected faults (aocs_plant.faults.gyro), set by faults.attach
+        self.t_sample = 0.0
 
     def source(self, plant):
         body = plant.body
@@ -178,6 +181,10 @@ class Gyro(Sensor):
                 if abs(y[i]) > self.sat:
                     y[i] = math.copysign(self.sat, y[i])
                     sat[i] = True
+        fm = self.fault_model
+        if fm is not None:
+            fm.rate(t, y, sat)
+            self.t_sample = t
         qn = self.quantum
         if self.angle:
             y = [v * h for v in y]
@@ -193,10 +200,18 @@ class Gyro(Sensor):
         elif qn > 0.0:
             y = [qn * round(v / qn) for v in y]
         self.rate_true, self.bias_mean, self.h, self.saturated = wbar, bm, h, tuple(sat)
+        if fm is not None:
+            return fm.output(t, (y[0], y[1], y[2]))
         return (y[0], y[1], y[2])
 
     def truth(self) -> dict:
         """Of the last sample: the true mean rate over it (rad/s, B), the true bias at its end and its
-        mean over the sample (rad/s), the interval (s), which axes saturated."""
-        return {"rate_rad_s": self.rate_true, "bias_rad_s": self.beta, "bias_mean_rad_s": self.bias_mean,
+        mean over the sample (rad/s), the interval (s), which axes saturated; an injected bias step
+        (aocs_plant.faults.gyro) is part of the true bias."""
+        beta, bm = self.beta, self.bias_mean
+        if self.fault_model is not None:
+            d = self.fault_model.bias_step(self.t_sample)
+            beta = tuple(a + b for a, b in zip(beta, d))
+            bm = tuple(a + b for a, b in zip(bm, d))
+        return {"rate_rad_s": self.rate_true, "bias_rad_s": beta, "bias_mean_rad_s": bm,
                 "interval_s": self.h, "saturated": self.saturated}

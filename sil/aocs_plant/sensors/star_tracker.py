@@ -189,6 +189,7 @@ class StarTracker(Sensor):
         self.q_meas, self.t_meas, self.new = IDENTITY, 0.0, False
         self.valid, self.available = False, True
         self.q_true, self.error = IDENTITY, ZERO3
+        self.white = ZERO3              # the white part n of the last sample's error (the injected noise fault's)
         self.sun_angle = self.earth_angle = None
         self.sun_excluded = self.earth_excluded = self.in_outage = False
 
@@ -264,6 +265,7 @@ class StarTracker(Sensor):
         k = 1.0 / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
         self.q_meas = (q[0] * k, q[1] * k, q[2] * k, q[3] * k)
         self.q_true, self.error, self.t_meas, self.new = q_sn, e, t_meas, True
+        self.white = (s[0] * x[0], s[1] * x[1], s[2] * x[2])
         # the boresight +z_S in N: the third row of A(q_SN)
         q1, q2, q3, q4 = q_sn
         z = (2.0 * (q1 * q3 + q2 * q4), 2.0 * (q2 * q3 - q1 * q4), q4 * q4 - q1 * q1 - q2 * q2 + q3 * q3)

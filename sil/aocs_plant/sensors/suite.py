@@ -13,8 +13,10 @@ from operator import itemgetter
 
 
 class SensorSuite:
-    def __init__(self, sensors: list, latency_periods: int, faults: tuple, plant):
+    def __init__(self, sensors: list, latency_periods: int, faults: tuple, plant, hooks: dict | None = None):
         self.sensors = list(sensors)
+        # injected faults acting on a sensor's measured value (aocs_plant.faults): {name: hook(t, value)}
+        self.hooks = dict(hooks or {})
         self.latency = int(latency_periods)
         self.faults = tuple(faults)
         self._delayed = [s for s in self.sensors if s.delayed]
@@ -55,8 +57,11 @@ class SensorSuite:
         ok = True
         truth = self.history[0]  # period k - latency, or period 0 early in the run
         faulty = bool(self.faults)
+        hooks = self.hooks
         for s, get in self._measured:   # the delayed sensors, then the current ones
             value = s.measure(get(truth))
+            if hooks and s.name in hooks:
+                value = hooks[s.name](t, value)
             if faulty:
                 ok = self._fault(s, value, t, out) and ok
             else:

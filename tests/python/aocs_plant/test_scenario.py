@@ -19,7 +19,9 @@ SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3
 MEKF_IDS = ["irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf", "irassi_rw_failed_mekf"]
 # 5.11: the mission days (issue 21)
 DAY_IDS = ["irassi_day", "leo_day"]
-SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS, *DAY_IDS]
+# 5.14: injected faults (issue 26): a wheel losing its motor mid-slew
+FAULT_IDS = ["irassi_rw_wheel_dies"]
+SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS, *DAY_IDS, *FAULT_IDS]
 
 
 def test_every_spec_scenario_has_a_file_and_nothing_else():

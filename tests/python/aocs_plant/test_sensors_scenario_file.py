@@ -41,7 +41,7 @@ def test_the_file_loads_and_flies():
 def test_no_reference_scenario_has_them():
     """The ideal attitude and rate sensors stay the default of every reference scenario: only the MEKF hold
     (irassi_hold_mekf, the realistic suite) and the realistic-suite copies of the slews and wheel scenarios
-    (*_mekf) have a star tracker and a gyro."""
+    (*_mekf, and irassi_rw_wheel_dies, irassi_rw_mekf with a fault) have a star tracker and a gyro."""
     with_them = {sid for sid in list_scenarios() if set(load(sid).sensors.sensors) & {"star_tracker", "gyro"}}
     assert with_them == {"irassi_hold_mekf", "irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf",
-                         "irassi_rw_failed_mekf"}
+                         "irassi_rw_failed_mekf", "irassi_rw_wheel_dies"}

@@ -1,0 +1,109 @@
+"""The run JSON's `faults` entries (aocs_analysis/faults.py, docs/spec.md 5.14.7): injected faults joined with
+synthetic event logs and synthetic pointing series, each expected figure worked out by hand in the test."""
+import numpy as np
+import pytest
+
+from aocs_analysis import faults as F
+from aocs_analysis import verdict
+from aocs_plant.faults import Fault
+
+T = np.arange(0.0, 300.0 + 1e-9, 0.1)
+
+
+def ev(t, name, unit_kind, unit=-1, severity="warning"):
+    return {"t_s": t, "id": 1, "name": name, "severity": severity, "unit_kind": unit_kind, "unit": unit,
+            "value": 1.0, "threshold": 0.5}
+
+
+def pointing(recover_at=None, bad=100.0, good=0.1):
+    """0.1 arcsec until 60 s, `bad` from then, back to `good` from recover_at (never if None)."""
+    p = np.full(T.size, good)
+    p[T >= 60.0 - 1e-9] = bad
+    if recover_at is not None:
+        p[T >= recover_at - 1e-9] = good
+    return p
+
+
+WHEEL = Fault("wheel_torque_loss", 1, 60.0, 300.0)
+
+
+def test_detected_isolated_recovered_wheel():
+    events = [ev(61.5, "wheel_residual_high", "wheel", 1), ev(62.0, "wheel_isolated", "wheel", 1, "error")]
+    (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] == 61.5 and e["isolated"] is True
+    assert e["detection_latency_s"] == pytest.approx(1.5)
+    assert e["recovered_s"] == pytest.approx(150.0)
+    assert e["recovery_time_s"] == pytest.approx(150.0 - 61.5)
+    assert e["handled"] and not F.not_handled([e])
+
+
+def test_never_detected_is_not_handled_and_fails_the_verdict():
+    (e,) = F.entries([WHEEL], [], T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] is None and not e["isolated"]
+    assert e["recovered_s"] is None and e["recovery_time_s"] is None and not e["handled"]
+    v = verdict.judge({"faults": [e]}, [], realtime=False)
+    assert not v["passed"] and v["failures"][0]["check"] == "fault-management"
+    assert "never detected" in v["failures"][0]["reason"]
+    assert verdict.judge({"faults": [e]}, [], realtime=False, allow=("fault-management",))["passed"]
+
+
+def test_an_event_of_another_wheel_is_not_this_faults_detection():
+    events = [ev(61.0, "wheel_residual_high", "wheel", 2), ev(61.2, "wheel_isolated", "wheel", 2)]
+    (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] is None and e["isolated"] is False
+
+
+def test_a_false_alarm_before_the_start_is_not_the_detection():
+    events = [ev(30.0, "wheel_residual_high", "wheel", 1), ev(64.0, "wheel_residual_high", "wheel", 1)]
+    (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] == 64.0 and e["events_before_start"] == 1
+
+
+def test_an_info_event_is_not_a_detection_and_a_unitless_event_matches():
+    events = [ev(61.0, "wheel_residual_high", "wheel", 1, "info"), ev(62.0, "momentum_inconsistent", "wheel", -1)]
+    (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] == 62.0
+
+
+def test_recovery_needs_the_whole_window_inside():
+    p = pointing(150.0)
+    p[(T > 170.0) & (T < 170.5)] = 1.0            # a blip 20 s after the return: the stretch is too short
+    events = [ev(61.0, "wheel_residual_high", "wheel", 1), ev(61.0, "wheel_isolated", "wheel", 1)]
+    (e,) = F.entries([WHEEL], events, T, p, 0.3, 50.0)
+    assert e["recovered_s"] == pytest.approx(170.5)
+    (e,) = F.entries([WHEEL], events, T, p, 0.3, 10.0)   # a 10 s window fits before the blip
+    assert e["recovered_s"] == pytest.approx(150.0)
+
+
+def test_recovery_at_the_end_of_the_run_counts_when_shorter_than_the_window():
+    events = [ev(61.0, "wheel_residual_high", "wheel", 1), ev(61.0, "wheel_isolated", "wheel", 1)]
+    (e,) = F.entries([WHEEL], events, T, pointing(290.0), 0.3, 50.0)
+    assert e["recovered_s"] == pytest.approx(290.0)
+
+
+def test_unitless_kinds_and_a_kind_without_expected_detection():
+    st = Fault("st_frozen", None, 60.0, 100.0)
+    outage = Fault("st_outage", None, 60.0, 70.0)
+    events = [ev(63.0, "st_innovation_high", "star_tracker"), ev(63.1, "st_excluded", "star_tracker")]
+    a, b = F.entries([st, outage], events, T, pointing(90.0), 0.3, 20.0)
+    assert a["detected_s"] == 63.0 and a["isolated"] and a["recovered_s"] == pytest.approx(90.0)
+    # the outage: the tracker's own event counts as its detection too; its recovery from its detection
+    assert b["detected_s"] == 63.0 and b["handled"]
+    (c,) = F.entries([outage], [], T, pointing(90.0), 0.3, 20.0)
+    assert c["detected_s"] is None and c["recovered_s"] == pytest.approx(90.0) and c["handled"]
+
+
+def test_events_in_any_order_and_the_json_form_of_a_fault():
+    events = [ev(70.0, "wheel_residual_high", "wheel", 1), ev(65.0, "wheel_residual_high", "wheel", 1)]
+    (e,) = F.entries([WHEEL.to_json()], events, T, pointing(None), 0.3, 50.0)
+    assert e["detected_s"] == 65.0 and e["recovered_s"] is None
+    assert "never" in F.not_handled([e])[0] or "not recovered" in F.not_handled([e])[0]
+
+
+def test_the_summary_lines_name_each_fault_with_its_times():
+    events = [ev(61.5, "wheel_residual_high", "wheel", 1), ev(62.0, "wheel_isolated", "wheel", 1)]
+    rows = F.table_rows(F.entries([WHEEL, Fault("st_frozen", None, 10.0, 20.0)], events, T, pointing(150.0),
+                                  0.3, 50.0))
+    assert rows[0][0] == "fault 1: wheel_torque_loss wheel 1"
+    assert "detected 61.5 s (latency 1.50 s)" in rows[0][1] and "recovered 150.0 s" in rows[0][1]
+    assert rows[1][0] == "fault 2: st_frozen" and "detected never" in rows[1][1] and "NOT handled" in rows[1][1]
