@@ -122,6 +122,14 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
     }
 }
 
+void aocs_guidance_replan(aocs_guidance_t *g, uint64_t t_ns)
+{
+    if ((g != NULL) && (guidance_id_in_range(g->id) != 0) && (guidance_info[g->id].planned != 0) &&
+        (g->slew_pending == 0) && (aocs_guidance_elapsed_s(t_ns, g->slew_t0_ns) < g->slew.t_end_s)) {
+        g->slew_pending = 1;
+    }
+}
+
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns)
 {
     if (g != NULL) {

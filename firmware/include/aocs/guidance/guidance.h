@@ -134,6 +134,13 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns);
 
 /*
+ * The actuators changed (fault management isolated a wheel, docs/spec.md 5.10.2): a slew in progress at
+ * sensor time t_ns (a PLANNED row, planned, t_ns before its end) is planned again from the next usable
+ * sample to the same target, on the envelope of the actuators now flown. Anything else: no-op. Total.
+ */
+void aocs_guidance_replan(aocs_guidance_t *g, uint64_t t_ns);
+
+/*
  * The target an attitude law sees this step (the row's STEP), into *target:
  * wd_B and wd_dot_B only on a usable estimate, else 0. On NULL arguments
  * (target given) the identity with zero rates. Total.
