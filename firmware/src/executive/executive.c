@@ -350,7 +350,14 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
         fi.wheels_status = out->wheels_status;
         aocs_fdir_step(&exec->fdir, &fi, (wheels != 0) ? &exec->act.wheels : NULL);
         if (exec->fdir.replan != 0) {
-            aocs_guidance_replan(&exec->guidance, fi.t_ns);
+            /* the slew in progress slows to the envelope left along its eigenaxis (docs/spec.md 5.10.2) */
+            const real_t a_old = aocs_wheels_alpha_max(&exec->fdir.wheels_before, exec->cfg.guidance.slew.inertia_kgm2,
+                                                       exec->guidance.slew.e);
+            const real_t a_new = aocs_wheels_alpha_max(&exec->act.wheels, exec->cfg.guidance.slew.inertia_kgm2,
+                                                       exec->guidance.slew.e);
+            if ((a_old > AOCS_R(0.0)) && (a_new < a_old)) {
+                aocs_guidance_slow_down(&exec->guidance, fi.t_ns, AOCS_SQRT(a_new / a_old));
+            }
         }
         aocs_det_set_st_excluded(&exec->det, (exec->fdir.st.excluded != 0) ? 1u : 0u);
     }

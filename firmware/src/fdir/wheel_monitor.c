@@ -27,9 +27,10 @@ static uint32_t wheel_bit(uint32_t i)
     return (uint32_t)1u << i;
 }
 
-/* Removes wheel i from the array: AOCS_OK and *wa re-initialised (Gs^+ over the wheels left), or the array's
- * refusal (AOCS_ERR_WHEELS_NOT_SPANNING: fewer than 3 wheels left, or they do not span) with *wa untouched. */
-static aocs_status_t wheels_isolate(aocs_wheels_t *wa, uint32_t i)
+/* Removes wheel i from the array: AOCS_OK and *wa re-initialised (Gs^+ over the wheels left; the array as it
+ * was kept in *before), or the array's refusal (AOCS_ERR_WHEELS_NOT_SPANNING: fewer than 3 wheels left, or
+ * they do not span) with *wa untouched. */
+static aocs_status_t wheels_isolate(aocs_wheels_t *wa, uint32_t i, aocs_wheels_t *before)
 {
     aocs_wheels_t trial;
     aocs_wheels_config_t cfg = wa->cfg;
@@ -37,6 +38,7 @@ static aocs_status_t wheels_isolate(aocs_wheels_t *wa, uint32_t i)
     cfg.failed_mask |= wheel_bit(i);
     st = aocs_wheels_init(&trial, &cfg);
     if (st == AOCS_OK) {
+        *before = *wa;
         *wa = trial;
     }
     return st;
@@ -54,7 +56,7 @@ static void wheels_detect(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whee
     }
     if (w->over[i] == f->cfg.wheel_persist) {
         (void)aocs_evlog_raise(&f->log, AOCS_EVT_WHEEL_RESIDUAL_HIGH, in->t_ns, (int32_t)i, AOCS_FABS(r), thr);
-        if (wheels_isolate(wa, i) == AOCS_OK) {
+        if (wheels_isolate(wa, i, &f->wheels_before) == AOCS_OK) {
             (void)aocs_evlog_raise(&f->log, AOCS_EVT_WHEEL_ISOLATED, in->t_ns, (int32_t)i, AOCS_FABS(r), thr);
             f->replan = 1;
         } else {

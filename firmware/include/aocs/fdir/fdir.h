@@ -118,7 +118,8 @@ typedef struct {
     aocs_exec_mode_t mode_prev;
     int flown_nominal;            /* 1 once a step flew NOMINAL */
     int safe_latched;             /* 1: an isolation was refused or the gyro excluded: stay in SAFE */
-    int replan;                   /* 1: the wheels changed this step, the slew guidance must replan */
+    int replan;                   /* 1: the wheels changed this step, the slew guidance must adapt */
+    aocs_wheels_t wheels_before;  /* the array before the last isolation (the guidance's old envelope) */
     int initialised;
 } aocs_fdir_t;
 
