@@ -1,4 +1,4 @@
-"""The flight software's fault-management events of a run (issue 26; docs/spec.md 5.10): the event_t messages
+"""The flight software's fault-management events of a run (issue 26; docs/spec.md 5.14): the event_t messages
 recorded on AOCS_EVENTS (sil/lcmtypes/event_t.lcm) as the run JSON's `events` list, names from the build's
 event table (firmware/include/aocs/fdir/events.def through the registry JSON, never a hand copy).
 

@@ -205,7 +205,7 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["momentum"] = momentum.metrics(log, sc, series["wheels"], plant,
                                        plan.hold_windows_s() if plan is not None else None)
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
-    out["events"] = events.events(log)                 # fault management's event log (docs/spec.md 5.10)
+    out["events"] = events.events(log)                 # fault management's event log (docs/spec.md 5.14)
     out["events_alarms"] = events.alarms(out["events"])  # of them, severity warning or above
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     return out, series

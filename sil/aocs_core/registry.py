@@ -169,6 +169,8 @@ class Registry:
         #: guidance mode SLEW, and a reaction wheel array
         self.slew_instructions: dict[str, int] = dict(data["pil"]["slew_instructions"])
         self.wheels_instructions: dict[str, int] = dict(data["pil"]["wheels_instructions"])
+        #: fault management (fdir.enabled, on by default): added to every step's budget
+        self.fdir_instructions: dict[str, int] = dict(data["pil"].get("fdir_instructions", {}))
         #: the attitude-determination rows: name -> (host budget ns, {target: instructions}) each adds to every step
         self.estimators: dict[str, tuple[int, dict[str, int]]] = {
             e["name"]: (e["budget_ns"], dict(e["budget_instructions"])) for e in data["estimators"]}

@@ -232,6 +232,8 @@ int aocs_node_core_event(aocs_node_core_t *n, aocs_lcm_event_t *m)
     int got = 0;
     if (aocs_evlog_next(aocs_exec_events(&n->exec), n->event_seq_sent, &e, &lost) == AOCS_OK) {
         aocs_node_event_to_msg(&e, lost, m);
+        m->frame = next_frame(&n->frame_event);
+        m->utime = aocs_node_to_i64(aocs_hal_time_ns() / 1000u);
         n->event_seq_sent = e.seq;
         got = 1;
     }

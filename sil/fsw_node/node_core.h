@@ -33,6 +33,7 @@ typedef struct {
     aocs_node_seq_t seq;          /* AOCS_SENSORS frame sequence */
     uint64_t frame_cmd;           /* our counters on AOCS_ACTUATOR_CMD / AOCS_STATUS (sent modulo 2^63) */
     uint64_t frame_status;
+    uint64_t frame_event;         /* our counter on AOCS_EVENTS */
     uint32_t event_seq_sent;      /* seq of the last event handed out by aocs_node_core_event */
     uint64_t sensor_frames;       /* AOCS_SENSORS messages received (any content) */
     uint64_t n_foreign;

@@ -137,7 +137,7 @@ void aocs_node_momentum_to_cmd(const aocs_mom_output_t *mom, const aocs_mom_conf
 /* ---- the event log -> event_t --------------------------------------------------------- */
 /*
  * One event of the flight software's log (aocs/fdir/event_log.h) into *m (protocol version 5,
- * docs/wire-contract.md): seq, t_s (t_ns / 1e9), id, severity, unit_kind, unit (clamped to int16),
+ * docs/wire-contract.md; frame and utime 0, the sender's): seq, t_s (t_ns / 1e9), id, severity, unit_kind, unit (clamped to int16),
  * value, threshold, n_lost (events the ring overwrote before this one was read). Total.
  */
 void aocs_node_event_to_msg(const aocs_event_t *e, uint32_t lost, aocs_lcm_event_t *m);

@@ -1,5 +1,5 @@
 /*
- * Fault management (aocs/fdir/fdir.h, aocs/fdir/event_log.h; docs/spec.md 5.10): the event table and log,
+ * Fault management (aocs/fdir/fdir.h, aocs/fdir/event_log.h; docs/spec.md 5.14): the event table and log,
  * and each monitor against a model written here: a wheel integrated by the test (its own friction, substeps)
  * that loses its motor, a tracker innovation sequence, a frozen tracker, a stuck gyro axis, missing samples
  * and mode changes; then the executive end to end (a wheel dies under the allocation, is isolated, the array

@@ -302,7 +302,7 @@ static double angle_about_z(aocs_quat_t qd)
     return 2.0 * atan2((double)qd.q[2], (double)qd.q[3]);
 }
 
-/* aocs_guidance_slow_down (docs/spec.md 5.10.2): after the switch at t_s the reference is the profile at
+/* aocs_guidance_slow_down (docs/spec.md 5.14.2): after the switch at t_s the reference is the profile at
  * tau = tau(t_s) + k (t - t_s); its rate, measured here by finite differences of the reference attitude, is
  * k times the profile's rate; twice in a row multiplies the factors; a new command plans on its own clock */
 static void test_slow_down_after_an_actuator_loss(void **state)

@@ -449,9 +449,13 @@ static void dump_registry(FILE *f)
     (void)fprintf(f, "\"slew_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                   (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
                   (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
-    (void)fprintf(f, "\"wheels_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}},\n",
+    (void)fprintf(f, "\"wheels_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                   (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
                   (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
+    /* fault management, added to every step while fdir.enabled (the default) */
+    (void)fprintf(f, "\"fdir_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}},\n",
+                  (unsigned)aocs_budget_fdir_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
+                  (unsigned)aocs_budget_fdir_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
     /* the executive's accepted ranges: the scenario loader applies the same ones (aocs_core.registry) */
     (void)fprintf(f, "  \"limits\": {\"u_limit_min\": %.17g, \"u_limit_max\": %.17g, "
                      "\"period_min_s\": %.17g, \"period_max_s\": %.17g},\n",

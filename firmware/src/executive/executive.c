@@ -319,7 +319,7 @@ static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in)
     }
 }
 
-/* The fault-management stage's step (docs/spec.md 5.10), last in the pipeline: its monitors see this step's
+/* The fault-management stage's step (docs/spec.md 5.14), last in the pipeline: its monitors see this step's
  * sample, estimate and wheel commands. Its decisions: a wheel isolated (the array re-initialised in place)
  * replans a slew in progress on the wheels left; the tracker's exclusion applies to the next step's
  * determination; a latched SAFE holds the mode (update_mode). */
@@ -337,11 +337,17 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
         if (in != NULL) {
             fi.t_ns = in->t_sensor_ns;
             fi.have_sample = 1;
-            fi.wheel_speed_radps = (wheels != 0) ? in->wheel_speed_radps : NULL;
+            if (wheels != 0) {
+                fi.wheel_speed_radps = in->wheel_speed_radps;
+            }
             fi.gyro_w_B = in->gyro_w_B;
-            fi.gyro_valid = ((in->valid & AOCS_EXEC_VALID_GYRO) != 0u) ? 1 : 0;
+            if ((in->valid & AOCS_EXEC_VALID_GYRO) != 0u) {
+                fi.gyro_valid = 1;
+            }
             fi.st_q_SN = in->st_q_SN;
-            fi.st_valid = ((in->valid & AOCS_EXEC_VALID_ST) != 0u) ? 1 : 0;
+            if ((in->valid & AOCS_EXEC_VALID_ST) != 0u) {
+                fi.st_valid = 1;
+            }
         } else {
             fi.t_ns = exec->accept.last_t_sensor_ns;
         }
@@ -350,7 +356,7 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
         fi.wheels_status = out->wheels_status;
         aocs_fdir_step(&exec->fdir, &fi, (wheels != 0) ? &exec->act.wheels : NULL);
         if (exec->fdir.replan != 0) {
-            /* the slew in progress slows to the envelope left along its eigenaxis (docs/spec.md 5.10.2) */
+            /* the slew in progress slows to the envelope left along its eigenaxis (docs/spec.md 5.14.2) */
             const real_t a_old = aocs_wheels_alpha_max(&exec->fdir.wheels_before, exec->cfg.guidance.slew.inertia_kgm2,
                                                        exec->guidance.slew.e);
             const real_t a_new = aocs_wheels_alpha_max(&exec->act.wheels, exec->cfg.guidance.slew.inertia_kgm2,
@@ -367,7 +373,10 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
  * a SAFE latched by fault management). */
 static void update_mode(aocs_exec_t *exec, int good_sample)
 {
-    const int good = ((good_sample != 0) && (exec->fdir.safe_latched == 0)) ? 1 : 0;
+    int good = 0;
+    if ((good_sample != 0) && (exec->fdir.safe_latched == 0)) {
+        good = 1;
+    }
     if (exec->requested == AOCS_EXEC_MODE_NOMINAL) {
         if (good == 0) {
             set_mode(exec, AOCS_EXEC_MODE_SAFE);

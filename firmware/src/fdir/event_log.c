@@ -1,5 +1,5 @@
 /*
- * The event log (aocs/fdir/event_log.h; docs/spec.md 5.10.1): the table of
+ * The event log (aocs/fdir/event_log.h; docs/spec.md 5.14.1): the table of
  * aocs/fdir/events.def as data, and the fixed-size ring with its sequence
  * numbers and counts per severity.
  */
@@ -18,8 +18,6 @@ typedef struct {
 static const evt_info_t evt_info[AOCS_EVT_COUNT] = {AOCS_FDIR_EVENT_ROWS(EVT_INFO_ROW)};
 
 #define EVT_NAME_ROW(ID, NAME) NAME,
-static const char *const sev_names[AOCS_SEV_COUNT] = {AOCS_FDIR_SEVERITY_ROWS(EVT_NAME_ROW)};
-static const char *const unit_kind_names[AOCS_UNIT_KIND_COUNT] = {AOCS_FDIR_UNIT_KIND_ROWS(EVT_NAME_ROW)};
 
 static int evt_id_valid(aocs_evt_id_t id)
 {
@@ -43,11 +41,13 @@ aocs_evt_unit_kind_t aocs_evt_unit_kind(aocs_evt_id_t id)
 
 const char *aocs_evt_severity_name(aocs_evt_severity_t sev)
 {
+    static const char *const sev_names[AOCS_SEV_COUNT] = {AOCS_FDIR_SEVERITY_ROWS(EVT_NAME_ROW)};
     return (((int)sev >= 0) && (sev < AOCS_SEV_COUNT)) ? sev_names[sev] : "unknown";
 }
 
 const char *aocs_evt_unit_kind_name(aocs_evt_unit_kind_t kind)
 {
+    static const char *const unit_kind_names[AOCS_UNIT_KIND_COUNT] = {AOCS_FDIR_UNIT_KIND_ROWS(EVT_NAME_ROW)};
     return (((int)kind >= 0) && (kind < AOCS_UNIT_KIND_COUNT)) ? unit_kind_names[kind] : "unknown";
 }
 

@@ -1,5 +1,5 @@
 /*
- * The fault-management stage (aocs/fdir/fdir.h; docs/spec.md 5.10): its
+ * The fault-management stage (aocs/fdir/fdir.h; docs/spec.md 5.14): its
  * configuration, and the step that runs the monitors and the mode and link
  * supervision (safe_entered / safe_left, link_lost / link_restored).
  */

@@ -1,6 +1,6 @@
 /*
  * Fault management, the gyro monitor (aocs/fdir/fdir.h; docs/spec.md
- * 5.10.4): saturation (a component at or beyond fdir.gyro_sat_radps on
+ * 5.14.4): saturation (a component at or beyond fdir.gyro_sat_radps on
  * fdir.gyro_stuck_samples samples) and a stuck axis (one component
  * bit-identical on fdir.gyro_stuck_samples samples while another component
  * changed: a live gyro's noise never repeats a value, a noise-free one repeats
@@ -13,7 +13,11 @@
 
 static uint32_t gyro_inc(uint32_t n)
 {
-    return (n < UINT32_MAX) ? (n + 1u) : UINT32_MAX;
+    uint32_t m = n;
+    if (m < UINT32_MAX) {
+        m += 1u;
+    }
+    return m;
 }
 
 static void gyro_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, uint32_t axis, real_t value, real_t thr)

@@ -1,6 +1,6 @@
 /*
  * Fault management, the star-tracker monitor (aocs/fdir/fdir.h; docs/spec.md
- * 5.10.3): the MEKF's innovation test d^2 = y^T S^-1 y (Markley & Crassidis
+ * 5.14.3): the MEKF's innovation test d^2 = y^T S^-1 y (Markley & Crassidis
  * 2014, sec. 6.2 / 7.2: under the filter's model d^2 is chi-square with 3
  * degrees of freedom) against fdir.st_chi2 with persistence (exclusion) and
  * a run of consistent samples (restoration), and the frozen-output test.
@@ -23,7 +23,11 @@ static int st_tested(const aocs_det_output_t *est, real_t *d2)
 
 static uint32_t st_inc(uint32_t n)
 {
-    return (n < UINT32_MAX) ? (n + 1u) : UINT32_MAX;
+    uint32_t m = n;
+    if (m < UINT32_MAX) {
+        m += 1u;
+    }
+    return m;
 }
 
 static void st_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t value, real_t thr)

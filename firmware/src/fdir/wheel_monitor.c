@@ -1,6 +1,6 @@
 /*
  * Fault management, the wheel monitor (aocs/fdir/fdir.h; docs/spec.md
- * 5.10.2): the residual between the net axial torque commanded over the last
+ * 5.14.2): the residual between the net axial torque commanded over the last
  * period and the one the tachometers measured, with a persistence counter per
  * wheel; isolation of a wheel by re-initialising the array without it.
  *
@@ -10,7 +10,7 @@
  * allocation (wheel_array.h) at the speed the period started from; the wheel's
  * own equation is Js dOmega/dt = u_s - f(Omega) - Js g_i . dw/dt (spec 5.3), so
  * r_i is the motor torque the wheel did not deliver, up to the friction
- * model's error over the period and Js g . dw/dt (both bounded in spec 5.10.2).
+ * model's error over the period and Js g . dw/dt (both bounded in spec 5.14.2).
  */
 #include <stddef.h>
 
@@ -22,7 +22,7 @@ real_t aocs_fdir_wheel_residual(real_t u_net_prev_nm, real_t js_kgm2, real_t ome
     return u_net_prev_nm - ((js_kgm2 * (omega_radps - omega_prev_radps)) / period_s);
 }
 
-static uint32_t wheel_bit(uint32_t i)
+static uint32_t fdir_wheel_bit(uint32_t i)
 {
     return (uint32_t)1u << i;
 }
@@ -35,7 +35,7 @@ static aocs_status_t wheels_isolate(aocs_wheels_t *wa, uint32_t i, aocs_wheels_t
     aocs_wheels_t trial;
     aocs_wheels_config_t cfg = wa->cfg;
     aocs_status_t st;
-    cfg.failed_mask |= wheel_bit(i);
+    cfg.failed_mask |= fdir_wheel_bit(i);
     st = aocs_wheels_init(&trial, &cfg);
     if (st == AOCS_OK) {
         *before = *wa;
@@ -72,10 +72,9 @@ void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whe
     aocs_fdir_wheels_t *w = &f->wheels;
     if ((wheels != NULL) && (wheels->initialised != 0) && (in->wheel_speed_radps != NULL) && (in->alloc != NULL) &&
         (in->period_s > AOCS_R(0.0))) {
-        const uint32_t n = (wheels->cfg.n <= AOCS_WHEELS_MAX) ? wheels->cfg.n : AOCS_WHEELS_MAX;
         if (w->have_prev != 0) {
-            for (uint32_t i = 0u; i < n; ++i) {
-                if ((wheels->cfg.failed_mask & wheel_bit(i)) == 0u) {
+            for (uint32_t i = 0u; (i < wheels->cfg.n) && (i < AOCS_WHEELS_MAX); ++i) {
+                if ((wheels->cfg.failed_mask & fdir_wheel_bit(i)) == 0u) {
                     wheels_detect(f, in, wheels, i, f->cfg.wheel_residual_frac * wheels->cfg.u_max_nm[i]);
                 } else {
                     w->over[i] = 0u;
@@ -83,7 +82,7 @@ void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whe
             }
         }
         /* this step's command for the next step's test: held over the period that starts now */
-        for (uint32_t i = 0u; i < n; ++i) {
+        for (uint32_t i = 0u; (i < wheels->cfg.n) && (i < AOCS_WHEELS_MAX); ++i) {
             const real_t om = in->wheel_speed_radps[i];
             w->omega_prev_radps[i] = om;
             w->u_net_prev_nm[i] = in->alloc->u_s_nm[i] - aocs_wheels_friction(wheels, i, om);

@@ -83,7 +83,7 @@ aocs_status_t aocs_det_reset(aocs_det_t *det);
 aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
                             aocs_det_output_t *out);
 
-/* Fault management (docs/spec.md 5.10.3): excluded != 0 makes a filter that takes the star tracker test its
+/* Fault management (docs/spec.md 5.14.3): excluded != 0 makes a filter that takes the star tracker test its
  * samples without applying them (the MEKF: aocs_mekf_set_st_excluded); no-op for an estimator without one,
  * and on NULL. */
 void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded);

@@ -143,7 +143,7 @@ typedef struct {
     uint32_t n_restarts;
     aocs_vec3_t innovation_B_rad;
     real_t innovation_chi2;
-    uint32_t st_excluded;        /* 1: a sample is tested (innovation, gate) but not applied (spec 5.10.3);
+    uint32_t st_excluded;        /* 1: a sample is tested (innovation, gate) but not applied (spec 5.14.3);
                                     set by aocs_mekf_set_st_excluded, kept across reset and restart */
     int initialised;             /* set by a successful init only */
 } aocs_mekf_t;
@@ -203,7 +203,7 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st);
  */
 aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_mekf_output_t *out);
 
-/* Fault management (spec 5.10.3): excluded != 0 refuses every star-tracker sample after its innovation test
+/* Fault management (spec 5.14.3): excluded != 0 refuses every star-tracker sample after its innovation test
  * (aocs_mekf_update returns AOCS_ERR_MEKF_ST_EXCLUDED, state untouched, d^2 kept); 0 uses them again. A
  * filter not yet started still starts from a tracker sample. No-op on NULL. */
 void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded);

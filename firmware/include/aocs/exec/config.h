@@ -40,7 +40,7 @@ typedef struct {
                                    * period_s at init (one source) */
     aocs_det_config_t determination; /* attitude determination; default: passthrough */
     aocs_mom_config_t momentum;   /* momentum management; default: none */
-    aocs_fdir_config_t fdir;      /* fault management (docs/spec.md 5.10); default: enabled, the spec's thresholds */
+    aocs_fdir_config_t fdir;      /* fault management (docs/spec.md 5.14); default: enabled, the spec's thresholds */
 } aocs_exec_config_t;
 
 /*

@@ -12,7 +12,7 @@
  *   manage faults     aocs/fdir/fdir.h              (events.def; fdir.enabled): residual tests, the
  *                     event log, wheel isolation (the allocation re-initialised, the slew replanned),
  *                     star-tracker exclusion (applied to the next step's determination), SAFE latched
- *                     when an isolation is refused or the gyro is excluded (docs/spec.md 5.10)
+ *                     when an isolation is refused or the gyro is excluded (docs/spec.md 5.14)
  *
  * The step is timed (aocs/exec/timing.h) from determination to the end of
  * actuation. Modes: STANDBY (zero command), NOMINAL (the law's command plus

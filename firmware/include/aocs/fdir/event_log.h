@@ -1,5 +1,5 @@
 /*
- * The flight software's event log (issue 26; docs/spec.md 5.10.1): the ids,
+ * The flight software's event log (issue 26; docs/spec.md 5.14.1): the ids,
  * severities and unit kinds of aocs/fdir/events.def, and a fixed-size ring of
  * the events raised, each with a sequence number (1, 2, ... never reused),
  * the sensor time of the step that raised it, its unit, the test statistic

@@ -1,5 +1,5 @@
 /*
- * The fault-management stage (issue 26; docs/spec.md 5.10): the last stage of
+ * The fault-management stage (issue 26; docs/spec.md 5.14): the last stage of
  * the executive's step (after actuation and momentum management). It tests
  * residuals against stated thresholds with persistence counters (Isermann
  * 2006, ch. 7 and 10: residual generation, threshold with persistence),
@@ -20,7 +20,7 @@
  *                    link_restored from consecutive missing samples.
  *
  * Fixed size, no dynamic memory, total on any input. Disabled (fdir.enabled = 0) it raises nothing and
- * decides nothing; enabled it is silent on a nominal run (the thresholds, docs/spec.md 5.10).
+ * decides nothing; enabled it is silent on a nominal run (the thresholds, docs/spec.md 5.14).
  */
 #ifndef AOCS_FDIR_FDIR_H
 #define AOCS_FDIR_FDIR_H
@@ -35,7 +35,7 @@
 #include "aocs/exec/modes.h"
 #include "aocs/fdir/event_log.h"
 
-/* Defaults (docs/spec.md 5.10, where each is argued) */
+/* Defaults (docs/spec.md 5.14, where each is argued) */
 #define AOCS_FDIR_WHEEL_RESIDUAL_FRAC_DEFAULT AOCS_R(0.1)
 #define AOCS_FDIR_WHEEL_PERSIST_DEFAULT 5u
 #define AOCS_FDIR_ST_CHI2_DEFAULT AOCS_R(16.266236196238129) /* chi-square 3 dof, 99.9 % */
@@ -150,7 +150,7 @@ void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
  * a frozen tracker and a stuck gyro axis. Total. */
 int aocs_fdir_same(real_t a, real_t b);
 
-/* The wheel residual r_i of one wheel (N m, docs/spec.md 5.10.2): u_net_prev - Js (omega - omega_prev) / T. */
+/* The wheel residual r_i of one wheel (N m, docs/spec.md 5.14.2): u_net_prev - Js (omega - omega_prev) / T. */
 real_t aocs_fdir_wheel_residual(real_t u_net_prev_nm, real_t js_kgm2, real_t omega_prev_radps, real_t omega_radps,
                                 real_t period_s);
 

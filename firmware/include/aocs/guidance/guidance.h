@@ -88,7 +88,7 @@ typedef struct {
     int slew_pending;             /* PLANNED rows: a target was commanded, planned at the next usable sample */
     aocs_slew_t slew;             /* SLEW: the slew being flown (zero length before the first) */
     uint64_t slew_t0_ns;          /* sensor time of the slew's start */
-    /* SLEW after an actuator loss (aocs_guidance_slow_down, docs/spec.md 5.10.2): the profile's time runs at
+    /* SLEW after an actuator loss (aocs_guidance_slow_down, docs/spec.md 5.14.2): the profile's time runs at
      * time_scale from profile time scale_tau0_s at sensor time scale_t0_ns; not scaled: the elapsed time */
     int scaled;
     real_t time_scale;            /* k in (0, 1] */
@@ -140,7 +140,7 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns);
 
 /*
- * The actuators lost torque (fault management isolated a wheel, docs/spec.md 5.10.2): a slew in progress
+ * The actuators lost torque (fault management isolated a wheel, docs/spec.md 5.14.2): a slew in progress
  * at sensor time t_ns (a PLANNED row, planned, t_ns before its end) flies the rest of its profile on a
  * slower clock, profile time tau = tau(t_ns) + k (t - t_ns): the same path, rates times k, accelerations
  * times k^2, so with k = sqrt(alpha_new / alpha_old) (the envelopes along the slew's eigenaxis) it asks no
