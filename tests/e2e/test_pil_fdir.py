@@ -24,7 +24,7 @@ PERSIST = 5
 JS = 0.08
 U_MAX = 0.25
 #: the allowance (firmware/pil/include/aocs/budget.h AOCS_BUDGET_FDIR_INSTR_M4F / _M7), by hand on purpose
-ALLOWANCE = {"pil-m4f": 8400, "pil-m7": 12100}
+ALLOWANCE = {"pil-m4f": 8500, "pil-m7": 12100}
 
 
 def _pyramid():

@@ -22,22 +22,6 @@
 #include "fuzz_support.h"
 
 #include "aocs/fdir/fdir.h"
-#include "aocs/hal.h"
-
-uint64_t aocs_hal_time_ns(void)
-{
-    return 0u;
-}
-
-uint32_t aocs_hal_cycles(void)
-{
-    return 0u;
-}
-
-void aocs_hal_sleep_until_ns(uint64_t t_ns)
-{
-    (void)t_ns;
-}
 
 static real_t fuzz_fdir_value(fuzz_reader_t *r, int raw, double lo, double hi)
 {

@@ -304,20 +304,27 @@ static void test_isolation_of_the_third_wheel_is_refused_and_latches_safe(void *
 }
 
 /* ---- the star-tracker monitor on a given innovation sequence ---- */
-static void st_feed(aocs_fdir_t *f, uint64_t k, real_t d2, aocs_status_t st_status)
+/* a NOMINAL step's input at sample k with a sample (have) and the acceptance's verdict on it */
+static aocs_fdir_input_t base_input(uint64_t k, int have, aocs_exec_mode_t mode)
 {
     aocs_fdir_input_t in;
-    aocs_det_output_t est;
     (void)memset(&in, 0, sizeof(in));
+    in.t_ns = k * PERIOD_NS;
+    in.period_s = AOCS_R(PERIOD_S);
+    in.have_sample = have;
+    in.input_status = (have != 0) ? AOCS_OK : AOCS_ERR_INPUT_MISSING;
+    in.mode = mode;
+    return in;
+}
+
+static void st_feed(aocs_fdir_t *f, uint64_t k, real_t d2, aocs_status_t st_status)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
     (void)memset(&est, 0, sizeof(est));
     est.status = AOCS_OK;
     est.st_status = st_status;
     est.innovation_chi2 = d2;
-    in.t_ns = k * PERIOD_NS;
-    in.period_s = AOCS_R(PERIOD_S);
-    in.have_sample = 1;
-    in.input_status = AOCS_OK;
-    in.mode = AOCS_EXEC_MODE_NOMINAL;
     in.est = &est;
     aocs_fdir_step(f, &in, NULL);
 }
@@ -366,13 +373,7 @@ static void test_st_excluded_after_persist_and_restored_after_restore(void **sta
 /* ---- frozen tracker, stuck gyro: samples built here ---- */
 static void sensor_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, aocs_vec3_t w)
 {
-    aocs_fdir_input_t in;
-    (void)memset(&in, 0, sizeof(in));
-    in.t_ns = k * PERIOD_NS;
-    in.period_s = AOCS_R(PERIOD_S);
-    in.have_sample = 1;
-    in.input_status = AOCS_OK;
-    in.mode = AOCS_EXEC_MODE_NOMINAL;
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
     in.st_q_SN = q;
     in.st_valid = 1;
     in.gyro_w_B = w;
@@ -465,14 +466,8 @@ static void test_gyro_saturation(void **state)
 /* ---- link and modes ---- */
 static void mode_feed(aocs_fdir_t *f, uint64_t k, int have, uint32_t missing, aocs_exec_mode_t mode)
 {
-    aocs_fdir_input_t in;
-    (void)memset(&in, 0, sizeof(in));
-    in.t_ns = k * PERIOD_NS;
-    in.period_s = AOCS_R(PERIOD_S);
-    in.have_sample = have;
+    aocs_fdir_input_t in = base_input(k, have, mode);
     in.missing = missing;
-    in.input_status = (have != 0) ? AOCS_OK : AOCS_ERR_INPUT_MISSING;
-    in.mode = mode;
     aocs_fdir_step(f, &in, NULL);
 }
 

@@ -308,12 +308,11 @@ static double angle_about_z(aocs_quat_t qd)
 static void test_slow_down_after_an_actuator_loss(void **state)
 {
     (void)state;
+    /* the 0.5 rad slew about z from rest at the identity of test_slew_plans_from_the_first_usable_estimate */
     aocs_exec_guidance_config_t g = gcfg_of(AOCS_GUIDANCE_MODE_SLEW);
-    const dq_t q0 = dq_axis_angle(0.0, 0.0, 1.0, 0.0);
-    const dq_t qf = dq_axis_angle(0.0, 0.0, 1.0, 0.5);
+    aocs_exec_target_t t = fixed_target(dq_axis_angle(0.0, 0.0, 1.0, 0.5));
     const double w0[3] = {0.0, 0.0, 0.0};
-    aocs_exec_target_t t = fixed_target(qf);
-    aocs_det_output_t est = estimate(q0, w0);
+    aocs_det_output_t est = estimate(dq_axis_angle(0.0, 0.0, 1.0, 0.0), w0);
     aocs_guidance_t st;
     aocs_exec_target_t out;
     aocs_guidance_init(&st, &g, &t, aocs_vec3_zero(), 0u, aocs_vec3_make(AOCS_R(0.5), AOCS_R(0.5), AOCS_R(0.5)),
