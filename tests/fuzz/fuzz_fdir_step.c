@@ -23,17 +23,6 @@
 
 #include "aocs/fdir/fdir.h"
 
-static real_t fuzz_fdir_value(fuzz_reader_t *r, int raw, double lo, double hi)
-{
-    double v;
-    if (raw != 0) {
-        v = fuzz_f64(r);
-    } else {
-        v = lo + ((hi - lo) * (double)fuzz_u16(r) / 65536.0);
-    }
-    return (real_t)v;
-}
-
 static void fuzz_fdir_fail(const char *what)
 {
     (void)fprintf(stderr, "fuzz_fdir_step invariant: %s\n", what);
@@ -45,10 +34,10 @@ static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t
     const int raw = (int)((setup >> 2) & 1u);
     aocs_fdir_config_default(c);
     c->enabled = ((setup & 2u) != 0u) ? 0u : 1u;
-    c->wheel_residual_frac = fuzz_fdir_value(r, raw, 0.0, 1.2);
-    c->st_chi2 = fuzz_fdir_value(r, raw, 0.0, 100.0);
-    c->st_frozen_rate_radps = fuzz_fdir_value(r, raw, 0.0, 1.0e-2);
-    c->gyro_sat_radps = fuzz_fdir_value(r, raw, -0.1, 1.0);
+    c->wheel_residual_frac = fuzz_scaled(r, raw, 0.0, 1.2);
+    c->st_chi2 = fuzz_scaled(r, raw, 0.0, 100.0);
+    c->st_frozen_rate_radps = fuzz_scaled(r, raw, 0.0, 1.0e-2);
+    c->gyro_sat_radps = fuzz_scaled(r, raw, -0.1, 1.0);
     c->wheel_persist = fuzz_u8(r) % 8u;
     c->st_persist = fuzz_u8(r) % 8u;
     c->st_restore = fuzz_u8(r) % 8u;
@@ -149,21 +138,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         in.input_status = ((flags & 2u) != 0u) ? AOCS_OK : AOCS_ERR_INPUT_STALE;
         in.mode = (aocs_exec_mode_t)((flags >> 5) % 3u);
         for (uint32_t i = 0u; i < 4u; ++i) {
-            speeds[i] = fuzz_fdir_value(&r, raw, -700.0, 700.0);
-            alloc.u_s_nm[i] = fuzz_fdir_value(&r, raw, -0.3, 0.3);
+            speeds[i] = fuzz_scaled(&r, raw, -700.0, 700.0);
+            alloc.u_s_nm[i] = fuzz_scaled(&r, raw, -0.3, 0.3);
         }
         in.wheel_speed_radps = speeds;
         in.alloc = &alloc;
         est.status = AOCS_OK;
         est.st_status = ((flags & 128u) != 0u) ? AOCS_ERR_MEKF_GATED : AOCS_ERR_INPUT_MISSING;
-        est.innovation_chi2 = fuzz_fdir_value(&r, raw, 0.0, 50.0);
+        est.innovation_chi2 = fuzz_scaled(&r, raw, 0.0, 50.0);
         in.est = &est;
         in.gyro_valid = (int)((flags >> 3) & 1u);
-        in.gyro_w_B = aocs_vec3_make(fuzz_fdir_value(&r, raw, -1.0, 1.0), fuzz_fdir_value(&r, raw, -1.0, 1.0),
-                                     fuzz_fdir_value(&r, raw, -1.0, 1.0));
+        in.gyro_w_B = aocs_vec3_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
+                                     fuzz_scaled(&r, raw, -1.0, 1.0));
         in.st_valid = (int)((flags >> 2) & 1u);
-        in.st_q_SN = aocs_quat_make(fuzz_fdir_value(&r, raw, -1.0, 1.0), fuzz_fdir_value(&r, raw, -1.0, 1.0),
-                                    fuzz_fdir_value(&r, raw, -1.0, 1.0), fuzz_fdir_value(&r, raw, -1.0, 1.0));
+        in.st_q_SN = aocs_quat_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
+                                    fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0));
         aocs_fdir_step(&f, &in, &wa);
         fuzz_fdir_check(&f, &wa, mask_before, &seq_seen, refused);
         refused = (f.safe_latched != 0) ? 1u : refused;
