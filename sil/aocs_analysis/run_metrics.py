@@ -21,7 +21,7 @@ from aocs_core.modes import mode_value
 from aocs_core.ticks import first_tick
 
 from . import estimation as E
-from . import faults, holds, momentum, wheels
+from . import events, faults, holds, momentum, wheels
 from . import metrics as M
 from .gain_tables import designed_gamma
 from .slew_bound import scenario_slew_bound_s
@@ -205,6 +205,8 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["momentum"] = momentum.metrics(log, sc, series["wheels"], plant,
                                        plan.hold_windows_s() if plan is not None else None)
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
+    out["events"] = events.events(log)                 # fault management's event log (docs/spec.md 5.15)
+    out["events_alarms"] = events.alarms(out["events"])  # of them, severity warning or above
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     _faults(out, series, sc)
     return out, series

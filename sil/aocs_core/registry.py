@@ -141,6 +141,16 @@ class Payload:
     fields: tuple[PayloadField, ...]
 
 
+@dataclass(frozen=True)
+class Event:
+    """One row of the fault-management event table (fdir/events.def)."""
+    id: int
+    name: str
+    severity: str        # "info", "warning", "error", "critical"
+    unit_kind: str       # "none", "star_tracker", "gyro", "wheel", "thruster", "magnetometer", "link"
+    meaning: str
+
+
 class Registry:
     """The parsed registry JSON of one build."""
 
@@ -159,6 +169,8 @@ class Registry:
         #: guidance mode SLEW, and a reaction wheel array
         self.slew_instructions: dict[str, int] = dict(data["pil"]["slew_instructions"])
         self.wheels_instructions: dict[str, int] = dict(data["pil"]["wheels_instructions"])
+        #: fault management (fdir.enabled, on by default): added to every step's budget
+        self.fdir_instructions: dict[str, int] = dict(data["pil"].get("fdir_instructions", {}))
         #: the attitude-determination rows: name -> (host budget ns, {target: instructions}) each adds to every step
         self.estimators: dict[str, tuple[int, dict[str, int]]] = {
             e["name"]: (e["budget_ns"], dict(e["budget_instructions"])) for e in data["estimators"]}
@@ -193,6 +205,13 @@ class Registry:
         self.limits: dict[str, float] = {k: float(v) for k, v in data["limits"].items()}
         self.status_names: dict[int, str] = {s["value"]: s["name"] for s in data["status"]}
         self.mode_names: dict[int, str] = {m["value"]: m["name"] for m in data["modes"]}
+        #: the fault-management event table (firmware/include/aocs/fdir/events.def): id -> Event; the severity
+        #: and unit kind names by value (event_t.severity, event_t.unit_kind on the wire)
+        self.events: dict[int, Event] = {
+            e["id"]: Event(e["id"], e["name"], e["severity"], e["unit_kind"], e["meaning"])
+            for e in data.get("events", ())}
+        self.event_severities: dict[int, str] = {x["value"]: x["name"] for x in data.get("event_severities", ())}
+        self.event_unit_kinds: dict[int, str] = {x["value"]: x["name"] for x in data.get("event_unit_kinds", ())}
         self._law = {law.name: law for law in (self.none, *self.laws)}
         self._field = {f.key: f for f in self.fields}
 
@@ -330,3 +349,18 @@ def status_code(name: str) -> int:
 def mode_name(mode: int) -> str:
     """Name of an executive mode value ("standby", "nominal", "safe"), the number as text when unknown."""
     return load().mode_names.get(int(mode), str(int(mode)))
+
+
+def events() -> dict[int, "Event"]:
+    """The fault-management event table of the build, by id (firmware/include/aocs/fdir/events.def)."""
+    return load().events
+
+
+def event_severity_name(value: int) -> str:
+    """Name of an event severity value ("warning"), the number as text when unknown."""
+    return load().event_severities.get(int(value), str(int(value)))
+
+
+def event_unit_kind_name(value: int) -> str:
+    """Name of an event unit kind value ("wheel"), the number as text when unknown."""
+    return load().event_unit_kinds.get(int(value), str(int(value)))

@@ -26,7 +26,7 @@ from .frames import Reply, SensorFrame
 from .lcm_adapter import LcmCodec
 
 #: the C ABI version this module speaks (aocs_direct_abi_version)
-ABI_VERSION = 1
+ABI_VERSION = 2
 LIB_NAME = "libaocs_node_direct.so"
 #: reply buffer, bytes: above the largest actuator_cmd_t (782 bytes in protocol version 4) and status_t payload
 REPLY_CAP = 2048
@@ -61,6 +61,7 @@ def library():
             ("aocs_direct_sensors", i32, (i32, cp, u32, vp, u32)),
             ("aocs_direct_command", i32, (i32, cp, u32, i64, vp, u32)),
             ("aocs_direct_status", i32, (i32, i32, i64, vp, u32)),
+            ("aocs_direct_event", i32, (i32, vp, u32)),
             ("aocs_direct_report", i32, (i32, cp, vp, u32)),
             ("aocs_direct_last_request", i32, (i32, ctypes.POINTER(i64), ctypes.POINTER(i32))),
             ("aocs_direct_close", i32, (i32,))):
@@ -114,6 +115,18 @@ class DirectNode:
             raise DirectError(f"aocs_direct_command failed ({n})")
         return self._string_at(self._out, n) if n else None
 
+    def events(self) -> list[bytes]:
+        """The event_t payloads the steps since the last call raised (fault management), in order: the
+        messages fsw_node publishes on AOCS_EVENTS."""
+        out = []
+        while True:
+            n = self.lib.aocs_direct_event(self.handle, self._out, REPLY_CAP)
+            if n < 0:
+                raise DirectError(f"aocs_direct_event failed ({n})")
+            if n == 0:
+                return out
+            out.append(self._string_at(self._out, n))
+
     def last_request(self) -> tuple[int, int]:
         """(request id, status) of the last command applied (status 0 = accepted)."""
         req, st = ctypes.c_int64(), ctypes.c_int32()
@@ -149,15 +162,18 @@ class DirectNode:
 class DirectFlightComputer:
     """core.FlightComputer in process: step() packs the frame's sensors_t (LcmCodec, as LcmFlightComputer),
     runs the node on it and reads its actuator_cmd_t back. Raises DirectError when the node gives no reply
-    (a frame it dropped): the loop does not invent a command."""
+    (a frame it dropped): the loop does not invent a command. The events each step raised are kept in
+    `events` (event_t payloads, in order)."""
 
     def __init__(self, node: DirectNode, codec: LcmCodec):
         self.node, self.codec = node, codec
+        self.events: list[bytes] = []
 
     def step(self, frame: SensorFrame) -> Reply:
         data = self.node.sensors(self.codec.pack_sensors(frame))
         if data is None:
             raise DirectError(f"no actuator_cmd_t for tick {frame.tick}: the node dropped its sensors_t")
+        self.events.extend(self.node.events())
         return self.codec.reply(self.codec.unpack(data))
 
     def close(self) -> None:
@@ -186,6 +202,7 @@ class DirectBus:
         self._sensors = node.sensors
         self._ch_sensors, self._ch_actuator = wire.SENSORS.encode(), wire.ACTUATOR.encode()
         self._ch_command, self._ch_status = wire.COMMAND.encode(), wire.STATUS.encode()
+        self._ch_events = wire.EVENTS.encode()
 
     def subscribe(self, channel: str, handler) -> str:
         self._handlers[channel.encode()] = handler
@@ -216,6 +233,8 @@ class DirectBus:
             reply = self._sensors(data)
             if reply is not None:
                 self._deliver(self._ch_actuator, reply)
+                for ev in self.node.events():       # after the reply, as fsw_node publishes them
+                    self._deliver(self._ch_events, ev)
         elif ch == self._ch_command:
             ack = self.node.command(data, _utime())
             if ack is not None:

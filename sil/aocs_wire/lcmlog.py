@@ -116,6 +116,7 @@ class Log:
     markers: list = field(default_factory=list)
     counts: dict = field(default_factory=dict)
     events: list | None = None    # raw (channel, data, utime) when keep_raw
+    fault_events: dict = field(default_factory=dict)   # AOCS_EVENTS (event_t): fault management's events
 
 
 def _table(codec: wire.Codec, rows: list, utimes: list) -> dict:
@@ -145,7 +146,7 @@ def _table(codec: wire.Codec, rows: list, utimes: list) -> dict:
 def _by_channel() -> dict:
     codecs = wire.Codecs(paths.import_bindings())
     return {wire.TRUTH: codecs.truth, wire.ACTUATOR: codecs.actuator, wire.SENSORS: codecs.sensors,
-            wire.STATUS: codecs.status, wire.COMMAND: codecs.command}
+            wire.STATUS: codecs.status, wire.COMMAND: codecs.command, wire.EVENTS: codecs.event}
 
 
 def read(path: str | Path, keep_raw: bool = False) -> Log:
@@ -332,7 +333,7 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
                zip(chan_id.tolist(), payload.tolist(), data_len.tolist(), utime.tolist())]
     t = tables
     return Log(path, t[wire.TRUTH], t[wire.ACTUATOR], t[wire.SENSORS], t[wire.STATUS], t[wire.COMMAND],
-               markers, counts, raw)
+               markers, counts, raw, t[wire.EVENTS])
 
 
 def _events(log, path: Path):
@@ -385,7 +386,7 @@ def _read_eventlog(path: Path, keep_raw: bool = False) -> Log:
         log.close()
     t = {c: _table(by_channel[c], rows[c], utimes[c]) for c in by_channel}
     return Log(path, t[wire.TRUTH], t[wire.ACTUATOR], t[wire.SENSORS], t[wire.STATUS], t[wire.COMMAND],
-               markers, counts, raw)
+               markers, counts, raw, t[wire.EVENTS])
 
 
 def unload_events(cmd: dict):

@@ -98,6 +98,7 @@ class Codecs:
         self.truth = Codec(aocs_lcm.truth_t)
         self.command = Codec(aocs_lcm.command_t)
         self.status = Codec(aocs_lcm.status_t)
+        self.event = Codec(aocs_lcm.event_t)
         self.version = aocs_lcm.sensors_t.PROTOCOL_VERSION
 
 
@@ -107,6 +108,8 @@ ACTUATOR = "AOCS_ACTUATOR_CMD"
 TRUTH = "AOCS_TRUTH"
 COMMAND = "AOCS_COMMAND"
 STATUS = "AOCS_STATUS"
+#: fault-management events, one event_t per event (fsw_node -> everyone)
+EVENTS = "AOCS_EVENTS"
 #: runner-only channel: a JSON marker (run start / end) written by the runner,
 #: used to know that lcm-logger is recording before the run starts and has
 #: everything before it stops; no aocs node subscribes to it

@@ -29,6 +29,7 @@
 #include "aocs/executive.h"
 #include "aocs/hal.h"
 #include "aocs_lcm_actuator_cmd_t.h"
+#include "aocs_lcm_event_t.h"
 #include "aocs_lcm_command_t.h"
 #include "aocs_lcm_sensors_t.h"
 #include "aocs_lcm_status_t.h"
@@ -41,6 +42,7 @@
 #define CH_ACTUATOR "AOCS_ACTUATOR_CMD"
 #define CH_COMMAND "AOCS_COMMAND"
 #define CH_STATUS "AOCS_STATUS"
+#define CH_EVENTS "AOCS_EVENTS"
 
 #define EXIT_CONFIG 2
 #define EXIT_RUNTIME 1
@@ -97,6 +99,17 @@ static void publish_actuator(node_t *n, const aocs_lcm_actuator_cmd_t *m)
     }
 }
 
+/* the events the last step raised (fault management), one event_t each on AOCS_EVENTS */
+static void publish_events(node_t *n)
+{
+    aocs_lcm_event_t e;
+    while (aocs_node_core_event(&n->core, &e) != 0) {
+        if (aocs_lcm_event_t_publish(n->lcm, CH_EVENTS, &e) != 0) {
+            (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_EVENTS);
+        }
+    }
+}
+
 /* one step of the real-time loop (with the newest sample, or without one) and its command published */
 static void step_realtime(node_t *n, const aocs_exec_input_t *in, int deadline_missed)
 {
@@ -107,6 +120,7 @@ static void step_realtime(node_t *n, const aocs_exec_input_t *in, int deadline_m
     aocs_node_core_record(c, rc);
     aocs_node_core_actuator(c, rc, n->latest_tick, hal_utime(), deadline_missed, &m);
     publish_actuator(n, &m);
+    publish_events(n);
 }
 
 static void publish_status(node_t *n, int exiting)
@@ -137,6 +151,7 @@ static void on_sensors(const void *data, size_t size, void *user)
         aocs_lcm_actuator_cmd_t m;
         if (aocs_node_core_lockstep(&n->core, data, (uint32_t)size, &m) != 0) {
             publish_actuator(n, &m);
+            publish_events(n);
         }
     } else {
         /* real time: keep the newest sample for the next deadline */

@@ -217,7 +217,27 @@ void aocs_node_core_status(aocs_node_core_t *n, int exiting, int64_t utime_us, a
     m->n_cmd_rejected = aocs_node_to_i64(n->n_cmd_rejected);
     m->n_foreign = aocs_node_to_i64(n->n_foreign);
     m->n_malformed = aocs_node_to_i64(n->n_malformed);
+    {
+        const aocs_evlog_t *log = aocs_exec_events(&n->exec);
+        m->n_events = (int64_t)aocs_evlog_count(log);
+        m->n_events_critical = (int64_t)aocs_evlog_count_at_least(log, AOCS_SEV_CRITICAL);
+    }
     m->exiting = (exiting != 0) ? 1 : 0;
+}
+
+int aocs_node_core_event(aocs_node_core_t *n, aocs_lcm_event_t *m)
+{
+    aocs_event_t e;
+    uint32_t lost = 0u;
+    int got = 0;
+    if (aocs_evlog_next(aocs_exec_events(&n->exec), n->event_seq_sent, &e, &lost) == AOCS_OK) {
+        aocs_node_event_to_msg(&e, lost, m);
+        m->frame = next_frame(&n->frame_event);
+        m->utime = aocs_node_to_i64(aocs_hal_time_ns() / 1000u);
+        n->event_seq_sent = e.seq;
+        got = 1;
+    }
+    return got;
 }
 
 /*

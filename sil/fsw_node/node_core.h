@@ -33,6 +33,8 @@ typedef struct {
     aocs_node_seq_t seq;          /* AOCS_SENSORS frame sequence */
     uint64_t frame_cmd;           /* our counters on AOCS_ACTUATOR_CMD / AOCS_STATUS (sent modulo 2^63) */
     uint64_t frame_status;
+    uint64_t frame_event;         /* our counter on AOCS_EVENTS */
+    uint32_t event_seq_sent;      /* seq of the last event handed out by aocs_node_core_event */
     uint64_t sensor_frames;       /* AOCS_SENSORS messages received (any content) */
     uint64_t n_foreign;
     uint64_t n_malformed;
@@ -93,6 +95,13 @@ int aocs_node_core_command(aocs_node_core_t *n, const void *data, uint32_t size)
 
 /* The status_t of the node now (utime_us: the sender's clock). */
 void aocs_node_core_status(aocs_node_core_t *n, int exiting, int64_t utime_us, aocs_lcm_status_t *m);
+
+/*
+ * The next event of the executive's log not yet handed out (after each step, until it returns 0): 1 and
+ * *m (event_t), 0 when there is none. fsw_node publishes each on AOCS_EVENTS; the in-process node
+ * returns their bytes (aocs_direct_event), so both transports deliver the same events.
+ */
+int aocs_node_core_event(aocs_node_core_t *n, aocs_lcm_event_t *m);
 
 /* Overruns reported: the executive's plus the timer's slips. */
 uint64_t aocs_node_core_overruns(const aocs_node_core_t *n);

@@ -356,3 +356,18 @@ int aocs_node_epoch_update(aocs_node_epoch_t *ep, uint64_t rx_ns, uint64_t t_sim
     }
     return set;
 }
+
+void aocs_node_event_to_msg(const aocs_event_t *e, uint32_t lost, aocs_lcm_event_t *m)
+{
+    memset(m, 0, sizeof(*m));
+    m->protocol_version = AOCS_LCM_EVENT_T_PROTOCOL_VERSION;
+    m->seq = (int64_t)e->seq;
+    m->t_s = (double)e->t_ns * 1e-9;
+    m->id = (int16_t)e->id;
+    m->severity = (int8_t)e->severity;
+    m->unit_kind = (int8_t)e->unit_kind;
+    m->unit = (int16_t)((e->unit < INT16_MIN) ? INT16_MIN : ((e->unit > INT16_MAX) ? INT16_MAX : e->unit));
+    m->value = (double)e->value;
+    m->threshold = (double)e->threshold;
+    m->n_lost = (int64_t)lost;
+}

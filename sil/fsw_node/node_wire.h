@@ -15,6 +15,7 @@
 #include "aocs/executive.h"
 #include "aocs_lcm_actuator_cmd_t.h"
 #include "aocs_lcm_command_t.h"
+#include "aocs_lcm_event_t.h"
 #include "aocs_lcm_sensors_t.h"
 
 /* ---- payload decoding ----------------------------------------------------- */
@@ -132,6 +133,14 @@ void aocs_node_estimate_to_cmd(const aocs_det_output_t *est, uint32_t estimator,
  * unloading, n_unload_events. The other fields of *m are left as they are. Total.
  */
 void aocs_node_momentum_to_cmd(const aocs_mom_output_t *mom, const aocs_mom_config_t *cfg, aocs_lcm_actuator_cmd_t *m);
+
+/* ---- the event log -> event_t --------------------------------------------------------- */
+/*
+ * One event of the flight software's log (aocs/fdir/event_log.h) into *m (protocol version 5,
+ * docs/wire-contract.md; frame and utime 0, the sender's): seq, t_s (t_ns / 1e9), id, severity, unit_kind, unit (clamped to int16),
+ * value, threshold, n_lost (events the ring overwrote before this one was read). Total.
+ */
+void aocs_node_event_to_msg(const aocs_event_t *e, uint32_t lost, aocs_lcm_event_t *m);
 
 /* ---- command_t -> aocs_exec_select ------------------------------------------- */
 /*

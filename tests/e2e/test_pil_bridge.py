@@ -44,8 +44,11 @@ ARCSEC_PER_RAD = 206264.80624709636
 
 
 def budget(law: str, target: str) -> int:
-    """Instruction budget of the law's laws.def row on the target (the build's registry)."""
-    return registry.load().law(law).budget_instructions[{"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}[target]]
+    """Instruction budget of the law's laws.def row on the target (the build's registry), plus fault
+    management's allowance (fdir.enabled, the default)."""
+    reg = registry.load()
+    core = {"pil-m4f": "cortex-m4f", "pil-m7": "cortex-m7"}[target]
+    return reg.law(law).budget_instructions[core] + reg.fdir_instructions[core]
 
 
 @pytest.fixture(scope="module")

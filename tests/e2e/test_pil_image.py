@@ -54,9 +54,12 @@ def law_id(name: str) -> int:
 
 
 def budgets() -> dict[str, tuple[int, int]]:
-    """The firmware budget table (laws.def rows, via the build's registry), law name -> (cortex-m4f, cortex-m7)."""
+    """The firmware budget table (laws.def rows, via the build's registry) plus fault management's allowance
+    (fdir.enabled, the default), law name -> (cortex-m4f, cortex-m7)."""
     reg = registry.load()
-    return {name: (reg.law(name).budget_instructions["cortex-m4f"], reg.law(name).budget_instructions["cortex-m7"])
+    f = reg.fdir_instructions
+    return {name: (reg.law(name).budget_instructions["cortex-m4f"] + f["cortex-m4f"],
+                   reg.law(name).budget_instructions["cortex-m7"] + f["cortex-m7"])
             for name in reg.law_names()}
 
 

@@ -29,7 +29,11 @@ def _config(q, policy: int):
     reg = registry.load()
     arms = thruster_arms(*couples(1.2, 0.3, 8.0))   # canted 8 deg, as tests/unit/test_momentum.c
     fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=list(QD), quat_pd_kp=4.0, quat_pd_kd=8.0,
-                  u_max_axis=[2.0, 2.0, 2.0], k_safe=2.0, wheels_count=3, inertia=[10.0, 0, 0, 0, 10.0, 0, 0, 0, 10.0])
+                  u_max_axis=[2.0, 2.0, 2.0], k_safe=2.0, wheels_count=3, inertia=[10.0, 0, 0, 0, 10.0, 0, 0, 0, 10.0],
+                  # the tachometer speeds below are drawn at random, not integrated from the commands: fault
+                  # management would rightly find every wheel's residual high (and, with three wheels, latch
+                  # SAFE); its own cost is measured in test_pil_fdir.py
+                  fdir_enabled=0)
     for i in range(3):
         fields.update({f"wheel{i}_axis": [1.0 if c == i else 0.0 for c in range(3)], f"wheel{i}_js": 0.1,
                        f"wheel{i}_u_max": 2.0, f"wheel{i}_omega_max": 600.0})

@@ -388,7 +388,8 @@ def irassi_60s_host(private_netns, fsw_node_bin, aocs_lcm, tmp_path_factory):
     return m, lcmlog.read(out / "run.lcmlog")
 
 
-@pytest.mark.parametrize("target,budget,clock_hz", [("pil-m4f", 2500, 168e6), ("pil-m7", 2900, 216e6)])
+# quat_pd's laws.def row + fault management's allowance (aocs/budget.h, fdir.enabled by default)
+@pytest.mark.parametrize("target,budget,clock_hz", [("pil-m4f", 2500 + 8500, 168e6), ("pil-m7", 2900 + 12100, 216e6)])
 def test_pil_run_reports_instruction_timing_and_matches_the_host(irassi_60s_host, tmp_path, target, budget,
                                                                   clock_hz):
     """docs/pil.md: instruction figures in timing, overruns from the bridge's flags, and the

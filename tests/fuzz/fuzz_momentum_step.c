@@ -40,18 +40,6 @@ void aocs_hal_sleep_until_ns(uint64_t t_ns)
 #define FUZZ_MOM_TOL 1.0e-9
 #endif
 
-/* A value: raw f64, or a u16 mapped onto [lo, hi). */
-static real_t fuzz_mom_value(fuzz_reader_t *r, int raw, double lo, double hi)
-{
-    double v;
-    if (raw != 0) {
-        v = fuzz_f64(r);
-    } else {
-        v = lo + ((hi - lo) * (double)fuzz_u16(r) / 65536.0);
-    }
-    return (real_t)v;
-}
-
 static void fuzz_mom_config(fuzz_reader_t *r, aocs_mom_config_t *c)
 {
     const uint8_t policy = fuzz_u8(r);
@@ -63,24 +51,24 @@ static void fuzz_mom_config(fuzz_reader_t *r, aocs_mom_config_t *c)
     c->policy = ((policy & 1u) != 0u) ? (uint32_t)AOCS_MOM_THRUSTERS : (uint32_t)AOCS_MOM_MAGNETORQUERS;
     c->trigger = (uint32_t)(trigger & 1u);
     for (int i = 0; i < 3; ++i) {
-        c->h_target_B_Nms.v[i] = fuzz_mom_value(r, raw, -5.0, 5.0);
-        c->mtq_max_dipole_Am2.v[i] = fuzz_mom_value(r, raw, 0.0, 400.0);
+        c->h_target_B_Nms.v[i] = fuzz_scaled(r, raw, -5.0, 5.0);
+        c->mtq_max_dipole_Am2.v[i] = fuzz_scaled(r, raw, 0.0, 400.0);
         for (int j = 0; j < 3; ++j) {
-            c->mtq_axes.m[i][j] = AOCS_R((i == j) ? 1.0 : 0.0) + fuzz_mom_value(r, raw, -0.0005, 0.0005);
+            c->mtq_axes.m[i][j] = AOCS_R((i == j) ? 1.0 : 0.0) + fuzz_scaled(r, raw, -0.0005, 0.0005);
         }
     }
-    c->h_start_Nms = fuzz_mom_value(r, raw, 0.0, 20.0);
-    c->h_stop_Nms = fuzz_mom_value(r, raw, 0.0, 20.0);
-    c->k_mtq_per_s = fuzz_mom_value(r, raw, 0.0, 1.0);
-    c->dump_torque_Nm = fuzz_mom_value(r, raw, 0.0, 5.0);
+    c->h_start_Nms = fuzz_scaled(r, raw, 0.0, 20.0);
+    c->h_stop_Nms = fuzz_scaled(r, raw, 0.0, 20.0);
+    c->k_mtq_per_s = fuzz_scaled(r, raw, 0.0, 1.0);
+    c->dump_torque_Nm = fuzz_scaled(r, raw, 0.0, 5.0);
     c->thr_count = (uint32_t)(fuzz_u8(r) % 14u);
-    c->thr_thrust_N = fuzz_mom_value(r, raw, 0.0, 20.0);
-    c->thr_min_on_s = fuzz_mom_value(r, raw, 0.0, 0.05);
-    c->thr_quantum_s = fuzz_mom_value(r, raw, 0.0, 0.01);
+    c->thr_thrust_N = fuzz_scaled(r, raw, 0.0, 20.0);
+    c->thr_min_on_s = fuzz_scaled(r, raw, 0.0, 0.05);
+    c->thr_quantum_s = fuzz_scaled(r, raw, 0.0, 0.01);
     for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
-        c->thr_arm_x_m[i] = fuzz_mom_value(r, raw, -2.0, 2.0);
-        c->thr_arm_y_m[i] = fuzz_mom_value(r, raw, -2.0, 2.0);
-        c->thr_arm_z_m[i] = fuzz_mom_value(r, raw, -2.0, 2.0);
+        c->thr_arm_x_m[i] = fuzz_scaled(r, raw, -2.0, 2.0);
+        c->thr_arm_y_m[i] = fuzz_scaled(r, raw, -2.0, 2.0);
+        c->thr_arm_z_m[i] = fuzz_scaled(r, raw, -2.0, 2.0);
     }
 }
 
@@ -188,8 +176,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         in.b_valid = (int)((flags >> 2) & 1u);
         in.dt_s = dt;
         for (int i = 0; i < 3; ++i) {
-            in.h_wheels_B_Nms.v[i] = fuzz_mom_value(&r, raw, -60.0, 60.0);
-            in.b_B_T.v[i] = fuzz_mom_value(&r, raw, -6e-5, 6e-5);
+            in.h_wheels_B_Nms.v[i] = fuzz_scaled(&r, raw, -60.0, 60.0);
+            in.b_B_T.v[i] = fuzz_scaled(&r, raw, -6e-5, 6e-5);
         }
         st = aocs_mom_step(&m, &in);
         {

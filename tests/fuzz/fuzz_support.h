@@ -90,6 +90,18 @@ static inline double fuzz_f64(fuzz_reader_t *r)
 }
 
 /* 10^e with e from a u16 spread over [lo, hi]: a plausible magnitude */
+/* A real: raw f64 (raw != 0), or a u16 mapped onto [lo, hi). */
+static inline real_t fuzz_scaled(fuzz_reader_t *r, int raw, double lo, double hi)
+{
+    double v;
+    if (raw != 0) {
+        v = fuzz_f64(r);
+    } else {
+        v = lo + ((hi - lo) * (double)fuzz_u16(r) / 65536.0);
+    }
+    return (real_t)v;
+}
+
 static inline double fuzz_mag(fuzz_reader_t *r, double lo, double hi)
 {
     return pow(10.0, lo + (hi - lo) * ((double)fuzz_u16(r) / 65535.0));

@@ -251,6 +251,35 @@ def momentum_seeds() -> None:
     _write("fuzz_momentum_step", "thrusters_few", cfg(1, 1, count=4) + steps)
 
 
+def fdir_seeds() -> None:
+    # fuzz_fdir_step: u8 setup, 4 x u16 parameters (wheel_residual_frac 0.1, st_chi2 16, st_frozen_rate 1e-4,
+    # gyro_sat 0), 6 x u8 counts, then steps: u8 flags, u8 missing, 4 x (speed, command), chi2, gyro[3], q[4]
+    def cfg(setup):
+        return bytes([setup]) + struct.pack("<4H", 5461, 10486, 655, 5958) + bytes([5, 5, 6, 5, 5, 3])
+
+    def u16(v, lo, hi):
+        return struct.pack("<H", min(65535, int((v - lo) / (hi - lo) * 65536)))
+
+    def step(flags=1 | 2 | 8 | 4 | 128, speeds=(100.0, -50.0, 30.0, 10.0), cmds=(0.0, 0.2, 0.0, 0.0), chi2=3.0,
+             gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0):
+        b = bytes([flags, missing])
+        for sp, u in zip(speeds, cmds):
+            b += u16(sp, -700.0, 700.0) + u16(u, -0.3, 0.3)
+        b += u16(chi2, 0.0, 50.0) + b"".join(u16(g, -1.0, 1.0) for g in gyro) + b"".join(u16(x, -1.0, 1.0) for x in q)
+        return b
+
+    # wheel 1 commanded 0.2 N m and not moving: isolated (four wheels), refused (three healthy)
+    dead = b"".join(step(gyro=(1e-3 * k, 2e-3, -1e-3), q=(0.01 * k, 0.0, 0.0, 1.0)) for k in range(12))
+    _write("fuzz_fdir_step", "wheel_dies", cfg(0) + dead)
+    _write("fuzz_fdir_step", "wheel_dies_three_left", cfg(1) + dead)
+    # innovation above the threshold, then consistent: excluded and restored; a frozen tracker; a gap
+    st = b"".join(step(cmds=(0.0,) * 4, chi2=40.0) for _ in range(6)) + b"".join(
+        step(cmds=(0.0,) * 4, chi2=2.0) for _ in range(8)) + b"".join(
+        step(cmds=(0.0,) * 4, gyro=(1e-2, 0.0, 0.0)) for _ in range(6)) + step(flags=0) * 4 + step(missing=4)
+    _write("fuzz_fdir_step", "star_tracker_and_link", cfg(0) + st)
+    _write("fuzz_fdir_step", "disabled", cfg(2) + dead + st)
+
+
 def pil_seeds() -> None:
     fr = frame
     step = fr.encode_step(1, 100_000_000, 3, Q, W, (0, 0, 0), (0, 0, 0))
@@ -318,6 +347,7 @@ def main(argv: list[str]) -> int:
     exec_seeds()
     mekf_seeds()
     momentum_seeds()
+    fdir_seeds()
     pil_seeds()
     return 0
 

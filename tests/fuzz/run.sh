@@ -16,7 +16,7 @@ cd "$(dirname "$0")/../.."
 seconds=${1:?usage: tests/fuzz/run.sh SECONDS [BUILD_DIR]}
 build=${2:-build/fuzz}
 targets=(fuzz_node_config fuzz_sensors fuzz_commands fuzz_exec_step fuzz_pil_frame fuzz_mekf_step fuzz_momentum_step
-         fuzz_node_direct)
+         fuzz_node_direct fuzz_fdir_step)
 failed=0
 for t in "${targets[@]}"; do
   exe="$build/fuzz/$t"

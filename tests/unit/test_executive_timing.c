@@ -100,6 +100,7 @@ static void test_default_budget_is_the_law_budget(void **state)
     aocs_exec_output_t out;
     pd_config(&cfg);
     cfg.budget_ns = 0u;
+    cfg.fdir.enabled = 0u; /* its allowance: test_fdir_budget_is_added */
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     fake_now_ns = 0u;
     fake_tick_ns = 1u; /* far below any budget */
@@ -138,8 +139,11 @@ static void test_slew_mode_step_budget_and_its_edge(void **state)
     aocs_exec_input_t in = sample(1u, PERIOD_NS);
     assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
     assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
-    /* quat_pd 2000 ns + slew 2000 ns (timing.h) + the estimator's and the momentum stage's, both 0 here */
-    const uint64_t expected = 2000u + 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum);
+    /* quat_pd 2000 ns + slew 2000 ns (timing.h) + the estimator's and the momentum stage's, both 0 here, + fault
+     * management's 2000 ns (enabled by default, timing.h) */
+    const uint64_t expected = 2000u + 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum) +
+                              2000u;
+    assert_int_equal(AOCS_EXEC_FDIR_BUDGET_NS, 2000u);
     assert_int_equal(AOCS_EXEC_SLEW_BUDGET_NS, 2000u);
     assert_int_equal(aocs_det_budget_ns(&exec.det), 0u);
     assert_int_equal(aocs_mom_budget_ns(&exec.momentum), 0u);
@@ -162,6 +166,13 @@ static void test_slew_mode_step_budget_and_its_edge(void **state)
     cfg.guidance.mode = AOCS_GUIDANCE_MODE_STEP;
     assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     fake_tick_ns = 1u;
+    in = sample(1u, PERIOD_NS);
+    assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+    assert_int_equal(out.budget_ns, 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum) +
+                                         2000u);
+    /* fault management off: its allowance is not added */
+    cfg.fdir.enabled = 0u;
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
     in = sample(1u, PERIOD_NS);
     assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
     assert_int_equal(out.budget_ns, 2000u + aocs_det_budget_ns(&exec.det) + aocs_mom_budget_ns(&exec.momentum));

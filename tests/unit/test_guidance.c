@@ -296,6 +296,82 @@ static void test_slew_plans_from_the_first_usable_estimate(void **state)
     assert_int_equal(st.slew_pending, 1);
 }
 
+/* the slew's angle about z of a target qd (the test's slews are about z from the identity) */
+static double angle_about_z(aocs_quat_t qd)
+{
+    return 2.0 * atan2((double)qd.q[2], (double)qd.q[3]);
+}
+
+/* aocs_guidance_slow_down (docs/spec.md 5.15.2): after the switch at t_s the reference is the profile at
+ * tau = tau(t_s) + k (t - t_s); its rate, measured here by finite differences of the reference attitude, is
+ * k times the profile's rate; twice in a row multiplies the factors; a new command plans on its own clock */
+static void test_slow_down_after_an_actuator_loss(void **state)
+{
+    (void)state;
+    /* the 0.5 rad slew about z from rest at the identity of test_slew_plans_from_the_first_usable_estimate */
+    aocs_exec_guidance_config_t g = gcfg_of(AOCS_GUIDANCE_MODE_SLEW);
+    aocs_exec_target_t t = fixed_target(dq_axis_angle(0.0, 0.0, 1.0, 0.5));
+    const double w0[3] = {0.0, 0.0, 0.0};
+    aocs_det_output_t est = estimate(dq_axis_angle(0.0, 0.0, 1.0, 0.0), w0);
+    aocs_guidance_t st;
+    aocs_exec_target_t out;
+    aocs_guidance_init(&st, &g, &t, aocs_vec3_zero(), 0u, aocs_vec3_make(AOCS_R(0.5), AOCS_R(0.5), AOCS_R(0.5)),
+                       AOCS_R(0.0));
+    est.status = AOCS_ERR_INPUT_INVALID; /* usable = 0 below: only the reference attitude is compared */
+    {
+        aocs_guidance_input_t in = gin_of(NS_PER_S, &est);
+        in.usable = 1;
+        aocs_guidance_step(&st, &in, &out); /* planned at t = 1 s */
+    }
+    const double t_end = (double)st.slew.t_end_s;
+    const uint64_t t_s_ns = NS_PER_S + (uint64_t)(0.3 * t_end * 1.0e9);
+    const double k = 0.6;
+    aocs_guidance_slow_down(&st, t_s_ns, AOCS_R(0.6));
+    assert_int_equal(st.scaled, 1);
+    for (int j = 1; j <= 5; ++j) {
+        const uint64_t t_ns = t_s_ns + (uint64_t)j * (uint64_t)(0.1 * t_end * 1.0e9);
+        const double tau = 0.3 * t_end + k * ((double)(t_ns - t_s_ns) * 1.0e-9);
+        aocs_slew_ref_t ref;
+        aocs_guidance_input_t in = gin_of(t_ns, &est);
+        aocs_guidance_step(&st, &in, &out);
+        aocs_slew_eval(&st.slew, (real_t)tau, &ref);
+        assert_close(angle_about_z(out.qd_DN), (double)ref.theta_rad, 1.0e3 * TOL_Q);
+        /* the rate of the reference: k theta_dot(tau), by a central difference over +-1 ms */
+        {
+            aocs_exec_target_t a;
+            aocs_exec_target_t b;
+            aocs_guidance_input_t ia = gin_of(t_ns - 1000000u, &est);
+            aocs_guidance_input_t ib = gin_of(t_ns + 1000000u, &est);
+            aocs_guidance_step(&st, &ia, &a);
+            aocs_guidance_step(&st, &ib, &b);
+#if defined(AOCS_REAL_IS_FLOAT)
+            const double tol = 2.0e-2 * fabs((double)ref.theta_dot_radps) + 1.0e-4;
+#else
+            const double tol = 1.0e-6 * fabs((double)ref.theta_dot_radps) + 1.0e-9;
+#endif
+            assert_close((angle_about_z(b.qd_DN) - angle_about_z(a.qd_DN)) / 2.0e-3,
+                         k * (double)ref.theta_dot_radps, tol);
+        }
+    }
+    /* a second loss: the factors multiply */
+    aocs_guidance_slow_down(&st, t_s_ns + NS_PER_S, AOCS_R(0.5));
+    assert_close(st.time_scale, 0.3, TOL_Q);
+    /* nothing in progress after the (slowed) end, and k outside (0, 1]: no-op */
+    aocs_guidance_slow_down(&st, t_s_ns + (uint64_t)(10.0 * t_end * 1.0e9), AOCS_R(0.5));
+    assert_close(st.time_scale, 0.3, TOL_Q);
+    aocs_guidance_slow_down(&st, t_s_ns + NS_PER_S, AOCS_R(1.5));
+    assert_close(st.time_scale, 0.3, TOL_Q);
+    /* a new command: planned afresh, unscaled */
+    aocs_guidance_command(&st, &t, 1, 900u * NS_PER_S);
+    {
+        aocs_guidance_input_t in = gin_of(901u * NS_PER_S, &est);
+        in.usable = 1;
+        aocs_guidance_step(&st, &in, &out);
+    }
+    assert_int_equal(st.scaled, 0);
+    aocs_guidance_slow_down(NULL, 0u, AOCS_R(0.5)); /* total */
+}
+
 static void test_feedforward(void **state)
 {
     (void)state;
@@ -333,6 +409,7 @@ int main(void)
         cmocka_unit_test(test_rotating_target),
         cmocka_unit_test(test_slew_plans_from_the_first_usable_estimate),
         cmocka_unit_test(test_feedforward),
+        cmocka_unit_test(test_slow_down_after_an_actuator_loss),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

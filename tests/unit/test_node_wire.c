@@ -511,6 +511,36 @@ static void test_timeouts_check(void **state)
     assert_int_equal(aocs_node_timeouts_check(NULL, err, sizeof(err)), 1);
 }
 
+/* an event of the log into event_t: every field, t_s from ns, the unit clamped to int16, version 5 */
+static void test_event_to_msg(void **state)
+{
+    (void)state;
+    aocs_evlog_t log;
+    aocs_event_t e;
+    aocs_lcm_event_t m;
+    aocs_evlog_init(&log);
+    assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_WHEEL_ISOLATED, 60500000000ull, 1, AOCS_R(0.1875), AOCS_R(0.025)),
+                     1u);
+    assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_LINK_LOST, 3u, 70000, AOCS_R(3.0), AOCS_R(3.0)), 2u);
+    assert_int_equal(aocs_evlog_next(&log, 0u, &e, NULL), AOCS_OK);
+    aocs_node_event_to_msg(&e, 4u, &m);
+    assert_int_equal(m.protocol_version, 5);
+    assert_int_equal(m.seq, 1);
+    assert_close(m.t_s, 60.5, 1e-12);
+    assert_int_equal(m.id, 10);
+    assert_int_equal(m.severity, 2);  /* error */
+    assert_int_equal(m.unit_kind, 3); /* wheel */
+    assert_int_equal(m.unit, 1);
+    assert_close(m.value, 0.1875, 0.0);
+    assert_close(m.threshold, (double)AOCS_R(0.025), 0.0);
+    assert_int_equal(m.n_lost, 4);
+    assert_int_equal(aocs_evlog_next(&log, 1u, &e, NULL), AOCS_OK);
+    aocs_node_event_to_msg(&e, 0u, &m);
+    assert_int_equal(m.unit, INT16_MAX);
+    assert_int_equal(m.severity, 1);
+    assert_int_equal(m.unit_kind, 6); /* link */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -525,6 +555,7 @@ int main(void)
         cmocka_unit_test(test_estimate_to_cmd),
         cmocka_unit_test(test_sensors_to_input_magnetometer),
         cmocka_unit_test(test_momentum_to_cmd),
+        cmocka_unit_test(test_event_to_msg),
         cmocka_unit_test(test_epoch_update),
         cmocka_unit_test(test_decode),
         cmocka_unit_test(test_command_apply),

@@ -66,6 +66,11 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     {"MOM_K_MTQ", 86u}, {"MOM_MTQ_AXES", 87u}, {"MOM_MTQ_MAX_DIPOLE", 88u}, {"MOM_DUMP_TORQUE", 89u},
     {"MOM_THR_COUNT", 90u}, {"MOM_THR_THRUST", 91u}, {"MOM_THR_MIN_ON", 92u}, {"MOM_THR_QUANTUM", 93u},
     {"MOM_THR_ARM_X", 94u}, {"MOM_THR_ARM_Y", 95u}, {"MOM_THR_ARM_Z", 96u},
+    /* fault management (fdir/fdir.h): 97, 98, then from 160 (99 is kept free, 100 .. 147 are the wheels') */
+    {"FDIR_ENABLED", 97u}, {"FDIR_WHEEL_RESIDUAL_FRAC", 98u}, {"FDIR_WHEEL_PERSIST", 160u}, {"FDIR_ST_CHI2", 161u},
+    {"FDIR_ST_PERSIST", 162u}, {"FDIR_ST_RESTORE", 163u}, {"FDIR_ST_FROZEN_SAMPLES", 164u},
+    {"FDIR_ST_FROZEN_RATE", 165u}, {"FDIR_GYRO_STUCK_SAMPLES", 166u}, {"FDIR_GYRO_SAT", 167u},
+    {"FDIR_LINK_LOST_PERIODS", 168u},
     /* per wheel i: 100 + 8 i + field (pil_frame.h AOCS_PIL_WHEEL_FIELD_ROWS); wheel 0 and the last one here,
      * the rest by the rule in test_pil_ids_are_the_wire_values_and_unique */
     {"WHEEL0_AXIS", 100u}, {"WHEEL0_JS", 101u}, {"WHEEL0_U_MAX", 102u}, {"WHEEL0_OMEGA_MAX", 103u},

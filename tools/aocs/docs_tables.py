@@ -101,6 +101,8 @@ def budgets() -> str:
                  "-"))
     rows.append(("wheel array (added)", "-", reg.wheels_instructions["cortex-m4f"],
                  reg.wheels_instructions["cortex-m7"], "-"))
+    rows.append(("fault management (added, fdir.enabled)", "-", reg.fdir_instructions["cortex-m4f"],
+                 reg.fdir_instructions["cortex-m7"], "-"))
     # the estimators' allowances (estimation/determination.def), added to every step; the pass-through adds none
     for name, (ns, instr) in reg.estimators.items():
         if instr.get("cortex-m4f") or instr.get("cortex-m7"):

@@ -238,6 +238,9 @@ static const struct {
 } mom_rows[AOCS_MOM_COUNT] = {AOCS_MOMENTUM_ROWS(DUMP_MOM_ROW)};
 static const unsigned det_instr_m7[AOCS_DET_COUNT] = {AOCS_DETERMINATION_ROWS(DUMP_DET_INSTR_M7)};
 
+#define DUMP_EVT_MEANING(ID, NAME, SEV, UNIT, MEANING) MEANING,
+static const char *const evt_meanings[AOCS_EVT_COUNT] = {AOCS_FDIR_EVENT_ROWS(DUMP_EVT_MEANING)};
+
 static void dump_enums(FILE *f)
 {
     (void)fputs("  \"status\": [\n", f);
@@ -272,7 +275,33 @@ static void dump_enums(FILE *f)
         (void)fprintf(f, ", \"budget_ns\": %llu, \"budget_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}}",
                       mom_rows[i].budget_ns, mom_rows[i].m4f, mom_rows[i].m7);
     }
-    (void)fputs("],\n  \"pil_exec_fields\": [\n", f);
+    /* the fault-management event table (fdir/events.def): ids from 1, severities and unit kinds by name */
+    (void)fputs("],\n  \"event_severities\": [", f);
+    for (int i = 0; i < (int)AOCS_SEV_COUNT; ++i) {
+        (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
+        put_str(f, aocs_evt_severity_name((aocs_evt_severity_t)i));
+        (void)fputc('}', f);
+    }
+    (void)fputs("],\n  \"event_unit_kinds\": [", f);
+    for (int i = 0; i < (int)AOCS_UNIT_KIND_COUNT; ++i) {
+        (void)fprintf(f, "%s{\"value\": %d, \"name\": ", (i > 0) ? ", " : "", i);
+        put_str(f, aocs_evt_unit_kind_name((aocs_evt_unit_kind_t)i));
+        (void)fputc('}', f);
+    }
+    (void)fputs("],\n  \"events\": [\n", f);
+    for (uint32_t i = 1u; i <= AOCS_EVT_COUNT; ++i) {
+        const aocs_evt_id_t id = (aocs_evt_id_t)i;
+        (void)fprintf(f, "    {\"id\": %u, \"name\": ", (unsigned)i);
+        put_str(f, aocs_evt_name(id));
+        (void)fputs(", \"severity\": ", f);
+        put_str(f, aocs_evt_severity_name(aocs_evt_severity(id)));
+        (void)fputs(", \"unit_kind\": ", f);
+        put_str(f, aocs_evt_unit_kind_name(aocs_evt_unit_kind(id)));
+        (void)fputs(", \"meaning\": ", f);
+        put_str(f, evt_meanings[i - 1u]);
+        (void)fprintf(f, "}%s\n", (i < AOCS_EVT_COUNT) ? "," : "");
+    }
+    (void)fputs("  ],\n  \"pil_exec_fields\": [\n", f);
     for (size_t i = 0u; i < aocs_registry_exec_field_count; ++i) {
         const aocs_registry_exec_field_t *x = &aocs_registry_exec_fields[i];
         (void)fputs("    {", f);
@@ -420,9 +449,13 @@ static void dump_registry(FILE *f)
     (void)fprintf(f, "\"slew_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                   (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
                   (unsigned)aocs_budget_slew_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
-    (void)fprintf(f, "\"wheels_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}},\n",
+    (void)fprintf(f, "\"wheels_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}, ",
                   (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
                   (unsigned)aocs_budget_wheels_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
+    /* fault management, added to every step while fdir.enabled (the default) */
+    (void)fprintf(f, "\"fdir_instructions\": {\"cortex-m4f\": %u, \"cortex-m7\": %u}},\n",
+                  (unsigned)aocs_budget_fdir_instructions(AOCS_BUDGET_TARGET_CORTEX_M4F),
+                  (unsigned)aocs_budget_fdir_instructions(AOCS_BUDGET_TARGET_CORTEX_M7));
     /* the executive's accepted ranges: the scenario loader applies the same ones (aocs_core.registry) */
     (void)fprintf(f, "  \"limits\": {\"u_limit_min\": %.17g, \"u_limit_max\": %.17g, "
                      "\"period_min_s\": %.17g, \"period_max_s\": %.17g},\n",

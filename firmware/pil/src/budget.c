@@ -94,3 +94,8 @@ uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target)
 {
     return budget_per_target(target, AOCS_BUDGET_WHEELS_INSTR_M4F, AOCS_BUDGET_WHEELS_INSTR_M7);
 }
+
+uint32_t aocs_budget_fdir_instructions(aocs_budget_target_t target)
+{
+    return budget_per_target(target, AOCS_BUDGET_FDIR_INSTR_M4F, AOCS_BUDGET_FDIR_INSTR_M7);
+}

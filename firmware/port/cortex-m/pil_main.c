@@ -166,6 +166,9 @@ static uint32_t pil_budget(aocs_law_id_t law)
     if (pil_exec.cfg.wheels.n != 0U) {
         budget += aocs_budget_wheels_instructions(PIL_BUDGET_TARGET); /* the wheel allocation (aocs/budget.h) */
     }
+    if (pil_exec.fdir.cfg.enabled != 0U) {
+        budget += aocs_budget_fdir_instructions(PIL_BUDGET_TARGET); /* fault management (aocs/budget.h) */
+    }
     if (pil.budget_override > 0U) {
         budget = (uint32_t)pil.budget_override;
     }

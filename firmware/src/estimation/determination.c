@@ -142,3 +142,10 @@ uint64_t aocs_det_budget_ns(const aocs_det_t *det)
     }
     return budget;
 }
+
+void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded)
+{
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF)) {
+        aocs_mekf_set_st_excluded(&det->states.mekf, excluded);
+    }
+}

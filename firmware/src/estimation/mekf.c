@@ -658,6 +658,10 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
             if (!(d2 <= f->cfg.gate_chi2)) {
                 st = AOCS_ERR_MEKF_GATED;
                 mekf_count(&f->n_gated);
+            } else if (f->st_excluded != 0u) {
+                st = AOCS_ERR_MEKF_ST_EXCLUDED; /* tested, not applied (fault management, spec 5.15.3) */
+            } else {
+                /* applied below */
             }
         }
         if (st == AOCS_OK) {
@@ -877,4 +881,14 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
         }
     }
     return st;
+}
+
+void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded)
+{
+    if (f != NULL) {
+        f->st_excluded = 0u;
+        if (excluded != 0u) {
+            f->st_excluded = 1u;
+        }
+    }
 }

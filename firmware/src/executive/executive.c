@@ -125,6 +125,9 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
         if (st == AOCS_OK) {
             st = aocs_act_init(&exec->act, cfg);
         }
+        if (st == AOCS_OK) {
+            st = aocs_fdir_init(&exec->fdir, &cfg->fdir);
+        }
         if ((st == AOCS_OK) && (cfg->law != AOCS_LAW_NONE)) {
             st = aocs_exec_law_init(&exec->states, &cfg->laws, cfg->law);
         }
@@ -255,6 +258,9 @@ static uint64_t step_budget(const aocs_exec_t *exec)
         }
         budget += aocs_det_budget_ns(&exec->det); /* the estimator runs in every mode */
         budget += aocs_mom_budget_ns(&exec->momentum); /* so does the momentum stage */
+        if (exec->fdir.cfg.enabled != 0u) {
+            budget += (uint64_t)AOCS_EXEC_FDIR_BUDGET_NS; /* and fault management */
+        }
     }
     return budget;
 }
@@ -313,9 +319,64 @@ static void manage_momentum(aocs_exec_t *exec, const aocs_exec_input_t *in)
     }
 }
 
-/* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE. */
-static void update_mode(aocs_exec_t *exec, int good)
+/* The fault-management stage's step (docs/spec.md 5.15), last in the pipeline: its monitors see this step's
+ * sample, estimate and wheel commands. Its decisions: a wheel isolated (the array re-initialised in place)
+ * replans a slew in progress on the wheels left; the tracker's exclusion applies to the next step's
+ * determination; a latched SAFE holds the mode (update_mode). */
+static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_status_t in_st, uint32_t missing,
+                          const aocs_exec_output_t *out)
 {
+    if (exec->fdir.cfg.enabled != 0u) {
+        aocs_fdir_input_t fi;
+        const int wheels = aocs_act_has_wheels(&exec->act);
+        (void)memset(&fi, 0, sizeof(fi));
+        fi.period_s = exec->cfg.period_s;
+        fi.mode = exec->mode;
+        fi.input_status = in_st;
+        fi.missing = missing;
+        if (in != NULL) {
+            fi.t_ns = in->t_sensor_ns;
+            fi.have_sample = 1;
+            if (wheels != 0) {
+                fi.wheel_speed_radps = in->wheel_speed_radps;
+            }
+            fi.gyro_w_B = in->gyro_w_B;
+            if ((in->valid & AOCS_EXEC_VALID_GYRO) != 0u) {
+                fi.gyro_valid = 1;
+            }
+            fi.st_q_SN = in->st_q_SN;
+            if ((in->valid & AOCS_EXEC_VALID_ST) != 0u) {
+                fi.st_valid = 1;
+            }
+        } else {
+            fi.t_ns = exec->accept.last_t_sensor_ns;
+        }
+        fi.est = &out->estimate;
+        fi.alloc = (wheels != 0) ? &out->wheels : NULL;
+        fi.wheels_status = out->wheels_status;
+        aocs_fdir_step(&exec->fdir, &fi, (wheels != 0) ? &exec->act.wheels : NULL);
+        if (exec->fdir.replan != 0) {
+            /* the slew in progress slows to the envelope left along its eigenaxis (docs/spec.md 5.15.2) */
+            const real_t a_old = aocs_wheels_alpha_max(&exec->fdir.wheels_before, exec->cfg.guidance.slew.inertia_kgm2,
+                                                       exec->guidance.slew.e);
+            const real_t a_new = aocs_wheels_alpha_max(&exec->act.wheels, exec->cfg.guidance.slew.inertia_kgm2,
+                                                       exec->guidance.slew.e);
+            if ((a_old > AOCS_R(0.0)) && (a_new < a_old)) {
+                aocs_guidance_slow_down(&exec->guidance, fi.t_ns, AOCS_SQRT(a_new / a_old));
+            }
+        }
+        aocs_det_set_st_excluded(&exec->det, (exec->fdir.st.excluded != 0) ? 1u : 0u);
+    }
+}
+
+/* The modes: a good sample keeps NOMINAL or counts towards leaving SAFE, a bad one enters SAFE (and so does
+ * a SAFE latched by fault management). */
+static void update_mode(aocs_exec_t *exec, int good_sample)
+{
+    int good = 0;
+    if ((good_sample != 0) && (exec->fdir.safe_latched == 0)) {
+        good = 1;
+    }
     if (exec->requested == AOCS_EXEC_MODE_NOMINAL) {
         if (good == 0) {
             set_mode(exec, AOCS_EXEC_MODE_SAFE);
@@ -438,6 +499,8 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
                       (exec->momentum.id == AOCS_MOM_NONE) ? out->u_unsat
                                                             : aocs_vec3_sub(out->u_unsat, exec->momentum.out.u_unload_B_Nm),
                       in->wheel_speed_radps, est.w_BN_B, out, &sat);
+        /* 7. fault management */
+        manage_faults(exec, in, in_st, missing, out);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
 
@@ -482,6 +545,7 @@ aocs_status_t aocs_exec_step_no_input(aocs_exec_t *exec, aocs_exec_output_t *out
             (void)aocs_mom_step(&exec->momentum, &mi);
         }
         aocs_act_step_held(&exec->act, (exec->mode == AOCS_EXEC_MODE_STANDBY) ? 1 : 0, out->u_unsat, out, &sat);
+        manage_faults(exec, NULL, AOCS_ERR_INPUT_MISSING, 0u, out);
         out->step_time_ns = aocs_hal_time_ns() - t_start;
         out->step_cycles = aocs_hal_cycles() - c_start;
         out->saturated = sat;
@@ -505,6 +569,11 @@ aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns)
 aocs_mom_output_t aocs_exec_momentum(const aocs_exec_t *exec)
 {
     return aocs_mom_output((exec != NULL) && (exec->initialised != 0) ? &exec->momentum : NULL);
+}
+
+const aocs_evlog_t *aocs_exec_events(const aocs_exec_t *exec)
+{
+    return ((exec != NULL) && (exec->initialised != 0)) ? &exec->fdir.log : NULL;
 }
 
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec)

@@ -122,6 +122,33 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
     }
 }
 
+real_t aocs_guidance_profile_time_s(const aocs_guidance_t *g, uint64_t t_ns)
+{
+    real_t tau = AOCS_R(0.0);
+    if (g != NULL) {
+        if (g->scaled != 0) {
+            tau = g->scale_tau0_s + (g->time_scale * aocs_guidance_elapsed_s(t_ns, g->scale_t0_ns));
+        } else {
+            tau = aocs_guidance_elapsed_s(t_ns, g->slew_t0_ns);
+        }
+    }
+    return tau;
+}
+
+void aocs_guidance_slow_down(aocs_guidance_t *g, uint64_t t_ns, real_t k)
+{
+    if ((g != NULL) && (guidance_id_in_range(g->id) != 0) && (guidance_info[g->id].planned != 0) &&
+        (g->slew_pending == 0) && (k > AOCS_R(0.0)) && (k <= AOCS_R(1.0))) {
+        const real_t tau = aocs_guidance_profile_time_s(g, t_ns);
+        if (tau < g->slew.t_end_s) {
+            g->time_scale = (g->scaled != 0) ? (g->time_scale * k) : k;
+            g->scale_tau0_s = tau;
+            g->scale_t0_ns = t_ns;
+            g->scaled = 1;
+        }
+    }
+}
+
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns)
 {
     if (g != NULL) {

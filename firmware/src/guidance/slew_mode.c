@@ -32,10 +32,21 @@ void aocs_guidance_slew_step(aocs_guidance_t *g, const aocs_guidance_input_t *in
         (void)aocs_slew_plan(&g->slew, &g->cfg.slew, &env, in->est->q_BN, g->target.qd_DN);
         g->slew_t0_ns = in->t_ns;
         g->slew_pending = 0;
+        g->scaled = 0; /* a new plan runs on its own clock */
     }
     if (g->slew_pending == 0) {
         aocs_slew_ref_t ref;
-        aocs_slew_eval(&g->slew, aocs_guidance_elapsed_s(in->t_ns, g->slew_t0_ns), &ref);
+        if (g->scaled != 0) {
+            /* the slowed profile (aocs_guidance_slow_down): rates times k, accelerations times k^2 */
+            const real_t k = g->time_scale;
+            aocs_slew_eval(&g->slew, aocs_guidance_profile_time_s(g, in->t_ns), &ref);
+            ref.wd_D = aocs_vec3_scale(ref.wd_D, k);
+            ref.wd_dot_D = aocs_vec3_scale(ref.wd_dot_D, k * k);
+            ref.theta_dot_radps *= k;
+            ref.theta_ddot_radps2 *= k * k;
+        } else {
+            aocs_slew_eval(&g->slew, aocs_guidance_elapsed_s(in->t_ns, g->slew_t0_ns), &ref);
+        }
         target->qd_DN = ref.qd_DN;
         target->wd_B = aocs_vec3_zero();
         target->wd_dot_B = aocs_vec3_zero();

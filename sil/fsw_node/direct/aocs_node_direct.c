@@ -6,7 +6,7 @@
 
 #include "node_core.h"
 
-#define ABI_VERSION 1
+#define ABI_VERSION 2 /* 2: aocs_direct_event */
 
 typedef struct {
     int used;
@@ -125,6 +125,24 @@ int32_t aocs_direct_command(int32_t h, const uint8_t *data, uint32_t size, int64
         return 0;
     }
     return encode_status(c, 0, utime_us, out, cap);
+}
+
+int32_t aocs_direct_event(int32_t h, uint8_t *out, uint32_t cap)
+{
+    aocs_node_core_t *c = core_of(h);
+    aocs_lcm_event_t m;
+    int len;
+    if ((c == NULL) || (out == NULL)) {
+        return -1;
+    }
+    if (aocs_node_core_event(c, &m) == 0) {
+        return 0;
+    }
+    len = aocs_lcm_event_t_encoded_size(&m);
+    if ((len <= 0) || ((uint32_t)len > cap) || (cap > (uint32_t)INT32_MAX)) {
+        return -2;
+    }
+    return (aocs_lcm_event_t_encode(out, 0, (int)cap, &m) == len) ? (int32_t)len : -2;
 }
 
 int32_t aocs_direct_status(int32_t h, int32_t exiting, int64_t utime_us, uint8_t *out, uint32_t cap)

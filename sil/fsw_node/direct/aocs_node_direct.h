@@ -48,6 +48,11 @@ AOCS_DIRECT_API int32_t aocs_direct_sensors(int32_t h, const uint8_t *data, uint
 AOCS_DIRECT_API int32_t aocs_direct_command(int32_t h, const uint8_t *data, uint32_t size, int64_t utime_us, uint8_t *out,
                             uint32_t cap);
 
+/* The next event_t payload of the events the last steps raised, not yet returned (call after each
+ * aocs_direct_sensors until it returns 0: fsw_node publishes the same messages on AOCS_EVENTS). Returns its
+ * length, 0 when there is none, -1 / -2 as above. ABI version 2. */
+AOCS_DIRECT_API int32_t aocs_direct_event(int32_t h, uint8_t *out, uint32_t cap);
+
 /* The node's status_t payload now (exiting: the last one). Returns its length, -1 / -2 as above. */
 AOCS_DIRECT_API int32_t aocs_direct_status(int32_t h, int32_t exiting, int64_t utime_us, uint8_t *out, uint32_t cap);
 

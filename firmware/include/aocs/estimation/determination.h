@@ -83,6 +83,11 @@ aocs_status_t aocs_det_reset(aocs_det_t *det);
 aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_status_t accept_status, real_t dt_s,
                             aocs_det_output_t *out);
 
+/* Fault management (docs/spec.md 5.15.3): excluded != 0 makes a filter that takes the star tracker test its
+ * samples without applying them (the MEKF: aocs_mekf_set_st_excluded); no-op for an estimator without one,
+ * and on NULL. */
+void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded);
+
 /* The AOCS_EXEC_VALID_* flags an attitude sample must carry for estimator id (its row's NEEDS): what the
  * input acceptance checks (exec/acceptance.h). ATT|RATE out of range (the passthrough's, the conservative
  * choice). Total. */

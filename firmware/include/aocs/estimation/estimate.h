@@ -34,6 +34,8 @@ typedef struct {
     uint32_t n_st_gated;          /* rejected by the innovation gate */
     uint32_t n_st_hostile;        /* rejected as malformed (NaN, non-unit, stale, future, too old) */
     uint32_t n_restarts;          /* times the filter went back to waiting (gap, covariance failure, reset) */
+    real_t innovation_chi2;       /* d^2 = y^T S^-1 y of this step's tracker sample when one was tested (st_status
+                                   * AOCS_OK, AOCS_ERR_MEKF_GATED or AOCS_ERR_MEKF_ST_EXCLUDED), else 0 */
 } aocs_det_output_t;
 
 #endif /* AOCS_ESTIMATION_ESTIMATE_H */

@@ -143,6 +143,8 @@ typedef struct {
     uint32_t n_restarts;
     aocs_vec3_t innovation_B_rad;
     real_t innovation_chi2;
+    uint32_t st_excluded;        /* 1: a sample is tested (innovation, gate) but not applied (spec 5.15.3);
+                                    set by aocs_mekf_set_st_excluded, kept across reset and restart */
     int initialised;             /* set by a successful init only */
 } aocs_mekf_t;
 
@@ -200,6 +202,11 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st);
  * (out->st_status still the sample's verdict, counters still reported).
  */
 aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_mekf_output_t *out);
+
+/* Fault management (spec 5.15.3): excluded != 0 refuses every star-tracker sample after its innovation test
+ * (aocs_mekf_update returns AOCS_ERR_MEKF_ST_EXCLUDED, state untouched, d^2 kept); 0 uses them again. A
+ * filter not yet started still starts from a tracker sample. No-op on NULL. */
+void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded);
 
 /* The current estimate into *out (st_status AOCS_ERR_INPUT_MISSING). AOCS_OK, or the reason with *out zeroed:
  * AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, AOCS_ERR_MEKF_NO_ATTITUDE. */

@@ -17,6 +17,7 @@
 #include "aocs/guidance/guidance.h"
 #include "aocs/estimation/determination.h"
 #include "aocs/momentum/momentum.h"
+#include "aocs/fdir/fdir.h"
 
 typedef struct {
     real_t period_s;              /* control period, s; rounded to whole us (>= 1 us, <= 1000 s) */
@@ -39,6 +40,7 @@ typedef struct {
                                    * period_s at init (one source) */
     aocs_det_config_t determination; /* attitude determination; default: passthrough */
     aocs_mom_config_t momentum;   /* momentum management; default: none */
+    aocs_fdir_config_t fdir;      /* fault management (docs/spec.md 5.15); default: enabled, the spec's thresholds */
 } aocs_exec_config_t;
 
 /*

@@ -9,6 +9,10 @@
  *   control law       aocs/exec/law_dispatch.h      (laws.def; key "law")
  *   actuate           aocs/actuation/actuation.h    (actuation.def; wheels.count)
  *   manage momentum   aocs/momentum/momentum.h      (momentum.def; "none")
+ *   manage faults     aocs/fdir/fdir.h              (events.def; fdir.enabled): residual tests, the
+ *                     event log, wheel isolation (the allocation re-initialised, the slew replanned),
+ *                     star-tracker exclusion (applied to the next step's determination), SAFE latched
+ *                     when an isolation is refused or the gyro is excluded (docs/spec.md 5.15)
  *
  * The step is timed (aocs/exec/timing.h) from determination to the end of
  * actuation. Modes: STANDBY (zero command), NOMINAL (the law's command plus
@@ -34,6 +38,7 @@
 #include "aocs/guidance/guidance.h"
 #include "aocs/actuation/actuation.h"
 #include "aocs/momentum/momentum.h"
+#include "aocs/fdir/fdir.h"
 
 typedef struct {
     /* cached configuration */
@@ -47,6 +52,7 @@ typedef struct {
     aocs_law_id_t law;            /* selected law */
     aocs_act_t act;               /* actuation: saturation, wheel array */
     aocs_mom_t momentum;          /* momentum management */
+    aocs_fdir_t fdir;             /* fault management: monitors, event log, isolation decisions */
     /* modes */
     aocs_exec_mode_t mode;        /* actual mode */
     aocs_exec_mode_t requested;   /* STANDBY or NOMINAL, what SAFE returns to */
@@ -125,6 +131,10 @@ aocs_status_t aocs_exec_set_target_epoch(aocs_exec_t *exec, uint64_t t0_ns);
  * Total.
  */
 aocs_mom_output_t aocs_exec_momentum(const aocs_exec_t *exec);
+
+/* The fault-management stage's event log (aocs/fdir/event_log.h: read with aocs_evlog_next after the last seq
+ * seen), NULL for NULL or an executive not initialised. Total. */
+const aocs_evlog_t *aocs_exec_events(const aocs_exec_t *exec);
 
 /* Counters so far (zeroed struct on NULL args). Total. */
 aocs_exec_counters_t aocs_exec_counters(const aocs_exec_t *exec);

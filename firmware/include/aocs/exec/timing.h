@@ -45,6 +45,10 @@ aocs_status_t aocs_exec_period_to_ns(real_t period_s, uint64_t *period_ns);
 /* Host budget of safe/standby steps (no law), ns. */
 #define AOCS_EXEC_SAFE_BUDGET_NS 2000u
 
+/* Host budget the fault-management stage adds to every step when enabled (fdir.enabled), ns: an allowance
+ * above its cost (a few hundred ns on this machine: a loop over the wheels, a chi-square comparison). */
+#define AOCS_EXEC_FDIR_BUDGET_NS 2000u
+
 /*
  * Host budget added to an attitude law's step in guidance mode SLEW, ns: the
  * slew reference (closed-form profile, qd(t), the rotation of the rates into

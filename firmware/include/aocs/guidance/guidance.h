@@ -88,6 +88,12 @@ typedef struct {
     int slew_pending;             /* PLANNED rows: a target was commanded, planned at the next usable sample */
     aocs_slew_t slew;             /* SLEW: the slew being flown (zero length before the first) */
     uint64_t slew_t0_ns;          /* sensor time of the slew's start */
+    /* SLEW after an actuator loss (aocs_guidance_slow_down, docs/spec.md 5.15.2): the profile's time runs at
+     * time_scale from profile time scale_tau0_s at sensor time scale_t0_ns; not scaled: the elapsed time */
+    int scaled;
+    real_t time_scale;            /* k in (0, 1] */
+    real_t scale_tau0_s;
+    uint64_t scale_t0_ns;
 } aocs_guidance_t;
 
 /* What a step sees besides its state. */
@@ -132,6 +138,21 @@ void aocs_guidance_command(aocs_guidance_t *g, const aocs_exec_target_t *target,
 
 /* The epoch of a rotating target's qd0 (aocs_exec_set_target_epoch). Total. */
 void aocs_guidance_set_epoch(aocs_guidance_t *g, uint64_t t0_ns);
+
+/*
+ * The actuators lost torque (fault management isolated a wheel, docs/spec.md 5.15.2): a slew in progress
+ * at sensor time t_ns (a PLANNED row, planned, t_ns before its end) flies the rest of its profile on a
+ * slower clock, profile time tau = tau(t_ns) + k (t - t_ns): the same path, rates times k, accelerations
+ * times k^2, so with k = sqrt(alpha_new / alpha_old) (the envelopes along the slew's eigenaxis) it asks no
+ * more of the actuators left than the plan asked of the full set, and the rate at the switch changes
+ * only by the factor k (a rest-to-rest replan from a moving body would ask the law to stop it first).
+ * k outside (0, 1] or not finite, or nothing in progress: no-op. Total.
+ */
+void aocs_guidance_slow_down(aocs_guidance_t *g, uint64_t t_ns, real_t k);
+
+/* SLEW: the profile time of sensor time t_ns (the elapsed time since the slew's start, or the slowed clock
+ * of aocs_guidance_slow_down), s. 0 on NULL. Total. */
+real_t aocs_guidance_profile_time_s(const aocs_guidance_t *g, uint64_t t_ns);
 
 /*
  * The target an attitude law sees this step (the row's STEP), into *target:

@@ -74,6 +74,20 @@ typedef enum {
 #define AOCS_BUDGET_WHEELS_INSTR_M4F 4200u /* 1.4 x 2934 */
 #define AOCS_BUDGET_WHEELS_INSTR_M7 4300u  /* 1.4 x 3036 */
 
+/*
+ * Fault management (aocs/fdir/fdir.h, docs/spec.md 5.15), enabled (fdir.enabled, the default): the
+ * instructions it adds to every step, its worst step included (the one that isolates a wheel re-initialises
+ * the array: a pseudo-inverse and the null-space projector). Measured by tests/e2e/test_pil_fdir.py
+ * (`pytest -s`): the same STEP sequence with fdir.enabled 1 and 0, four wheels, a wheel that stops answering
+ * at step 10 (isolated at step 15); 1.4 x the worst difference, rounded up to 100. Measured: M4F 544 to
+ * 6007 (the isolation step), M7 578 to 8601.
+ */
+#define AOCS_BUDGET_FDIR_INSTR_M4F 8500u  /* 1.4 x 6007 */
+#define AOCS_BUDGET_FDIR_INSTR_M7 12100u  /* 1.4 x 8601 */
+
+/* The fault-management allowance of `target` (above); 0 for an out-of-range target. Total. */
+uint32_t aocs_budget_fdir_instructions(aocs_budget_target_t target);
+
 /* The wheel array allowance of `target` (above); 0 for an out-of-range target. Total. */
 uint32_t aocs_budget_wheels_instructions(aocs_budget_target_t target);
 

@@ -1,0 +1,157 @@
+/*
+ * The fault-management stage (issue 26; docs/spec.md 5.15): the last stage of
+ * the executive's step (after actuation and momentum management). It tests
+ * residuals against stated thresholds with persistence counters (Isermann
+ * 2006, ch. 7 and 10: residual generation, threshold with persistence),
+ * raises the events of aocs/fdir/events.def into its log, and decides the
+ * isolation and recovery actions the executive applies:
+ *
+ *   wheel residual   (wheel_monitor.c) r_i = [u_s,i - f^_i(Omega_i)](k-1) - Js_i (Omega_i(k) - Omega_i(k-1)) / T:
+ *                    |r_i| > frac u_s,max,i on N consecutive steps -> wheel_residual_high, wheel_isolated
+ *                    (the array re-initialised without wheel i, the slew replanned), or, when the wheels
+ *                    left would not span three axes, wheel_isolation_refused and SAFE latched;
+ *   star tracker     (st_monitor.c) the MEKF innovation d^2 = y^T S^-1 y > chi2 on N samples ->
+ *                    st_innovation_high, st_excluded (tested, not applied); M consistent samples ->
+ *                    st_restored; K identical quaternions while the gyro turns -> st_frozen, st_excluded;
+ *   gyro             (gyro_monitor.c) a component at the saturation limit on K samples, or stuck
+ *                    (bit-identical on K samples while another component changed) -> gyro_saturated /
+ *                    gyro_stuck, then gyro_excluded and SAFE latched (one gyro: nothing to propagate on);
+ *   modes and link   (fdir.c) safe_entered / safe_left (after the first NOMINAL step), link_lost /
+ *                    link_restored from consecutive missing samples.
+ *
+ * Fixed size, no dynamic memory, total on any input. Disabled (fdir.enabled = 0) it raises nothing and
+ * decides nothing; enabled it is silent on a nominal run (the thresholds, docs/spec.md 5.15).
+ */
+#ifndef AOCS_FDIR_FDIR_H
+#define AOCS_FDIR_FDIR_H
+
+#include <stdint.h>
+
+#include "aocs/types.h"
+#include "aocs/math3.h"
+#include "aocs/attitude.h"
+#include "aocs/actuation/wheel_array.h"
+#include "aocs/estimation/estimate.h"
+#include "aocs/exec/modes.h"
+#include "aocs/fdir/event_log.h"
+
+/* Defaults (docs/spec.md 5.15, where each is argued) */
+#define AOCS_FDIR_WHEEL_RESIDUAL_FRAC_DEFAULT AOCS_R(0.1)
+#define AOCS_FDIR_WHEEL_PERSIST_DEFAULT 5u
+#define AOCS_FDIR_ST_CHI2_DEFAULT AOCS_R(16.266236196238129) /* chi-square 3 dof, 99.9 % */
+#define AOCS_FDIR_ST_PERSIST_DEFAULT 5u
+#define AOCS_FDIR_ST_RESTORE_DEFAULT 20u
+#define AOCS_FDIR_ST_FROZEN_SAMPLES_DEFAULT 5u
+#define AOCS_FDIR_ST_FROZEN_RATE_DEFAULT AOCS_R(1.0e-4)
+#define AOCS_FDIR_GYRO_STUCK_SAMPLES_DEFAULT 10u
+#define AOCS_FDIR_GYRO_SAT_DEFAULT AOCS_R(0.0)
+#define AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT 3u
+
+typedef struct {
+    uint32_t enabled;             /* fdir.enabled: 1 on (default), 0 off */
+    real_t wheel_residual_frac;   /* wheel residual threshold as a fraction of u_s,max,i, (0, 1] */
+    uint32_t wheel_persist;       /* consecutive steps above it, >= 1 */
+    real_t st_chi2;               /* innovation chi-square threshold, > 0 */
+    uint32_t st_persist;          /* consecutive tracker samples above it to exclude, >= 1 */
+    uint32_t st_restore;          /* consecutive samples at or below it to restore, >= 1 */
+    uint32_t st_frozen_samples;   /* identical tracker quaternions (while turning) for st_frozen, >= 2 */
+    real_t st_frozen_rate_radps;  /* |gyro| above which the tracker must change, rad/s, > 0 */
+    uint32_t gyro_stuck_samples;  /* identical gyro component while the tracker turns, >= 2 */
+    real_t gyro_sat_radps;        /* |gyro component| at which it is saturated, rad/s; 0 = no test */
+    uint32_t link_lost_periods;   /* consecutive missing samples for link_lost, >= 1 */
+} aocs_fdir_config_t;
+
+/* What the stage sees of one step (the executive fills it after actuation). */
+typedef struct {
+    uint64_t t_ns;                /* sensor time of the step (the last sample's on a step without one) */
+    real_t period_s;              /* control period T, s */
+    int have_sample;              /* 0: a period without a sample (step_no_input) */
+    uint32_t missing;             /* samples missed before this one (tick gap), counted by the acceptance */
+    aocs_status_t input_status;   /* the acceptance's verdict on the sample */
+    aocs_exec_mode_t mode;        /* the mode flown this step */
+    /* the sample's sensors (read only when have_sample and input_status is AOCS_OK) */
+    const real_t *wheel_speed_radps; /* tachometers, AOCS_WHEELS_MAX entries (NULL: none) */
+    aocs_vec3_t gyro_w_B;         /* gyro rate, rad/s */
+    int gyro_valid;
+    aocs_quat_t st_q_SN;          /* star-tracker quaternion of this sample */
+    int st_valid;                 /* a new tracker sample this step */
+    const aocs_det_output_t *est; /* the determination stage's output (st_status, innovation_chi2) */
+    const aocs_wheels_alloc_t *alloc; /* this step's wheel allocation (NULL without an array) */
+    aocs_status_t wheels_status;  /* the allocation's status this step */
+} aocs_fdir_input_t;
+
+/* The wheel monitor's state (wheel_monitor.c) */
+typedef struct {
+    real_t u_net_prev_nm[AOCS_WHEELS_MAX];  /* u_s - f^(Omega) commanded last step, N m */
+    real_t omega_prev_radps[AOCS_WHEELS_MAX];
+    uint32_t over[AOCS_WHEELS_MAX];        /* consecutive steps above the threshold */
+    int have_prev;
+} aocs_fdir_wheels_t;
+
+/* The star-tracker monitor's state (st_monitor.c) */
+typedef struct {
+    uint32_t high_run;            /* consecutive samples above st_chi2 */
+    uint32_t good_run;            /* while excluded: consecutive samples at or below it */
+    uint32_t frozen_run;          /* consecutive identical quaternions while turning */
+    aocs_quat_t q_prev_SN;
+    int have_prev;
+    int excluded;                 /* 1: the MEKF refuses the tracker (applied by the executive) */
+} aocs_fdir_st_t;
+
+/* The gyro monitor's state (gyro_monitor.c) */
+typedef struct {
+    aocs_vec3_t w_prev_B;
+    uint32_t stuck_run[3];
+    uint32_t sat_run[3];
+    int have_prev;
+    int excluded;
+} aocs_fdir_gyro_t;
+
+typedef struct {
+    aocs_fdir_config_t cfg;
+    aocs_evlog_t log;
+    aocs_fdir_wheels_t wheels;
+    aocs_fdir_st_t st;
+    aocs_fdir_gyro_t gyro;
+    uint32_t missing_run;         /* consecutive periods without a sample */
+    uint32_t link_down;           /* 1 after link_lost until a sample */
+    aocs_exec_mode_t mode_prev;
+    int flown_nominal;            /* 1 once a step flew NOMINAL */
+    int safe_latched;             /* 1: an isolation was refused or the gyro excluded: stay in SAFE */
+    int replan;                   /* 1: the wheels changed this step, the slew guidance must adapt */
+    aocs_wheels_t wheels_before;  /* the array before the last isolation (the guidance's old envelope) */
+    int initialised;
+} aocs_fdir_t;
+
+/* Defaults above, enabled. Total (no-op on NULL). */
+void aocs_fdir_config_default(aocs_fdir_config_t *cfg);
+
+/* AOCS_OK, AOCS_ERR_NULL_ARG, or AOCS_ERR_FDIR_CONFIG_INVALID (enabled not 0 or 1; enabled, a value out of
+ * its range above). Disabled, the other values are not checked (a zeroed configuration is valid, off). */
+aocs_status_t aocs_fdir_config_check(const aocs_fdir_config_t *cfg);
+
+/* Checks and copies cfg, empty log, nothing excluded. On error f is not initialised. */
+aocs_status_t aocs_fdir_init(aocs_fdir_t *f, const aocs_fdir_config_t *cfg);
+
+/*
+ * One step: the monitors, the events, the decisions. wheels: the executive's array (NULL without one);
+ * an isolation re-initialises it without the wheel (aocs_wheels_init with the failed bit set) and sets
+ * f->replan. After the call f->st.excluded is the tracker's state for the next step and f->safe_latched
+ * holds the executive in SAFE. Disabled or not initialised: nothing. Total.
+ */
+void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wheels);
+
+/* ---- the monitors (one per file), called by aocs_fdir_step with f enabled and initialised ---- */
+void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wheels);
+void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
+void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
+
+/* 1 when a and b are the same number (neither below nor above the other; 0 with a NaN): the repeat tests of
+ * a frozen tracker and a stuck gyro axis. Total. */
+int aocs_fdir_same(real_t a, real_t b);
+
+/* The wheel residual r_i of one wheel (N m, docs/spec.md 5.15.2): u_net_prev - Js (omega - omega_prev) / T. */
+real_t aocs_fdir_wheel_residual(real_t u_net_prev_nm, real_t js_kgm2, real_t omega_prev_radps, real_t omega_radps,
+                                real_t period_s);
+
+#endif /* AOCS_FDIR_FDIR_H */

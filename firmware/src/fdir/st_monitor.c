@@ -1,0 +1,105 @@
+/*
+ * Fault management, the star-tracker monitor (aocs/fdir/fdir.h; docs/spec.md
+ * 5.15.3): the MEKF's innovation test d^2 = y^T S^-1 y (Markley & Crassidis
+ * 2014, sec. 6.2 / 7.2: under the filter's model d^2 is chi-square with 3
+ * degrees of freedom) against fdir.st_chi2 with persistence (exclusion) and
+ * a run of consistent samples (restoration), and the frozen-output test.
+ */
+#include <stddef.h>
+
+#include "aocs/fdir/fdir.h"
+
+/* d^2 of this step's tracker sample when the filter tested one: 1 and *d2 */
+static int st_tested(const aocs_det_output_t *est, real_t *d2)
+{
+    int tested = 0;
+    if ((est != NULL) && ((est->st_status == AOCS_OK) || (est->st_status == AOCS_ERR_MEKF_GATED) ||
+                          (est->st_status == AOCS_ERR_MEKF_ST_EXCLUDED))) {
+        *d2 = est->innovation_chi2;
+        tested = 1;
+    }
+    return tested;
+}
+
+static uint32_t st_inc(uint32_t n)
+{
+    uint32_t m = n;
+    if (m < UINT32_MAX) {
+        m += 1u;
+    }
+    return m;
+}
+
+static void st_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t value, real_t thr)
+{
+    if (f->st.excluded == 0) {
+        (void)aocs_evlog_raise(&f->log, AOCS_EVT_ST_EXCLUDED, in->t_ns, AOCS_EVT_UNIT_NONE, value, thr);
+        f->st.excluded = 1;
+        f->st.good_run = 0u;
+    }
+}
+
+static void st_innovation(aocs_fdir_t *f, const aocs_fdir_input_t *in)
+{
+    real_t d2 = AOCS_R(0.0);
+    const real_t thr = f->cfg.st_chi2;
+    if (st_tested(in->est, &d2) != 0) {
+        if (!(d2 <= thr)) {
+            f->st.high_run = st_inc(f->st.high_run);
+            f->st.good_run = 0u;
+        } else {
+            f->st.high_run = 0u;
+            if ((f->st.excluded != 0) && (f->st.frozen_run == 0u)) {
+                f->st.good_run = st_inc(f->st.good_run);
+            }
+        }
+        if ((f->st.high_run == f->cfg.st_persist) && (f->st.excluded == 0)) {
+            (void)aocs_evlog_raise(&f->log, AOCS_EVT_ST_INNOVATION_HIGH, in->t_ns, AOCS_EVT_UNIT_NONE, d2, thr);
+            st_exclude(f, in, d2, thr);
+        }
+        if ((f->st.excluded != 0) && (f->st.good_run >= f->cfg.st_restore)) {
+            (void)aocs_evlog_raise(&f->log, AOCS_EVT_ST_RESTORED, in->t_ns, AOCS_EVT_UNIT_NONE, d2, thr);
+            f->st.excluded = 0;
+            f->st.good_run = 0u;
+        }
+    }
+}
+
+static int st_same(aocs_quat_t a, aocs_quat_t b)
+{
+    int same = 1;
+    for (int i = 0; i < 4; ++i) {
+        if (aocs_fdir_same(a.q[i], b.q[i]) == 0) {
+            same = 0;
+        }
+    }
+    return same;
+}
+
+/* K identical quaternions in a row while the gyro says the body turns faster than st_frozen_rate_radps */
+static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in)
+{
+    if (in->st_valid != 0) {
+        const real_t rate = (in->gyro_valid != 0) ? aocs_vec3_norm(in->gyro_w_B) : AOCS_R(0.0);
+        if ((f->st.have_prev != 0) && (st_same(in->st_q_SN, f->st.q_prev_SN) != 0) &&
+            (rate > f->cfg.st_frozen_rate_radps)) {
+            f->st.frozen_run = st_inc(f->st.frozen_run);
+        } else {
+            f->st.frozen_run = 0u;
+        }
+        /* K identical samples = K - 1 repeats */
+        if (f->st.frozen_run == (f->cfg.st_frozen_samples - 1u)) {
+            (void)aocs_evlog_raise(&f->log, AOCS_EVT_ST_FROZEN, in->t_ns, AOCS_EVT_UNIT_NONE, rate,
+                                   f->cfg.st_frozen_rate_radps);
+            st_exclude(f, in, rate, f->cfg.st_frozen_rate_radps);
+        }
+        f->st.q_prev_SN = in->st_q_SN;
+        f->st.have_prev = 1;
+    }
+}
+
+void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in)
+{
+    st_frozen(f, in);
+    st_innovation(f, in);
+}

@@ -1,0 +1,161 @@
+/*
+ * libFuzzer target: the fault-management stage (fdir/fdir.h, src/fdir/) on a configuration and a sequence of
+ * steps taken from the fuzz bytes, without the executive, over the reference pyramid of four wheels (or three
+ * healthy: wheel 3 declared failed). A configuration the stage refuses must leave it not initialised (steps do
+ * nothing). Invariants after every step (a violation aborts):
+ *   - every event of the log finite (value, threshold), its id a row of events.def, severity and unit kind the
+ *     row's, a wheel event's unit a configured wheel;
+ *   - the event sequence monotonic: seq_last never goes back, and the events read after the last seen come
+ *     in order with seq + 1 each (none lost at 32 per step at most);
+ *   - isolation only of a configured, healthy wheel: the failed mask only grows, by bits below n; the array
+ *     stays initialised with at least 3 healthy wheels (never fewer than 3 used): a refused isolation
+ *     latches SAFE, and an isolation-refused event comes with it;
+ *   - disabled: no event at all.
+ *
+ * Input layout (reads past the end give zeros):
+ *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters), the parameters
+ *   (wheel_residual_frac, st_chi2, st_frozen_rate, gyro_sat as u16 scaled or raw f64; wheel_persist, st_persist,
+ *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8), then steps until the end:
+ *   u8 flags (bit0 have sample, bit1 input ok, bit2 st valid, bit3 gyro valid, bit4 raw f64 values, bit5-6 mode,
+ *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw).
+ */
+#include "fuzz_support.h"
+
+#include "aocs/fdir/fdir.h"
+
+static void fuzz_fdir_fail(const char *what)
+{
+    (void)fprintf(stderr, "fuzz_fdir_step invariant: %s\n", what);
+    abort();
+}
+
+static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t *c)
+{
+    const int raw = (int)((setup >> 2) & 1u);
+    aocs_fdir_config_default(c);
+    c->enabled = ((setup & 2u) != 0u) ? 0u : 1u;
+    c->wheel_residual_frac = fuzz_scaled(r, raw, 0.0, 1.2);
+    c->st_chi2 = fuzz_scaled(r, raw, 0.0, 100.0);
+    c->st_frozen_rate_radps = fuzz_scaled(r, raw, 0.0, 1.0e-2);
+    c->gyro_sat_radps = fuzz_scaled(r, raw, -0.1, 1.0);
+    c->wheel_persist = fuzz_u8(r) % 8u;
+    c->st_persist = fuzz_u8(r) % 8u;
+    c->st_restore = fuzz_u8(r) % 8u;
+    c->st_frozen_samples = fuzz_u8(r) % 8u;
+    c->gyro_stuck_samples = fuzz_u8(r) % 8u;
+    c->link_lost_periods = fuzz_u8(r) % 8u;
+}
+
+static void fuzz_fdir_check(const aocs_fdir_t *f, const aocs_wheels_t *wa, uint32_t mask_before, uint32_t *seq_seen,
+                            uint32_t refused_before)
+{
+    aocs_event_t e;
+    uint32_t lost = 0u;
+    uint32_t refused = refused_before;
+    const uint32_t n = wa->cfg.n;
+    if (f->log.seq_last < *seq_seen) {
+        fuzz_fdir_fail("event seq went back");
+    }
+    while (aocs_evlog_next(&f->log, *seq_seen, &e, &lost) == AOCS_OK) {
+        if ((lost != 0u) || (e.seq != (*seq_seen + 1u))) {
+            fuzz_fdir_fail("events not read in sequence");
+        }
+        if (!AOCS_IS_FINITE(e.value) || !AOCS_IS_FINITE(e.threshold)) {
+            fuzz_fdir_fail("non-finite event value");
+        }
+        if ((aocs_evt_name(e.id) == NULL) || (e.severity != aocs_evt_severity(e.id)) ||
+            (e.unit_kind != aocs_evt_unit_kind(e.id))) {
+            fuzz_fdir_fail("event not a row of the table");
+        }
+        if ((e.unit_kind == AOCS_UNIT_WHEEL) && ((e.unit < 0) || ((uint32_t)e.unit >= n))) {
+            fuzz_fdir_fail("wheel event names no configured wheel");
+        }
+        if (e.id == AOCS_EVT_WHEEL_ISOLATION_REFUSED) {
+            refused += 1u;
+        }
+        if (f->cfg.enabled == 0u) {
+            fuzz_fdir_fail("disabled stage raised an event");
+        }
+        *seq_seen = e.seq;
+    }
+    if ((wa->cfg.failed_mask & mask_before) != mask_before) {
+        fuzz_fdir_fail("a failed wheel came back");
+    }
+    if ((wa->cfg.failed_mask >> n) != 0u) {
+        fuzz_fdir_fail("isolated a wheel that is not configured");
+    }
+    if ((wa->initialised == 0) || (wa->n_healthy < AOCS_WHEELS_MIN)) {
+        fuzz_fdir_fail("fewer than three wheels used");
+    }
+    if ((refused != 0u) && (f->safe_latched == 0)) {
+        fuzz_fdir_fail("refused isolation without SAFE");
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fuzz_reader_t r = {data, size, 0u};
+    const uint8_t setup = fuzz_u8(&r);
+    aocs_wheels_config_t wc;
+    aocs_wheels_t wa;
+    aocs_fdir_config_t c;
+    aocs_fdir_t f;
+    uint32_t seq_seen = 0u;
+    uint32_t refused = 0u;
+    uint64_t t_ns = 0u;
+    fuzz_wheels(&wc, (int)(setup & 1u));
+    wc.period_s = AOCS_R(0.1);
+    if (aocs_wheels_init(&wa, &wc) != AOCS_OK) {
+        fuzz_fdir_fail("the reference array refused");
+    }
+    fuzz_fdir_config(&r, setup, &c);
+    if (aocs_fdir_init(&f, &c) != AOCS_OK) {
+        aocs_fdir_input_t in;
+        (void)memset(&in, 0, sizeof(in));
+        in.have_sample = 1;
+        aocs_fdir_step(&f, &in, &wa);
+        if ((f.initialised != 0) || (aocs_evlog_count(&f.log) != 0u) || (wa.cfg.failed_mask != wc.failed_mask)) {
+            fuzz_fdir_fail("a refused configuration did something");
+        }
+        return 0;
+    }
+    for (int k = 0; (k < 4096) && (fuzz_more(&r) != 0); ++k) {
+        const uint8_t flags = fuzz_u8(&r);
+        const int raw = (int)((flags >> 4) & 1u);
+        aocs_fdir_input_t in;
+        aocs_wheels_alloc_t alloc;
+        aocs_det_output_t est;
+        real_t speeds[AOCS_WHEELS_MAX] = {0};
+        const uint32_t mask_before = wa.cfg.failed_mask;
+        (void)memset(&in, 0, sizeof(in));
+        (void)memset(&alloc, 0, sizeof(alloc));
+        (void)memset(&est, 0, sizeof(est));
+        t_ns += 100000000u;
+        in.t_ns = t_ns;
+        in.period_s = AOCS_R(0.1);
+        in.have_sample = (int)(flags & 1u);
+        in.missing = (uint32_t)fuzz_u8(&r) % 5u;
+        in.input_status = ((flags & 2u) != 0u) ? AOCS_OK : AOCS_ERR_INPUT_STALE;
+        in.mode = (aocs_exec_mode_t)((flags >> 5) % 3u);
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            speeds[i] = fuzz_scaled(&r, raw, -700.0, 700.0);
+            alloc.u_s_nm[i] = fuzz_scaled(&r, raw, -0.3, 0.3);
+        }
+        in.wheel_speed_radps = speeds;
+        in.alloc = &alloc;
+        est.status = AOCS_OK;
+        est.st_status = ((flags & 128u) != 0u) ? AOCS_ERR_MEKF_GATED : AOCS_ERR_INPUT_MISSING;
+        est.innovation_chi2 = fuzz_scaled(&r, raw, 0.0, 50.0);
+        in.est = &est;
+        in.gyro_valid = (int)((flags >> 3) & 1u);
+        in.gyro_w_B = aocs_vec3_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
+                                     fuzz_scaled(&r, raw, -1.0, 1.0));
+        in.st_valid = (int)((flags >> 2) & 1u);
+        in.st_q_SN = aocs_quat_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
+                                    fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0));
+        aocs_fdir_step(&f, &in, &wa);
+        fuzz_fdir_check(&f, &wa, mask_before, &seq_seen, refused);
+        refused = (f.safe_latched != 0) ? 1u : refused;
+    }
+    return 0;
+}

@@ -1,0 +1,598 @@
+/*
+ * Fault management (aocs/fdir/fdir.h, aocs/fdir/event_log.h; docs/spec.md 5.15): the event table and log,
+ * and each monitor against a model written here: a wheel integrated by the test (its own friction, substeps)
+ * that loses its motor, a tracker innovation sequence, a frozen tracker, a stuck gyro axis, missing samples
+ * and mode changes; then the executive end to end (a wheel dies under the allocation, is isolated, the array
+ * flies on three).
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "aocs/executive.h"
+#include "aocs/fdir/fdir.h"
+#include "test_support.h"
+#include "wheel_test_support.h"
+
+#define PERIOD_S 0.1
+#define PERIOD_NS 100000000ull
+
+/* ---- the table: ids are wire values, pinned here by hand ---- */
+static void test_event_ids_names_severities_are_the_wire_values(void **state)
+{
+    (void)state;
+    static const struct {
+        aocs_evt_id_t id;
+        unsigned value;
+        const char *name;
+        const char *severity;
+        const char *unit_kind;
+    } rows[] = {
+        {AOCS_EVT_ST_INNOVATION_HIGH, 1u, "st_innovation_high", "warning", "star_tracker"},
+        {AOCS_EVT_GYRO_ST_INCONSISTENT, 2u, "gyro_st_inconsistent", "warning", "gyro"},
+        {AOCS_EVT_WHEEL_RESIDUAL_HIGH, 3u, "wheel_residual_high", "warning", "wheel"},
+        {AOCS_EVT_MOMENTUM_INCONSISTENT, 4u, "momentum_inconsistent", "warning", "none"},
+        {AOCS_EVT_THRUSTER_INEFFECTIVE, 5u, "thruster_ineffective", "warning", "thruster"},
+        {AOCS_EVT_LINK_LOST, 6u, "link_lost", "warning", "link"},
+        {AOCS_EVT_ST_EXCLUDED, 7u, "st_excluded", "error", "star_tracker"},
+        {AOCS_EVT_ST_RESTORED, 8u, "st_restored", "info", "star_tracker"},
+        {AOCS_EVT_GYRO_EXCLUDED, 9u, "gyro_excluded", "critical", "gyro"},
+        {AOCS_EVT_WHEEL_ISOLATED, 10u, "wheel_isolated", "error", "wheel"},
+        {AOCS_EVT_UNLOAD_ACTUATOR_SWITCHED, 11u, "unload_actuator_switched", "error", "thruster"},
+        {AOCS_EVT_SAFE_ENTERED, 12u, "safe_entered", "error", "none"},
+        {AOCS_EVT_SAFE_LEFT, 13u, "safe_left", "info", "none"},
+        {AOCS_EVT_LINK_RESTORED, 14u, "link_restored", "info", "link"},
+        {AOCS_EVT_ST_FROZEN, 15u, "st_frozen", "warning", "star_tracker"},
+        {AOCS_EVT_GYRO_STUCK, 16u, "gyro_stuck", "warning", "gyro"},
+        {AOCS_EVT_GYRO_SATURATED, 17u, "gyro_saturated", "warning", "gyro"},
+        {AOCS_EVT_WHEEL_ISOLATION_REFUSED, 18u, "wheel_isolation_refused", "critical", "wheel"},
+    };
+    assert_int_equal(AOCS_EVT_COUNT, sizeof(rows) / sizeof(rows[0]));
+    for (size_t i = 0u; i < (sizeof(rows) / sizeof(rows[0])); ++i) {
+        assert_int_equal((unsigned)rows[i].id, rows[i].value);
+        assert_string_equal(aocs_evt_name(rows[i].id), rows[i].name);
+        assert_string_equal(aocs_evt_severity_name(aocs_evt_severity(rows[i].id)), rows[i].severity);
+        assert_string_equal(aocs_evt_unit_kind_name(aocs_evt_unit_kind(rows[i].id)), rows[i].unit_kind);
+    }
+    assert_null(aocs_evt_name(AOCS_EVT_NONE));
+    assert_null(aocs_evt_name(AOCS_EVT_END));
+    assert_int_equal(AOCS_SEV_INFO, 0);
+    assert_int_equal(AOCS_SEV_CRITICAL, 3);
+    assert_string_equal(aocs_evt_severity_name(AOCS_SEV_COUNT), "unknown");
+}
+
+/* ---- the log: sequence numbers, the ring, counts per severity ---- */
+static void test_log_sequence_ring_and_counts(void **state)
+{
+    (void)state;
+    aocs_evlog_t log;
+    aocs_event_t e;
+    uint32_t lost = 99u;
+    aocs_evlog_init(&log);
+    assert_int_equal(aocs_evlog_next(&log, 0u, &e, &lost), AOCS_ERR_INPUT_MISSING);
+    assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_NONE, 1u, 0, AOCS_R(0.0), AOCS_R(0.0)), 0u);
+    assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_END, 1u, 0, AOCS_R(0.0), AOCS_R(0.0)), 0u);
+    /* 40 events: more than the ring holds */
+    for (uint32_t k = 1u; k <= 40u; ++k) {
+        const aocs_evt_id_t id = ((k % 2u) == 0u) ? AOCS_EVT_WHEEL_ISOLATED : AOCS_EVT_SAFE_LEFT;
+        assert_int_equal(aocs_evlog_raise(&log, id, 1000u * k, (int32_t)(k % 4u), (real_t)k, AOCS_R(0.5)), k);
+    }
+    assert_int_equal(aocs_evlog_count(&log), 40u);
+    assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_INFO), 40u);
+    assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_WARNING), 20u); /* the error ones */
+    assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_CRITICAL), 0u);
+    /* a reader that saw nothing: the oldest held is 40 - 32 + 1 = 9, 8 were lost */
+    assert_int_equal(aocs_evlog_next(&log, 0u, &e, &lost), AOCS_OK);
+    assert_int_equal(e.seq, 9u);
+    assert_int_equal(lost, 8u);
+    assert_int_equal(e.t_ns, 9000u);
+    assert_int_equal(e.id, AOCS_EVT_SAFE_LEFT);
+    assert_int_equal(e.unit, 1);
+    assert_close(e.value, 9.0, 0.0);
+    /* a reader in step: every event once, in order, seq monotonic */
+    {
+        uint32_t seq = 8u;
+        uint32_t n = 0u;
+        while (aocs_evlog_next(&log, seq, &e, &lost) == AOCS_OK) {
+            assert_int_equal(e.seq, seq + 1u);
+            assert_int_equal(lost, 0u);
+            assert_int_equal(e.severity, ((e.seq % 2u) == 0u) ? AOCS_SEV_ERROR : AOCS_SEV_INFO);
+            assert_int_equal(e.unit_kind, ((e.seq % 2u) == 0u) ? AOCS_UNIT_WHEEL : AOCS_UNIT_NONE);
+            seq = e.seq;
+            ++n;
+        }
+        assert_int_equal(n, 32u);
+        assert_int_equal(seq, 40u);
+    }
+    /* a non-finite statistic is stored as the largest real: the log never holds a NaN */
+    assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_LINK_LOST, 1u, -1, (real_t)NAN, (real_t)INFINITY), 41u);
+    assert_int_equal(aocs_evlog_next(&log, 40u, &e, NULL), AOCS_OK);
+    assert_true(aocs_fdir_same(e.value, AOCS_REAL_MAX) != 0);
+    assert_true(aocs_fdir_same(e.threshold, AOCS_REAL_MAX) != 0);
+    assert_int_equal(aocs_evlog_next(NULL, 0u, &e, NULL), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_evlog_count(NULL), 0u);
+}
+
+static void test_config_check(void **state)
+{
+    (void)state;
+    aocs_fdir_config_t c;
+    aocs_fdir_t f;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_OK);
+    assert_int_equal(aocs_fdir_config_check(NULL), AOCS_ERR_NULL_ARG);
+    c.wheel_residual_frac = AOCS_R(1.5);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    assert_int_equal(f.initialised, 0);
+    aocs_fdir_config_default(&c);
+    c.st_frozen_samples = 1u;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    aocs_fdir_config_default(&c);
+    c.st_chi2 = (real_t)NAN;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    aocs_fdir_config_default(&c);
+    c.enabled = 2u;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    /* a zeroed configuration is the stage off */
+    (void)memset(&c, 0, sizeof(c));
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_OK);
+    /* the defaults the executive takes are the registry's rows: the same values */
+    {
+        aocs_exec_config_t ec;
+        aocs_exec_config_default(&ec);
+        aocs_fdir_config_default(&c);
+        assert_int_equal(ec.fdir.enabled, 1u);
+        assert_true(memcmp(&ec.fdir, &c, sizeof(c)) == 0);
+    }
+}
+
+/* ---- the wheel monitor against a wheel the test integrates ---- */
+
+/* the test's friction: b w + c tanh(w / eps) */
+static double test_friction(double b, double c, double eps, double w)
+{
+    return (b * w) + (c * tanh(w / eps));
+}
+
+typedef struct {
+    aocs_wheels_t wa;
+    aocs_fdir_t f;
+    double omega[AOCS_WHEELS_MAX];
+    uint64_t t_ns;
+} wheel_rig_t;
+
+static void rig_init(wheel_rig_t *r, uint32_t n_wheels, double b, double c)
+{
+    aocs_wheels_config_t wc;
+    aocs_fdir_config_t fc;
+    (void)memset(r, 0, sizeof(*r));
+    test_wheels_pyramid(&wc);
+    if (n_wheels == 3u) {
+        wc.failed_mask = 1u << 3; /* three healthy wheels that span */
+    }
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        wc.viscous_nms[i] = (real_t)b;
+        wc.coulomb_nm[i] = (real_t)c;
+        wc.coulomb_width_radps[i] = AOCS_R(0.5);
+        r->omega[i] = 20.0 + (15.0 * (double)i) - 30.0;
+    }
+    wc.period_s = AOCS_R(PERIOD_S);
+    assert_int_equal(aocs_wheels_init(&r->wa, &wc), AOCS_OK);
+    aocs_fdir_config_default(&fc);
+    assert_int_equal(aocs_fdir_init(&r->f, &fc), AOCS_OK);
+}
+
+/* One step: fdir on the sample, the allocation of u_c, then the test's wheels over the period (100 substeps,
+ * the motor applies u_s unless dead). Returns the events raised this step (seq before the step in *seq0). */
+static void rig_step(wheel_rig_t *r, aocs_vec3_t u_c, uint32_t dead_mask, double b, double c)
+{
+    aocs_fdir_input_t in;
+    aocs_wheels_alloc_t alloc;
+    real_t om[AOCS_WHEELS_MAX] = {0};
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        om[i] = (real_t)r->omega[i];
+    }
+    assert_int_equal(aocs_wheels_allocate(&r->wa, u_c, om, &alloc), AOCS_OK);
+    (void)memset(&in, 0, sizeof(in));
+    in.t_ns = r->t_ns;
+    in.period_s = AOCS_R(PERIOD_S);
+    in.have_sample = 1;
+    in.input_status = AOCS_OK;
+    in.mode = AOCS_EXEC_MODE_NOMINAL;
+    in.wheel_speed_radps = om;
+    in.alloc = &alloc;
+    aocs_fdir_step(&r->f, &in, &r->wa);
+    /* the wheels over the period: Js dOmega/dt = u - f(Omega) (the body does not turn here) */
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        const double u = ((dead_mask >> i) & 1u) ? 0.0 : (double)alloc.u_s_nm[i];
+        const double h = PERIOD_S / 100.0;
+        for (int k = 0; k < 100; ++k) {
+            r->omega[i] += h * (u - test_friction(b, c, 0.5, r->omega[i])) / TEST_WHEEL_JS_KGM2;
+        }
+    }
+    r->t_ns += PERIOD_NS;
+}
+
+static uint32_t count_id(const aocs_evlog_t *log, aocs_evt_id_t id, int32_t unit, uint64_t *t_first)
+{
+    aocs_event_t e;
+    uint32_t seq = 0u;
+    uint32_t n = 0u;
+    while (aocs_evlog_next(log, seq, &e, NULL) == AOCS_OK) {
+        if ((e.id == id) && ((unit < 0) || (e.unit == unit))) {
+            if ((n == 0u) && (t_first != NULL)) {
+                *t_first = e.t_ns;
+            }
+            ++n;
+        }
+        seq = e.seq;
+    }
+    return n;
+}
+
+static void test_wheel_residual_is_the_formula(void **state)
+{
+    (void)state;
+    /* 0.1 N m commanded; the wheel went from 10 to 10.1 rad/s in 0.1 s with Js 0.08: 0.08 N m delivered */
+    assert_close(aocs_fdir_wheel_residual(AOCS_R(0.1), AOCS_R(0.08), AOCS_R(10.0), AOCS_R(10.1), AOCS_R(0.1)), 0.02,
+                 TOL_LOOSE);
+}
+
+/* healthy wheels with friction (the model the allocation compensates, the test integrating the true one): no
+ * event over 300 steps of a varying command through the zero crossings; a dead motor then raises
+ * wheel_residual_high and wheel_isolated at the persist-th step after the first period it did not drive */
+static void test_wheel_dies_is_detected_after_persist_steps_and_isolated(void **state)
+{
+    (void)state;
+    const double b = 1.0e-5;
+    const double c = 2.0e-3;
+    wheel_rig_t r;
+    uint64_t t_res = 0u;
+    uint64_t t_iso = 0u;
+    uint32_t k_fail = 300u;
+    rig_init(&r, 4u, b, c);
+    for (uint32_t k = 0u; k < 400u; ++k) {
+        const double s = sin(0.05 * (double)k);
+        const aocs_vec3_t u_c = aocs_vec3_make((real_t)(0.2 * s), (real_t)(-0.1 * s), (real_t)(0.15 * cos(0.03 * (double)k)));
+        rig_step(&r, u_c, (k >= k_fail) ? (1u << 1) : 0u, b, c);
+        if (k < k_fail) {
+            assert_int_equal(aocs_evlog_count(&r.f.log), 0u);
+        }
+    }
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_RESIDUAL_HIGH, 1, &t_res), 1u);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_ISOLATED, 1, &t_iso), 1u);
+    assert_int_equal(aocs_evlog_count(&r.f.log), 2u); /* no other wheel accused */
+    /* the first sample that shows the dead period is k_fail + 1; persist samples later (counting it) */
+    assert_int_equal(t_res, (uint64_t)(k_fail + AOCS_FDIR_WHEEL_PERSIST_DEFAULT) * PERIOD_NS);
+    assert_int_equal(t_iso, t_res);
+    /* the array now flies on wheels 0, 2, 3: wheel 1 gets no command, the body torque is still delivered */
+    assert_int_equal(r.wa.cfg.failed_mask, 1u << 1);
+    assert_int_equal(r.wa.n_healthy, 3u);
+    {
+        aocs_wheels_alloc_t a;
+        real_t om[AOCS_WHEELS_MAX] = {0};
+        const aocs_vec3_t u = aocs_vec3_make(AOCS_R(0.05), AOCS_R(0.02), AOCS_R(-0.03));
+        assert_int_equal(aocs_wheels_allocate(&r.wa, u, om, &a), AOCS_OK);
+        assert_close(a.u_s_nm[1], 0.0, 0.0);
+        assert_vec3_close(a.u_body_B_nm, u, TOL_LOOSE);
+    }
+    assert_int_equal(r.f.replan, 0); /* set on the isolation step only */
+    assert_int_equal(r.f.safe_latched, 0);
+}
+
+/* three wheels: the last three cannot lose one -> wheel_isolation_refused, SAFE latched, the array unchanged */
+static void test_isolation_of_the_third_wheel_is_refused_and_latches_safe(void **state)
+{
+    (void)state;
+    wheel_rig_t r;
+    uint64_t t = 0u;
+    rig_init(&r, 3u, 0.0, 0.0);
+    for (uint32_t k = 0u; k < 50u; ++k) {
+        rig_step(&r, aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.1), AOCS_R(0.1)), (k >= 10u) ? 1u : 0u, 0.0, 0.0);
+    }
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_RESIDUAL_HIGH, 0, &t), 1u);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_ISOLATION_REFUSED, 0, NULL), 1u);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_ISOLATED, -1, NULL), 0u);
+    assert_int_equal(r.wa.cfg.failed_mask, 1u << 3);
+    assert_int_equal(r.wa.n_healthy, 3u);
+    assert_int_equal(r.f.safe_latched, 1);
+    assert_int_equal(aocs_evlog_count_at_least(&r.f.log, AOCS_SEV_CRITICAL), 1u);
+}
+
+/* ---- the star-tracker monitor on a given innovation sequence ---- */
+/* a NOMINAL step's input at sample k with a sample (have) and the acceptance's verdict on it */
+static aocs_fdir_input_t base_input(uint64_t k, int have, aocs_exec_mode_t mode)
+{
+    aocs_fdir_input_t in;
+    (void)memset(&in, 0, sizeof(in));
+    in.t_ns = k * PERIOD_NS;
+    in.period_s = AOCS_R(PERIOD_S);
+    in.have_sample = have;
+    in.input_status = (have != 0) ? AOCS_OK : AOCS_ERR_INPUT_MISSING;
+    in.mode = mode;
+    return in;
+}
+
+static void st_feed(aocs_fdir_t *f, uint64_t k, real_t d2, aocs_status_t st_status)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
+    (void)memset(&est, 0, sizeof(est));
+    est.status = AOCS_OK;
+    est.st_status = st_status;
+    est.innovation_chi2 = d2;
+    in.est = &est;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+static void test_st_excluded_after_persist_and_restored_after_restore(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    uint64_t t = 0u;
+    uint64_t k = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    /* four high, one low, four high: never five in a row */
+    for (int i = 0; i < 4; ++i) {
+        st_feed(&f, ++k, AOCS_R(100.0), AOCS_ERR_MEKF_GATED);
+    }
+    st_feed(&f, ++k, AOCS_R(3.0), AOCS_OK);
+    for (int i = 0; i < 4; ++i) {
+        st_feed(&f, ++k, AOCS_R(100.0), AOCS_ERR_MEKF_GATED);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* a step without a sample does not break the run, the fifth high does */
+    st_feed(&f, ++k, AOCS_R(0.0), AOCS_ERR_INPUT_MISSING);
+    st_feed(&f, ++k, AOCS_R(100.0), AOCS_ERR_MEKF_GATED);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_INNOVATION_HIGH, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_EXCLUDED, -1, NULL), 1u);
+    assert_int_equal(f.st.excluded, 1);
+    /* 19 consistent, one high (the run restarts), then 20 consistent: restored at the 20th */
+    for (int i = 0; i < 19; ++i) {
+        st_feed(&f, ++k, AOCS_R(2.0), AOCS_ERR_MEKF_ST_EXCLUDED);
+    }
+    st_feed(&f, ++k, AOCS_R(20.0), AOCS_ERR_MEKF_GATED);
+    for (int i = 0; i < 19; ++i) {
+        st_feed(&f, ++k, AOCS_R(2.0), AOCS_ERR_MEKF_ST_EXCLUDED);
+    }
+    assert_int_equal(f.st.excluded, 1);
+    st_feed(&f, ++k, AOCS_R(2.0), AOCS_ERR_MEKF_ST_EXCLUDED);
+    assert_int_equal(f.st.excluded, 0);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(aocs_evlog_count(&f.log), 3u);
+}
+
+/* ---- frozen tracker, stuck gyro: samples built here ---- */
+static void sensor_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, aocs_vec3_t w)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    in.st_q_SN = q;
+    in.st_valid = 1;
+    in.gyro_w_B = w;
+    in.gyro_valid = 1;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+static void test_frozen_tracker_while_turning(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {12345u};
+    aocs_quat_t q = test_random_quat(&rng);
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    /* at rest (gyro 1e-5 rad/s < 1e-4): a constant quaternion is no fault */
+    for (int i = 0; i < 20; ++i) {
+        sensor_feed(&f, ++k, q, aocs_vec3_make(AOCS_R(1.0e-5), AOCS_R(0.0), AOCS_R(0.0)));
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* turning at 1e-3 rad/s: the 5th identical sample (4 repeats) is a frozen tracker */
+    for (int i = 0; i < 3; ++i) {
+        sensor_feed(&f, ++k, q, aocs_vec3_make(AOCS_R(1.0e-3), AOCS_R(0.0), AOCS_R(0.0)));
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    sensor_feed(&f, ++k, q, aocs_vec3_make(AOCS_R(1.0e-3), AOCS_R(0.0), AOCS_R(0.0)));
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_FROZEN, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_EXCLUDED, -1, NULL), 1u);
+    assert_int_equal(f.st.excluded, 1);
+}
+
+static void test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {777u};
+    const aocs_quat_t q = aocs_quat_identity();
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    /* a noise-free gyro at rest (every axis repeats at once): no fault */
+    for (int i = 0; i < 30; ++i) {
+        sensor_feed(&f, ++k, q, aocs_vec3_zero());
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* a noisy gyro whose y axis sticks at its last value: the 10th identical y sample */
+    {
+        real_t y = AOCS_R(0.0);
+        for (int i = 0; i < 10; ++i) {
+            const aocs_vec3_t n = test_random_vec3(&rng, 1.0e-6);
+            if (i == 0) {
+                y = n.v[1];
+            }
+            sensor_feed(&f, ++k, q, aocs_vec3_make(n.v[0], y, n.v[2]));
+            if (i < 9) {
+                assert_int_equal(aocs_evlog_count(&f.log), 0u);
+            }
+        }
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_STUCK, 1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 1, NULL), 1u);
+    assert_int_equal(f.safe_latched, 1);
+}
+
+static void test_gyro_saturation(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    uint64_t k = 0u;
+    test_rng_t rng = {99u};
+    aocs_fdir_config_default(&c);
+    c.gyro_sat_radps = AOCS_R(0.1);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 10; ++i) {
+        const aocs_vec3_t n = test_random_vec3(&rng, 1.0e-6);
+        sensor_feed(&f, ++k, aocs_quat_identity(), aocs_vec3_make(n.v[0], n.v[1], AOCS_R(-0.1)));
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_SATURATED, 2, NULL), 1u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 2, NULL), 1u);
+}
+
+/* ---- link and modes ---- */
+static void mode_feed(aocs_fdir_t *f, uint64_t k, int have, uint32_t missing, aocs_exec_mode_t mode)
+{
+    aocs_fdir_input_t in = base_input(k, have, mode);
+    in.missing = missing;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+static void test_link_and_safe_events(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    uint64_t t = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    /* start-up in SAFE (an estimator acquiring) is no event */
+    mode_feed(&f, 1u, 1, 0u, AOCS_EXEC_MODE_SAFE);
+    mode_feed(&f, 2u, 1, 0u, AOCS_EXEC_MODE_NOMINAL);
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* two periods without a sample: below 3, nothing; a gap of 3 samples in the ticks: link_lost + restored */
+    mode_feed(&f, 3u, 0, 0u, AOCS_EXEC_MODE_NOMINAL);
+    mode_feed(&f, 4u, 0, 0u, AOCS_EXEC_MODE_NOMINAL);
+    mode_feed(&f, 5u, 1, 0u, AOCS_EXEC_MODE_NOMINAL);
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    mode_feed(&f, 9u, 1, 3u, AOCS_EXEC_MODE_NOMINAL);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_LINK_LOST, -1, &t), 1u);
+    assert_int_equal(t, 9u * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_LINK_RESTORED, -1, NULL), 1u);
+    /* three periods without a sample: link_lost at the third, SAFE entered; restored and SAFE left later */
+    mode_feed(&f, 10u, 0, 0u, AOCS_EXEC_MODE_NOMINAL);
+    mode_feed(&f, 11u, 0, 0u, AOCS_EXEC_MODE_NOMINAL);
+    mode_feed(&f, 12u, 0, 0u, AOCS_EXEC_MODE_SAFE);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_LINK_LOST, -1, NULL), 2u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_SAFE_ENTERED, -1, &t), 1u);
+    assert_int_equal(t, 12u * PERIOD_NS);
+    mode_feed(&f, 13u, 1, 0u, AOCS_EXEC_MODE_SAFE);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_LINK_RESTORED, -1, NULL), 2u);
+    mode_feed(&f, 14u, 1, 0u, AOCS_EXEC_MODE_NOMINAL);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_SAFE_LEFT, -1, &t), 1u);
+    assert_int_equal(t, 14u * PERIOD_NS);
+    assert_int_equal(aocs_evlog_count(&f.log), 6u);
+}
+
+static void test_disabled_is_silent(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    aocs_fdir_config_default(&c);
+    c.enabled = 0u;
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    mode_feed(&f, 1u, 1, 0u, AOCS_EXEC_MODE_NOMINAL);
+    for (uint64_t k = 2u; k < 10u; ++k) {
+        mode_feed(&f, k, 0, 0u, AOCS_EXEC_MODE_SAFE);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    aocs_fdir_step(NULL, NULL, NULL); /* total */
+}
+
+/* ---- the executive: a wheel dies under the allocation ---- */
+static void exec_wheels_config(aocs_exec_config_t *cfg)
+{
+    aocs_exec_config_default(cfg);
+    cfg->period_s = AOCS_R(PERIOD_S);
+    cfg->law = AOCS_LAW_QUAT_PD;
+    cfg->laws.quat_pd.kp = AOCS_R(4000.0);
+    cfg->laws.quat_pd.kd = AOCS_R(8000.0);
+    cfg->u_max_norm = AOCS_R(1.0);
+    test_wheels_pyramid(&cfg->wheels);
+}
+
+static void test_executive_isolates_a_dead_wheel(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    double omega[4] = {10.0, -5.0, 3.0, 0.0};
+    const aocs_evlog_t *log;
+    uint64_t t_iso = 0u;
+    exec_wheels_config(&cfg);
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    for (uint32_t k = 1u; k <= 100u; ++k) {
+        aocs_exec_input_t in;
+        (void)memset(&in, 0, sizeof(in));
+        in.tick = k;
+        in.t_sensor_ns = (uint64_t)k * PERIOD_NS;
+        in.valid = AOCS_EXEC_VALID_ATT | AOCS_EXEC_VALID_RATE;
+        /* a constant attitude error about x: a steady command the wheels carry (the body is held by the test) */
+        in.q_BN = aocs_quat_make(AOCS_R(0.0099998), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(0.99995));
+        in.w_BN_B = aocs_vec3_zero();
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            in.wheel_speed_radps[i] = (real_t)omega[i];
+        }
+        assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+        assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
+        if ((k > 40u) && (exec.act.wheels.cfg.failed_mask != 0u)) {
+            assert_close(out.wheels.u_s_nm[2], 0.0, 0.0); /* isolated: never commanded again */
+        }
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            const double u = ((i == 2u) && (k >= 30u)) ? 0.0 : (double)out.wheels.u_s_nm[i];
+            omega[i] += PERIOD_S * u / TEST_WHEEL_JS_KGM2;
+        }
+    }
+    log = aocs_exec_events(&exec);
+    assert_non_null(log);
+    assert_int_equal(count_id(log, AOCS_EVT_WHEEL_ISOLATED, 2, &t_iso), 1u);
+    assert_int_equal(t_iso, (uint64_t)(30u + AOCS_FDIR_WHEEL_PERSIST_DEFAULT) * PERIOD_NS);
+    assert_int_equal(aocs_evlog_count(log), 2u);
+    assert_int_equal(exec.act.wheels.cfg.failed_mask, 1u << 2);
+    assert_null(aocs_exec_events(NULL));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_event_ids_names_severities_are_the_wire_values),
+        cmocka_unit_test(test_log_sequence_ring_and_counts),
+        cmocka_unit_test(test_config_check),
+        cmocka_unit_test(test_wheel_residual_is_the_formula),
+        cmocka_unit_test(test_wheel_dies_is_detected_after_persist_steps_and_isolated),
+        cmocka_unit_test(test_isolation_of_the_third_wheel_is_refused_and_latches_safe),
+        cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
+        cmocka_unit_test(test_frozen_tracker_while_turning),
+        cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
+        cmocka_unit_test(test_gyro_saturation),
+        cmocka_unit_test(test_link_and_safe_events),
+        cmocka_unit_test(test_disabled_is_silent),
+        cmocka_unit_test(test_executive_isolates_a_dead_wheel),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
