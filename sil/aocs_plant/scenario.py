@@ -153,6 +153,9 @@ class MetricsConfig:
     window_s: float
     requirement_arcsec: float | None = None
     goal_arcsec: float | None = None
+    #: the pointing a fault recovery is judged against (arcsec; docs/spec.md 5.14.7), when the scenario's sensors
+    #: cannot reach the requirement; None: the requirement
+    recovery_arcsec: float | None = None
 
 
 #: [guidance]'s keys are the flight software's guidance.* keys (the configuration registry), without the prefix
@@ -887,14 +890,15 @@ def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
     w = sec.number("window_s", required=False, default=duration, positive=True)
     if w > duration:
         sec.fail(sec.key("window_s"), f"metric window {w} s is longer than duration_s = {duration} s")
-    req = goal = None
+    req = goal = rec = None
     if kind == "attitude":
         req = sec.number("requirement_arcsec", required=False, positive=True)
         goal = sec.number("goal_arcsec", required=False, positive=True)
+        rec = sec.number("recovery_arcsec", required=False, positive=True)
         if req is not None and goal is not None and goal > req:
             sec.fail(sec.key("goal_arcsec"), f"goal {goal} is looser than the requirement {req}")
     sec.done()
-    return MetricsConfig(w, req, goal)
+    return MetricsConfig(w, req, goal, rec)
 
 
 # --------------------------------------------------------------------------- API

@@ -104,7 +104,16 @@ static void publish_events(node_t *n)
 {
     aocs_lcm_event_t e;
     while (aocs_node_core_event(&n->core, &e) != 0) {
-        if (aocs_lcm_event_t_publish(n->lcm, CH_EVENTS, &e) != 0) {
+        int rc;
+        if (n->use_udpm != 0) {
+            const int size = aocs_lcm_event_t_encoded_size(&e);
+            rc = ((size > 0) && ((size_t)size <= sizeof(n->enc)) && (aocs_lcm_event_t_encode(n->enc, 0, size, &e) == size))
+                     ? node_udpm_publish(&n->udpm, CH_EVENTS, n->enc, (size_t)size)
+                     : -1;
+        } else {
+            rc = aocs_lcm_event_t_publish(n->lcm, CH_EVENTS, &e);
+        }
+        if (rc != 0) {
             (void)fprintf(stderr, "fsw_node: publish on %s failed\n", CH_EVENTS);
         }
     }

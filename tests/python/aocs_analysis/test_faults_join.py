@@ -107,3 +107,20 @@ def test_the_summary_lines_name_each_fault_with_its_times():
     assert rows[0][0] == "fault 1: wheel_torque_loss wheel 1"
     assert "detected 61.5 s (latency 1.50 s)" in rows[0][1] and "recovered 150.0 s" in rows[0][1]
     assert rows[1][0] == "fault 2: st_frozen" and "detected never" in rows[1][1] and "NOT handled" in rows[1][1]
+
+
+def test_a_recovery_is_judged_against_the_scenarios_recovery_figure_else_its_requirement_else_its_settle():
+    from types import SimpleNamespace as NS
+    sc = NS(metrics=NS(requirement_arcsec=0.3, recovery_arcsec=3.0), settle=NS(pointing_arcsec_max=10.0))
+    assert F.requirement_of(sc) == 3.0
+    sc.metrics.recovery_arcsec = None
+    assert F.requirement_of(sc) == 0.3
+    sc.metrics.requirement_arcsec = None
+    assert F.requirement_of(sc) == 10.0
+    # the same pointing (2 arcsec after 120 s) is recovered against 3 arcsec and never against 0.3
+    p = pointing(recover_at=120.0, good=2.0)
+    p[T < 60.0] = 0.1
+    f = Fault(kind="wheel_torque_loss", unit=1, start_s=60.0, end_s=300.0)
+    e = [ev(60.5, "wheel_residual_high", "wheel", 1), ev(60.5, "wheel_isolated", "wheel", 1, "error")]
+    assert F.entry(f, e, T, p, 3.0, 10.0)["recovered_s"] == pytest.approx(120.0)
+    assert F.entry(f, e, T, p, 0.3, 10.0)["recovered_s"] is None
