@@ -2,8 +2,8 @@
 in the private network namespace, and the in-process transport), the events on AOCS_EVENTS recorded and
 written to the metrics JSON.
 
-- A wheel whose motor dies mid-slew (the plant's minimal hook wheels.fail_wheel / fail_at_s, until the fault
-  catalogue exists): wheel_residual_high and wheel_isolated name that wheel within the stated latency
+- A wheel whose motor dies mid-slew (scenario irassi_rw_wheel_dies: irassi_rw_mekf with the catalogue's
+  wheel_torque_loss of wheel 1 at 60 s): wheel_residual_high and wheel_isolated name that wheel within the stated latency
   (fdir.wheel_persist periods after the first period it did not drive, spec 5.15.2), no other unit is
   accused, and the slew completes on the three left within 1.3 times the three-wheel bang-bang bound from
   the detection (the bound computed here from the scenario with that wheel declared failed).
@@ -22,7 +22,7 @@ FAIL_AT_S = 60.0
 DEAD = 1
 PERIOD_S = 0.1
 PERSIST = 5      # fdir.wheel_persist default (config_fields.def)
-SETS = [f"wheels.fail_wheel={DEAD}", f"wheels.fail_at_s={FAIL_AT_S}"]
+DIES = "irassi_rw_wheel_dies"   # its [[faults]]: wheel_torque_loss, unit DEAD, start_s FAIL_AT_S
 
 
 def _run(tmp_path, name, scenario="irassi_rw_mekf", duration=450.0, sets=(), transport="lcm"):
@@ -33,7 +33,7 @@ def _run(tmp_path, name, scenario="irassi_rw_mekf", duration=450.0, sets=(), tra
 
 @pytest.fixture(scope="module")
 def dies(private_netns, fsw_node_bin, aocs_lcm, tmp_path_factory):
-    return _run(tmp_path_factory.mktemp("fdir"), "dies", sets=SETS)
+    return _run(tmp_path_factory.mktemp("fdir"), "dies", scenario=DIES)
 
 
 def test_a_dead_wheel_is_detected_within_its_latency_and_isolated(dies):
@@ -49,6 +49,10 @@ def test_a_dead_wheel_is_detected_within_its_latency_and_isolated(dies):
     assert det["unit_kind"] == "wheel"
     assert det["value"] > det["threshold"] == pytest.approx(0.1 * 0.25)   # 0.1 u_s,max of a 0.25 N m wheel
     assert dies["events_alarms"] == 2
+    # the run JSON's faults entry joins the injected fault with these events (docs/spec.md 5.14.7)
+    (f,) = dies["faults"]
+    assert (f["kind"], f["unit"], f["start_s"]) == ("wheel_torque_loss", DEAD, FAIL_AT_S)
+    assert f["detected_s"] == pytest.approx(det["t_s"]) and f["isolated"] is True
 
 
 def test_the_slew_completes_on_three_wheels_within_1p3_of_their_bound(dies):
@@ -63,7 +67,7 @@ def test_the_slew_completes_on_three_wheels_within_1p3_of_their_bound(dies):
 
 
 def test_the_direct_transport_delivers_the_same_events(dies, private_netns, fsw_node_bin, aocs_lcm, tmp_path):
-    direct = _run(tmp_path, "direct", sets=SETS, transport="direct", duration=120.0)
+    direct = _run(tmp_path, "direct", scenario=DIES, transport="direct", duration=120.0)
     key = [(e["seq"], e["t_s"], e["id"], e["unit"], e["value"], e["threshold"]) for e in direct["events"]]
     assert key == [(e["seq"], e["t_s"], e["id"], e["unit"], e["value"], e["threshold"]) for e in dies["events"]]
 

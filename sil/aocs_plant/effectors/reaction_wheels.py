@@ -62,11 +62,6 @@ class WheelsConfig:
     null_speed_rad_s: tuple = ()  # Omega*_i, target speeds (their null-space part is what counts)
     fsw_friction_scale: float = 1.0   # the flight software's friction model = this x (b, c): 1 = the plant's
                                       # own, 0 = no feedforward, else a model error (campaign dispersions)
-    # MINIMAL FAULT HOOK (issue 26, fdirfsw branch; for the lead to fold into the plant's fault catalogue,
-    # kind wheel_torque_loss): wheel fail_wheel's motor gives no torque from sim time fail_at_s on. The flight
-    # software is not told (wheels.failed_mask stays the t = 0 `failed` list): its fault management must find it.
-    fail_wheel: int = -1          # -1 = none
-    fail_at_s: float = 0.0
 
     @property
     def n(self) -> int:
@@ -156,7 +151,7 @@ class ReactionWheels(Effector):
         sec.only(("array", "count", "pyramid_axis", "cant_deg", "azimuth0_deg", "axes", "spin_inertia_kg_m2",
                   "torque_limit_nm", "speed_limit_rad_s", "viscous_nms", "coulomb_nm", "coulomb_width_rad_s",
                   "torque_noise_nm", "speed0_rad_s", "failed", "tach_noise_rad_s", "tach_quantum_rad_s",
-                  "null_gain_per_s", "null_speed_rad_s", "fsw_friction_scale", "fail_wheel", "fail_at_s"))
+                  "null_gain_per_s", "null_speed_rad_s", "fsw_friction_scale"))
         array = sec.string("array", choices=("pyramid", "explicit"))
         if array == "pyramid":
             for k in ("axes",):
@@ -228,15 +223,8 @@ class ReactionWheels(Effector):
             if not abs(v) < m:
                 sec.fail(sec.key("null_speed_rad_s"), f"wheel {i}: |{v}| rad/s is not below its speed limit {m}")
         _check_plant_inertia(sec, ctx, axes, js)
-        fail_wheel = sec.integer("fail_wheel", required=False, default=-1, minimum=-1)
-        if fail_wheel >= n:
-            sec.fail(sec.key("fail_wheel"), f"wheel {fail_wheel} does not exist (wheels 0 to {n - 1})")
-        has_fail_at = sec.has("fail_at_s")
-        fail_at = sec.number("fail_at_s", required=False, default=0.0, nonneg=True)
-        if has_fail_at and fail_wheel < 0:
-            sec.fail(sec.key("fail_at_s"), "needs fail_wheel")
         return WheelsConfig(axes, js, umax, wmax, b, c, eps, noise, tuple(s0), failed, tn, tq, array,
-                            kn, tuple(float(v) for v in ns), fs, fail_wheel, fail_at)
+                            kn, tuple(float(v) for v in ns), fs)
 
     def __init__(self, config: WheelsConfig, body):
         super().__init__(config, body)
@@ -328,7 +316,10 @@ class ReactionWheels(Effector):
     def derivative(self, t, body, x):
         """(-(w x Gs h) - Gs tau, tau): the wheels' reaction on the body and dh/dt = tau, with tau =
         axial_torques(speeds(body, h)). The two fused into one loop (the same expressions in the same order,
-        bit for bit; no intermediate tuples): four times per RK4 substep, the plant's hot path with wheels."""
+        bit for bit; no intermediate tuples): four times per RK4 substep, the plant's hot path with wheels.
+        With injected faults the axial torques are the fault model's (aocs_plant.faults.wheels)."""
+        if self.fault_model is not None:
+            return self._derivative_composed(body, x)
         w1, w2, w3 = body[4], body[5], body[6]
         b, c, eps, tanh = self.b, self.c, self.eps, math.tanh
         u_held, at_limit = self.u, self.at_speed_limit
@@ -352,12 +343,22 @@ class ReactionWheels(Effector):
             gz += g2 * ti
         return (-(w2 * hz - w3 * hy) - gx, -(w3 * hx - w1 * hz) - gy, -(w1 * hy - w2 * hx) - gz), tuple(tau)
 
+    def _derivative_composed(self, body, x):
+        """derivative() through speeds() and axial_torques() (which hands the torques to a fault model)."""
+        tau = self.axial_torques(self.speeds(body, x))
+        w1, w2, w3 = body[4], body[5], body[6]
+        hx = hy = hz = 0.0
+        gx = gy = gz = 0.0
+        for i, (g0, g1, g2, _js, _wmax) in enumerate(self._wheel_rows):
+            hx += g0 * x[i]
+            hy += g1 * x[i]
+            hz += g2 * x[i]
+            gx += g0 * tau[i]
+            gy += g1 * tau[i]
+            gz += g2 * tau[i]
+        return (-(w2 * hz - w3 * hy) - gx, -(w3 * hx - w1 * hz) - gy, -(w1 * hy - w2 * hx) - gz), tau
+
     def begin_period(self, t, x) -> None:
-        fw = self.config.fail_wheel
-        if fw >= 0 and fw not in self.failed and t >= self.config.fail_at_s - 1e-9:
-            # the fault hook (WheelsConfig.fail_at_s): the motor is dead from this period on
-            self.failed = self.failed | {fw}
-            self.u = tuple(0.0 if i == fw else u for i, u in enumerate(self.u))
         self._h0 = x
         self.at_speed_limit = [False] * self.n
         fm = self.fault_model
