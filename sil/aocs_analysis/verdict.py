@@ -27,14 +27,18 @@ user allowed it on purpose (`aocs run --allow CHECK`, to study the case):
   (law-refused is the case "every step");
 - integration-error: the plant's integration error exceeds its tolerance by more than
   INTEGRATION_MAX_FACTOR (100x): the truth itself is not trustworthy. Between 1x and 100x the run
-  only warns (raise [integrator] substeps), as before.
+  only warns (raise [integrator] substeps), as before;
+- holds-missed: an observation the run judged against its pointing requirement missed it: a hold of the
+  scenario's plan (`holds[].meets_requirement` false: not settled within its slew allowance, or its pointing
+  beyond the figure it is held to, docs/spec.md 5.11.2) or a target pass (`passes[].meets_requirement`
+  false, 5.11.4). A hold or pass the run did not reach (meets_requirement None) is not judged.
 """
 from __future__ import annotations
 
 import math
 
 CHECKS = ("incomplete-log", "unanswered", "law-refused", "over-limit", "non-finite", "unrequested-safe",
-          "invalid-inputs", "law-errors", "integration-error")
+          "invalid-inputs", "law-errors", "integration-error", "holds-missed")
 #: fraction of the steps whose input may be rejected as invalid / whose law may fail (see above)
 INVALID_MAX_FRACTION = 0.01
 LAW_ERROR_MAX_FRACTION = 0.01
@@ -108,9 +112,27 @@ def judge(metrics: dict, log_problems: list[str], *, realtime: bool, allow=(), i
             failed.append(("integration-error", f"the plant's integration error {err if err is not None else 'nan'}"
                                                 f" {unit} is more than {INTEGRATION_MAX_FACTOR:g} times its "
                                                 f"tolerance {tol:g} {unit}"))
+    missed = _missed_observations(metrics)
+    if missed:
+        failed.append(("holds-missed", "; ".join(missed)))
     return {"passed": all(check in allow for check, _ in failed),
             "failures": [{"check": k, "reason": r} for k, r in failed if k not in allow],
             "allowed": [k for k, _ in failed if k in allow]}
+
+
+def _missed_observations(metrics: dict) -> list[str]:
+    """One phrase per section (holds, passes) with an entry whose meets_requirement is False."""
+    out = []
+    for key, noun, name in (("holds", "hold", lambda e: str(e["target"]["index"])),
+                            ("passes", "target pass", lambda e: f"{e['target']['name']} at {e['start_s']:.0f} s")):
+        entries = metrics.get(key) or []
+        judged = [e for e in entries if e.get("meets_requirement") is not None]
+        missed = [e for e in judged if e["meets_requirement"] is False]
+        if missed:
+            shown = ", ".join(name(e) for e in missed[:5]) + (", ..." if len(missed) > 5 else "")
+            out.append(f"{len(missed)} of the {len(judged)} {noun}s judged missed their pointing requirement "
+                       f"({noun} {shown})")
+    return out
 
 
 def summary(verdict: dict) -> str:

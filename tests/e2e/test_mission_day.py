@@ -96,6 +96,7 @@ def test_thruster_unloading_removes_the_wheel_momentum_with_the_commanded_impuls
     # the wheels absorbed every pulse: the hold met its pointing requirement while dumping
     (hold,) = m["holds"]
     assert hold["meets_requirement"] and hold["pointing_max_arcsec"] <= 0.3
+    assert m["verdict"]["passed"]
 
 
 def test_without_unloading_the_momentum_stays_and_only_the_disturbance_adds(irassi_pair):
@@ -124,8 +125,10 @@ def test_without_unloading_a_wheel_reaches_its_speed_limit_and_the_time_is_repor
         # at the limit: the plant cut the motor, or the flight software holds the wheel there
         assert per[i] >= at[i] and per[i] <= at[i] + m["wheels"]["per_wheel"][i]["time_speed_cut_s"]
         assert per[i] == m["wheels"]["per_wheel"][i]["time_at_speed_limit_s"]
-    # and the pointing is lost: the test can fail
+    # and the pointing is lost: the test can fail, and so does the run's verdict (holds-missed)
     assert m["holds"][0]["meets_requirement"] is False
+    assert not m["verdict"]["passed"]
+    assert [f["check"] for f in m["verdict"]["failures"]] == ["holds-missed"]
 
 
 #: leo_day with its wheels preloaded to 3.5e-3 N m s along z (150 rad/s common mode, 4 x 1e-5 x 150 / sqrt 3,
