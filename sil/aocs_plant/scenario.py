@@ -33,7 +33,7 @@ from aocs_core.conventions import (
     quat_normalize,
 )
 
-from . import effectors, environment, sensors
+from . import effectors, environment, sensors, target_passes
 from .effectors.actuator import ActuatorConfig
 from .environment import EnvironmentConfig
 from .observation_plan import Observation, ObservationPlan
@@ -249,6 +249,8 @@ class Scenario:
     momentum: MomentumConfig = MomentumConfig()
     # [[plan]]: the observation plan (None: the one [target]); observation_plan.py
     plan: ObservationPlan | None = None
+    # [passes]: ground targets imaged in nadir pointing (None: none); target_passes.py
+    passes: target_passes.PassesConfig | None = None
 
     @property
     def dt(self) -> float:
@@ -947,6 +949,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     estimator = _read_estimator(root, kind, sensor_config, att)
     momentum = _read_momentum(root, kind, configs, sensor_config)
     env = environment.read(root, kind, orb)
+    passes = target_passes.read(root, kind, env)
     gge = configs.get("gravity_gradient_earth")
     if gge is not None and gge.orbit_rate_rad_s is None and env.orbit is None:
         root.fail("disturbances.gravity_gradient_earth.orbit_rate_rad_s",
@@ -958,7 +961,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env, estimator=estimator, momentum=momentum, plan=plan)
+                    environment=env, estimator=estimator, momentum=momentum, plan=plan, passes=passes)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:
