@@ -4,7 +4,8 @@
 2. the wheels' stored momentum |h_w| (N m s) with the unloading thresholds and one wheel's capacity, the
    periods of unloading shaded and each dump's start marked;
 3. the true pointing angle (arcsec, log scale) with every hold and every target pass shaded, each one's
-   maximum drawn across it (green: met, red: missed; a pass's bar widened to 0.1 h to be seen on a day's
+   maximum drawn across it (green: met, red: missed; holds judged on the sensors' figure also their rms,
+   dotted, and the figure; a pass's bar widened to 0.1 h to be seen on a day's
    axis, the target's name above it) and the requirement;
 4. the flight software's mode, and the unloading's cumulative propellant (kg) or dipole integral (A m^2 s).
 
@@ -80,8 +81,16 @@ def timeline(series: dict, metrics: dict, out_path: Path, title: str) -> Path:
         ax.axvspan(a, b, color="tab:green", alpha=0.12, lw=0, label="hold" if k == 0 else None)
         if h["pointing_max_arcsec"] is not None:
             ok = h["meets_requirement"] is not False
+            on_rms = (h.get("requirement") or {}).get("on") == "rms"
             ax.plot([a, b], [max(h["pointing_max_arcsec"], plots.LOG_FLOOR)] * 2, lw=2.0,
-                    color="tab:green" if ok else "red", label="hold max" if k == 0 else None)
+                    color="tab:green" if ok or on_rms else "red", label="hold max" if k == 0 else None)
+            if on_rms:      # judged on the rms (the sensors' figure): its bar in the verdict's colour
+                ax.plot([a, b], [max(h["pointing_rms_arcsec"], plots.LOG_FLOOR)] * 2, lw=2.0, ls=":",
+                        color="tab:olive" if ok else "red", label="hold rms" if k == 0 else None)
+    held_to = next((h["requirement"] for h in metrics.get("holds") or [] if h.get("requirement")), None)
+    if held_to is not None and held_to["basis"] == "sensors":
+        ax.axhline(held_to["limit_arcsec"], color="tab:olive", ls="--", lw=1.0,
+                   label=f"sensors' figure (rms) {held_to['limit_arcsec']:.3g} arcsec")
     _draw_passes(ax, metrics.get("passes") or [])
     if req is not None:
         ax.axhline(req, color="red", ls="--", lw=1.0, label=f"requirement {req:g} arcsec")

@@ -123,14 +123,15 @@ def judge(metrics: dict, log_problems: list[str], *, realtime: bool, allow=(), i
 def _missed_observations(metrics: dict) -> list[str]:
     """One phrase per section (holds, passes) with an entry whose meets_requirement is False."""
     out = []
-    for key, noun, name in (("holds", "hold", lambda e: str(e["target"]["index"])),
-                            ("passes", "target pass", lambda e: f"{e['target']['name']} at {e['start_s']:.0f} s")):
+    for key, noun, nouns, name in (("holds", "hold", "holds", lambda e: str(e["target"]["index"])),
+                                   ("passes", "target pass", "target passes",
+                                    lambda e: f"{e['target']['name']} at {e['start_s']:.0f} s")):
         entries = metrics.get(key) or []
         judged = [e for e in entries if e.get("meets_requirement") is not None]
         missed = [e for e in judged if e["meets_requirement"] is False]
         if missed:
             shown = ", ".join(name(e) for e in missed[:5]) + (", ..." if len(missed) > 5 else "")
-            out.append(f"{len(missed)} of the {len(judged)} {noun}s judged missed their pointing requirement "
+            out.append(f"{len(missed)} of the {len(judged)} {nouns} judged missed their pointing requirement "
                        f"({noun} {shown})")
     return out
 

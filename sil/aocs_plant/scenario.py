@@ -153,6 +153,9 @@ class MetricsConfig:
     window_s: float
     requirement_arcsec: float | None = None
     goal_arcsec: float | None = None
+    # what the holds of a [[plan]] are judged against (docs/spec.md 5.11.6): "requirement" (requirement_arcsec)
+    # or "sensors" (1.5 x the steady-state knowledge rms of the MEKF's star tracker and gyro)
+    hold_requirement: str = "requirement"
 
 
 #: [guidance]'s keys are the flight software's guidance.* keys (the configuration registry), without the prefix
@@ -880,7 +883,11 @@ def _read_settle(root: _Section, kind: str) -> SettleConfig:
     return SettleConfig(**kw)
 
 
-def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
+#: [metrics] hold_requirement: what a [[plan]] hold is judged against (docs/spec.md 5.11.6)
+HOLD_REQUIREMENTS = ("requirement", "sensors")
+
+
+def _read_metrics(root: _Section, kind: str, duration: float, estimator=None) -> MetricsConfig:
     sec = root.table("metrics", required=False)
     if sec is None:
         return MetricsConfig(window_s=duration)
@@ -893,8 +900,13 @@ def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
         goal = sec.number("goal_arcsec", required=False, positive=True)
         if req is not None and goal is not None and goal > req:
             sec.fail(sec.key("goal_arcsec"), f"goal {goal} is looser than the requirement {req}")
+    hold_req = sec.string("hold_requirement", required=False, default="requirement",
+                          choices=HOLD_REQUIREMENTS)
+    if hold_req == "sensors" and (estimator is None or estimator.type != "mekf"):
+        sec.fail(sec.key("hold_requirement"), '"sensors" needs [estimator] type = "mekf" (the figure is its '
+                                              "steady-state knowledge)")
     sec.done()
-    return MetricsConfig(w, req, goal)
+    return MetricsConfig(w, req, goal, hold_req)
 
 
 # --------------------------------------------------------------------------- API
@@ -955,7 +967,7 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
         root.fail("disturbances.gravity_gradient_earth.orbit_rate_rad_s",
                   "required without [environment.orbit] (the orbit whose nadir and rate it takes otherwise)")
     settle = _read_settle(root, kind)
-    metrics = _read_metrics(root, kind, duration)
+    metrics = _read_metrics(root, kind, duration, estimator)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,

@@ -56,4 +56,5 @@ def test_a_missed_target_pass_fails_too():
               {"target": {"name": "Svalbard"}, "start_s": 7000.4, "meets_requirement": False}]
     v = verdict.judge({**_clean(), "passes": passes}, [], realtime=False)
     assert [f["check"] for f in v["failures"]] == ["holds-missed"]
+    assert "1 of the 2 target passes judged" in verdict.summary(v)
     assert "target pass Svalbard at 7000 s" in verdict.summary(v)

@@ -29,7 +29,7 @@ def test_default_is_passthrough_and_writes_no_key():
             assert "estimator" not in cfg and not any(k.startswith("mekf.") for k in cfg), (sid, law)
     # the reference scenarios stay on passthrough: only the MEKF hold and the realistic-suite *_mekf files fly a filter
     assert filtered == {"irassi_hold_mekf", "irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf",
-                        "irassi_rw_failed_mekf"}
+                        "irassi_rw_failed_mekf", "irassi_day_mekf"}
     assert all(sid.endswith("_mekf") for sid in filtered)
     cfg = fsw_config.node_config(load("irassi_hold_mekf"), "quat_pd")
     assert cfg["estimator"] == "mekf" and "mekf.st_sigma_cross_rad" in cfg
