@@ -159,3 +159,22 @@ def test_magnetorquers_unload_the_wheels_with_a_dipole_perpendicular_to_the_meas
     assert m["momentum"]["unloading"]["plant"]["magnetorquers.dipole_s_am2s"] == pytest.approx(
         list(np.abs(mm).sum(axis=0) * sc.dt), rel=1e-6)
     assert m["pointing_error_arcsec"]["meets_requirement"] and m0["momentum"]["unloading"]["events"] == 0
+
+
+def test_the_pass_over_singapore_is_reported_from_the_plants_own_pointing_error(leo_pair):
+    """leo_day's first target pass (Singapore, 2762-2887 s, inside the 3000 s run; its window checked against an
+    independent geometry in tests/python/aocs_plant/test_target_passes.py): the run JSON's pass figures are the
+    plant's own pointing error (truth_t pointing_err_arcsec) over the pass's ticks."""
+    from aocs_plant import target_passes
+    from aocs_plant.environment import Environment
+    (m, log, sc), (m0, log0, _) = leo_pair
+    t = np.asarray(log.truth["t_s"], float)
+    (w,) = target_passes.windows(sc.passes, Environment(sc.environment), t)
+    assert sc.passes.targets[w["target"]].name == "Singapore" and (t[w["i0"]], t[w["i1"] - 1]) == (2762.0, 2887.0)
+    for metrics, lg in ((m, log), (m0, log0)):
+        (p,) = metrics["passes"]
+        pe = np.asarray(lg.truth["pointing_err_arcsec"], float)[w["i0"]:w["i1"]]
+        assert (p["start_s"], p["end_s"], p["target"]["name"]) == (2762.0, 2887.0, "Singapore")
+        assert p["pointing_max_arcsec"] == pytest.approx(pe.max(), rel=1e-9)
+        assert p["pointing_rms_arcsec"] == pytest.approx(np.sqrt(np.mean(pe * pe)), rel=1e-9)
+        assert p["meets_requirement"] == bool(pe.max() <= 36.0) and p["settle_s"] == 0.0
