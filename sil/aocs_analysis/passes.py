@@ -4,7 +4,7 @@ scenario's [passes] inside the run, from the logged truth.
     metrics(scenario, series, inside) -> [entry, ...] (None without [passes])
 
 A pass is a maximal run of control ticks in which a ground target is in the imager's field of regard about
-nadir (aocs_plant.target_passes.windows, on the truth samples' times). Its entry: `target` (index, name,
+nadir (the scenario's passes.windows_at: aocs_plant.target_passes, on the truth samples' times). Its entry: `target` (index, name,
 lat_deg, lon_deg), `start_s`, `end_s` (the first and last sample in view), `duration_s` (samples x dt),
 `closest_s` and `min_off_nadir_deg` (the least off-nadir angle), `max_elevation_deg`, `complete` (not cut by
 the run's start or end), `settle_s` (from the pass's start to the first sample after which every [settle]
@@ -18,9 +18,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from aocs_plant import target_passes
-from aocs_plant.environment import Environment
 
 
 def _f(x):
@@ -38,7 +35,7 @@ def metrics(scenario, series: dict, inside: np.ndarray) -> list[dict] | None:
     inside = np.asarray(inside, bool)
     req = scenario.metrics.requirement_arcsec
     out = []
-    for w in target_passes.windows(cfg, Environment(scenario.environment), t):
+    for w in cfg.windows_at(t):
         tg = cfg.targets[w["target"]]
         i0, i1 = w["i0"], w["i1"]
         e = ang[i0:i1]

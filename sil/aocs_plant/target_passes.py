@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .environment import Environment, EnvironmentConfig
 from .environment.magnetic_field import gmst_rad
 
 #: the spherical Earth of the target positions: the WGS-84 equatorial radius (m); the latitude is taken as
@@ -47,6 +48,11 @@ class PassesConfig:
     targets: tuple                     # GroundTarget, in the file's order
     max_off_nadir_deg: float           # the imager's field of regard about nadir (half-angle), deg
     min_elevation_deg: float = 0.0     # the target's elevation mask, deg
+    environment: EnvironmentConfig | None = None   # the scenario's (epoch, orbit): where the spacecraft is
+
+    def windows_at(self, t) -> list[dict]:
+        """windows() in the scenario's own environment (for the analysis, which does not build one)."""
+        return windows(self, Environment(self.environment), t)
 
 
 def read(root, kind: str, environment) -> PassesConfig | None:
@@ -82,7 +88,7 @@ def read(root, kind: str, environment) -> PassesConfig | None:
         t.done()
         targets.append(GroundTarget(name, lat, lon))
     sec.done()
-    return PassesConfig(tuple(targets), eta, eps)
+    return PassesConfig(tuple(targets), eta, eps, environment)
 
 
 def geometry(config: PassesConfig, environment, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
