@@ -3,8 +3,10 @@
 1. wheel speeds with their limits (rad/s);
 2. the wheels' stored momentum |h_w| (N m s) with the unloading thresholds and one wheel's capacity, the
    periods of unloading shaded and each dump's start marked;
-3. the true pointing angle (arcsec, log scale) with every hold shaded, each hold's maximum drawn across it
-   and the requirement;
+3. the true pointing angle (arcsec, log scale) with every hold and every target pass shaded, each one's
+   maximum drawn across it (green: met, red: missed; holds judged on the sensors' figure also their rms,
+   dotted, and the figure; a pass's bar widened to 0.1 h to be seen on a day's
+   axis, the target's name above it) and the requirement;
 4. the flight software's mode, and the unloading's cumulative propellant (kg) or dipole integral (A m^2 s).
 
     timeline(series, metrics, out_path, title)          from run_metrics.compute's (metrics, series)
@@ -25,9 +27,10 @@ HOURS = 3600.0
 
 
 def applies(metrics: dict) -> bool:
-    """A run with an observation plan or momentum management gets the timeline."""
+    """A run with an observation plan, target passes or momentum management gets the timeline."""
     mom = metrics.get("momentum") or {}
-    return metrics.get("holds") is not None or mom.get("policy", "none") != "none"
+    return (metrics.get("holds") is not None or metrics.get("passes") is not None
+            or mom.get("policy", "none") != "none")
 
 
 def timeline(series: dict, metrics: dict, out_path: Path, title: str) -> Path:
@@ -78,8 +81,17 @@ def timeline(series: dict, metrics: dict, out_path: Path, title: str) -> Path:
         ax.axvspan(a, b, color="tab:green", alpha=0.12, lw=0, label="hold" if k == 0 else None)
         if h["pointing_max_arcsec"] is not None:
             ok = h["meets_requirement"] is not False
+            on_rms = (h.get("requirement") or {}).get("on") == "rms"
             ax.plot([a, b], [max(h["pointing_max_arcsec"], plots.LOG_FLOOR)] * 2, lw=2.0,
-                    color="tab:green" if ok else "red", label="hold max" if k == 0 else None)
+                    color="tab:green" if ok or on_rms else "red", label="hold max" if k == 0 else None)
+            if on_rms:      # judged on the rms (the sensors' figure): its bar in the verdict's colour
+                ax.plot([a, b], [max(h["pointing_rms_arcsec"], plots.LOG_FLOOR)] * 2, lw=2.0, ls=":",
+                        color="tab:olive" if ok else "red", label="hold rms" if k == 0 else None)
+    held_to = next((h["requirement"] for h in metrics.get("holds") or [] if h.get("requirement")), None)
+    if held_to is not None and held_to["basis"] == "sensors":
+        ax.axhline(held_to["limit_arcsec"], color="tab:olive", ls="--", lw=1.0,
+                   label=f"sensors' figure (rms) {held_to['limit_arcsec']:.3g} arcsec")
+    _draw_passes(ax, metrics.get("passes") or [])
     if req is not None:
         ax.axhline(req, color="red", ls="--", lw=1.0, label=f"requirement {req:g} arcsec")
     ax.set_ylabel("pointing (arcsec)", fontsize=plots.LABEL_PT)
@@ -101,6 +113,26 @@ def timeline(series: dict, metrics: dict, out_path: Path, title: str) -> Path:
     for a in axes:
         a.grid(True, alpha=0.3)
     return plots.save(fig, Path(out_path))
+
+
+#: the least width a pass is drawn with on the timeline (h): a two-minute pass is a hair on a day's axis
+PASS_MIN_WIDTH_H = 0.1
+
+
+def _draw_passes(ax, passes: list[dict]) -> None:
+    """Each target pass shaded, its maximum as a bar (green met, red missed), the target's name above it."""
+    for k, p in enumerate(passes):
+        a, b = p["start_s"] / HOURS, p["end_s"] / HOURS
+        mid, half = 0.5 * (a + b), 0.5 * max(b - a, PASS_MIN_WIDTH_H)
+        ax.axvspan(a, b, color="tab:purple", alpha=0.25, lw=0, label="target pass" if k == 0 else None)
+        if p["pointing_max_arcsec"] is None:
+            continue
+        y = max(p["pointing_max_arcsec"], plots.LOG_FLOOR)
+        ok = p["meets_requirement"] is not False
+        ax.plot([mid - half, mid + half], [y, y], lw=2.5, color="tab:purple" if ok else "red",
+                label="pass max" if k == 0 else None)
+        ax.annotate(p["target"]["name"], (mid, y), textcoords="offset points", xytext=(0, 3 + 7 * (k % 2)),
+                    ha="center", fontsize=plots.LEGEND_PT - 1, color="tab:purple" if ok else "red")
 
 
 def _shade(ax, t, flag, color, label):

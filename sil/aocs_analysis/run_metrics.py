@@ -21,7 +21,7 @@ from aocs_core.modes import mode_value
 from aocs_core.ticks import first_tick
 
 from . import estimation as E
-from . import events, faults, holds, momentum, wheels
+from . import events, faults, holds, momentum, passes, wheels
 from . import metrics as M
 from .gain_tables import designed_gamma
 from .slew_bound import scenario_slew_bound_s
@@ -202,6 +202,7 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["wheels"], series["wheels"] = wheels.metrics(log, sc)   # None / {} without a [wheels] array
     plan = getattr(sc, "plan", None)
     out["holds"] = (holds.metrics(sc, series, series["settle_inside"]) if sc.kind == "attitude" else None)
+    out["passes"] = (passes.metrics(sc, series, series["settle_inside"]) if sc.kind == "attitude" else None)
     out["momentum"] = momentum.metrics(log, sc, series["wheels"], plant,
                                        plan.hold_windows_s() if plan is not None else None)
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
@@ -705,6 +706,8 @@ def table_rows(m: dict) -> list[tuple[str, str]]:
         rows += holds.table_rows(m["holds"], (m.get("pointing_error_arcsec") or {}).get("requirement_arcsec"))
     if m.get("faults"):
         rows += faults.table_rows(m["faults"])
+    if m.get("passes") is not None:
+        rows += passes.table_rows(m["passes"], (m.get("pointing_error_arcsec") or {}).get("requirement_arcsec"))
     dv = divergence(m)
     if dv:
         rows.append(("DIVERGING", dv))

@@ -30,7 +30,11 @@ user allowed it on purpose (`aocs run --allow CHECK`, to study the case):
   the requirement (aocs_analysis.faults); a run with faults the flight software cannot yet handle fails;
 - integration-error: the plant's integration error exceeds its tolerance by more than
   INTEGRATION_MAX_FACTOR (100x): the truth itself is not trustworthy. Between 1x and 100x the run
-  only warns (raise [integrator] substeps), as before.
+  only warns (raise [integrator] substeps), as before;
+- holds-missed: an observation the run judged against its pointing requirement missed it: a hold of the
+  scenario's plan (`holds[].meets_requirement` false: not settled within its slew allowance, or its pointing
+  beyond the figure it is held to, docs/spec.md 5.11.2) or a target pass (`passes[].meets_requirement`
+  false, 5.11.4). A hold or pass the run did not reach (meets_requirement None) is not judged.
 """
 from __future__ import annotations
 
@@ -39,7 +43,7 @@ import math
 from .faults import not_handled as fault_reasons
 
 CHECKS = ("incomplete-log", "unanswered", "law-refused", "over-limit", "non-finite", "unrequested-safe",
-          "invalid-inputs", "law-errors", "integration-error", "fault-management")
+          "invalid-inputs", "law-errors", "integration-error", "holds-missed", "fault-management")
 #: fraction of the steps whose input may be rejected as invalid / whose law may fail (see above)
 INVALID_MAX_FRACTION = 0.01
 LAW_ERROR_MAX_FRACTION = 0.01
@@ -113,12 +117,31 @@ def judge(metrics: dict, log_problems: list[str], *, realtime: bool, allow=(), i
             failed.append(("integration-error", f"the plant's integration error {err if err is not None else 'nan'}"
                                                 f" {unit} is more than {INTEGRATION_MAX_FACTOR:g} times its "
                                                 f"tolerance {tol:g} {unit}"))
+    missed = _missed_observations(metrics)
+    if missed:
+        failed.append(("holds-missed", "; ".join(missed)))
     unhandled = fault_reasons(metrics.get("faults"))
     if unhandled:
         failed.append(("fault-management", "injected faults not handled: " + "; ".join(unhandled)))
     return {"passed": all(check in allow for check, _ in failed),
             "failures": [{"check": k, "reason": r} for k, r in failed if k not in allow],
             "allowed": [k for k, _ in failed if k in allow]}
+
+
+def _missed_observations(metrics: dict) -> list[str]:
+    """One phrase per section (holds, passes) with an entry whose meets_requirement is False."""
+    out = []
+    for key, noun, nouns, name in (("holds", "hold", "holds", lambda e: str(e["target"]["index"])),
+                                   ("passes", "target pass", "target passes",
+                                    lambda e: f"{e['target']['name']} at {e['start_s']:.0f} s")):
+        entries = metrics.get(key) or []
+        judged = [e for e in entries if e.get("meets_requirement") is not None]
+        missed = [e for e in judged if e["meets_requirement"] is False]
+        if missed:
+            shown = ", ".join(name(e) for e in missed[:5]) + (", ..." if len(missed) > 5 else "")
+            out.append(f"{len(missed)} of the {len(judged)} {nouns} judged missed their pointing requirement "
+                       f"({noun} {shown})")
+    return out
 
 
 def summary(verdict: dict) -> str:

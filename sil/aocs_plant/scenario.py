@@ -33,7 +33,7 @@ from aocs_core.conventions import (
     quat_normalize,
 )
 
-from . import effectors, environment, faults, sensors
+from . import effectors, environment, faults, sensors, target_passes
 from .effectors.actuator import ActuatorConfig
 from .environment import EnvironmentConfig
 from .observation_plan import Observation, ObservationPlan
@@ -153,6 +153,9 @@ class MetricsConfig:
     window_s: float
     requirement_arcsec: float | None = None
     goal_arcsec: float | None = None
+    # what the holds of a [[plan]] are judged against (docs/spec.md 5.11.6): "requirement" (requirement_arcsec)
+    # or "sensors" (1.5 x the steady-state knowledge rms of the MEKF's star tracker and gyro)
+    hold_requirement: str = "requirement"
     #: the pointing a fault recovery is judged against (arcsec; docs/spec.md 5.14.7), when the scenario's sensors
     #: cannot reach the requirement; None: the requirement
     recovery_arcsec: float | None = None
@@ -254,6 +257,8 @@ class Scenario:
     plan: ObservationPlan | None = None
     # [[faults]]: the injected faults (aocs_plant.faults; aocs run --fault appends to them)
     faults: tuple = ()
+    # [passes]: ground targets imaged in nadir pointing (None: none); target_passes.py
+    passes: target_passes.PassesConfig | None = None
 
     @property
     def dt(self) -> float:
@@ -883,7 +888,11 @@ def _read_settle(root: _Section, kind: str) -> SettleConfig:
     return SettleConfig(**kw)
 
 
-def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
+#: [metrics] hold_requirement: what a [[plan]] hold is judged against (docs/spec.md 5.11.6)
+HOLD_REQUIREMENTS = ("requirement", "sensors")
+
+
+def _read_metrics(root: _Section, kind: str, duration: float, estimator=None) -> MetricsConfig:
     sec = root.table("metrics", required=False)
     if sec is None:
         return MetricsConfig(window_s=duration)
@@ -897,8 +906,13 @@ def _read_metrics(root: _Section, kind: str, duration: float) -> MetricsConfig:
         rec = sec.number("recovery_arcsec", required=False, positive=True)
         if req is not None and goal is not None and goal > req:
             sec.fail(sec.key("goal_arcsec"), f"goal {goal} is looser than the requirement {req}")
+    hold_req = sec.string("hold_requirement", required=False, default="requirement",
+                          choices=HOLD_REQUIREMENTS)
+    if hold_req == "sensors" and (estimator is None or estimator.type != "mekf"):
+        sec.fail(sec.key("hold_requirement"), '"sensors" needs [estimator] type = "mekf" (the figure is its '
+                                              "steady-state knowledge)")
     sec.done()
-    return MetricsConfig(w, req, goal, rec)
+    return MetricsConfig(w, req, goal, hold_req, rec)
 
 
 # --------------------------------------------------------------------------- API
@@ -953,19 +967,21 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     estimator = _read_estimator(root, kind, sensor_config, att)
     momentum = _read_momentum(root, kind, configs, sensor_config)
     env = environment.read(root, kind, orb)
+    passes = target_passes.read(root, kind, env)
     gge = configs.get("gravity_gradient_earth")
     if gge is not None and gge.orbit_rate_rad_s is None and env.orbit is None:
         root.fail("disturbances.gravity_gradient_earth.orbit_rate_rad_s",
                   "required without [environment.orbit] (the orbit whose nadir and rate it takes otherwise)")
     settle = _read_settle(root, kind)
-    metrics = _read_metrics(root, kind, duration)
+    metrics = _read_metrics(root, kind, duration, estimator)
     injected = faults.read(root, duration, sensor_config, configs)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
-                    environment=env, estimator=estimator, momentum=momentum, plan=plan, faults=injected)
+                    environment=env, estimator=estimator, momentum=momentum, plan=plan, passes=passes,
+                    faults=injected)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

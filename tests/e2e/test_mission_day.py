@@ -96,6 +96,7 @@ def test_thruster_unloading_removes_the_wheel_momentum_with_the_commanded_impuls
     # the wheels absorbed every pulse: the hold met its pointing requirement while dumping
     (hold,) = m["holds"]
     assert hold["meets_requirement"] and hold["pointing_max_arcsec"] <= 0.3
+    assert m["verdict"]["passed"]
 
 
 def test_without_unloading_the_momentum_stays_and_only_the_disturbance_adds(irassi_pair):
@@ -124,8 +125,10 @@ def test_without_unloading_a_wheel_reaches_its_speed_limit_and_the_time_is_repor
         # at the limit: the plant cut the motor, or the flight software holds the wheel there
         assert per[i] >= at[i] and per[i] <= at[i] + m["wheels"]["per_wheel"][i]["time_speed_cut_s"]
         assert per[i] == m["wheels"]["per_wheel"][i]["time_at_speed_limit_s"]
-    # and the pointing is lost: the test can fail
+    # and the pointing is lost: the test can fail, and so does the run's verdict (holds-missed)
     assert m["holds"][0]["meets_requirement"] is False
+    assert not m["verdict"]["passed"]
+    assert [f["check"] for f in m["verdict"]["failures"]] == ["holds-missed"]
 
 
 #: leo_day with its wheels preloaded to 3.5e-3 N m s along z (150 rad/s common mode, 4 x 1e-5 x 150 / sqrt 3,
@@ -156,3 +159,22 @@ def test_magnetorquers_unload_the_wheels_with_a_dipole_perpendicular_to_the_meas
     assert m["momentum"]["unloading"]["plant"]["magnetorquers.dipole_s_am2s"] == pytest.approx(
         list(np.abs(mm).sum(axis=0) * sc.dt), rel=1e-6)
     assert m["pointing_error_arcsec"]["meets_requirement"] and m0["momentum"]["unloading"]["events"] == 0
+
+
+def test_the_pass_over_singapore_is_reported_from_the_plants_own_pointing_error(leo_pair):
+    """leo_day's first target pass (Singapore, 2762-2887 s, inside the 3000 s run; its window checked against an
+    independent geometry in tests/python/aocs_plant/test_target_passes.py): the run JSON's pass figures are the
+    plant's own pointing error (truth_t pointing_err_arcsec) over the pass's ticks."""
+    from aocs_plant import target_passes
+    from aocs_plant.environment import Environment
+    (m, log, sc), (m0, log0, _) = leo_pair
+    t = np.asarray(log.truth["t_s"], float)
+    (w,) = target_passes.windows(sc.passes, Environment(sc.environment), t)
+    assert sc.passes.targets[w["target"]].name == "Singapore" and (t[w["i0"]], t[w["i1"] - 1]) == (2762.0, 2887.0)
+    for metrics, lg in ((m, log), (m0, log0)):
+        (p,) = metrics["passes"]
+        pe = np.asarray(lg.truth["pointing_err_arcsec"], float)[w["i0"]:w["i1"]]
+        assert (p["start_s"], p["end_s"], p["target"]["name"]) == (2762.0, 2887.0, "Singapore")
+        assert p["pointing_max_arcsec"] == pytest.approx(pe.max(), rel=1e-9)
+        assert p["pointing_rms_arcsec"] == pytest.approx(np.sqrt(np.mean(pe * pe)), rel=1e-9)
+        assert p["meets_requirement"] == bool(pe.max() <= 36.0) and p["settle_s"] == 0.0

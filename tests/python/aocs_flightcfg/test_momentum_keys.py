@@ -35,7 +35,7 @@ def _with(sc, momentum, **effectors):
 
 
 #: the mission days (issue 21) manage their momentum: the other scenarios must not
-DAY_IDS = ("irassi_day", "leo_day")
+DAY_IDS = ("irassi_day", "irassi_day_mekf", "leo_day")
 
 
 def test_no_reference_scenario_writes_a_momentum_key():

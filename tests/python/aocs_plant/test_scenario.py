@@ -18,7 +18,7 @@ SPEC_IDS = ["rtc_ex1a", "rtc_ex1b", "rtc_ex2a", "rtc_ex2b", "rtc_ex3a", "rtc_ex3
 # scenarios on the same suite)
 MEKF_IDS = ["irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf", "irassi_rw_failed_mekf"]
 # 5.11: the mission days (issue 21)
-DAY_IDS = ["irassi_day", "leo_day"]
+DAY_IDS = ["irassi_day", "irassi_day_mekf", "leo_day"]
 # 5.14: injected faults (issue 26): a wheel losing its motor mid-slew
 FAULT_IDS = ["irassi_rw_wheel_dies"]
 SPEC5_IDS = ["irassi_rw", "irassi_rw_failed", "irassi_hold_mekf", *MEKF_IDS, *DAY_IDS, *FAULT_IDS]
@@ -75,6 +75,25 @@ def test_the_realistic_suite_scenarios_are_their_reference_with_the_holds_sensor
     assert sc.estimator == hold.estimator and sc.estimator.type == "mekf"
     assert ref.estimator is None or ref.estimator.type == "passthrough"
     assert sc.guidance.mode == ("slew" if sc.effectors.get("wheels") else "step")
+
+
+def test_the_mekf_day_is_irassi_day_on_the_holds_sensors_at_its_rate():
+    """irassi_day_mekf: irassi_day (plant, plan, wheels, thrusters, unloading, guidance, rate) on
+    irassi_hold_mekf's star tracker (at the 1 Hz control rate: a sensor samples at most at the control rate),
+    gyro, filter and suite gains; its holds judged against the sensors' figure (docs/spec.md 5.11.6)."""
+    import dataclasses
+    sc, ref, hold = load("irassi_day_mekf"), load("irassi_day"), load("irassi_hold_mekf")
+    assert (sc.attitude, sc.plan, sc.disturbances, sc.effectors, sc.duration_s, sc.guidance, sc.momentum,
+            sc.control_rate_hz, sc.substeps) == (ref.attitude, ref.plan, ref.disturbances, ref.effectors,
+                                                 ref.duration_s, ref.guidance, ref.momentum, ref.control_rate_hz,
+                                                 ref.substeps)
+    for law in SUITE_GAIN_LAWS:
+        assert sc.control.laws[law] == hold.control.laws[law]
+    assert sc.sensors.sensors["gyro"] == hold.sensors.sensors["gyro"]
+    assert sc.sensors.sensors["star_tracker"] == dataclasses.replace(hold.sensors.sensors["star_tracker"],
+                                                                     rate_hz=1.0)
+    assert sc.estimator == hold.estimator and sc.estimator.type == "mekf"
+    assert sc.metrics == dataclasses.replace(ref.metrics, hold_requirement="sensors")
 
 
 @pytest.mark.parametrize("sid", SPEC_IDS)

@@ -30,7 +30,7 @@ def test_default_is_passthrough_and_writes_no_key():
     # the reference scenarios stay on passthrough: only the MEKF hold, the realistic-suite *_mekf files and the
     # fault scenario built on irassi_rw_mekf (issue 26) fly a filter
     assert filtered == {"irassi_hold_mekf", "irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf",
-                        "irassi_rw_failed_mekf", "irassi_rw_wheel_dies"}
+                        "irassi_rw_failed_mekf", "irassi_day_mekf", "irassi_rw_wheel_dies"}
     assert all(sid.endswith("_mekf") for sid in filtered - {"irassi_rw_wheel_dies"})
     cfg = fsw_config.node_config(load("irassi_hold_mekf"), "quat_pd")
     assert cfg["estimator"] == "mekf" and "mekf.st_sigma_cross_rad" in cfg

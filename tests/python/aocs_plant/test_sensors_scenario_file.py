@@ -44,4 +44,4 @@ def test_no_reference_scenario_has_them():
     (*_mekf, and irassi_rw_wheel_dies, irassi_rw_mekf with a fault) have a star tracker and a gyro."""
     with_them = {sid for sid in list_scenarios() if set(load(sid).sensors.sensors) & {"star_tracker", "gyro"}}
     assert with_them == {"irassi_hold_mekf", "irassi_small_mekf", "irassi_large_mekf", "irassi_rw_mekf",
-                         "irassi_rw_failed_mekf", "irassi_rw_wheel_dies"}
+                         "irassi_rw_failed_mekf", "irassi_day_mekf", "irassi_rw_wheel_dies"}
