@@ -5,7 +5,7 @@ from 216 s): detected, isolated, recovered and the pointing over the last 100 s 
 
     scripts/fault-table.py OUT_DIR [--transport direct|lcm] [--kinds k1,k2]     # prints a Markdown table
 
-Each case is `aocs run irassi_rw_mekf --fault SPEC --allow fault-management` (the spec in the table's first
+Each case is `aocs run irassi_rw_mekf --fault SPEC --set metrics.recovery_arcsec=3 --allow fault-management` (the spec in the table's first
 column); its run folder stays in OUT_DIR. The thruster kinds need a scenario with [thrusters] (irassi_day, a
 86400 s mission day): not in this table.
 """
@@ -30,6 +30,9 @@ CASES = {
     "link_drop_burst": ("", 1.0),
 }
 PHASES = {"slew": 60.0, "hold": 500.0}
+#: what a recovery is judged against (docs/spec.md 5.14.7): the nominal laws' figure with these sensors, as
+#: irassi_rw_wheel_dies states it (no law reaches the 0.3 arcsec requirement on them)
+RECOVERY_ARCSEC = 3.0
 
 
 def spec(kind: str, start: float) -> str:
@@ -41,6 +44,7 @@ def spec(kind: str, start: float) -> str:
 def fly(out: Path, kind: str, phase: str, transport: str) -> dict:
     d = out / f"{kind}-{phase}"
     cmd = [str(AOCS), "run", SCENARIO, "--fault", spec(kind, PHASES[phase]), "--transport", transport,
+           "--set", f"metrics.recovery_arcsec={RECOVERY_ARCSEC}",
            "--allow", "fault-management", "--out", str(d), "--no-plots", "-q"]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode not in (0, 1):
