@@ -49,9 +49,16 @@ def events(log) -> list[dict]:
     return out
 
 
-def alarms(evs: list[dict]) -> int:
-    """Events of severity warning or above (a nominal run's false alarms)."""
+def alarms(evs: list[dict], before_s: float | None = None) -> int:
+    """Events of severity warning or above; with before_s, only those before it (t_s < before_s)."""
     reg = registry.load()
     rank = {name: value for value, name in reg.event_severities.items()}
     floor = rank.get(ALARM_SEVERITY, 1)
-    return sum(1 for e in evs if rank.get(e["severity"], 0) >= floor)
+    return sum(1 for e in evs if rank.get(e["severity"], 0) >= floor and (before_s is None or e["t_s"] < before_s))
+
+
+def false_alarms(evs: list[dict], fault_starts_s) -> int:
+    """Alarms raised before the first injected fault (every alarm of a run without one): nothing had failed,
+    so each is a false alarm (docs/spec.md 5.15.7)."""
+    starts = [float(s) for s in fault_starts_s]
+    return alarms(evs, min(starts) if starts else None)

@@ -208,6 +208,8 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     out["events"] = events.events(log)                 # fault management's event log (docs/spec.md 5.15)
     out["events_alarms"] = events.alarms(out["events"])  # of them, severity warning or above
+    out["events_false_alarms"] = events.false_alarms(   # of those, raised before any injected fault
+        out["events"], [f.start_s for f in getattr(sc, "faults", ())])
     _run_info(out, log, meta, sc.dt, wall_s=wall_s, plant=plant, fsw=fsw)
     _faults(out, series, sc)
     return out, series

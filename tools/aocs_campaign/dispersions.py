@@ -6,6 +6,9 @@ optionally one element of a vector or matrix, DIST one of
 
     normal:MEAN:SIGMA     Gaussian, standard deviation SIGMA >= 0
     uniform:LO:HI         uniform on [LO, HI], LO <= HI
+    integer:LO:HI         a uniform integer in [LO, HI] (both integers): the
+                          scenario's noise `seed`, so that each run draws
+                          its own sensor noise and disturbance realisation
     rotation:SIGMA_DEG    a rotation of uniformly random axis and angle
                           N(0, SIGMA_DEG) degrees, applied to an attitude
                           (plant.euler321_deg, plant.quaternion, plant.rho,
@@ -18,6 +21,7 @@ optionally one element of a vector or matrix, DIST one of
     plant.inertia[0][1]=normal:0:5     a cross product: J[0][1] and J[1][0] together
     disturbances.constant_torque.scale=uniform:0.5:1.5
     plant.euler321_deg=rotation:1.0
+    seed=integer:0:4294967295          each run its own noise realisation
 
 Values are a pure function of (campaign seed, run index, key): each
 dispersion draws from its own numpy Generator seeded by
@@ -54,7 +58,7 @@ from aocs_core.conventions import (
 )
 from aocs_runner import scenario_opts
 
-KINDS = ("normal", "uniform", "rotation")
+KINDS = ("normal", "uniform", "integer", "rotation")
 #: draws of one run's inertia stream before the campaign refuses (docs/campaigns.md)
 MAX_INERTIA_DRAWS = 100
 #: attitude representations of a scenario (aocs_plant.scenario ATTITUDE_INPUTS)
@@ -73,8 +77,8 @@ class Dispersion:
     text: str            # as given: KEY=DIST
     key: str             # dotted scenario key
     index: tuple         # element indices ((), (i,), (i, j))
-    kind: str            # normal | uniform | rotation
-    params: tuple        # (mean, sigma) | (lo, hi) | (sigma_deg,)
+    kind: str            # normal | uniform | integer | rotation
+    params: tuple        # (mean, sigma) | (lo, hi) | (lo, hi) integers | (sigma_deg,)
 
     @property
     def name(self) -> str:
@@ -92,11 +96,25 @@ def _number(text: str, what: str, spec: str) -> float:
     return v
 
 
+#: the range of an integer draw (numpy's integers on int64)
+INTEGER_RANGE = (-2 ** 63, 2 ** 63 - 2)
+
+
+def _integer(text: str, what: str, spec: str) -> int:
+    try:
+        v = int(text, 10)
+    except ValueError:
+        raise DispersionError(f"--disperse {spec}: {what} {text!r} is not an integer") from None
+    if not INTEGER_RANGE[0] <= v <= INTEGER_RANGE[1]:
+        raise DispersionError(f"--disperse {spec}: {what} {text} is beyond a 64-bit integer")
+    return v
+
+
 def parse(spec: str) -> Dispersion:
     """KEY=DIST -> Dispersion; DispersionError (naming the key) on anything malformed."""
     if "=" not in spec:
-        raise DispersionError(f"--disperse {spec!r}: expected KEY=DIST (DIST normal:MEAN:SIGMA, uniform:LO:HI "
-                              "or rotation:SIGMA_DEG)")
+        raise DispersionError(f"--disperse {spec!r}: expected KEY=DIST (DIST normal:MEAN:SIGMA, uniform:LO:HI, "
+                              "integer:LO:HI or rotation:SIGMA_DEG)")
     key_text, dist = (s.strip() for s in spec.split("=", 1))
     m = _KEY_RE.match(key_text)
     if not m:
@@ -108,11 +126,18 @@ def parse(spec: str) -> Dispersion:
     kind = parts[0]
     if kind not in KINDS:
         raise DispersionError(f"--disperse {spec}: unknown distribution {kind!r} (one of {', '.join(KINDS)})")
-    want = {"normal": 2, "uniform": 2, "rotation": 1}[kind]
+    want = {"normal": 2, "uniform": 2, "integer": 2, "rotation": 1}[kind]
     if len(parts) != want + 1:
-        form = {"normal": "normal:MEAN:SIGMA", "uniform": "uniform:LO:HI", "rotation": "rotation:SIGMA_DEG"}[kind]
+        form = {"normal": "normal:MEAN:SIGMA", "uniform": "uniform:LO:HI", "integer": "integer:LO:HI",
+                "rotation": "rotation:SIGMA_DEG"}[kind]
         raise DispersionError(f"--disperse {spec}: expected {form}")
-    names = {"normal": ("mean", "sigma"), "uniform": ("lo", "hi"), "rotation": ("sigma_deg",)}[kind]
+    names = {"normal": ("mean", "sigma"), "uniform": ("lo", "hi"), "integer": ("lo", "hi"),
+             "rotation": ("sigma_deg",)}[kind]
+    if kind == "integer":
+        params = tuple(_integer(p, n, spec) for p, n in zip(parts[1:], names))
+        if params[0] > params[1]:
+            raise DispersionError(f"--disperse {spec}: lo {params[0]} is above hi {params[1]}")
+        return Dispersion(spec, key, index, kind, params)
     params = tuple(_number(p, n, spec) for p, n in zip(parts[1:], names))
     if kind == "normal" and params[1] < 0:
         raise DispersionError(f"--disperse {spec}: sigma {params[1]!r} is negative")
@@ -205,9 +230,11 @@ def generator(seed: int, index: int, name: str) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(index), zlib.crc32(name.encode()))))
 
 
-def _draw(d: Dispersion, rng: np.random.Generator) -> float:
+def _draw(d: Dispersion, rng: np.random.Generator) -> float | int:
     if d.kind == "normal":
         return float(d.params[0] + d.params[1] * rng.standard_normal())
+    if d.kind == "integer":   # inclusive of hi; an int, so that the repeat command's --set reads back an integer
+        return int(rng.integers(d.params[0], d.params[1], endpoint=True))
     return float(rng.uniform(d.params[0], d.params[1]))
 
 

@@ -14,6 +14,8 @@ Requirements (pass = True per run; a run with no metrics does not pass):
     limits            no command beyond the flight software's limits and none non-finite
                       (limits.commands_over_limit == limits.commands_not_finite == 0)
     verdict           the run's own verdict (aocs_analysis.verdict) passed
+    no_false_alarm    no fault-management alarm before the run's first injected fault (every alarm of a
+                      nominal run: events_false_alarms == 0); campaign.json's false_alarms has the total
 """
 from __future__ import annotations
 
@@ -92,10 +94,12 @@ def requirements(rows: list[dict], requirement: float | None, goal: float | None
         "settled": [bool(r.get("metrics")) and r["metrics"].get("settle_time_s") is not None for r in rows],
         "limits": [lim_ok(r) is True for r in rows],
         "verdict": [bool(r.get("metrics")) and bool(r["metrics"]["verdict"]["passed"]) for r in rows],
+        "no_false_alarm": [_false_alarms(r) == 0 for r in rows],
     }
     desc = {"settled": "settled (inside every settle criterion to the end)",
             "limits": "limits respected (no command beyond the limits, none non-finite)",
-            "verdict": "run verdict passed (log complete, counters, limits)"}
+            "verdict": "run verdict passed (log complete, counters, limits)",
+            "no_false_alarm": "no fault-management alarm before the first injected fault (none in a nominal run)"}
     if requirement is not None:
         flags["requirement"] = [pe(r) is not None and pe(r) <= requirement for r in rows]
         desc["requirement"] = f"pointing error max over the window <= {requirement:g} arcsec (requirement)"
@@ -103,6 +107,21 @@ def requirements(rows: list[dict], requirement: float | None, goal: float | None
         flags["goal"] = [pe(r) is not None and pe(r) <= goal for r in rows]
         desc["goal"] = f"pointing error max over the window <= {goal:g} arcsec (goal)"
     return {k: {"what": desc[k], **stats.pass_fraction(v)} for k, v in flags.items()}
+
+
+def _false_alarms(r: dict) -> int | None:
+    """The run's alarms before its first injected fault (run_metrics events_false_alarms), None without
+    metrics (a run that did not complete does not pass the requirement)."""
+    m = r.get("metrics")
+    return None if not m else m.get("events_false_alarms")
+
+
+def false_alarm_summary(rows: list[dict]) -> dict:
+    """Over the runs with metrics: how many, the alarms raised before any fault in all of them, the runs
+    with at least one, and those runs' indices (docs/spec.md 5.15.7)."""
+    counted = [(r["index"], _false_alarms(r)) for r in rows if _false_alarms(r) is not None]
+    return {"runs": len(counted), "alarms": int(sum(n for _, n in counted)),
+            "runs_with_alarm": [int(i) for i, n in counted if n > 0]}
 
 
 def build(out: Path, campaign, rows: list[dict], *, outcome=None, command: str | None = None,
@@ -144,6 +163,7 @@ def build(out: Path, campaign, rows: list[dict], *, outcome=None, command: str |
             "runs_this_call": outcome.finished, "wall_s": outcome.wall_s, "workers": outcome.workers,
             "runs_per_minute": (60.0 * outcome.finished / outcome.wall_s) if outcome.wall_s > 0 else None},
         "requirements": requirements(rows, req, goal),
+        "false_alarms": false_alarm_summary(rows),
         "metrics": summ,
         "failed_runs": [{"index": r["index"], "status": r["status"], "error": r.get("error"),
                          "repeat_command": r.get("repeat_command")} for r in rows if r["status"] != "passed"],
@@ -209,6 +229,10 @@ def report_document(doc: dict, sc) -> Document:
         rep.add(Paragraph(f"Throughput of this call: {t['runs_this_call']} runs in {t['wall_s']:.1f} s on "
                           f"{t['workers']} workers = {t['runs_per_minute']:.1f} runs per minute."))
     rep.add(_requirements_section(doc), _metrics_section(doc))
+    fa = doc.get("false_alarms")
+    if fa:
+        rep.add(Paragraph(f"False alarms (fault management's warnings and above before any injected fault): "
+                          f"{fa['alarms']} over {fa['runs']} runs, in {len(fa['runs_with_alarm'])} runs."))
     if doc["failed_runs"]:
         rep.add(_failed_runs_section(doc["failed_runs"]))
     if doc["plots"]:

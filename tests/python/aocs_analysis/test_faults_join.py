@@ -124,3 +124,16 @@ def test_a_recovery_is_judged_against_the_scenarios_recovery_figure_else_its_req
     e = [ev(60.5, "wheel_residual_high", "wheel", 1), ev(60.5, "wheel_isolated", "wheel", 1, "error")]
     assert F.entry(f, e, T, p, 3.0, 10.0)["recovered_s"] == pytest.approx(120.0)
     assert F.entry(f, e, T, p, 0.3, 10.0)["recovered_s"] is None
+
+
+def test_false_alarms_are_the_alarms_before_the_first_fault():
+    from aocs_analysis import events as E
+
+    evs = [ev(10.0, "link_lost", "link"), ev(20.0, "st_restored", "star_tracker", severity="info"),
+           ev(59.9, "wheel_residual_high", "wheel", 2), ev(60.0, "wheel_residual_high", "wheel", 1),
+           ev(90.0, "st_excluded", "star_tracker")]
+    # two warnings before 60 s (the info event is no alarm); the 60 s one is the fault's own
+    assert E.false_alarms(evs, [60.0, 120.0]) == 2 and E.false_alarms(evs, [120.0, 60.0]) == 2
+    # a nominal run: every alarm is false
+    assert E.false_alarms(evs, []) == 4 == E.alarms(evs)
+    assert E.false_alarms([], []) == 0

@@ -46,3 +46,20 @@ def test_the_same_document_as_a_self_contained_page(committed):
     page = html.render(report.report_document(doc, sc), base=CAMPAIGN)
     assert page.count("data:image/png;base64,") == len(doc["plots"])
     assert "<h2>Requirements</h2>" in page and "Wilson score interval" in page
+
+
+def test_false_alarms_are_counted_over_the_runs_and_fail_the_requirement(committed):
+    def row(i, n):
+        return {"index": i, "status": "passed", "metrics": None if n is None else {
+            "events_false_alarms": n, "verdict": {"passed": True}, "settle_time_s": 1.0,
+            "limits": {"commands_over_limit": 0, "commands_not_finite": 0}}}
+    rows = [row(0, 0), row(1, 2), row(2, 0), row(3, None), row(4, 1)]
+    fa = report.false_alarm_summary(rows)
+    assert fa == {"runs": 4, "alarms": 3, "runs_with_alarm": [1, 4]}
+    req = report.requirements(rows, None, None)["no_false_alarm"]
+    # a run without metrics does not pass; 0 and 2 do
+    assert req["passed"] == 2 and req["n"] == 5
+    doc, sc = copy.deepcopy(committed[0]), committed[1]
+    doc["false_alarms"] = fa
+    assert "False alarms (fault management's warnings and above before any injected fault): 3 over 4 runs, " \
+           "in 2 runs." in report.report_md(doc, sc)

@@ -34,6 +34,10 @@ def campaign(disperse, sets=("actuator.axis_limit=0.5",), runs=50, seed=11):
     ("plant.w0=uniform:-1e308:1e308", "hi - lo is not finite"),              # issue 25, item 9
     ("plant.w0=normal:0:1e308", "draws beyond 10 sigma are not finite"),
     ("plant.w0=normal:-1.7e308:1e307", "draws beyond 10 sigma are not finite"),
+    ("seed=integer:0:1.5", "hi '1.5' is not an integer"),
+    ("seed=integer:9:3", "lo 9 is above hi 3"),
+    ("seed=integer:0", "expected integer:LO:HI"),
+    ("seed=integer:0:99999999999999999999", "beyond a 64-bit integer"),
 ])
 def test_malformed_dispersions_name_the_key(spec, message):
     with pytest.raises(D.DispersionError) as exc:
@@ -86,6 +90,20 @@ def test_draws_follow_the_distribution():
     assert abs(w.std() / 0.0002 - 1.0) < 0.05
     assert s.min() >= 0.5 and s.max() <= 1.5 and abs(s.mean() - 1.0) < 4 * (1 / math.sqrt(12)) / math.sqrt(s.size)
     assert all(r.overrides["plant.w0"][0] == 0.0 and r.overrides["plant.w0"][2] == 0.0 for r in runs[:10])
+
+
+def test_an_integer_dispersion_gives_each_run_its_own_noise_seed():
+    c = campaign(["seed=integer:0:9"], runs=2000)
+    runs = P.plan(c, P.check(c))
+    seeds = [r.overrides["seed"] for r in runs]
+    # integers, both ends reached, every value about equally often (2000 draws of 10: 200 +- 4 sigma)
+    assert all(type(x) is int for x in seeds) and min(seeds) == 0 and max(seeds) == 9
+    counts = np.bincount(seeds, minlength=10)
+    assert np.all(np.abs(counts - 200) < 4 * math.sqrt(2000 * 0.1 * 0.9))
+    # the loader takes the drawn seed, and the repeat command gives it back as an integer
+    assert load("irassi_large", {"seed": seeds[3]}).seed == seeds[3]
+    words = shlex.split(P.repeat_command(runs[3]))
+    assert f"seed={seeds[3]}" in words and scenario_opts.parse_sets([f"seed={seeds[3]}"]) == {"seed": seeds[3]}
 
 
 @pytest.mark.parametrize("J,ok", [
