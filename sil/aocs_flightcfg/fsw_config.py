@@ -176,6 +176,15 @@ def estimator_keys(scenario) -> dict[str, str]:
 MOM_THRUSTERS_MAX = 12
 
 
+def fdir_keys(scenario) -> dict[str, str]:
+    """fsw_node's fault-management keys the scenario's [fdir] gives (the others: the flight software's
+    defaults)."""
+    out = {}
+    for name, v in getattr(scenario, "fdir", {}).items():
+        out[f"fdir.{name}"] = str(v) if isinstance(v, int) else _num(v)
+    return out
+
+
 def momentum_keys(scenario) -> dict[str, str]:
     """fsw_node's momentum-management keys from the scenario's [momentum] and the actuator sections (empty for
     policy none)."""
@@ -265,6 +274,7 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
     if sc.kind == "attitude":
         cfg.update(estimator_keys(sc))
         cfg.update(momentum_keys(sc))
+    cfg.update(fdir_keys(sc))
     # every law of the scenario; the selected one last so its shared keys win
     # (the variants of a law share its config, hence its keys: laws.def CFG_SHARED)
     order = [n for n in sc.control.laws if n != law] + ([law] if law in sc.control.laws else [])

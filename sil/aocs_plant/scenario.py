@@ -181,6 +181,9 @@ class GuidanceConfig:
 #: prefix; the sensor figures the filter uses are not among them: they come from [sensors.star_tracker] and
 #: [sensors.gyro] (aocs_flightcfg.fsw_config), the same description that builds the plant's sensors
 MEKF_PREFIX = "mekf."
+#: the fault-management keys of the configuration registry (config_fields.def FDIR_*), read from [fdir]
+FDIR_PREFIX = "fdir."
+U32_MAX = 2 ** 32 - 1
 ESTIMATOR_TUNING_KEYS = ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s", "bias0_radps",
                          "init_mode", "init_q_BN")
 #: the mekf.* keys written from the sensor sections, never from [estimator]
@@ -259,6 +262,9 @@ class Scenario:
     faults: tuple = ()
     # [passes]: ground targets imaged in nadir pointing (None: none); target_passes.py
     passes: target_passes.PassesConfig | None = None
+    # [fdir]: the flight software's fault-management values the scenario gives (registry key without "fdir."
+    # -> value); the others keep the flight software's defaults (docs/spec.md 5.15)
+    fdir: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def dt(self) -> float:
@@ -688,6 +694,31 @@ def _jerk_time_max_s() -> float:
 GUIDANCE_RATE_LIMIT_MAX_RADPS = 10.0
 
 
+def _read_fdir(root: _Section) -> Mapping[str, Any]:
+    """[fdir]: any fault-management key of the configuration registry (fdir.<key>, config_fields.def), each
+    checked by its registry rule as fsw_node checks it (integers for the counts); the rules across keys
+    (aocs_fdir_config_check: a fraction at most 1, repeat counts of 2 or more) are the flight software's, which
+    refuses the run at its start naming the fdir keys."""
+    sec = root.table("fdir", required=False)
+    if sec is None:
+        return MappingProxyType({})
+    fields = {f.key[len(FDIR_PREFIX):]: f for f in registry.load().config_fields if f.key.startswith(FDIR_PREFIX)}
+    out: dict[str, Any] = {}
+    for name in list(sec.data):
+        f = fields.get(name)
+        if f is None:
+            sec.fail(sec.key(name), f"is not a fault-management key (one of {', '.join(sorted(fields))})")
+        v = sec.integer(name, minimum=0) if f.kind == "u32" else sec.number(name)
+        if f.kind == "u32" and v > U32_MAX:
+            sec.fail(sec.key(name), f"{v} is beyond a 32-bit count ({U32_MAX})")
+        if not f.holds(float(v)):
+            sec.fail(sec.key(name), f"{v!r} must be {f.rule_text} (the flight software's range, configuration "
+                                    f"registry row {f.key})")
+        out[name] = v
+    sec.done()
+    return MappingProxyType(out)
+
+
 def _read_guidance(root: _Section, kind: str, target) -> GuidanceConfig:
     """[guidance], bounded as fsw_node and the executive bound it (aocs_exec_init, slew.h)."""
     sec = root.table("guidance", required=False)
@@ -975,13 +1006,14 @@ def validate(data: dict, file: str = "<memory>", expected_id: str | None = None)
     settle = _read_settle(root, kind)
     metrics = _read_metrics(root, kind, duration, estimator)
     injected = faults.read(root, duration, sensor_config, configs)
+    fdir = _read_fdir(root)
     root.table("campaign", required=False)  # a Monte Carlo campaign's own table (aocs_campaign.plan)
     root.done()
     return Scenario(sid, description, reference, kind, rate, duration, seed, substeps, control,
                     att, orb, target, disturbances, actuator, sensor_config, settle, metrics, file,
                     effectors=MappingProxyType(configs), integrator_tolerance=tolerance, guidance=guidance,
                     environment=env, estimator=estimator, momentum=momentum, plan=plan, passes=passes,
-                    faults=injected)
+                    faults=injected, fdir=fdir)
 
 
 def _apply_overrides(data: dict, overrides: Mapping[str, Any], file: str) -> dict:

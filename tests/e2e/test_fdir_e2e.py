@@ -8,6 +8,9 @@ written to the metrics JSON.
   accused, and the slew completes on the three left within 1.3 times the three-wheel bang-bang bound from
   the detection (the bound computed here from the scenario with that wheel declared failed).
 - The same run through the in-process transport gives the same events.
+- In the hold of irassi_rw_mekf (in process): a gyro bias step of 1e-5 rad/s on x is found by the bias-jump
+  test (gyro_st_inconsistent, axis x, spec 5.15.4) and the re-estimated bias brings the pointing back within
+  3 arcsec; a frozen tracker is found at its 5th identical sample although the body barely turns (5.15.3).
 - Nominal runs raise no event of severity warning or above (the false alarms).
 """
 from __future__ import annotations
@@ -25,9 +28,10 @@ PERSIST = 5      # fdir.wheel_persist default (config_fields.def)
 DIES = "irassi_rw_wheel_dies"   # its [[faults]]: wheel_torque_loss, unit DEAD, start_s FAIL_AT_S
 
 
-def _run(tmp_path, name, scenario="irassi_rw_mekf", duration=450.0, sets=(), transport="lcm"):
+def _run(tmp_path, name, scenario="irassi_rw_mekf", duration=450.0, sets=(), transport="lcm", faults=()):
     res = execute(RunOptions(scenario=scenario, duration=duration, sets=list(sets), transport=transport,
-                             out=str(tmp_path / name), quiet=True, plots=False))
+                             out=str(tmp_path / name), quiet=True, plots=False, faults=list(faults),
+                             allow=("fault-management",) if faults else ()))
     return res.metrics
 
 
@@ -70,6 +74,37 @@ def test_the_direct_transport_delivers_the_same_events(dies, private_netns, fsw_
     direct = _run(tmp_path, "direct", scenario=DIES, transport="direct", duration=120.0)
     key = [(e["seq"], e["t_s"], e["id"], e["unit"], e["value"], e["threshold"]) for e in direct["events"]]
     assert key == [(e["seq"], e["t_s"], e["id"], e["unit"], e["value"], e["threshold"]) for e in dies["events"]]
+
+
+HOLD_FAULT_S = 500.0   # irassi_rw_mekf has settled from its slew by then (216 s)
+
+
+def test_a_gyro_bias_step_in_a_hold_is_detected_and_the_bias_re_estimated(private_netns, fsw_node_bin, aocs_lcm,
+                                                                          tmp_path):
+    m = _run(tmp_path, "bias", duration=800.0, transport="direct", sets=["metrics.recovery_arcsec=3.0"],
+             faults=[f"gyro_bias_step@{HOLD_FAULT_S:g}:bias_rad_s=[1e-5,0.0,0.0]"])
+    evs = [e for e in m["events"] if e["severity"] != "info"]
+    assert [(e["name"], e["unit"]) for e in evs] == [("gyro_st_inconsistent", 0)], m["events"]
+    # the estimate moves about 2e-8 rad/s per s against a bound of 5 sqrt(2) x 6.5e-8: some 25 s (spec 5.15.4)
+    assert HOLD_FAULT_S < evs[0]["t_s"] <= HOLD_FAULT_S + 60.0
+    assert evs[0]["value"] > evs[0]["threshold"] == 25.0
+    (f,) = m["faults"]
+    assert f["detected_s"] == evs[0]["t_s"] and f["handled"] is True and f["recovered_s"] is not None
+    # the same run without the test: never detected, and 300 s later still beyond 3 arcsec
+    off = _run(tmp_path, "bias-off", duration=800.0, transport="direct",
+               sets=["metrics.recovery_arcsec=3.0", "fdir.gyro_bias_chi2=0.0"],
+               faults=[f"gyro_bias_step@{HOLD_FAULT_S:g}:bias_rad_s=[1e-5,0.0,0.0]"])
+    assert off["events"] == [] and off["faults"][0]["detected_s"] is None
+    assert m["pointing_error_arcsec"]["final_max"] < 3.0 < off["pointing_error_arcsec"]["final_max"]
+
+
+def test_a_tracker_frozen_in_a_hold_is_detected_and_excluded(private_netns, fsw_node_bin, aocs_lcm, tmp_path):
+    m = _run(tmp_path, "frozen", duration=520.0, transport="direct", faults=[f"st_frozen@{HOLD_FAULT_S:g}"])
+    names = [(e["name"], e["unit_kind"]) for e in m["events"]]
+    assert names == [("st_frozen", "star_tracker"), ("st_excluded", "star_tracker")], m["events"]
+    # 10 Hz samples, the 5th identical one (fdir.st_frozen_samples): 0.4 s after the last live sample at most
+    assert HOLD_FAULT_S < m["events"][0]["t_s"] <= HOLD_FAULT_S + 0.5
+    assert m["faults"][0]["isolated"] is True
 
 
 @pytest.mark.parametrize("scenario,duration", [("irassi_rw_mekf", 1000.0), ("irassi_day", 3600.0)])

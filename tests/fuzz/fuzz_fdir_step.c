@@ -10,14 +10,17 @@
  *   - isolation only of a configured, healthy wheel: the failed mask only grows, by bits below n; the array
  *     stays initialised with at least 3 healthy wheels (never fewer than 3 used): a refused isolation
  *     latches SAFE, and an isolation-refused event comes with it;
- *   - disabled: no event at all.
+ *   - disabled: no event at all;
+ *   - the bias re-inflation asked on a step only with a gyro_st_inconsistent event of that step.
  *
  * Input layout (reads past the end give zeros):
  *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters), the parameters
  *   (wheel_residual_frac, st_chi2, st_frozen_rate, gyro_sat as u16 scaled or raw f64; wheel_persist, st_persist,
- *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8), then steps until the end:
+ *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8; gyro_bias_chi2 scaled or raw,
+ *   gyro_bias_persist u8), then steps until the end:
  *   u8 flags (bit0 have sample, bit1 input ok, bit2 st valid, bit3 gyro valid, bit4 raw f64 values, bit5-6 mode,
- *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw).
+ *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw),
+ *   u8 filter flags (bit0 the sample applied, bit1 a restart), bias[3], P bias diagonal[3], sigma_u.
  */
 #include "fuzz_support.h"
 
@@ -27,6 +30,21 @@ static void fuzz_fdir_fail(const char *what)
 {
     (void)fprintf(stderr, "fuzz_fdir_step invariant: %s\n", what);
     abort();
+}
+
+/* 1 when an event id at t_ns was raised after sequence number since */
+static int fuzz_fdir_raised(const aocs_evlog_t *log, uint32_t since, aocs_evt_id_t id, uint64_t t_ns)
+{
+    aocs_event_t e;
+    uint32_t seq = since;
+    int found = 0;
+    while (aocs_evlog_next(log, seq, &e, NULL) == AOCS_OK) {
+        if ((e.id == id) && (e.t_ns == t_ns)) {
+            found = 1;
+        }
+        seq = e.seq;
+    }
+    return found;
 }
 
 static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t *c)
@@ -44,6 +62,8 @@ static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t
     c->st_frozen_samples = fuzz_u8(r) % 8u;
     c->gyro_stuck_samples = fuzz_u8(r) % 8u;
     c->link_lost_periods = fuzz_u8(r) % 8u;
+    c->gyro_bias_chi2 = fuzz_scaled(r, raw, -1.0, 50.0);
+    c->gyro_bias_persist = fuzz_u8(r) % 8u;
 }
 
 static void fuzz_fdir_check(const aocs_fdir_t *f, const aocs_wheels_t *wa, uint32_t mask_before, uint32_t *seq_seen,
@@ -103,6 +123,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint32_t seq_seen = 0u;
     uint32_t refused = 0u;
     uint64_t t_ns = 0u;
+    uint32_t restarts = 0u;
     fuzz_wheels(&wc, (int)(setup & 1u));
     wc.period_s = AOCS_R(0.1);
     if (aocs_wheels_init(&wa, &wc) != AOCS_OK) {
@@ -153,7 +174,27 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         in.st_valid = (int)((flags >> 2) & 1u);
         in.st_q_SN = aocs_quat_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
                                     fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0));
-        aocs_fdir_step(&f, &in, &wa);
+        {
+            const uint8_t ff = fuzz_u8(&r);
+            const uint32_t events_before = f.log.seq_last;
+            if ((ff & 1u) != 0u) {
+                est.st_status = AOCS_OK;
+            }
+            restarts += (uint32_t)((ff >> 1) & 1u);
+            est.n_restarts = restarts;
+            for (uint32_t i = 0u; i < 3u; ++i) {
+                est.bias_B_radps.v[i] = fuzz_scaled(&r, raw, -1.0e-4, 1.0e-4);
+            }
+            est.p_upper[15] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
+            est.p_upper[18] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
+            est.p_upper[20] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
+            in.gyro_rrw_radps1p5 = fuzz_scaled(&r, raw, 0.0, 1.0e-8);
+            aocs_fdir_step(&f, &in, &wa);
+            if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,
+                                                             t_ns) == 0)) {
+                fuzz_fdir_fail("bias re-inflation without a gyro_st_inconsistent event of the step");
+            }
+        }
         fuzz_fdir_check(&f, &wa, mask_before, &seq_seen, refused);
         refused = (f.safe_latched != 0) ? 1u : refused;
     }

@@ -253,19 +253,24 @@ def momentum_seeds() -> None:
 
 def fdir_seeds() -> None:
     # fuzz_fdir_step: u8 setup, 4 x u16 parameters (wheel_residual_frac 0.1, st_chi2 16, st_frozen_rate 1e-4,
-    # gyro_sat 0), 6 x u8 counts, then steps: u8 flags, u8 missing, 4 x (speed, command), chi2, gyro[3], q[4]
-    def cfg(setup):
-        return bytes([setup]) + struct.pack("<4H", 5461, 10486, 655, 5958) + bytes([5, 5, 6, 5, 5, 3])
-
+    # gyro_sat 0), 6 x u8 counts, u16 gyro_bias_chi2 (25), u8 gyro_bias_persist (3), then steps: u8 flags,
+    # u8 missing, 4 x (speed, command), chi2, gyro[3], q[4], u8 filter flags, bias[3], P bias diagonal[3], sigma_u
     def u16(v, lo, hi):
         return struct.pack("<H", min(65535, int((v - lo) / (hi - lo) * 65536)))
 
+    def cfg(setup):
+        return (bytes([setup]) + struct.pack("<4H", 5461, 10486, 655, 5958) + bytes([5, 5, 6, 5, 5, 3])
+                + u16(25.0, -1.0, 50.0) + bytes([3]))
+
     def step(flags=1 | 2 | 8 | 4 | 128, speeds=(100.0, -50.0, 30.0, 10.0), cmds=(0.0, 0.2, 0.0, 0.0), chi2=3.0,
-             gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0):
+             gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0, applied=0, bias=(0.0, 0.0, 0.0),
+             p_bias=4.0e-15, rrw=1.0e-10):
         b = bytes([flags, missing])
         for sp, u in zip(speeds, cmds):
             b += u16(sp, -700.0, 700.0) + u16(u, -0.3, 0.3)
         b += u16(chi2, 0.0, 50.0) + b"".join(u16(g, -1.0, 1.0) for g in gyro) + b"".join(u16(x, -1.0, 1.0) for x in q)
+        b += bytes([applied]) + b"".join(u16(x, -1.0e-4, 1.0e-4) for x in bias)
+        b += u16(p_bias, 0.0, 1.0e-10) * 3 + u16(rrw, 0.0, 1.0e-8)
         return b
 
     # wheel 1 commanded 0.2 N m and not moving: isolated (four wheels), refused (three healthy)
@@ -278,6 +283,10 @@ def fdir_seeds() -> None:
         step(cmds=(0.0,) * 4, gyro=(1e-2, 0.0, 0.0)) for _ in range(6)) + step(flags=0) * 4 + step(missing=4)
     _write("fuzz_fdir_step", "star_tracker_and_link", cfg(0) + st)
     _write("fuzz_fdir_step", "disabled", cfg(2) + dead + st)
+    # applied samples, the bias estimate steady, then 1e-6 rad/s off (z about 125 against 25): a bias jump
+    bias = b"".join(step(cmds=(0.0,) * 4, applied=1, bias=(1e-7, 0.0, 0.0)) for _ in range(5)) + b"".join(
+        step(cmds=(0.0,) * 4, applied=1, bias=(1.1e-6, 0.0, 0.0)) for _ in range(6))
+    _write("fuzz_fdir_step", "gyro_bias_jump", cfg(0) + bias)
 
 
 def pil_seeds() -> None:

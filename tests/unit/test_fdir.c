@@ -132,6 +132,16 @@ static void test_config_check(void **state)
     c.st_frozen_samples = 1u;
     assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
     aocs_fdir_config_default(&c);
+    c.gyro_bias_persist = 0u;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    aocs_fdir_config_default(&c);
+    c.gyro_bias_chi2 = AOCS_R(-1.0);
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    c.gyro_bias_chi2 = (real_t)INFINITY;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    c.gyro_bias_chi2 = AOCS_R(0.0); /* no test */
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_OK);
+    aocs_fdir_config_default(&c);
     c.st_chi2 = (real_t)NAN;
     assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
     aocs_fdir_config_default(&c);
@@ -409,6 +419,216 @@ static void test_frozen_tracker_while_turning(void **state)
     assert_int_equal(f.st.excluded, 1);
 }
 
+/* q0 turned by a random rotation of about sigma_rad per axis (a tracker's noise) */
+static aocs_quat_t noisy_quat(test_rng_t *rng, aocs_quat_t q0, double sigma_rad)
+{
+    const aocs_vec3_t e = test_random_vec3(rng, sigma_rad);
+    aocs_quat_t q = q0;
+    assert_int_equal(aocs_quat_normalize(aocs_quat_mul(q0, aocs_quat_make(AOCS_R(0.5) * e.v[0], AOCS_R(0.5) * e.v[1],
+                                                                          AOCS_R(0.5) * e.v[2], AOCS_R(1.0))),
+                                         &q),
+                     AOCS_OK);
+    return q;
+}
+
+/* a sample the MEKF tested (its tracker model has noise) with innovation d2 */
+static void tested_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, real_t d2)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
+    (void)memset(&est, 0, sizeof(est));
+    est.status = AOCS_OK;
+    est.st_status = (f->st.excluded != 0) ? AOCS_ERR_MEKF_ST_EXCLUDED : AOCS_OK;
+    est.innovation_chi2 = d2;
+    in.est = &est;
+    in.st_q_SN = q;
+    in.st_valid = 1;
+    in.gyro_w_B = aocs_vec3_make(AOCS_R(1.0e-6), AOCS_R(-2.0e-6), AOCS_R(0.5e-6));
+    in.gyro_valid = 1;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+/* in a hold (the gyro far below st_frozen_rate_radps) a tracker the MEKF tests, i.e. models with noise, that
+ * repeats its quaternion is frozen; a live one (noise on every sample) is not, and one that comes back to life
+ * is restored after st_restore consistent samples */
+static void test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {4242u};
+    const aocs_quat_t q0 = test_random_quat(&rng);
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    /* a live tracker: 1 arcsec of noise about a constant attitude, 50 samples, nothing */
+    for (int i = 0; i < 50; ++i) {
+        tested_feed(&f, ++k, noisy_quat(&rng, q0, 4.8e-6), AOCS_R(3.0));
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* frozen at q0: the 5th identical sample (4 repeats) */
+    for (int i = 0; i < 4; ++i) {
+        tested_feed(&f, ++k, q0, AOCS_R(3.0));
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    tested_feed(&f, ++k, q0, AOCS_R(3.0));
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_FROZEN, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(f.st.excluded, 1);
+    /* still frozen: consistent innovations do not restore it */
+    for (int i = 0; i < 40; ++i) {
+        tested_feed(&f, ++k, q0, AOCS_R(1.0));
+    }
+    assert_int_equal(f.st.excluded, 1);
+    /* alive again: restored at the st_restore-th consistent sample */
+    for (uint32_t i = 0u; i < c.st_restore; ++i) {
+        assert_int_equal(f.st.excluded, 1);
+        tested_feed(&f, ++k, noisy_quat(&rng, q0, 4.8e-6), AOCS_R(3.0));
+    }
+    assert_int_equal(f.st.excluded, 0);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, NULL), 1u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_FROZEN, -1, NULL), 1u);
+}
+
+/* ---- the gyro bias-jump monitor on a given sequence of filter outputs ---- */
+#define BIAS_SIGMA 6.5e-8 /* the filter's bias 1-sigma per axis, rad/s (irassi_rw_mekf at 500 s) */
+#define BIAS_RRW 1.0e-10  /* sigma_u, rad/s^1.5 */
+
+/* a tracker sample the filter applied at step k, with bias estimate b and bias variances p (per axis) */
+static void bias_feed(aocs_fdir_t *f, uint64_t k, aocs_vec3_t b, const double p[3], uint32_t restarts,
+                      aocs_status_t st_status)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
+    (void)memset(&est, 0, sizeof(est));
+    est.status = AOCS_OK;
+    est.st_status = st_status;
+    est.bias_B_radps = b;
+    /* the bias diagonal of the 6 x 6 upper triangle, row-major: (3,3) (4,4) (5,5) */
+    est.p_upper[15] = (real_t)p[0];
+    est.p_upper[18] = (real_t)p[1];
+    est.p_upper[20] = (real_t)p[2];
+    est.n_restarts = restarts;
+    in.est = &est;
+    in.gyro_rrw_radps1p5 = AOCS_R(BIAS_RRW);
+    aocs_fdir_step(f, &in, NULL);
+}
+
+/* A steady filter whose estimate wanders inside its own sigma raises nothing over an hour of 10 Hz samples;
+ * an estimate 6 sigma off its reference (36 sigma^2 against the bound 25 (2 sigma^2 + sigma_u^2 dt) = 50
+ * sigma^2) is inside the bound for ever; 8 sigma off (64 sigma^2) raises gyro_st_inconsistent (unit: the
+ * axis, y) at the 10th consecutive sample and asks for the re-inflation on that step only */
+static void test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {99u};
+    const double p[3] = {BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA};
+    const aocs_vec3_t b0 = aocs_vec3_make(AOCS_R(4.8e-7), AOCS_R(-4.8e-7), AOCS_R(2.4e-7));
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    bias_feed(&f, ++k, b0, p, 0u, AOCS_OK);
+    for (uint32_t i = 0u; i < 36000u; ++i) {
+        const aocs_vec3_t n = test_random_vec3(&rng, BIAS_SIGMA); /* within +-sigma of the reference */
+        bias_feed(&f, ++k, aocs_vec3_add(b0, n), p, 0u, AOCS_OK);
+        assert_int_equal(f.reinflate_bias, 0);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    assert_int_equal(f.gyro.t_ref_ns, PERIOD_NS); /* the first sample is still the reference */
+    for (uint32_t i = 0u; i < 100u; ++i) {
+        bias_feed(&f, ++k, aocs_vec3_make(b0.v[0], b0.v[1] + AOCS_R(6.0 * BIAS_SIGMA), b0.v[2]), p, 0u, AOCS_OK);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    for (uint32_t i = 1u; i <= 10u; ++i) {
+        bias_feed(&f, ++k, aocs_vec3_make(b0.v[0], b0.v[1] + AOCS_R(8.0 * BIAS_SIGMA), b0.v[2]), p, 0u, AOCS_OK);
+        assert_int_equal(f.reinflate_bias, (i == 10u) ? 1 : 0);
+        assert_int_equal(aocs_evlog_count(&f.log), (i == 10u) ? 1u : 0u);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, 1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(f.gyro.bias_armed, 0);
+    /* the next applied sample (the filter's covariance re-inflated) takes the reference afresh */
+    {
+        const double big[3] = {2.3e-11, 2.3e-11, 2.3e-11};
+        bias_feed(&f, ++k, b0, big, 0u, AOCS_OK);
+        assert_int_equal(f.gyro.bias_armed, 1);
+        assert_int_equal(f.gyro.t_ref_ns, k * PERIOD_NS);
+        assert_int_equal(f.reinflate_bias, 0);
+    }
+}
+
+/* What does not test: a sample the filter did not apply (gated, excluded, none), a filter that restarted (the
+ * reference afresh), no filter (sigma_u 0), the test switched off (chi2 0); a converging filter renews its
+ * reference (stale: the reference's variance above twice the present one) instead of testing against it */
+static void test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    const double p[3] = {BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA};
+    const aocs_vec3_t far = aocs_vec3_make(AOCS_R(1.0e-5), AOCS_R(0.0), AOCS_R(0.0));
+    uint64_t k = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    bias_feed(&f, ++k, aocs_vec3_zero(), p, 0u, AOCS_OK);
+    assert_int_equal(f.gyro.bias_armed, 1);
+    for (int i = 0; i < 20; ++i) {
+        bias_feed(&f, ++k, far, p, 0u, AOCS_ERR_MEKF_GATED);
+        bias_feed(&f, ++k, far, p, 0u, AOCS_ERR_MEKF_ST_EXCLUDED);
+        bias_feed(&f, ++k, far, p, 0u, AOCS_ERR_INPUT_MISSING);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* a restart: the far estimate becomes the reference */
+    for (int i = 0; i < 20; ++i) {
+        bias_feed(&f, ++k, far, p, 1u, AOCS_OK);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    assert_true(aocs_fdir_same(f.gyro.b_ref_B.v[0], far.v[0]) != 0);
+    /* converging: the variance halves every sample while the estimate moves 3 present sigma a sample */
+    {
+        double pc[3] = {1.0e-12, 1.0e-12, 1.0e-12};
+        double b = 0.0;
+        for (int i = 0; i < 30; ++i) {
+            pc[0] *= 0.45;
+            b += 3.0 * sqrt(pc[0]);
+            bias_feed(&f, ++k, aocs_vec3_make((real_t)b, AOCS_R(0.0), AOCS_R(0.0)), pc, 2u, AOCS_OK);
+        }
+        assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    }
+    /* no filter, or the test off: a jump raises nothing */
+    aocs_fdir_config_default(&c);
+    c.gyro_bias_chi2 = AOCS_R(0.0);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 20; ++i) {
+        bias_feed(&f, ++k, (i < 1) ? aocs_vec3_zero() : far, p, 0u, AOCS_OK);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 20; ++i) {
+        aocs_fdir_input_t in = base_input(++k, 1, AOCS_EXEC_MODE_NOMINAL);
+        aocs_det_output_t est;
+        (void)memset(&est, 0, sizeof(est));
+        est.status = AOCS_OK;
+        est.st_status = AOCS_OK;
+        est.bias_B_radps = (i < 1) ? aocs_vec3_zero() : far;
+        est.p_upper[15] = (real_t)p[0];
+        in.est = &est;
+        in.gyro_rrw_radps1p5 = AOCS_R(0.0);
+        aocs_fdir_step(&f, &in, NULL);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* and with the filter and the test on, the same jump is found */
+    for (int i = 0; i < 12; ++i) {
+        bias_feed(&f, ++k, (i < 1) ? aocs_vec3_zero() : far, p, 0u, AOCS_OK);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, 0, NULL), 1u);
+}
+
 static void test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe(void **state)
 {
     (void)state;
@@ -588,6 +808,9 @@ int main(void)
         cmocka_unit_test(test_isolation_of_the_third_wheel_is_refused_and_latches_safe),
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
         cmocka_unit_test(test_frozen_tracker_while_turning),
+        cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),
+        cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
+        cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
         cmocka_unit_test(test_gyro_saturation),
         cmocka_unit_test(test_link_and_safe_events),

@@ -143,6 +143,22 @@ uint64_t aocs_det_budget_ns(const aocs_det_t *det)
     return budget;
 }
 
+void aocs_det_reinflate_bias(aocs_det_t *det)
+{
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF)) {
+        aocs_mekf_reinflate_bias(&det->states.mekf);
+    }
+}
+
+real_t aocs_det_gyro_rrw(const aocs_det_t *det)
+{
+    real_t rrw = AOCS_R(0.0);
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF) && (det->states.mekf.initialised != 0)) {
+        rrw = det->states.mekf.cfg.gyro_rrw_radps1p5;
+    }
+    return rrw;
+}
+
 void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded)
 {
     if ((det != NULL) && (det->id == AOCS_DET_MEKF)) {

@@ -883,6 +883,20 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
     return st;
 }
 
+void aocs_mekf_reinflate_bias(aocs_mekf_t *f)
+{
+    if ((f != NULL) && (f->initialised != 0) && (f->started != 0u)) {
+        const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
+        for (int i = 3; i < 6; ++i) {
+            for (int j = 0; j < 6; ++j) {
+                f->P.m[i][j] = AOCS_R(0.0);
+                f->P.m[j][i] = AOCS_R(0.0);
+            }
+            f->P.m[i][i] = pb;
+        }
+    }
+}
+
 void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded)
 {
     if (f != NULL) {

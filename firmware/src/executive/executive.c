@@ -352,6 +352,7 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
             fi.t_ns = exec->accept.last_t_sensor_ns;
         }
         fi.est = &out->estimate;
+        fi.gyro_rrw_radps1p5 = aocs_det_gyro_rrw(&exec->det);
         fi.alloc = (wheels != 0) ? &out->wheels : NULL;
         fi.wheels_status = out->wheels_status;
         aocs_fdir_step(&exec->fdir, &fi, (wheels != 0) ? &exec->act.wheels : NULL);
@@ -366,6 +367,9 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
             }
         }
         aocs_det_set_st_excluded(&exec->det, (exec->fdir.st.excluded != 0) ? 1u : 0u);
+        if (exec->fdir.reinflate_bias != 0) {
+            aocs_det_reinflate_bias(&exec->det); /* a gyro bias jump: re-estimated from its prior (5.15.4) */
+        }
     }
 }
 

@@ -26,6 +26,8 @@ void aocs_fdir_config_default(aocs_fdir_config_t *cfg)
         cfg->st_frozen_rate_radps = AOCS_FDIR_ST_FROZEN_RATE_DEFAULT;
         cfg->gyro_stuck_samples = AOCS_FDIR_GYRO_STUCK_SAMPLES_DEFAULT;
         cfg->gyro_sat_radps = AOCS_FDIR_GYRO_SAT_DEFAULT;
+        cfg->gyro_bias_chi2 = AOCS_FDIR_GYRO_BIAS_CHI2_DEFAULT;
+        cfg->gyro_bias_persist = AOCS_FDIR_GYRO_BIAS_PERSIST_DEFAULT;
         cfg->link_lost_periods = AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT;
     }
 }
@@ -43,7 +45,8 @@ aocs_status_t aocs_fdir_config_check(const aocs_fdir_config_t *cfg)
                (cfg->st_restore == 0u) || (cfg->st_frozen_samples < 2u) || !(cfg->st_frozen_rate_radps > AOCS_R(0.0)) ||
                !AOCS_IS_FINITE(cfg->st_frozen_rate_radps) || (cfg->gyro_stuck_samples < 2u) ||
                !(cfg->gyro_sat_radps >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->gyro_sat_radps) ||
-               (cfg->link_lost_periods == 0u)) {
+               !(cfg->gyro_bias_chi2 >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->gyro_bias_chi2) ||
+               (cfg->gyro_bias_persist == 0u) || (cfg->link_lost_periods == 0u)) {
         st = AOCS_ERR_FDIR_CONFIG_INVALID;
     } else {
         st = AOCS_OK;
@@ -122,12 +125,14 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
 {
     if ((f != NULL) && (in != NULL) && (f->initialised != 0)) {
         f->replan = 0;
+        f->reinflate_bias = 0;
         if (f->cfg.enabled != 0u) {
             fdir_link(f, in);
             if ((in->have_sample != 0) && (in->input_status == AOCS_OK)) {
                 aocs_fdir_wheels_step(f, in, wheels);
                 aocs_fdir_st_step(f, in);
                 aocs_fdir_gyro_step(f, in);
+                aocs_fdir_gyro_bias_step(f, in);
             } else {
                 /* no usable sample: the differences restart from the next one */
                 f->wheels.have_prev = 0;

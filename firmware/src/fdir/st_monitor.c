@@ -76,13 +76,18 @@ static int st_same(aocs_quat_t a, aocs_quat_t b)
     return same;
 }
 
-/* K identical quaternions in a row while the gyro says the body turns faster than st_frozen_rate_radps */
+/* K identical quaternions in a row while the gyro says the body turns faster than st_frozen_rate_radps (a
+ * noise-free tracker repeats itself on a body at rest), or at any rate when the MEKF tested the sample: it
+ * models the tracker with a noise sigma > 0 (its configuration check refuses less), and a tracker with noise
+ * never repeats its quaternion to the last bit, so K repeats are a frozen output in a hold too (5.15.3) */
 static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in)
 {
     if (in->st_valid != 0) {
+        real_t d2 = AOCS_R(0.0);
+        const int noisy = st_tested(in->est, &d2);
         const real_t rate = (in->gyro_valid != 0) ? aocs_vec3_norm(in->gyro_w_B) : AOCS_R(0.0);
         if ((f->st.have_prev != 0) && (st_same(in->st_q_SN, f->st.q_prev_SN) != 0) &&
-            (rate > f->cfg.st_frozen_rate_radps)) {
+            ((noisy != 0) || (rate > f->cfg.st_frozen_rate_radps))) {
             f->st.frozen_run = st_inc(f->st.frozen_run);
         } else {
             f->st.frozen_run = 0u;

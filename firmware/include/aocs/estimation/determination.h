@@ -88,6 +88,14 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
  * and on NULL. */
 void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded);
 
+/* Fault management (docs/spec.md 5.15.4): a filter that estimates the gyro's bias takes its bias covariance
+ * back to its prior (the MEKF: aocs_mekf_reinflate_bias); no-op for an estimator without one, and on NULL. */
+void aocs_det_reinflate_bias(aocs_det_t *det);
+
+/* The gyro rate random walk sigma_u (rad/s^1.5) the selected filter assumes; 0 for an estimator without a
+ * bias state, and on NULL (the fault management's bias-jump test is then off). Total. */
+real_t aocs_det_gyro_rrw(const aocs_det_t *det);
+
 /* The AOCS_EXEC_VALID_* flags an attitude sample must carry for estimator id (its row's NEEDS): what the
  * input acceptance checks (exec/acceptance.h). ATT|RATE out of range (the passthrough's, the conservative
  * choice). Total. */

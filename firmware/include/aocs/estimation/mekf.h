@@ -208,6 +208,12 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
  * filter not yet started still starts from a tracker sample. No-op on NULL. */
 void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded);
 
+/* Fault management (docs/spec.md 5.15.4): after a detected jump of the gyro's bias, the bias block of P back to
+ * its prior p0_bias_sigma^2 I and the attitude-bias cross covariance to zero (P stays symmetric positive
+ * definite: two positive definite diagonal blocks); the estimates are kept. The filter then re-estimates the
+ * bias as fast as at its start. No-op on NULL, before init or while the filter waits for its first sample. */
+void aocs_mekf_reinflate_bias(aocs_mekf_t *f);
+
 /* The current estimate into *out (st_status AOCS_ERR_INPUT_MISSING). AOCS_OK, or the reason with *out zeroed:
  * AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED, AOCS_ERR_MEKF_NO_ATTITUDE. */
 aocs_status_t aocs_mekf_get_output(const aocs_mekf_t *f, aocs_mekf_output_t *out);

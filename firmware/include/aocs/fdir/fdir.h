@@ -45,6 +45,8 @@
 #define AOCS_FDIR_ST_FROZEN_RATE_DEFAULT AOCS_R(1.0e-4)
 #define AOCS_FDIR_GYRO_STUCK_SAMPLES_DEFAULT 10u
 #define AOCS_FDIR_GYRO_SAT_DEFAULT AOCS_R(0.0)
+#define AOCS_FDIR_GYRO_BIAS_CHI2_DEFAULT AOCS_R(25.0) /* 1 dof per axis: 5 sigma */
+#define AOCS_FDIR_GYRO_BIAS_PERSIST_DEFAULT 10u
 #define AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT 3u
 
 typedef struct {
@@ -58,6 +60,8 @@ typedef struct {
     real_t st_frozen_rate_radps;  /* |gyro| above which the tracker must change, rad/s, > 0 */
     uint32_t gyro_stuck_samples;  /* identical gyro component while the tracker turns, >= 2 */
     real_t gyro_sat_radps;        /* |gyro component| at which it is saturated, rad/s; 0 = no test */
+    real_t gyro_bias_chi2;        /* bias-jump test threshold, 1 dof per axis; 0 = no test */
+    uint32_t gyro_bias_persist;   /* consecutive tracker samples above it that make a bias jump, >= 1 */
     uint32_t link_lost_periods;   /* consecutive missing samples for link_lost, >= 1 */
 } aocs_fdir_config_t;
 
@@ -76,6 +80,7 @@ typedef struct {
     aocs_quat_t st_q_SN;          /* star-tracker quaternion of this sample */
     int st_valid;                 /* a new tracker sample this step */
     const aocs_det_output_t *est; /* the determination stage's output (st_status, innovation_chi2) */
+    real_t gyro_rrw_radps1p5;     /* the filter's gyro rate random walk sigma_u, rad/s^1.5 (0: no filter) */
     const aocs_wheels_alloc_t *alloc; /* this step's wheel allocation (NULL without an array) */
     aocs_status_t wheels_status;  /* the allocation's status this step */
 } aocs_fdir_input_t;
@@ -105,6 +110,13 @@ typedef struct {
     uint32_t sat_run[3];
     int have_prev;
     int excluded;
+    /* the bias-jump test (gyro_bias.c): the filter's bias estimate and its variances at the reference time */
+    aocs_vec3_t b_ref_B;          /* bias estimate at t_ref, rad/s */
+    real_t p_ref[3];              /* its variances (diag of the bias block of P), rad^2/s^2 */
+    uint64_t t_ref_ns;
+    uint32_t restarts_ref;        /* the filter's restart count at t_ref (a restart re-arms) */
+    uint32_t bias_run;            /* consecutive tested samples above gyro_bias_chi2 */
+    int bias_armed;
 } aocs_fdir_gyro_t;
 
 typedef struct {
@@ -119,6 +131,7 @@ typedef struct {
     int flown_nominal;            /* 1 once a step flew NOMINAL */
     int safe_latched;             /* 1: an isolation was refused or the gyro excluded: stay in SAFE */
     int replan;                   /* 1: the wheels changed this step, the slew guidance must adapt */
+    int reinflate_bias;           /* 1: a gyro bias jump this step: the filter's bias covariance back to its prior */
     aocs_wheels_t wheels_before;  /* the array before the last isolation (the guidance's old envelope) */
     int initialised;
 } aocs_fdir_t;
@@ -145,6 +158,7 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
 void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wheels);
 void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
+void aocs_fdir_gyro_bias_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 
 /* 1 when a and b are the same number (neither below nor above the other; 0 with a NaN): the repeat tests of
  * a frozen tracker and a stuck gyro axis. Total. */
