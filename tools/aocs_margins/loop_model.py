@@ -106,7 +106,7 @@ def loop_at(big_l: control.StateSpace, i: int) -> control.StateSpace:
 def response(sys: control.StateSpace, w: np.ndarray) -> np.ndarray:
     """Frequency response, (n_out, n_in, len(w)) complex."""
     r = sys.frequency_response(np.asarray(w, float))
-    fr = np.asarray(r.fresp)
+    fr = np.asarray(r.frdata)
     return fr.reshape(sys.noutputs, sys.ninputs, -1)
 
 

@@ -29,10 +29,12 @@ Multivariable (L 3 x 3, mimo):
 from __future__ import annotations
 
 import math
+import warnings
 
 import control
 import numpy as np
 from scipy.optimize import minimize
+from scipy.signal import BadCoefficients
 
 from .loop_model import AXES, closed_loop_poles, is_stable, loop_at, response
 
@@ -79,14 +81,25 @@ def siso(l: control.StateSpace, w: np.ndarray | None = None) -> dict:
     """The margins of one SISO loop (module docstring); None where a margin does not exist (no crossover)."""
     dt = l.dt if l.dt else None
     w = grid(dt) if w is None else w
-    gm, pm, sm, wpc, wgc, wms = (np.atleast_1d(np.asarray(v, float))
-                                 for v in control.stability_margins(l, returnall=True))
+    with warnings.catch_warnings():
+        # its own notes (falling back to the frd method, the polynomial's conditioning, an evaluation at the
+        # Nyquist frequency) are about the precision of its answer, which is checked on the response below
+        warnings.simplefilter("ignore", UserWarning)
+        warnings.simplefilter("ignore", BadCoefficients)
+        gm, pm, sm, wpc, wgc, wms = (np.atleast_1d(np.asarray(v, float))
+                                     for v in control.stability_margins(l, returnall=True))
     # its crossings checked on the response itself (the polynomial roots of a loop with poles at z = 1 can
     # be off): a gain crossover has |l| = 1, a phase crossover l real and negative, to 1e-6
-    ok_g = [k for k, f in enumerate(wgc) if math.isfinite(f) and f > 0 and abs(abs(_at(l, f)) - 1.0) < 1e-6]
-    ok_p = [k for k, f in enumerate(wpc) if math.isfinite(f) and f > 0
-            and abs(np.angle(-_at(l, f))) < 1e-6]
-    ok_s = [k for k, f in enumerate(wms) if math.isfinite(f) and f > 0 and math.isfinite(sm[k])
+    # (a sampled loop's response above the Nyquist frequency repeats the one below: a crossing reported there
+    # is an alias of one the grid finds below, so only 0 < w <= pi / dt is taken)
+    top = math.pi / dt if dt else math.inf
+
+    def inside(f: float) -> bool:
+        return math.isfinite(f) and 0.0 < f <= top
+
+    ok_g = [k for k, f in enumerate(wgc) if inside(f) and abs(abs(_at(l, f)) - 1.0) < 1e-6]
+    ok_p = [k for k, f in enumerate(wpc) if inside(f) and abs(np.angle(-_at(l, f))) < 1e-6]
+    ok_s = [k for k, f in enumerate(wms) if inside(f) and math.isfinite(sm[k])
             and abs(abs(1.0 + _at(l, f)) - sm[k]) <= 1e-6 * max(sm[k], 1e-12)]
     pm, wgc, gm, wpc, sm = pm[ok_g], wgc[ok_g], gm[ok_p], wpc[ok_p], sm[ok_s]
     h = response(l, w)[0, 0]
