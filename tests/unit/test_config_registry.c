@@ -95,8 +95,13 @@ static void test_every_row_round_trips_and_touches_only_its_member(void **state)
                     assert_true(same_d(back[k], (double)(real_t)v[k]));
                 }
             } else if (f->kind != AOCS_CONFIG_KIND_TABLE) {
-                const uint64_t u = ((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM))
-                                       ? (uint64_t)(f->enum_count - 1u) : 7u; /* 7: no row's default */
+                uint64_t u = ((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM))
+                                 ? (uint64_t)(f->enum_count - 1u) : 7u; /* 7: no row's default */
+                if ((u == 7u) && (aocs_config_rule_holds(f->rule, 7.0) == 0)) {
+                    /* a narrow rule (FLAG: 0 or 1): the end of its range the default is not at */
+                    const aocs_config_rule_info_t *r = aocs_config_rule_info(f->rule);
+                    u = (aocs_config_get_uint(&before, ref) == (uint64_t)r->hi) ? (uint64_t)r->lo : (uint64_t)r->hi;
+                }
                 assert_int_equal(aocs_config_set_uint(&after, ref, u), AOCS_OK);
                 assert_true(aocs_config_get_uint(&after, ref) == u);
             } else {
@@ -212,6 +217,34 @@ static void test_physical_ranges_of_wheel_and_guidance_values(void **state)
         assert_int_equal(aocs_config_rule_holds((aocs_config_rule_t)r, info->lo), (info->lo_open != 0) ? 0 : 1);
         assert_int_equal(aocs_config_rule_holds((aocs_config_rule_t)r, (double)NAN), 0);
     }
+}
+
+/* the fault-management rows carry the stage's own rules (aocs_fdir_config_check) as registry rules, so that
+ * every reader refuses what the stage would: a switch of 0 or 1, a fraction in (0, 1], repeat counts >= 2 */
+static void test_fault_management_rules_are_registry_rules(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.enabled"), 2u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.enabled"), 0u), AOCS_OK);
+    assert_int_equal(cfg.fdir.enabled, 0u);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.st_frozen_samples"), 1u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.gyro_stuck_samples"), 1u), AOCS_ERR_CONFIG_RULE);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.gyro_stuck_samples"), 2u), AOCS_OK);
+    assert_int_equal(aocs_config_set_uint(&cfg, ref_of("fdir.st_persist"), 0u), AOCS_ERR_CONFIG_RULE);
+    expect_rule("fdir.wheel_residual_frac", 1.5, AOCS_ERR_CONFIG_RULE);
+    expect_rule("fdir.wheel_residual_frac", 0.0, AOCS_ERR_CONFIG_RULE);
+    expect_rule("fdir.wheel_residual_frac", 1.0, AOCS_OK);
+    expect_rule("fdir.gyro_bias_chi2", 0.0, AOCS_OK); /* 0 = no test */
+    expect_rule("fdir.gyro_bias_chi2", -1.0, AOCS_ERR_CONFIG_RULE);
+    /* and every value the rules let through, the stage takes */
+    cfg.fdir.enabled = 1u;
+    cfg.fdir.wheel_residual_frac = AOCS_R(1.0);
+    cfg.fdir.st_frozen_samples = 2u;
+    cfg.fdir.gyro_stuck_samples = 2u;
+    cfg.fdir.gyro_bias_chi2 = AOCS_R(0.0);
+    assert_int_equal(aocs_fdir_config_check(&cfg.fdir), AOCS_OK);
 }
 
 static void test_keys_and_pil_ids_name_the_same_rows(void **state)
@@ -402,6 +435,7 @@ int main(void)
         cmocka_unit_test(test_every_row_round_trips_and_touches_only_its_member),
         cmocka_unit_test(test_every_reader_gets_the_rows_rules),
         cmocka_unit_test(test_physical_ranges_of_wheel_and_guidance_values),
+        cmocka_unit_test(test_fault_management_rules_are_registry_rules),
         cmocka_unit_test(test_keys_and_pil_ids_name_the_same_rows),
         cmocka_unit_test(test_enum_names_are_the_enums_values),
         cmocka_unit_test(test_estimator_names_are_the_determination_rows),

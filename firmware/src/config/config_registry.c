@@ -338,8 +338,10 @@ aocs_status_t aocs_config_set_uint(aocs_exec_config_t *cfg, aocs_config_ref_t re
     } else {
         const aocs_config_field_t *f = ref.field;
         unsigned char *dst = value_at(cfg, ref);
-        if ((f->rule == AOCS_CONFIG_RULE_POS) && (value == 0u)) {
-            st = AOCS_ERR_CONFIG_RULE;
+        const double x = (double)value;
+        if ((f->kind != AOCS_CONFIG_KIND_LAW) && (f->kind != AOCS_CONFIG_KIND_ENUM) &&
+            (aocs_config_rule_holds(f->rule, x) == 0)) {
+            st = AOCS_ERR_CONFIG_RULE; /* the row's rule, as for a real (POS: not 0; FLAG: 0 or 1; REPEATS: >= 2) */
         } else if ((f->kind == AOCS_CONFIG_KIND_U32) && (value > (uint64_t)UINT32_MAX)) {
             st = AOCS_ERR_CONFIG_RULE;
         } else if (((f->kind == AOCS_CONFIG_KIND_LAW) || (f->kind == AOCS_CONFIG_KIND_ENUM)) &&

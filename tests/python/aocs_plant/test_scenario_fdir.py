@@ -37,3 +37,31 @@ def test_values_outside_the_registry_rule_are_refused_naming_the_key(key, value,
     with pytest.raises(ScenarioError) as exc:
         load("irassi_rw_mekf", {key: value})
     assert message in str(exc.value) and "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize("key,bad,good", [
+    ("fdir.enabled", 2, 0), ("fdir.st_frozen_samples", 1, 2), ("fdir.gyro_stuck_samples", 1, 2),
+    ("fdir.wheel_residual_frac", 1.5, 1.0), ("fdir.wheel_residual_frac", 0.0, 0.5),
+    ("fdir.gyro_bias_chi2", -1.0, 0.0), ("fdir.st_persist", 0, 1),
+])
+def test_the_flight_software_s_parser_and_the_loader_draw_the_same_line(tmp_path, key, bad, good):
+    """The stage's own rules (a switch, a fraction, repeat counts) are registry rules: fsw_node's parser (the
+    same C as the PIL bridge's, here as the aocs_node_config tool) and the scenario loader refuse the same value
+    with the registry row's text, and take the one inside."""
+    from aocs_pil import config as pil_config
+
+    f = next(x for x in registry.load().config_fields if x.key == key)
+    cfg = fsw_config.node_config(load("irassi_rw_mekf"), "quat_pid")
+    for v, ok in ((bad, False), (good, True)):
+        path = fsw_config.write(tmp_path / "n.cfg", {**cfg, key: repr(v)})
+        try:
+            pil_config.load(path)
+            msg = ""
+        except pil_config.ConfigError as exc:
+            msg = str(exc)
+        assert (f"must be {f.rule_text}" in msg) != ok, (key, v, msg)
+        if ok:
+            load("irassi_rw_mekf", {key: v})
+        else:
+            with pytest.raises(ScenarioError, match=f"{key}: .*must be"):
+                load("irassi_rw_mekf", {key: v})
