@@ -496,8 +496,8 @@ static void test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise(void 
 #define BIAS_RRW 1.0e-10  /* sigma_u, rad/s^1.5 */
 
 /* a tracker sample the filter applied at step k, with bias estimate b and bias variances p (per axis) */
-static void bias_feed(aocs_fdir_t *f, uint64_t k, aocs_vec3_t b, const double p[3], uint32_t restarts,
-                      aocs_status_t st_status)
+static void bias_feed_rrw(aocs_fdir_t *f, uint64_t k, aocs_vec3_t b, const double p[3], uint32_t restarts,
+                          aocs_status_t st_status, double rrw)
 {
     aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
     aocs_det_output_t est;
@@ -511,8 +511,14 @@ static void bias_feed(aocs_fdir_t *f, uint64_t k, aocs_vec3_t b, const double p[
     est.p_upper[20] = (real_t)p[2];
     est.n_restarts = restarts;
     in.est = &est;
-    in.gyro_rrw_radps1p5 = AOCS_R(BIAS_RRW);
+    in.gyro_rrw_radps1p5 = (real_t)rrw;
     aocs_fdir_step(f, &in, NULL);
+}
+
+static void bias_feed(aocs_fdir_t *f, uint64_t k, aocs_vec3_t b, const double p[3], uint32_t restarts,
+                      aocs_status_t st_status)
+{
+    bias_feed_rrw(f, k, b, p, restarts, st_status, BIAS_RRW);
 }
 
 /* A steady filter whose estimate wanders inside its own sigma raises nothing over an hour of 10 Hz samples;
@@ -610,16 +616,7 @@ static void test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter(void *
     aocs_fdir_config_default(&c);
     assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
     for (int i = 0; i < 20; ++i) {
-        aocs_fdir_input_t in = base_input(++k, 1, AOCS_EXEC_MODE_NOMINAL);
-        aocs_det_output_t est;
-        (void)memset(&est, 0, sizeof(est));
-        est.status = AOCS_OK;
-        est.st_status = AOCS_OK;
-        est.bias_B_radps = (i < 1) ? aocs_vec3_zero() : far;
-        est.p_upper[15] = (real_t)p[0];
-        in.est = &est;
-        in.gyro_rrw_radps1p5 = AOCS_R(0.0);
-        aocs_fdir_step(&f, &in, NULL);
+        bias_feed_rrw(&f, ++k, (i < 1) ? aocs_vec3_zero() : far, p, 0u, AOCS_OK, 0.0); /* no filter: sigma_u 0 */
     }
     assert_int_equal(aocs_evlog_count(&f.log), 0u);
     /* and with the filter and the test on, the same jump is found */

@@ -39,11 +39,11 @@ static void st_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t value
     }
 }
 
-static void st_innovation(aocs_fdir_t *f, const aocs_fdir_input_t *in)
+/* tested: the filter tested this step's sample, with innovation d2 */
+static void st_innovation(aocs_fdir_t *f, const aocs_fdir_input_t *in, int tested, real_t d2)
 {
-    real_t d2 = AOCS_R(0.0);
     const real_t thr = f->cfg.st_chi2;
-    if (st_tested(in->est, &d2) != 0) {
+    if (tested != 0) {
         if (!(d2 <= thr)) {
             f->st.high_run = st_inc(f->st.high_run);
             f->st.good_run = 0u;
@@ -80,11 +80,9 @@ static int st_same(aocs_quat_t a, aocs_quat_t b)
  * noise-free tracker repeats itself on a body at rest), or at any rate when the MEKF tested the sample: it
  * models the tracker with a noise sigma > 0 (its configuration check refuses less), and a tracker with noise
  * never repeats its quaternion to the last bit, so K repeats are a frozen output in a hold too (5.15.3) */
-static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in)
+static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in, int noisy)
 {
     if (in->st_valid != 0) {
-        real_t d2 = AOCS_R(0.0);
-        const int noisy = st_tested(in->est, &d2);
         const real_t rate = (in->gyro_valid != 0) ? aocs_vec3_norm(in->gyro_w_B) : AOCS_R(0.0);
         if ((f->st.have_prev != 0) && (st_same(in->st_q_SN, f->st.q_prev_SN) != 0) &&
             ((noisy != 0) || (rate > f->cfg.st_frozen_rate_radps))) {
@@ -105,6 +103,8 @@ static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in)
 
 void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in)
 {
-    st_frozen(f, in);
-    st_innovation(f, in);
+    real_t d2 = AOCS_R(0.0);
+    const int tested = st_tested(in->est, &d2); /* once: both tests read it */
+    st_frozen(f, in, tested);
+    st_innovation(f, in, tested, d2);
 }
