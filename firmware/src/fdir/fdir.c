@@ -13,6 +13,15 @@ int aocs_fdir_same(real_t a, real_t b)
     return ((a <= b) && (a >= b)) ? 1 : 0;
 }
 
+uint32_t aocs_fdir_count_up(uint32_t n)
+{
+    uint32_t m = n;
+    if (m < UINT32_MAX) {
+        m += 1u;
+    }
+    return m;
+}
+
 void aocs_fdir_config_default(aocs_fdir_config_t *cfg)
 {
     if (cfg != NULL) {

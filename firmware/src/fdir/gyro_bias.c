@@ -74,7 +74,7 @@ void aocs_fdir_gyro_bias_step(aocs_fdir_t *f, const aocs_fdir_input_t *in)
                     }
                 }
             }
-            g->bias_run = (over != 0) ? ((g->bias_run < UINT32_MAX) ? (g->bias_run + 1u) : UINT32_MAX) : 0u;
+            g->bias_run = (over != 0) ? aocs_fdir_count_up(g->bias_run) : 0u;
             if (g->bias_run == f->cfg.gyro_bias_persist) {
                 (void)aocs_evlog_raise(&f->log, AOCS_EVT_GYRO_ST_INCONSISTENT, in->t_ns, (int32_t)axis, z_max,
                                        f->cfg.gyro_bias_chi2);

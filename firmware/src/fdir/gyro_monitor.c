@@ -11,15 +11,6 @@
 
 #include "aocs/fdir/fdir.h"
 
-static uint32_t gyro_inc(uint32_t n)
-{
-    uint32_t m = n;
-    if (m < UINT32_MAX) {
-        m += 1u;
-    }
-    return m;
-}
-
 static void gyro_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, uint32_t axis, real_t value, real_t thr)
 {
     if (f->gyro.excluded == 0) {
@@ -47,12 +38,12 @@ void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in)
         for (uint32_t i = 0u; i < 3u; ++i) {
             const real_t w = in->gyro_w_B.v[i];
             if ((g->have_prev != 0) && (aocs_fdir_same(w, g->w_prev_B.v[i]) != 0) && (other_changed[i] != 0)) {
-                g->stuck_run[i] = gyro_inc(g->stuck_run[i]);
+                g->stuck_run[i] = aocs_fdir_count_up(g->stuck_run[i]);
             } else {
                 g->stuck_run[i] = 0u;
             }
             if ((f->cfg.gyro_sat_radps > AOCS_R(0.0)) && (AOCS_FABS(w) >= f->cfg.gyro_sat_radps)) {
-                g->sat_run[i] = gyro_inc(g->sat_run[i]);
+                g->sat_run[i] = aocs_fdir_count_up(g->sat_run[i]);
             } else {
                 g->sat_run[i] = 0u;
             }

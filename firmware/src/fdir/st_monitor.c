@@ -21,15 +21,6 @@ static int st_tested(const aocs_det_output_t *est, real_t *d2)
     return tested;
 }
 
-static uint32_t st_inc(uint32_t n)
-{
-    uint32_t m = n;
-    if (m < UINT32_MAX) {
-        m += 1u;
-    }
-    return m;
-}
-
 static void st_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t value, real_t thr)
 {
     if (f->st.excluded == 0) {
@@ -45,12 +36,12 @@ static void st_innovation(aocs_fdir_t *f, const aocs_fdir_input_t *in, int teste
     const real_t thr = f->cfg.st_chi2;
     if (tested != 0) {
         if (!(d2 <= thr)) {
-            f->st.high_run = st_inc(f->st.high_run);
+            f->st.high_run = aocs_fdir_count_up(f->st.high_run);
             f->st.good_run = 0u;
         } else {
             f->st.high_run = 0u;
             if ((f->st.excluded != 0) && (f->st.frozen_run == 0u)) {
-                f->st.good_run = st_inc(f->st.good_run);
+                f->st.good_run = aocs_fdir_count_up(f->st.good_run);
             }
         }
         if ((f->st.high_run == f->cfg.st_persist) && (f->st.excluded == 0)) {
@@ -86,7 +77,7 @@ static void st_frozen(aocs_fdir_t *f, const aocs_fdir_input_t *in, int noisy)
         const real_t rate = (in->gyro_valid != 0) ? aocs_vec3_norm(in->gyro_w_B) : AOCS_R(0.0);
         if ((f->st.have_prev != 0) && (st_same(in->st_q_SN, f->st.q_prev_SN) != 0) &&
             ((noisy != 0) || (rate > f->cfg.st_frozen_rate_radps))) {
-            f->st.frozen_run = st_inc(f->st.frozen_run);
+            f->st.frozen_run = aocs_fdir_count_up(f->st.frozen_run);
         } else {
             f->st.frozen_run = 0u;
         }

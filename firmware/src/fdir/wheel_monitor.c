@@ -50,7 +50,7 @@ static void wheels_detect(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whee
     const real_t r = aocs_fdir_wheel_residual(w->u_net_prev_nm[i], wa->cfg.js_kgm2[i], w->omega_prev_radps[i],
                                               in->wheel_speed_radps[i], in->period_s);
     if (!(AOCS_FABS(r) <= thr)) {
-        w->over[i] = (w->over[i] < UINT32_MAX) ? (w->over[i] + 1u) : UINT32_MAX;
+        w->over[i] = aocs_fdir_count_up(w->over[i]);
     } else {
         w->over[i] = 0u;
     }

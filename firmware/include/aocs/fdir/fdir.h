@@ -164,6 +164,9 @@ void aocs_fdir_gyro_bias_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
  * a frozen tracker and a stuck gyro axis. Total. */
 int aocs_fdir_same(real_t a, real_t b);
 
+/* n + 1, held at UINT32_MAX: the run counters of the monitors. Total. */
+uint32_t aocs_fdir_count_up(uint32_t n);
+
 /* The wheel residual r_i of one wheel (N m, docs/spec.md 5.15.2): u_net_prev - Js (omega - omega_prev) / T. */
 real_t aocs_fdir_wheel_residual(real_t u_net_prev_nm, real_t js_kgm2, real_t omega_prev_radps, real_t omega_radps,
                                 real_t period_s);
