@@ -380,11 +380,17 @@ static void thr_config(aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_
 }
 
 /* The impulse of the on-times (independent: F sum_i t_i (r_i x d_i)) against the requested torque's. */
-static void thr_check_case(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
-                           aocs_vec3_t h, double dt)
+static void thr_check_case_without(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
+                                   aocs_vec3_t h, double dt, uint32_t excluded)
 {
     aocs_mom_t m;
     assert_int_equal(aocs_mom_init(&m, c), AOCS_OK);
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        if (((excluded >> i) & 1u) != 0u) {
+            assert_int_equal(aocs_mom_thr_exclude(&m, i), AOCS_OK);
+        }
+    }
+    assert_int_equal(m.thr_excluded_mask, excluded);
     aocs_mom_input_t in = input(h, aocs_vec3_zero(), dt);
     in.b_valid = 0; /* thrusters need no field */
     assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
@@ -404,6 +410,9 @@ static void thr_check_case(const aocs_mom_config_t *c, double pos[N_THR][3], dou
         const double t = (double)m.out.thruster_on_s[i];
         double arm[3];
         d_cross(pos[i], dir[i], arm);
+        if (((excluded >> i) & 1u) != 0u) {
+            assert_true(!(t > 0.0) && !(t < 0.0)); /* taken out: never fired */
+        }
         /* non-negative, within the period, a whole number of quanta, not below the minimum pulse */
         assert_true((t >= 0.0) && (t <= dt * (1.0 + TOL_TIGHT)));
         if (t > 0.0) {
@@ -428,6 +437,116 @@ static void thr_check_case(const aocs_mom_config_t *c, double pos[N_THR][3], dou
     /* the impulse opposes dh */
     if (d_norm(want) > slack) {
         assert_true(d_dot(got, dh) < 0.0);
+    }
+}
+
+static void thr_check_case(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
+                           aocs_vec3_t h, double dt)
+{
+    thr_check_case_without(c, pos, dir, h, dt, 0u);
+}
+
+/* A thruster taken out (fault management, docs/spec.md 5.15.8): for each one of the twelve, the dump of any
+ * momentum is still the requested impulse (the same independent check as with all twelve) and the thruster
+ * never fires; its torque is the configured one. Taking more out until some signed axis has no torque left is
+ * refused and leaves the allocation as it was; a second exclusion of the same thruster, a thruster out of
+ * range or another policy are refused too. */
+static void test_thr_exclude_reallocates_over_the_rest(void **state)
+{
+    (void)state;
+    double pos[N_THR][3], dir[N_THR][3];
+    aocs_mom_config_t c;
+    test_rng_t r = {0x5eed0fa11ULL};
+    thr_config(&c, pos, dir);
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        aocs_mom_t m;
+        double arm[3];
+        d_cross(pos[i], dir[i], arm);
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        for (int a = 0; a < 3; ++a) {
+            assert_close(aocs_mom_thr_torque_B(&m, i).v[a], (double)c.thr_thrust_N * arm[a], TOL_TIGHT);
+        }
+        for (int rep = 0; rep < 40; ++rep) {
+            thr_check_case_without(&c, pos, dir, test_random_vec3(&r, 20.0), 1.0, 1u << i);
+        }
+    }
+    {
+        aocs_mom_t m;
+        aocs_mom_t before;
+        aocs_status_t st = AOCS_OK;
+        uint32_t k = 0u;
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        assert_int_equal(aocs_mom_thr_exclude(&m, N_THR), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+        assert_int_equal(aocs_mom_thr_exclude(&m, 3u), AOCS_OK);
+        assert_int_equal(aocs_mom_thr_exclude(&m, 3u), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+        /* both thrusters of every couple about -x, +y, ... in turn: at some point an axis is left bare */
+        while ((st == AOCS_OK) && (k < N_THR)) {
+            if (k != 3u) {
+                before = m;
+                st = aocs_mom_thr_exclude(&m, k);
+            }
+            ++k;
+        }
+        assert_int_equal(st, AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING);
+        assert_true(memcmp(&m, &before, sizeof(m)) == 0);
+        assert_int_equal(aocs_mom_thr_exclude(NULL, 0u), AOCS_ERR_NULL_ARG);
+        assert_close(aocs_vec3_norm(aocs_mom_thr_torque_B(NULL, 0u)), 0.0, 0.0);
+        assert_close(aocs_vec3_norm(aocs_mom_thr_torque_B(&m, N_THR)), 0.0, 0.0);
+    }
+    {
+        aocs_mom_t m;
+        aocs_mom_config_t none;
+        base_config(&none, AOCS_MOM_NONE);
+        assert_int_equal(aocs_mom_init(&m, &none), AOCS_OK);
+        assert_int_equal(aocs_mom_thr_exclude(&m, 0u), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+        assert_close(aocs_vec3_norm(aocs_mom_thr_torque_B(&m, 0u)), 0.0, 0.0);
+    }
+}
+
+/* Six couples without cant or offset (irassi_day's): thruster 2k and 2k + 1 give the same torque. Taking one
+ * out moves its duty to its twin on every signed axis (the allocation otherwise unchanged, bit for bit: no
+ * search), and the dump is still the requested impulse (the independent check). */
+static void test_thr_exclude_moves_the_duty_to_a_twin(void **state)
+{
+    (void)state;
+    double pos[N_THR][3] = {{0}};
+    double dir[N_THR][3] = {{0}};
+    aocs_mom_config_t c;
+    test_rng_t r = {0x7717ULL};
+    thr_config(&c, pos, dir);
+    for (int i = 0; i < N_THR; ++i) {
+        const int k = i / 4;           /* axis of the couple's torque */
+        const int j = (k + 1) % 3;
+        const int l = (k + 2) % 3;
+        const double sg = ((i / 2) % 2 == 0) ? 1.0 : -1.0;
+        const double sd = (i % 2 == 0) ? 1.0 : -1.0;
+        double t[3];
+        pos[i][0] = pos[i][1] = pos[i][2] = 0.0;
+        dir[i][0] = dir[i][1] = dir[i][2] = 0.0;
+        pos[i][j] = 1.2 * sd;
+        dir[i][l] = sg * sd;
+        d_cross(pos[i], dir[i], t);
+        c.thr_arm_x_m[i] = AOCS_R(t[0]);
+        c.thr_arm_y_m[i] = AOCS_R(t[1]);
+        c.thr_arm_z_m[i] = AOCS_R(t[2]);
+    }
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        aocs_mom_t m;
+        aocs_mom_t before;
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        before = m;
+        assert_int_equal(aocs_mom_thr_exclude(&m, i), AOCS_OK);
+        for (uint32_t s = 0u; s < AOCS_MOM_AXES_SIGNED; ++s) {
+            for (uint32_t n = 0u; n < N_THR; ++n) {
+                const real_t want = (n == i) ? AOCS_R(0.0)
+                                   : ((n == (i ^ 1u)) ? (before.thr_alloc[s][n] + before.thr_alloc[s][i])
+                                                      : before.thr_alloc[s][n]);
+                assert_true(!(m.thr_alloc[s][n] < want) && !(m.thr_alloc[s][n] > want));
+            }
+        }
+        for (int rep = 0; rep < 20; ++rep) {
+            thr_check_case_without(&c, pos, dir, test_random_vec3(&r, 20.0), 1.0, 1u << i);
+        }
     }
 }
 
@@ -666,6 +785,8 @@ int main(void)
         cmocka_unit_test(test_mtq_cross_product_law),
         cmocka_unit_test(test_mtq_dh_along_field),
         cmocka_unit_test(test_thr_pwm),
+        cmocka_unit_test(test_thr_exclude_reallocates_over_the_rest),
+        cmocka_unit_test(test_thr_exclude_moves_the_duty_to_a_twin),
         cmocka_unit_test(test_thr_small_torque_carried),
         cmocka_unit_test(test_thr_config_errors),
         cmocka_unit_test(test_exec_feeds_unloading_forward),

@@ -21,6 +21,7 @@
  * to the wheels.
  */
 #include <stddef.h>
+#include <string.h>
 
 #include "aocs/executive.h"
 
@@ -29,6 +30,11 @@ static aocs_vec3_t thr_torque(const aocs_mom_config_t *c, uint32_t i)
 {
     const aocs_vec3_t arm = {{c->thr_arm_x_m[i], c->thr_arm_y_m[i], c->thr_arm_z_m[i]}};
     return aocs_vec3_scale(arm, c->thr_thrust_N);
+}
+
+static uint32_t thr_bit(uint32_t i)
+{
+    return (uint32_t)1u << i;
 }
 
 static aocs_status_t thr_check(const aocs_mom_config_t *c)
@@ -50,37 +56,51 @@ static aocs_status_t thr_check(const aocs_mom_config_t *c)
     return st;
 }
 
-/* The cheapest duty vector giving the unit torque e among the invertible triples; 1 when one exists. */
-static int thr_axis_alloc(const aocs_mom_config_t *c, aocs_vec3_t e, real_t tmax, real_t *duty)
+/* The triple (i, j, l) for the unit torque e (columns ti tj tl; Cramer's rule): when it is invertible, its
+ * duties are non-negative and cheaper than *best, they replace duty and *best; 1 then. */
+static int thr_triple(const aocs_mom_config_t *c, aocs_vec3_t e, real_t tmax, const uint32_t ijl[3], real_t *best,
+                      real_t *duty)
+{
+    const real_t det_min = AOCS_R(1.0e-6) * tmax * tmax * tmax;
+    const aocs_vec3_t ti = thr_torque(c, ijl[0]);
+    const aocs_vec3_t tj = thr_torque(c, ijl[1]);
+    const aocs_vec3_t tl = thr_torque(c, ijl[2]);
+    const real_t det = aocs_vec3_dot(ti, aocs_vec3_cross(tj, tl));
+    int taken = 0;
+    if (AOCS_FABS(det) > det_min) {
+        const real_t ci = aocs_vec3_dot(e, aocs_vec3_cross(tj, tl)) / det;
+        const real_t cj = aocs_vec3_dot(ti, aocs_vec3_cross(e, tl)) / det;
+        const real_t cl = aocs_vec3_dot(ti, aocs_vec3_cross(tj, e)) / det;
+        const real_t tol = AOCS_R(-1.0e-6) / tmax;
+        const real_t cost = ci + cj + cl;
+        if ((ci >= tol) && (cj >= tol) && (cl >= tol) && (cost < *best)) {
+            *best = cost;
+            for (uint32_t k = 0u; k < AOCS_MOM_THRUSTERS_MAX; ++k) {
+                duty[k] = AOCS_R(0.0);
+            }
+            duty[ijl[0]] = (ci > AOCS_R(0.0)) ? ci : AOCS_R(0.0);
+            duty[ijl[1]] = (cj > AOCS_R(0.0)) ? cj : AOCS_R(0.0);
+            duty[ijl[2]] = (cl > AOCS_R(0.0)) ? cl : AOCS_R(0.0);
+            taken = 1;
+        }
+    }
+    return taken;
+}
+
+/* The cheapest duty vector giving the unit torque e among the invertible triples of thrusters not in
+ * `excluded`; 1 when one exists. */
+static int thr_axis_alloc(const aocs_mom_config_t *c, uint32_t excluded, aocs_vec3_t e, real_t tmax, real_t *duty)
 {
     const uint32_t n = c->thr_count;
-    const real_t det_min = AOCS_R(1.0e-6) * tmax * tmax * tmax;
     real_t best = AOCS_REAL_MAX;
     int found = 0;
     for (uint32_t i = 0u; i < n; ++i) {
         for (uint32_t j = i + 1u; j < n; ++j) {
             for (uint32_t l = j + 1u; l < n; ++l) {
-                const aocs_vec3_t ti = thr_torque(c, i);
-                const aocs_vec3_t tj = thr_torque(c, j);
-                const aocs_vec3_t tl = thr_torque(c, l);
-                /* columns ti tj tl; Cramer's rule */
-                const real_t det = aocs_vec3_dot(ti, aocs_vec3_cross(tj, tl));
-                if (AOCS_FABS(det) > det_min) {
-                    const real_t ci = aocs_vec3_dot(e, aocs_vec3_cross(tj, tl)) / det;
-                    const real_t cj = aocs_vec3_dot(ti, aocs_vec3_cross(e, tl)) / det;
-                    const real_t cl = aocs_vec3_dot(ti, aocs_vec3_cross(tj, e)) / det;
-                    const real_t tol = AOCS_R(-1.0e-6) / tmax;
-                    const real_t cost = ci + cj + cl;
-                    if ((ci >= tol) && (cj >= tol) && (cl >= tol) && (cost < best)) {
-                        best = cost;
-                        for (uint32_t k = 0u; k < AOCS_MOM_THRUSTERS_MAX; ++k) {
-                            duty[k] = AOCS_R(0.0);
-                        }
-                        duty[i] = (ci > AOCS_R(0.0)) ? ci : AOCS_R(0.0);
-                        duty[j] = (cj > AOCS_R(0.0)) ? cj : AOCS_R(0.0);
-                        duty[l] = (cl > AOCS_R(0.0)) ? cl : AOCS_R(0.0);
-                        found = 1;
-                    }
+                const uint32_t ijl[3] = {i, j, l};
+                if (((excluded & (thr_bit(i) | thr_bit(j) | thr_bit(l))) == 0u) &&
+                    (thr_triple(c, e, tmax, ijl, &best, duty) != 0)) {
+                    found = 1;
                 }
             }
         }
@@ -88,24 +108,113 @@ static int thr_axis_alloc(const aocs_mom_config_t *c, aocs_vec3_t e, real_t tmax
     return found;
 }
 
+/* The duty vectors of the six signed axes over the thrusters not in `excluded`, into alloc; AOCS_OK or
+ * AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING (alloc then partly written). */
+static aocs_status_t thr_alloc_all(const aocs_mom_config_t *c, uint32_t excluded,
+                                   real_t alloc[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX])
+{
+    aocs_status_t st = AOCS_OK;
+    real_t tmax = AOCS_R(0.0);
+    for (uint32_t i = 0u; i < c->thr_count; ++i) {
+        const real_t t = aocs_vec3_norm(thr_torque(c, i));
+        tmax = (t > tmax) ? t : tmax;
+    }
+    if (!(tmax > AOCS_R(0.0))) {
+        st = AOCS_ERR_MOMENTUM_CONFIG_INVALID;
+    }
+    for (uint32_t s = 0u; (st == AOCS_OK) && (s < AOCS_MOM_AXES_SIGNED); ++s) {
+        aocs_vec3_t e = aocs_vec3_zero();
+        e.v[s / 2u] = ((s % 2u) == 0u) ? AOCS_R(1.0) : AOCS_R(-1.0);
+        if (thr_axis_alloc(c, excluded, e, tmax, alloc[s]) == 0) {
+            st = AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING;
+        }
+    }
+    return st;
+}
+
 aocs_status_t aocs_mom_thr_init(aocs_mom_t *m)
 {
     aocs_status_t st = thr_check(&m->cfg);
     if (st == AOCS_OK) {
-        real_t tmax = AOCS_R(0.0);
-        for (uint32_t i = 0u; i < m->cfg.thr_count; ++i) {
-            const real_t t = aocs_vec3_norm(thr_torque(&m->cfg, i));
-            tmax = (t > tmax) ? t : tmax;
+        m->thr_excluded_mask = 0u;
+        st = thr_alloc_all(&m->cfg, 0u, m->thr_alloc);
+    }
+    return st;
+}
+
+aocs_vec3_t aocs_mom_thr_torque_B(const aocs_mom_t *m, uint32_t i)
+{
+    aocs_vec3_t t = aocs_vec3_zero();
+    if ((m != NULL) && (m->initialised != 0) && (m->id == AOCS_MOM_THRUSTERS) && (i < m->cfg.thr_count)) {
+        t = thr_torque(&m->cfg, i);
+    }
+    return t;
+}
+
+/* A thruster not in `excluded`, other than i, whose torque is i's (to 1e-6 of it): its redundant twin; the
+ * thruster count when there is none. */
+static uint32_t thr_twin(const aocs_mom_config_t *c, uint32_t excluded, uint32_t i)
+{
+    const aocs_vec3_t ti = thr_torque(c, i);
+    const real_t tol = AOCS_R(1.0e-6) * aocs_vec3_norm(ti);
+    uint32_t twin = c->thr_count;
+    for (uint32_t j = 0u; (j < c->thr_count) && (twin == c->thr_count); ++j) {
+        if ((j != i) && ((excluded & thr_bit(j)) == 0u) &&
+            (aocs_vec3_norm(aocs_vec3_sub(thr_torque(c, j), ti)) <= tol)) {
+            twin = j;
         }
-        if (!(tmax > AOCS_R(0.0))) {
-            st = AOCS_ERR_MOMENTUM_CONFIG_INVALID;
-        }
-        for (uint32_t s = 0u; (st == AOCS_OK) && (s < AOCS_MOM_AXES_SIGNED); ++s) {
-            aocs_vec3_t e = aocs_vec3_zero();
-            e.v[s / 2u] = ((s % 2u) == 0u) ? AOCS_R(1.0) : AOCS_R(-1.0);
-            if (thr_axis_alloc(&m->cfg, e, tmax, m->thr_alloc[s]) == 0) {
-                st = AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING;
+    }
+    return twin;
+}
+
+/*
+ * The allocation without thruster i, into trial (a copy of the present one): where a signed axis's duties use
+ * i and a twin with the same torque is left, i's duty moves to the twin (the same torque at the same
+ * propellant, so still the least-propellant basic solution: a few hundred instructions); otherwise every
+ * axis is sought again over the thrusters left (thr_alloc_all: some 25,000 instructions on the Cortex-M4F, an
+ * overrun of that step's budget, docs/spec.md 5.15.8).
+ */
+static aocs_status_t thr_alloc_without(const aocs_mom_t *m, uint32_t i, uint32_t mask,
+                                       real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX])
+{
+    aocs_status_t st = AOCS_OK;
+    const uint32_t twin = thr_twin(&m->cfg, mask, i);
+    int search = 0;
+    (void)memcpy(trial, m->thr_alloc, sizeof(m->thr_alloc));
+    for (uint32_t s = 0u; s < AOCS_MOM_AXES_SIGNED; ++s) {
+        if (trial[s][i] > AOCS_R(0.0)) {
+            if (twin < m->cfg.thr_count) {
+                trial[s][twin] += trial[s][i];
+            } else {
+                search = 1;
             }
+            trial[s][i] = AOCS_R(0.0);
+        }
+    }
+    if (search != 0) {
+        st = thr_alloc_all(&m->cfg, mask, trial);
+    }
+    return st;
+}
+
+aocs_status_t aocs_mom_thr_exclude(aocs_mom_t *m, uint32_t i)
+{
+    aocs_status_t st = AOCS_OK;
+    if (m == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (m->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if ((m->id != AOCS_MOM_THRUSTERS) || (i >= m->cfg.thr_count) ||
+               ((m->thr_excluded_mask & thr_bit(i)) != 0u)) {
+        st = AOCS_ERR_MOMENTUM_CONFIG_INVALID;
+    } else {
+        real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX];
+        const uint32_t mask = m->thr_excluded_mask | thr_bit(i);
+        st = thr_alloc_without(m, i, mask, trial);
+        if (st == AOCS_OK) {
+            (void)memcpy(m->thr_alloc, trial, sizeof(trial));
+            m->thr_excluded_mask = mask;
+            m->thr_residual_s[i] = AOCS_R(0.0); /* nothing owed by a thruster that no longer fires */
         }
     }
     return st;

@@ -98,6 +98,7 @@ typedef struct {
     real_t thr_alloc[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX]; /* duty per N m about each signed axis */
     real_t thr_residual_s[AOCS_MOM_THRUSTERS_MAX]; /* on-time requested but not fired (quantum, minimum
                                       * pulse), carried to the next period while an unload lasts */
+    uint32_t thr_excluded_mask;      /* bit i: thruster i taken out of the allocation (aocs_mom_thr_exclude) */
     aocs_mom_output_t out;           /* the commands of the last step (zero from init) */
     int initialised;
 } aocs_mom_t;
@@ -124,6 +125,19 @@ aocs_mom_output_t aocs_mom_output(const aocs_mom_t *m);
 
 /* Host budget the policy adds to every step, ns (momentum.def BUDGET_NS); 0 for NULL. Total. */
 uint64_t aocs_mom_budget_ns(const aocs_mom_t *m);
+
+/* Torque of thruster i at full thrust in B, N m (F (r_i x d_i)); zero for NULL, a policy other than thrusters or
+ * i out of range. Total. */
+aocs_vec3_t aocs_mom_thr_torque_B(const aocs_mom_t *m, uint32_t i);
+
+/*
+ * Takes thruster i out of the thruster allocation (fault management, docs/spec.md 5.15.8): the least-propellant
+ * duty of every signed axis is sought again among the thrusters left. AOCS_OK (the allocation and the mask
+ * replaced, the thruster's carried on-time dropped); AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED;
+ * AOCS_ERR_MOMENTUM_CONFIG_INVALID (not the thrusters policy, i out of range or already out);
+ * AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING (the thrusters left cannot torque some signed axis): m unchanged.
+ */
+aocs_status_t aocs_mom_thr_exclude(aocs_mom_t *m, uint32_t i);
 
 /* The hysteresis trigger alone: the next "unloading" state from the current one and |dh|. Total. */
 int aocs_mom_trigger(const aocs_mom_config_t *cfg, int unloading, real_t dh_norm_Nms);
