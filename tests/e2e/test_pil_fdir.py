@@ -6,7 +6,14 @@ twice, with fdir.enabled 1 and 0: from step 10 on the tachometers of wheel 1 sto
 commands torque (a wheel that no longer answers), so the enabled run isolates it at step 10 + persist and
 re-initialises the array on the target. The difference of the exact instruction counts, step by step up to
 and including that step, is the stage's cost (printed: `pytest -s tests/e2e/test_pil_fdir.py`); every whole
-step stays within the budget the image reports, and the stage's cost within its allowance."""
+step stays within the budget the image reports, and the stage's cost within its allowance.
+
+The momentum test (spec 5.15.8) the same way: the thruster momentum stage dumping continuously at 0.2 N m
+(irassi_day's twelve thrusters), fdir.mom_residual_nm 0.005 on windows of 3 periods, persistence 1, and
+tachometers that do not move, so that the first window closed finds the commanded -x thruster ineffective and
+takes it out of the allocation on the target: its duty moves to its twin (the other thruster of the couple,
+the same torque), the stage's most expensive step. (Its twin is then commanded and, the tachometers still not
+moving, found ineffective one window later: the run stops before that window closes.)"""
 from __future__ import annotations
 
 import math
@@ -16,6 +23,8 @@ import pytest
 from aocs_core import registry
 from aocs_pil import frame
 from pil_support import TARGETS, configure, start
+from thruster_layout import arms as thruster_arms
+from thruster_layout import couples
 
 STEPS = 24
 DEAD = 1
@@ -82,6 +91,64 @@ def test_fdir_within_its_instruction_allowance(target):
     print(f"\nfdir on {target}: cost per step min {min(cost)} max {max(cost)} (isolation step {cost[iso]}); "
           f"whole step max {max(r.instructions for r in on)}; budget {ack_on.budget} = off's {ack_off.budget} "
           f"+ {ALLOWANCE[target]}")
+    assert ack_on.budget == ack_off.budget + ALLOWANCE[target]
+    assert max(cost) <= ALLOWANCE[target]
+    assert all(r.instructions <= r.budget and r.overrun == 0 for r in on)
+
+
+MOM_WINDOW = 3
+
+
+def _fly_thrusters(target, enabled):
+    q = start(target)
+    try:
+        reg = registry.load()
+        arms = thruster_arms(*couples(1.2))
+        fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
+                      quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
+                      inertia=[2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3], fdir_enabled=enabled,
+                      fdir_mom_residual=0.005, fdir_mom_window=MOM_WINDOW, fdir_mom_persist=1,
+                      fdir_wheel_residual_frac=1.0,   # the tachometers below do not answer the wheel commands
+                      mom_policy=list(reg.momentum_policies).index("thrusters"),
+                      mom_trigger=1, mom_dump_torque=0.2, mom_thr_count=12, mom_thr_thrust=1.0,
+                      mom_thr_min_on=0.01, mom_thr_quantum=0.001, mom_thr_arm_x=[a[0] for a in arms],
+                      mom_thr_arm_y=[a[1] for a in arms], mom_thr_arm_z=[a[2] for a in arms])
+        for i, g in enumerate(_pyramid()):
+            fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
+                           f"wheel{i}_omega_max": 600.0})
+        ack = configure(q, **fields)
+        assert (ack.pil_err, ack.status) == (0, 0), ack
+        replies = []
+        for k in range(2 * MOM_WINDOW + 1):
+            # at rest on target, the four wheels at 150 rad/s (48 N m s along the pyramid's x axis): the dump
+            # fires the -x thruster every period and the wheels' momentum never answers
+            p = frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], (0, 0, 0),
+                                  (0, 0, 0), [150.0] * 4 + [0.0, 0.0])
+            _, raw = q.request(frame.T_STEP, p, frame.T_STEP_REPLY)
+            replies.append(frame.StepReply.decode(raw))
+        q.stop()
+        return ack, replies
+    finally:
+        q.kill()
+
+
+@pytest.mark.parametrize("target", TARGETS)
+def test_thruster_isolation_within_the_allowance(target):
+    ack_off, off = _fly_thrusters(target, 0)
+    ack_on, on = _fly_thrusters(target, 1)
+    assert all(r.exact == 1 and r.mode == 1 and r.unloading == 1 for r in on + off)
+    cost = [a.instructions - b.instructions for a, b in zip(on, off)]
+    # the first sample only gives the wheels' momentum; the window opens at step 1 and closes at step
+    # 1 + MOM_WINDOW, where the -x thruster is taken out: that step's cost stands out
+    iso = 1 + MOM_WINDOW
+    ordinary = [c for k, c in enumerate(cost) if k != iso]
+    print(f"\nfdir momentum test on {target}: cost per step min {min(ordinary)} max {max(ordinary)}, the thruster "
+          f"isolation step {cost[iso]}; whole step max {max(r.instructions for r in on)}; budget {ack_on.budget}")
+    # the isolation happened on the target: thruster 2 carries the -x dump up to that step, its twin 3 from the
+    # next one (the same torque); without fault management thruster 2 fires throughout
+    assert all(r.thruster_on_s[2] > 0.0 and r.thruster_on_s[3] == 0.0 for r in on[:iso + 1])
+    assert all(r.thruster_on_s[2] == 0.0 and r.thruster_on_s[3] > 0.0 for r in on[iso + 1:])
+    assert all(r.thruster_on_s[2] > 0.0 for r in off)
     assert ack_on.budget == ack_off.budget + ALLOWANCE[target]
     assert max(cost) <= ALLOWANCE[target]
     assert all(r.instructions <= r.budget and r.overrun == 0 for r in on)

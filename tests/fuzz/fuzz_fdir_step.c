@@ -11,13 +11,18 @@
  *     stays initialised with at least 3 healthy wheels (never fewer than 3 used): a refused isolation
  *     latches SAFE, and an isolation-refused event comes with it;
  *   - disabled: no event at all;
- *   - the bias re-inflation asked on a step only with a gyro_st_inconsistent event of that step.
+ *   - the bias re-inflation asked on a step only with a gyro_st_inconsistent event of that step;
+ *   - the momentum test (a thruster momentum stage, irassi_day's twelve thrusters, dumping on a 20 / 3 N m s
+ *     hysteresis, stepped before the stage on the wheels' momentum): a thruster event names a configured
+ *     thruster; the excluded thrusters only grow, each new one with an unload_actuator_switched event naming
+ *     it in that step, at least one thruster left per signed axis (the stage stays initialised and its next
+ *     step never fires an excluded thruster).
  *
  * Input layout (reads past the end give zeros):
  *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters), the parameters
  *   (wheel_residual_frac, st_chi2, st_frozen_rate, gyro_sat as u16 scaled or raw f64; wheel_persist, st_persist,
  *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8; gyro_bias_chi2 scaled or raw,
- *   gyro_bias_persist u8), then steps until the end:
+ *   gyro_bias_persist u8, mom_residual_nm scaled or raw, mom_window u8, mom_persist u8), then steps until the end:
  *   u8 flags (bit0 have sample, bit1 input ok, bit2 st valid, bit3 gyro valid, bit4 raw f64 values, bit5-6 mode,
  *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw),
  *   u8 filter flags (bit0 the sample applied, bit1 a restart), bias[3], P bias diagonal[3], sigma_u.
@@ -64,6 +69,59 @@ static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t
     c->link_lost_periods = fuzz_u8(r) % 8u;
     c->gyro_bias_chi2 = fuzz_scaled(r, raw, -1.0, 50.0);
     c->gyro_bias_persist = fuzz_u8(r) % 8u;
+    c->mom_residual_nm = fuzz_scaled(r, raw, -1.0e-3, 5.0e-2);
+    c->mom_window = fuzz_u8(r) % 40u;
+    c->mom_persist = fuzz_u8(r) % 4u;
+}
+
+/* irassi_day's twelve 1 N thrusters in six couples on 1.2 m arms: r_i x d_i, m */
+static void fuzz_fdir_thrusters(aocs_mom_config_t *mc)
+{
+    static const real_t arm[12][3] = {{1.2, 0, 0},  {1.2, 0, 0},  {-1.2, 0, 0}, {-1.2, 0, 0},
+                                      {0, 1.2, 0},  {0, 1.2, 0},  {0, -1.2, 0}, {0, -1.2, 0},
+                                      {0, 0, 1.2},  {0, 0, 1.2},  {0, 0, -1.2}, {0, 0, -1.2}};
+    (void)memset(mc, 0, sizeof(*mc));
+    mc->policy = (uint32_t)AOCS_MOM_THRUSTERS;
+    mc->trigger = AOCS_MOM_TRIGGER_THRESHOLD;
+    mc->h_start_Nms = AOCS_R(20.0);
+    mc->h_stop_Nms = AOCS_R(3.0);
+    mc->dump_torque_Nm = AOCS_R(0.02);
+    mc->thr_count = 12u;
+    mc->thr_thrust_N = AOCS_R(1.0);
+    mc->thr_min_on_s = AOCS_R(0.01);
+    mc->thr_quantum_s = AOCS_R(0.001);
+    for (uint32_t i = 0u; i < 12u; ++i) {
+        mc->thr_arm_x_m[i] = arm[i][0];
+        mc->thr_arm_y_m[i] = arm[i][1];
+        mc->thr_arm_z_m[i] = arm[i][2];
+    }
+}
+
+/* the thruster invariants of one step: events, exclusions and their events (see the header) */
+static void fuzz_fdir_check_thrusters(const aocs_fdir_t *f, const aocs_mom_t *mom, uint32_t excluded_before,
+                                      uint32_t since, uint64_t t_ns)
+{
+    aocs_event_t e;
+    uint32_t seq = since;
+    uint32_t switched = 0u;
+    while (aocs_evlog_next(&f->log, seq, &e, NULL) == AOCS_OK) {
+        if ((e.unit_kind == AOCS_UNIT_THRUSTER) && ((e.unit < 0) || ((uint32_t)e.unit >= mom->cfg.thr_count))) {
+            fuzz_fdir_fail("thruster event names no configured thruster");
+        }
+        if ((e.id == AOCS_EVT_UNLOAD_ACTUATOR_SWITCHED) && (e.t_ns == t_ns) && (e.unit >= 0) && (e.unit < 12)) {
+            switched |= (uint32_t)1u << (uint32_t)e.unit;
+        }
+        seq = e.seq;
+    }
+    if ((mom->thr_excluded_mask & excluded_before) != excluded_before) {
+        fuzz_fdir_fail("an excluded thruster came back");
+    }
+    if ((mom->thr_excluded_mask & ~excluded_before) != switched) {
+        fuzz_fdir_fail("a thruster excluded without its unload_actuator_switched event");
+    }
+    if (mom->initialised == 0) {
+        fuzz_fdir_fail("the momentum stage lost its initialisation");
+    }
 }
 
 static void fuzz_fdir_check(const aocs_fdir_t *f, const aocs_wheels_t *wa, uint32_t mask_before, uint32_t *seq_seen,
@@ -120,6 +178,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     aocs_wheels_t wa;
     aocs_fdir_config_t c;
     aocs_fdir_t f;
+    aocs_mom_config_t mc;
+    aocs_mom_t mom;
     uint32_t seq_seen = 0u;
     uint32_t refused = 0u;
     uint64_t t_ns = 0u;
@@ -128,6 +188,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     wc.period_s = AOCS_R(0.1);
     if (aocs_wheels_init(&wa, &wc) != AOCS_OK) {
         fuzz_fdir_fail("the reference array refused");
+    }
+    fuzz_fdir_thrusters(&mc);
+    if (aocs_mom_init(&mom, &mc) != AOCS_OK) {
+        fuzz_fdir_fail("the reference thrusters refused");
     }
     fuzz_fdir_config(&r, setup, &c);
     if (aocs_fdir_init(&f, &c) != AOCS_OK) {
@@ -189,7 +253,29 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             est.p_upper[18] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
             est.p_upper[20] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
             in.gyro_rrw_radps1p5 = fuzz_scaled(&r, raw, 0.0, 1.0e-8);
-            aocs_fdir_step(&f, &in, &wa);
+            /* the momentum stage on this sample's wheels, then fault management (the executive's order) */
+            {
+                aocs_mom_input_t mi;
+                (void)memset(&mi, 0, sizeof(mi));
+                mi.h_wheels_B_Nms = aocs_wheels_h_B(&wa, speeds);
+                mi.h_valid = aocs_vec3_is_finite(mi.h_wheels_B_Nms);
+                mi.enabled = (in.mode == AOCS_EXEC_MODE_NOMINAL) ? 1 : 0;
+                mi.dt_s = in.period_s;
+                (void)aocs_mom_step(&mom, &mi);
+                for (uint32_t i = 0u; i < 12u; ++i) {
+                    if ((((mom.thr_excluded_mask >> i) & 1u) != 0u) && (mom.out.thruster_on_s[i] > AOCS_R(0.0))) {
+                        fuzz_fdir_fail("an excluded thruster fired");
+                    }
+                }
+            }
+            est.q_BN = in.st_q_SN;
+            est.w_BN_B = in.gyro_w_B;
+            in.mom = &mom;
+            {
+                const uint32_t excluded_before = mom.thr_excluded_mask;
+                aocs_fdir_step(&f, &in, &wa);
+                fuzz_fdir_check_thrusters(&f, &mom, excluded_before, events_before, t_ns);
+            }
             if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,
                                                              t_ns) == 0)) {
                 fuzz_fdir_fail("bias re-inflation without a gyro_st_inconsistent event of the step");

@@ -253,14 +253,15 @@ def momentum_seeds() -> None:
 
 def fdir_seeds() -> None:
     # fuzz_fdir_step: u8 setup, 4 x u16 parameters (wheel_residual_frac 0.1, st_chi2 16, st_frozen_rate 1e-4,
-    # gyro_sat 0), 6 x u8 counts, u16 gyro_bias_chi2 (25), u8 gyro_bias_persist (3), then steps: u8 flags,
+    # gyro_sat 0), 6 x u8 counts, u16 gyro_bias_chi2 (25), u8 gyro_bias_persist (3), u16 mom_residual_nm
+    # (0.005, or 0 = no test), u8 mom_window, u8 mom_persist, then steps: u8 flags,
     # u8 missing, 4 x (speed, command), chi2, gyro[3], q[4], u8 filter flags, bias[3], P bias diagonal[3], sigma_u
     def u16(v, lo, hi):
         return struct.pack("<H", min(65535, int((v - lo) / (hi - lo) * 65536)))
 
-    def cfg(setup):
+    def cfg(setup, mom_residual=0.0):
         return (bytes([setup]) + struct.pack("<4H", 5461, 10486, 655, 5958) + bytes([5, 5, 6, 5, 5, 3])
-                + u16(25.0, -1.0, 50.0) + bytes([3]))
+                + u16(25.0, -1.0, 50.0) + bytes([3]) + u16(mom_residual, -1.0e-3, 5.0e-2) + bytes([4, 2]))
 
     def step(flags=1 | 2 | 8 | 4 | 128, speeds=(100.0, -50.0, 30.0, 10.0), cmds=(0.0, 0.2, 0.0, 0.0), chi2=3.0,
              gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0, applied=0, bias=(0.0, 0.0, 0.0),
@@ -287,6 +288,12 @@ def fdir_seeds() -> None:
     bias = b"".join(step(cmds=(0.0,) * 4, applied=1, bias=(1e-7, 0.0, 0.0)) for _ in range(5)) + b"".join(
         step(cmds=(0.0,) * 4, applied=1, bias=(1.1e-6, 0.0, 0.0)) for _ in range(6))
     _write("fuzz_fdir_step", "gyro_bias_jump", cfg(0) + bias)
+    # wheels holding 25 N m s (a dump starts) whose momentum does not change: the commanded impulse is missing
+    # (thruster_ineffective, the dump switched off the thruster), then a momentum jump no thruster explains
+    dump = b"".join(step(flags=1 | 2 | 8 | 32, speeds=(150.0, 150.0, 150.0, 150.0), cmds=(0.0,) * 4) for _ in range(14))
+    jump = b"".join(step(flags=1 | 2 | 8 | 32, speeds=(150.0 + 20.0 * k, 150.0, 150.0, 150.0), cmds=(0.0,) * 4)
+                    for k in range(14))
+    _write("fuzz_fdir_step", "thruster_ineffective", cfg(0, 0.005) + dump + jump)
 
 
 def pil_seeds() -> None:

@@ -355,6 +355,7 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
         fi.gyro_rrw_radps1p5 = aocs_det_gyro_rrw(&exec->det);
         fi.alloc = (wheels != 0) ? &out->wheels : NULL;
         fi.wheels_status = out->wheels_status;
+        fi.mom = (exec->momentum.id != AOCS_MOM_NONE) ? &exec->momentum : NULL;
         aocs_fdir_step(&exec->fdir, &fi, (wheels != 0) ? &exec->act.wheels : NULL);
         if (exec->fdir.replan != 0) {
             /* the slew in progress slows to the envelope left along its eigenaxis (docs/spec.md 5.15.2) */

@@ -38,6 +38,9 @@ void aocs_fdir_config_default(aocs_fdir_config_t *cfg)
         cfg->gyro_bias_chi2 = AOCS_FDIR_GYRO_BIAS_CHI2_DEFAULT;
         cfg->gyro_bias_persist = AOCS_FDIR_GYRO_BIAS_PERSIST_DEFAULT;
         cfg->link_lost_periods = AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT;
+        cfg->mom_residual_nm = AOCS_FDIR_MOM_RESIDUAL_DEFAULT;
+        cfg->mom_window = AOCS_FDIR_MOM_WINDOW_DEFAULT;
+        cfg->mom_persist = AOCS_FDIR_MOM_PERSIST_DEFAULT;
     }
 }
 
@@ -55,7 +58,9 @@ aocs_status_t aocs_fdir_config_check(const aocs_fdir_config_t *cfg)
                !AOCS_IS_FINITE(cfg->st_frozen_rate_radps) || (cfg->gyro_stuck_samples < 2u) ||
                !(cfg->gyro_sat_radps >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->gyro_sat_radps) ||
                !(cfg->gyro_bias_chi2 >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->gyro_bias_chi2) ||
-               (cfg->gyro_bias_persist == 0u) || (cfg->link_lost_periods == 0u)) {
+               (cfg->gyro_bias_persist == 0u) || (cfg->link_lost_periods == 0u) ||
+               !(cfg->mom_residual_nm >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->mom_residual_nm) ||
+               (cfg->mom_window == 0u) || (cfg->mom_persist == 0u)) {
         st = AOCS_ERR_FDIR_CONFIG_INVALID;
     } else {
         st = AOCS_OK;
@@ -142,11 +147,14 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
                 aocs_fdir_st_step(f, in);
                 aocs_fdir_gyro_step(f, in);
                 aocs_fdir_gyro_bias_step(f, in);
+                aocs_fdir_mom_step(f, in, wheels);
             } else {
                 /* no usable sample: the differences restart from the next one */
                 f->wheels.have_prev = 0;
                 f->st.have_prev = 0;
                 f->gyro.have_prev = 0;
+                f->mom.open = 0;
+                f->mom.have_hw_prev = 0;
             }
             fdir_modes(f, in);
         }

@@ -16,6 +16,11 @@
  *   gyro             (gyro_monitor.c) a component at the saturation limit on K samples, or stuck
  *                    (bit-identical on K samples while another component changed) -> gyro_saturated /
  *                    gyro_stuck, then gyro_excluded and SAFE latched (one gyro: nothing to propagate on);
+ *   momentum         (thruster_monitor.c) over windows of M periods, the change of the total angular
+ *                    momentum H_N = A(q)^T (J w + h_wheels) minus the impulse the thrusters were commanded to
+ *                    give: above fdir.mom_residual_nm on P windows in a row and explained by one commanded
+ *                    thruster that did not fire -> thruster_ineffective, unload_actuator_switched (the
+ *                    allocation recomputed without it); not explained -> momentum_inconsistent;
  *   modes and link   (fdir.c) safe_entered / safe_left (after the first NOMINAL step), link_lost /
  *                    link_restored from consecutive missing samples.
  *
@@ -34,6 +39,7 @@
 #include "aocs/estimation/estimate.h"
 #include "aocs/exec/modes.h"
 #include "aocs/fdir/event_log.h"
+#include "aocs/momentum/momentum.h"
 
 /* Defaults (docs/spec.md 5.15, where each is argued) */
 #define AOCS_FDIR_WHEEL_RESIDUAL_FRAC_DEFAULT AOCS_R(0.1)
@@ -48,6 +54,9 @@
 #define AOCS_FDIR_GYRO_BIAS_CHI2_DEFAULT AOCS_R(25.0) /* 1 dof per axis: 5 sigma */
 #define AOCS_FDIR_GYRO_BIAS_PERSIST_DEFAULT 10u
 #define AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT 3u
+#define AOCS_FDIR_MOM_RESIDUAL_DEFAULT AOCS_R(0.0) /* off: the external torque bound is the mission's */
+#define AOCS_FDIR_MOM_WINDOW_DEFAULT 30u
+#define AOCS_FDIR_MOM_PERSIST_DEFAULT 2u
 
 typedef struct {
     uint32_t enabled;             /* fdir.enabled: 1 on (default), 0 off */
@@ -63,6 +72,9 @@ typedef struct {
     real_t gyro_bias_chi2;        /* bias-jump test threshold, 1 dof per axis; 0 = no test */
     uint32_t gyro_bias_persist;   /* consecutive tracker samples above it that make a bias jump, >= 1 */
     uint32_t link_lost_periods;   /* consecutive missing samples for link_lost, >= 1 */
+    real_t mom_residual_nm;       /* momentum test: mean unexplained external torque over a window, N m; 0 = none */
+    uint32_t mom_window;          /* control periods per momentum window, >= 1 */
+    uint32_t mom_persist;         /* consecutive inconsistent windows for an event, >= 1 */
 } aocs_fdir_config_t;
 
 /* What the stage sees of one step (the executive fills it after actuation). */
@@ -83,6 +95,8 @@ typedef struct {
     real_t gyro_rrw_radps1p5;     /* the filter's gyro rate random walk sigma_u, rad/s^1.5 (0: no filter) */
     const aocs_wheels_alloc_t *alloc; /* this step's wheel allocation (NULL without an array) */
     aocs_status_t wheels_status;  /* the allocation's status this step */
+    aocs_mom_t *mom;              /* the momentum stage after this step (its thruster commands; NULL: none);
+                                   * a thruster isolation recomputes its allocation in place */
 } aocs_fdir_input_t;
 
 /* The wheel monitor's state (wheel_monitor.c) */
@@ -119,12 +133,28 @@ typedef struct {
     int bias_armed;
 } aocs_fdir_gyro_t;
 
+/* The momentum monitor's state (thruster_monitor.c): the window open since H_ref was measured */
+typedef struct {
+    aocs_vec3_t h_ref_N;          /* total momentum at the window's start, N, N m s */
+    real_t epoch_ref_Nms;         /* its epoch uncertainty, |h_w(k) - h_w(k-1)| / 2, N m s */
+    aocs_vec3_t hw_prev_B;        /* the wheels' momentum at the last usable sample, B, N m s */
+    int have_hw_prev;
+    aocs_vec3_t expected_N;       /* thruster impulse commanded since, N, N m s */
+    aocs_vec3_t thr_impulse_N[AOCS_MOM_THRUSTERS_MAX]; /* each thruster's share of it, N m s */
+    uint32_t periods;             /* periods in the window so far */
+    int open;                     /* 1: h_ref_N holds a window's start */
+    uint32_t inconsistent_run;    /* consecutive windows not explained by any thruster */
+    uint32_t ineffective_run;     /* consecutive windows explained by one commanded thruster not firing */
+    uint32_t suspect;             /* that thruster (the last window's) */
+} aocs_fdir_mom_t;
+
 typedef struct {
     aocs_fdir_config_t cfg;
     aocs_evlog_t log;
     aocs_fdir_wheels_t wheels;
     aocs_fdir_st_t st;
     aocs_fdir_gyro_t gyro;
+    aocs_fdir_mom_t mom;
     uint32_t missing_run;         /* consecutive periods without a sample */
     uint32_t link_down;           /* 1 after link_lost until a sample */
     aocs_exec_mode_t mode_prev;
@@ -159,6 +189,7 @@ void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whe
 void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_gyro_bias_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
+void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_wheels_t *wheels);
 
 /* 1 when a and b are the same number (neither below nor above the other; 0 with a NaN): the repeat tests of
  * a frozen tracker and a stuck gyro axis. Total. */
