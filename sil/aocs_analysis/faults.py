@@ -6,7 +6,8 @@ For each injected fault (aocs_plant.faults: kind, unit, start_s, end_s) and the 
 
 - detected_s: the time of the first event at or after start_s of the fault's unit kind (catalogue: the kind the
   flight software isolates), of the same unit index where both the fault and the event have one (an event unit
-  of -1 or none has none), with severity warning or above; None if none. An event of that kind before start_s
+  of -1 or none has none), with severity warning or above, or an event the catalogue lists in the kind's
+  detected_by (the thrusters: momentum_inconsistent, which names no unit); None if none. An event of that kind before start_s
   is not a detection (it is counted in events_before_start: a false alarm, or an earlier fault's);
 - isolated: an isolation event (ISOLATIONS: st_excluded, gyro_excluded, wheel_isolated,
   unload_actuator_switched) of that unit kind and unit at or after start_s;
@@ -84,7 +85,7 @@ def entry(fault, events: list, t, pointing_arcsec, requirement: float | None, wi
     unit = kind.isolation_unit(f.get("unit"))
     uk = kind.isolate_kind
     mine = [e for e in events if _matches(e, uk, unit)]
-    warn = [e for e in mine if _severity(e) >= 1]
+    warn = [e for e in mine + [e for e in events if e.get("name") in kind.detected_by] if _severity(e) >= 1]
     det = min((float(e["t_s"]) for e in warn if float(e["t_s"]) >= start - 1e-9), default=None)
     iso = any(e.get("name") in ISOLATIONS and float(e["t_s"]) >= start - 1e-9 for e in mine)
     before = sum(1 for e in warn if float(e["t_s"]) < start - 1e-9)

@@ -38,14 +38,17 @@ class Kind:
     isolate_expected: bool
     params: tuple = ()
     meaning: str = ""
+    #: events of no unit that also detect this kind (the momentum test cannot name a thruster it did not
+    #: command: a thruster stuck open is seen as momentum_inconsistent)
+    detected_by: tuple = ()
 
     def isolation_unit(self, unit):
         """The unit index the flight software's events name for this fault (None: the device has one)."""
         return unit if self.unit in ("wheel", "thruster") else None
 
 
-def _k(name, device, unit, isolate_kind, detect, isolate, params=(), meaning=""):
-    return Kind(name, device, unit, isolate_kind, detect, isolate, tuple(params), meaning)
+def _k(name, device, unit, isolate_kind, detect, isolate, params=(), meaning="", detected_by=()):
+    return Kind(name, device, unit, isolate_kind, detect, isolate, tuple(params), meaning, tuple(detected_by))
 
 
 KINDS = {k.name: k for k in (
@@ -84,9 +87,9 @@ KINDS = {k.name: k for k in (
        (Param("factor", "number", 5.0, "positive", "multiplies the wheel's friction (viscous and Coulomb)"),),
        "the wheel's friction f(Omega) multiplied by factor"),
     _k("thruster_stuck_closed", THRUSTERS, "thruster", "thruster", True, True, (),
-       "the thruster gives no thrust whatever its command"),
+       "the thruster gives no thrust whatever its command", ("momentum_inconsistent",)),
     _k("thruster_stuck_open", THRUSTERS, "thruster", "thruster", True, True, (),
-       "the thruster fires continuously (on-time the whole period, propellant counted)"),
+       "the thruster fires continuously (on-time the whole period, propellant counted)", ("momentum_inconsistent",)),
     _k("link_drop_burst", LINK, None, "link", True, False, (),
        "every sensor message of the interval is dropped (the transport's drop event at each tick)"),
 )}

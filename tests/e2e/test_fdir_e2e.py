@@ -112,3 +112,35 @@ def test_nominal_runs_raise_no_alarm(private_netns, fsw_node_bin, aocs_lcm, tmp_
     m = _run(tmp_path, scenario, scenario=scenario, duration=duration)
     print(f"\n{scenario} {duration:g} s: {len(m['events'])} events, {m['events_alarms']} of severity >= warning")
     assert m["events_alarms"] == 0, m["events"]
+
+
+THR_SETS = ["momentum.h_start_nms=2.0", "momentum.h_stop_nms=0.5", "metrics.recovery_arcsec=10.0"]
+
+
+def test_a_thruster_stuck_closed_is_isolated_and_the_dump_completes_on_its_partner(private_netns, fsw_node_bin,
+                                                                                  aocs_lcm, tmp_path):
+    """irassi_day_mekf with its dump thresholds lowered to 2 / 0.5 N m s (a dump within minutes, 2500 s): thruster
+    2 (the -x couple's first, the one the allocation fires for -x) gives no thrust from the start. The momentum
+    test (spec 5.15.8) names it within two windows of 30 s after the dump needs it, the dump goes on with its
+    partner 3, and completes; left alone (the test off) the dump never ends."""
+    fault = ["thruster_stuck_closed@0:unit=2"]
+    m = _run(tmp_path, "thr", scenario="irassi_day_mekf", duration=2500.0, transport="direct", sets=THR_SETS,
+             faults=fault)
+    assert [(e["name"], e["unit"]) for e in m["events"]] == [("thruster_ineffective", 2),
+                                                            ("unload_actuator_switched", 2)], m["events"]
+    ev = m["events"][0]
+    assert ev["value"] > ev["threshold"] == pytest.approx(0.005)
+    (f,) = m["faults"]
+    assert f["detected_s"] == ev["t_s"] and f["isolated"] is True and f["handled"] is True
+    pulses = m["momentum"]["unloading"]["plant"]["thrusters.pulses"]
+    assert pulses[2] == 0 and pulses[3] > 0            # the partner fires the -x dump
+    off = _run(tmp_path, "thr-off", scenario="irassi_day_mekf", duration=2500.0, transport="direct",
+               sets=THR_SETS + ["fdir.mom_residual_nm=0.0"], faults=fault)
+    assert off["events"] == [] and off["faults"][0]["detected_s"] is None
+    on_u, off_u = m["momentum"]["unloading"], off["momentum"]["unloading"]
+    print(f"\nstuck closed: detected {ev['t_s']:.1f} s; unloads {on_u['events']} ({on_u['time_s']:g} s, "
+          f"{on_u['propellant_kg']:.4f} kg), final |h_w| {m['momentum']['final_nms']:.2f} N m s; left alone: "
+          f"{off_u['events']} unload ({off_u['time_s']:g} s, {off_u['propellant_kg']:.4f} kg), final "
+          f"{off['momentum']['final_nms']:.2f} N m s")
+    assert m["momentum"]["final_nms"] < 2.0 < off["momentum"]["final_nms"]
+    assert off_u["time_s"] > 2400.0 > 1000.0 > on_u["time_s"]

@@ -137,3 +137,24 @@ def test_false_alarms_are_the_alarms_before_the_first_fault():
     # a nominal run: every alarm is false
     assert E.false_alarms(evs, []) == 4 == E.alarms(evs)
     assert E.false_alarms([], []) == 0
+
+
+def test_a_thruster_fault_is_detected_by_momentum_inconsistent_and_a_wheel_fault_is_not():
+    """momentum_inconsistent names no unit (unit kind none): the catalogue lists it in the thruster kinds'
+    detected_by (a thruster stuck open was never commanded, so the momentum test cannot name it); it detects no
+    wheel fault, and before the start it is a false alarm of the thruster fault, not its detection."""
+    stuck_open = Fault("thruster_stuck_open", 2, 60.0, 300.0)
+    events = [ev(40.0, "momentum_inconsistent", "none"), ev(91.0, "momentum_inconsistent", "none")]
+    (e,) = F.entries([stuck_open], events, T, pointing(None), 0.3, 50.0)
+    assert e["detected_s"] == 91.0 and e["events_before_start"] == 1
+    assert e["isolated"] is False and not e["handled"]
+    (w,) = F.entries([WHEEL], [ev(91.0, "momentum_inconsistent", "none")], T, pointing(150.0), 0.3, 50.0)
+    assert w["detected_s"] is None
+    # a stuck-closed thruster named by the momentum test, and the dump switched off it
+    closed = Fault("thruster_stuck_closed", 2, 60.0, 300.0)
+    events = [ev(121.0, "thruster_ineffective", "thruster", 2),
+              ev(121.0, "unload_actuator_switched", "thruster", 2, "error")]
+    (c,) = F.entries([closed], events, T, pointing(100.0), 0.3, 50.0)
+    assert c["detected_s"] == 121.0 and c["isolated"] is True and c["handled"]
+    (c3,) = F.entries([Fault("thruster_stuck_closed", 3, 60.0, 300.0)], events, T, pointing(100.0), 0.3, 50.0)
+    assert c3["detected_s"] is None and c3["isolated"] is False
