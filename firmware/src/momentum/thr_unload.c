@@ -171,8 +171,8 @@ static uint32_t thr_twin(const aocs_mom_config_t *c, uint32_t excluded, uint32_t
  * The allocation without thruster i, into trial (a copy of the present one): where a signed axis's duties use
  * i and a twin with the same torque is left, i's duty moves to the twin (the same torque at the same
  * propellant, so still the least-propellant basic solution: a few hundred instructions); otherwise every
- * axis is sought again over the thrusters left (thr_alloc_all: some 25,000 instructions on the Cortex-M4F, an
- * overrun of that step's budget, docs/spec.md 5.15.8).
+ * axis is sought again over the thrusters left (thr_alloc_all: more than 22,500 instructions on the
+ * Cortex-M4F, an overrun of that step's budget, docs/spec.md 5.15.8).
  */
 static aocs_status_t thr_alloc_without(const aocs_mom_t *m, uint32_t i, uint32_t mask,
                                        real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX])
