@@ -680,6 +680,79 @@ static void test_gyro_saturation(void **state)
     assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 2, NULL), 1u);
 }
 
+/* the tracker's attitude turning at rate_radps about the unit axis e since t = 0, with a random error
+ * rotation of sigma_rad per axis (0: none) */
+static aocs_quat_t turning_quat(const double e[3], double rate_radps, double t_s, test_rng_t *rng, double sigma_rad)
+{
+    const double h = 0.5 * rate_radps * t_s;
+    aocs_quat_t q = aocs_quat_make((real_t)(e[0] * sin(h)), (real_t)(e[1] * sin(h)), (real_t)(e[2] * sin(h)),
+                                   (real_t)cos(h));
+    if (sigma_rad > 0.0) {
+        q = noisy_quat(rng, q, sigma_rad);
+    }
+    return q;
+}
+
+/* one sample of both sensors with the filter's innovation test of the tracker sample (d2) */
+static void both_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, aocs_vec3_t w, real_t d2)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
+    (void)memset(&est, 0, sizeof(est));
+    est.status = AOCS_OK;
+    est.st_status = AOCS_ERR_MEKF_GATED;
+    est.innovation_chi2 = d2;
+    in.est = &est;
+    in.st_q_SN = q;
+    in.st_valid = 1;
+    in.gyro_w_B = w;
+    in.gyro_valid = 1;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+/* A gyro pinned on every axis (saturated at 1e-3 rad/s) during a 5e-3 rad/s turn: the tracker's innovations
+ * fail first and exclude it (5 samples); at the 10th identical gyro sample the tracker has turned 9 x 0.5 mrad
+ * against the gyro's 9 x 0.17 mrad: gyro_stuck (the axis of the largest reading: all equal, x), the gyro
+ * excluded, SAFE latched, the tracker restored. A noise-free gyro at the same constant rate as the tracker
+ * (every axis repeating too), with an 8 arcsec tracker noise: nothing over 200 samples. */
+static void test_a_gyro_pinned_on_every_axis_while_the_tracker_turns(void **state)
+{
+    (void)state;
+    const double e[3] = {0.6, 0.64, 0.48};
+    const double rate = 5.0e-3;
+    const double sigma = 8.0 * 4.84813681109536e-6;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {4242u};
+    uint64_t t_stuck = 0u;
+    uint64_t k = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 200; ++i) {
+        ++k;
+        both_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
+                  aocs_vec3_make((real_t)(rate * e[0]), (real_t)(rate * e[1]), (real_t)(rate * e[2])), AOCS_R(1.0));
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 0u);
+    /* now the gyro clips at 1e-3 on every axis and the filter's innovations of the tracker fail */
+    for (int i = 0; i < 12; ++i) {
+        ++k;
+        both_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
+                  aocs_vec3_make(AOCS_R(1.0e-3), AOCS_R(1.0e-3), AOCS_R(1.0e-3)), AOCS_R(100.0));
+        if (i == 4) {
+            assert_int_equal(f.st.excluded, 1); /* the 5th failed innovation (fdir.st_persist) */
+        }
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_EXCLUDED, -1, NULL), 1u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_STUCK, 0, &t_stuck), 1u);
+    /* the first pinned sample is the 1st of the 12, the 10th identical one the 10th */
+    assert_int_equal(t_stuck, (k - 2u) * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 0, NULL), 1u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, NULL), 1u);
+    assert_int_equal(f.st.excluded, 0);
+    assert_int_equal(f.safe_latched, 1);
+}
+
 /* ---- link and modes ---- */
 static void mode_feed(aocs_fdir_t *f, uint64_t k, int have, uint32_t missing, aocs_exec_mode_t mode)
 {
@@ -1085,6 +1158,7 @@ int main(void)
         cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
         cmocka_unit_test(test_gyro_saturation),
+        cmocka_unit_test(test_a_gyro_pinned_on_every_axis_while_the_tracker_turns),
         cmocka_unit_test(test_link_and_safe_events),
         cmocka_unit_test(test_disabled_is_silent),
         cmocka_unit_test(test_momentum_consistent_while_dumping_and_an_unexplained_torque),

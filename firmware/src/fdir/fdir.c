@@ -153,6 +153,7 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
                 f->wheels.have_prev = 0;
                 f->st.have_prev = 0;
                 f->gyro.have_prev = 0;
+                f->gyro.pinned_run = 0u;
                 f->mom.open = 0;
                 f->mom.have_hw_prev = 0;
             }

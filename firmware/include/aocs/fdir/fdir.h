@@ -51,6 +51,10 @@
 #define AOCS_FDIR_ST_FROZEN_RATE_DEFAULT AOCS_R(1.0e-4)
 #define AOCS_FDIR_GYRO_STUCK_SAMPLES_DEFAULT 10u
 #define AOCS_FDIR_GYRO_SAT_DEFAULT AOCS_R(0.0)
+/* a gyro every axis of which repeats while the tracker turns faster than it says by this many times
+ * fdir.st_frozen_rate_radps (1e-3 rad/s by default: over 0.9 s some 190 arcsec, far beyond a tracker's noise
+ * between two samples) is pinned: saturated or stuck (5.15.4) */
+#define AOCS_FDIR_GYRO_PINNED_RATE_FACTOR AOCS_R(10.0)
 #define AOCS_FDIR_GYRO_BIAS_CHI2_DEFAULT AOCS_R(25.0) /* 1 dof per axis: 5 sigma */
 #define AOCS_FDIR_GYRO_BIAS_PERSIST_DEFAULT 10u
 #define AOCS_FDIR_LINK_LOST_PERIODS_DEFAULT 3u
@@ -124,6 +128,14 @@ typedef struct {
     uint32_t sat_run[3];
     int have_prev;
     int excluded;
+    /* the pinned test: every axis repeating while the tracker turns (gyro_monitor.c) */
+    uint32_t pinned_run;          /* consecutive samples with every axis identical to the last */
+    aocs_quat_t st_ref_SN;        /* the tracker's sample when the run began */
+    int have_st_ref;
+    real_t pinned_angle_rad;      /* the rotation the gyro reports over the run, sum |w| T */
+    real_t pinned_span_s;         /* the run's length */
+    aocs_quat_t st_last_SN;       /* the last tracker sample (any step) */
+    int have_st_last;
     /* the bias-jump test (gyro_bias.c): the filter's bias estimate and its variances at the reference time */
     aocs_vec3_t b_ref_B;          /* bias estimate at t_ref, rad/s */
     real_t p_ref[3];              /* its variances (diag of the bias block of P), rad^2/s^2 */
