@@ -144,3 +144,23 @@ def test_a_thruster_stuck_closed_is_isolated_and_the_dump_completes_on_its_partn
           f"{off['momentum']['final_nms']:.2f} N m s")
     assert m["momentum"]["final_nms"] < 2.0 < off["momentum"]["final_nms"]
     assert off_u["time_s"] > 2400.0 > 1000.0 > on_u["time_s"]
+
+
+def test_a_gyro_saturated_mid_slew_is_named_and_the_tracker_restored(private_netns, fsw_node_bin, aocs_lcm,
+                                                                   tmp_path):
+    """The gyro clipped at 1e-3 rad/s on every axis 60 s into the slew (rates of some 5e-3 rad/s): the pinned
+    test (spec 5.15.4) names the gyro at its 10th identical sample, although the tracker's innovations failed
+    first and excluded it; the tracker is restored at that step. One gyro: SAFE is latched (the run fails its
+    verdict for that, `unrequested-safe`, allowed here to read the events)."""
+    res = execute(RunOptions(scenario="irassi_rw_mekf", duration=70.0, transport="direct", out=str(tmp_path / "sat"),
+                             quiet=True, plots=False, faults=["gyro_saturation@60:saturation_rad_s=1e-3"],
+                             allow=("fault-management", "unrequested-safe")))
+    evs = [(e["name"], e["unit_kind"]) for e in res.metrics["events"]]
+    t = {e["name"]: e["t_s"] for e in reversed(res.metrics["events"])}       # the first of each name
+    assert evs[:5] == [("st_innovation_high", "star_tracker"), ("st_excluded", "star_tracker"), ("gyro_stuck", "gyro"),
+                       ("gyro_excluded", "gyro"), ("st_restored", "star_tracker")], res.metrics["events"]
+    # 10 Hz: the first clipped sample at 60.1 s at the latest, the 10th identical one 0.9 s later
+    assert FAIL_AT_S < t["gyro_stuck"] <= FAIL_AT_S + 1.0 + 1e-6
+    assert t["st_restored"] == t["gyro_excluded"] == t["gyro_stuck"]
+    (f,) = res.metrics["faults"]
+    assert f["detected_s"] is not None and f["isolated"] is True

@@ -69,7 +69,7 @@ static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t
     c->link_lost_periods = fuzz_u8(r) % 8u;
     c->gyro_bias_chi2 = fuzz_scaled(r, raw, -1.0, 50.0);
     c->gyro_bias_persist = fuzz_u8(r) % 8u;
-    c->mom_residual_nm = fuzz_scaled(r, raw, -1.0e-3, 5.0e-2);
+    c->mom_residual_nm = fuzz_scaled(r, raw, 0.0, 5.0e-2);
     c->mom_window = fuzz_u8(r) % 40u;
     c->mom_persist = fuzz_u8(r) % 4u;
 }
