@@ -7,6 +7,8 @@
  *     row's, a wheel event's unit a configured wheel;
  *   - the event sequence monotonic: seq_last never goes back, and the events read after the last seen come
  *     in order with seq + 1 each (none lost at 32 per step at most);
+ *   - a wheel's friction model rescaled only with a wheel_friction_high event of that wheel (then or before),
+ *     and the array still initialised (checked with the isolation below);
  *   - isolation only of a configured, healthy wheel: the failed mask only grows, by bits below n; the array
  *     stays initialised with at least 3 healthy wheels (never fewer than 3 used): a refused isolation
  *     latches SAFE, and an isolation-refused event comes with it;
@@ -22,7 +24,8 @@
  *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters), the parameters
  *   (wheel_residual_frac, st_chi2, st_frozen_rate, gyro_sat as u16 scaled or raw f64; wheel_persist, st_persist,
  *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8; gyro_bias_chi2 scaled or raw,
- *   gyro_bias_persist u8, mom_residual_nm scaled or raw, mom_window u8, mom_persist u8), then steps until the end:
+ *   gyro_bias_persist u8, mom_residual_nm scaled or raw, mom_window u8, mom_persist u8, wheel_friction_window
+ *   u8, wheel_friction_excess scaled or raw), then steps until the end:
  *   u8 flags (bit0 have sample, bit1 input ok, bit2 st valid, bit3 gyro valid, bit4 raw f64 values, bit5-6 mode,
  *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw),
  *   u8 filter flags (bit0 the sample applied, bit1 a restart), bias[3], P bias diagonal[3], sigma_u.
@@ -72,6 +75,8 @@ static void fuzz_fdir_config(fuzz_reader_t *r, uint8_t setup, aocs_fdir_config_t
     c->mom_residual_nm = fuzz_scaled(r, raw, 0.0, 5.0e-2);
     c->mom_window = fuzz_u8(r) % 40u;
     c->mom_persist = fuzz_u8(r) % 4u;
+    c->wheel_friction_window = fuzz_u8(r) % 16u;
+    c->wheel_friction_excess = fuzz_scaled(r, raw, 0.0, 3.0);
 }
 
 /* irassi_day's twelve 1 N thrusters in six couples on 1.2 m arms: r_i x d_i, m */
@@ -204,14 +209,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         return 0;
     }
+    uint32_t friction_flagged = 0u; /* wheels with a wheel_friction_high event so far */
     for (int k = 0; (k < 4096) && (fuzz_more(&r) != 0); ++k) {
         const uint8_t flags = fuzz_u8(&r);
+        real_t coulomb_before[AOCS_WHEELS_MAX];
+        const uint32_t seq_before_step = f.log.seq_last;
         const int raw = (int)((flags >> 4) & 1u);
         aocs_fdir_input_t in;
         aocs_wheels_alloc_t alloc;
         aocs_det_output_t est;
         real_t speeds[AOCS_WHEELS_MAX] = {0};
         const uint32_t mask_before = wa.cfg.failed_mask;
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            coulomb_before[i] = wa.cfg.coulomb_nm[i];
+        }
         (void)memset(&in, 0, sizeof(in));
         (void)memset(&alloc, 0, sizeof(alloc));
         (void)memset(&est, 0, sizeof(est));
@@ -279,6 +290,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,
                                                              t_ns) == 0)) {
                 fuzz_fdir_fail("bias re-inflation without a gyro_st_inconsistent event of the step");
+            }
+        }
+        {
+            aocs_event_t e;
+            uint32_t seq = seq_before_step;
+            while (aocs_evlog_next(&f.log, seq, &e, NULL) == AOCS_OK) {
+                if ((e.id == AOCS_EVT_WHEEL_FRICTION_HIGH) && (e.unit >= 0) && (e.unit < (int32_t)AOCS_WHEELS_MAX)) {
+                    friction_flagged |= (uint32_t)1u << (uint32_t)e.unit;
+                }
+                seq = e.seq;
+            }
+            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+                if ((aocs_fdir_same(coulomb_before[i], wa.cfg.coulomb_nm[i]) == 0) &&
+                    (((friction_flagged >> i) & 1u) == 0u)) {
+                    fuzz_fdir_fail("a wheel's friction model rescaled without its wheel_friction_high event");
+                }
             }
         }
         fuzz_fdir_check(&f, &wa, mask_before, &seq_seen, refused);

@@ -254,14 +254,16 @@ def momentum_seeds() -> None:
 def fdir_seeds() -> None:
     # fuzz_fdir_step: u8 setup, 4 x u16 parameters (wheel_residual_frac 0.1, st_chi2 16, st_frozen_rate 1e-4,
     # gyro_sat 0), 6 x u8 counts, u16 gyro_bias_chi2 (25), u8 gyro_bias_persist (3), u16 mom_residual_nm
-    # (0.005, or 0 = no test), u8 mom_window, u8 mom_persist, then steps: u8 flags,
+    # (0.005, or 0 = no test), u8 mom_window, u8 mom_persist, u8 wheel_friction_window (10), u16
+    # wheel_friction_excess (1), then steps: u8 flags,
     # u8 missing, 4 x (speed, command), chi2, gyro[3], q[4], u8 filter flags, bias[3], P bias diagonal[3], sigma_u
     def u16(v, lo, hi):
         return struct.pack("<H", min(65535, int((v - lo) / (hi - lo) * 65536)))
 
     def cfg(setup, mom_residual=0.0):
         return (bytes([setup]) + struct.pack("<4H", 5461, 10486, 655, 5958) + bytes([5, 5, 6, 5, 5, 3])
-                + u16(25.0, -1.0, 50.0) + bytes([3]) + u16(mom_residual, 0.0, 5.0e-2) + bytes([4, 2]))
+                + u16(25.0, -1.0, 50.0) + bytes([3]) + u16(mom_residual, 0.0, 5.0e-2) + bytes([4, 2])
+                + bytes([10]) + u16(1.0, 0.0, 3.0))
 
     def step(flags=1 | 2 | 8 | 4 | 128, speeds=(100.0, -50.0, 30.0, 10.0), cmds=(0.0, 0.2, 0.0, 0.0), chi2=3.0,
              gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0, applied=0, bias=(0.0, 0.0, 0.0),
@@ -299,6 +301,12 @@ def fdir_seeds() -> None:
     pinned = b"".join(step(cmds=(0.0,) * 4, chi2=40.0, gyro=(1e-3, 1e-3, 1e-3), q=(0.01 * k, 0.0, 0.0, 1.0))
                       for k in range(14))
     _write("fuzz_fdir_step", "gyro_pinned", cfg(0) + pinned)
+    # wheel 0 at 100 rad/s, uncommanded, slowing by one speed quantum (1400 / 65536 rad/s) a period: 5.7 times
+    # the friction model's 3 mN m (the residual 14 mN m, below the 25 mN m isolation threshold): at the end of
+    # the 10-step friction window wheel_friction_high, the model rescaled
+    q = 1400.0 / 65536.0
+    friction = b"".join(step(cmds=(0.0,) * 4, speeds=(100.0 - q * k, 0.0, 0.0, 0.0)) for k in range(24))
+    _write("fuzz_fdir_step", "wheel_friction_high", cfg(0) + friction)
 
 
 def pil_seeds() -> None:

@@ -50,6 +50,7 @@ static void test_event_ids_names_severities_are_the_wire_values(void **state)
         {AOCS_EVT_GYRO_STUCK, 16u, "gyro_stuck", "warning", "gyro"},
         {AOCS_EVT_GYRO_SATURATED, 17u, "gyro_saturated", "warning", "gyro"},
         {AOCS_EVT_WHEEL_ISOLATION_REFUSED, 18u, "wheel_isolation_refused", "critical", "wheel"},
+        {AOCS_EVT_WHEEL_FRICTION_HIGH, 19u, "wheel_friction_high", "warning", "wheel"},
     };
     assert_int_equal(AOCS_EVT_COUNT, sizeof(rows) / sizeof(rows[0]));
     for (size_t i = 0u; i < (sizeof(rows) / sizeof(rows[0])); ++i) {
@@ -292,6 +293,74 @@ static void test_wheel_dies_is_detected_after_persist_steps_and_isolated(void **
     }
     assert_int_equal(r.f.replan, 0); /* set on the isolation step only */
     assert_int_equal(r.f.safe_latched, 0);
+}
+
+/* wheel 1's true friction five times its model from step 150 (the rig's wheels spinning one way under a
+ * command that keeps them so): no isolation (the extra 8 to 10 mN m is below the 25 mN m threshold), but at
+ * the end of the friction window that holds it wheel_friction_high names wheel 1 with the scale found, the
+ * model is scaled by it and follows the wheel after (no other event); with the test off, nothing. */
+static void test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled(void **state)
+{
+    (void)state;
+    const double b = 1.0e-5;
+    const double c = 2.0e-3;
+    for (int on = 0; on < 2; ++on) {
+        wheel_rig_t r;
+        aocs_event_t e;
+        rig_init(&r, 4u, b, c);
+        if (on == 0) {
+            r.f.cfg.wheel_friction_excess = AOCS_R(0.0);
+        }
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            r.omega[i] = 80.0 + (10.0 * (double)i);
+        }
+        for (uint32_t k = 0u; k < 600u; ++k) {
+            const aocs_vec3_t u_c = aocs_vec3_make(AOCS_R(0.02 * sin(0.01 * (double)k)), AOCS_R(0.01), AOCS_R(0.0));
+            aocs_wheels_alloc_t alloc;
+            real_t om[AOCS_WHEELS_MAX] = {0};
+            aocs_fdir_input_t in;
+            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+                om[i] = (real_t)r.omega[i];
+            }
+            assert_int_equal(aocs_wheels_allocate(&r.wa, u_c, om, &alloc), AOCS_OK);
+            (void)memset(&in, 0, sizeof(in));
+            in.t_ns = r.t_ns;
+            in.period_s = AOCS_R(PERIOD_S);
+            in.have_sample = 1;
+            in.input_status = AOCS_OK;
+            in.mode = AOCS_EXEC_MODE_NOMINAL;
+            in.wheel_speed_radps = om;
+            in.alloc = &alloc;
+            aocs_fdir_step(&r.f, &in, &r.wa);
+            for (uint32_t i = 0u; i < 4u; ++i) {
+                const double scale = ((i == 1u) && (k >= 150u)) ? 5.0 : 1.0;
+                const double h = PERIOD_S / 100.0;
+                for (int j = 0; j < 100; ++j) {
+                    r.omega[i] += h * ((double)alloc.u_s_nm[i] - scale * test_friction(b, c, 0.5, r.omega[i])) /
+                                  TEST_WHEEL_JS_KGM2;
+                }
+            }
+            r.t_ns += PERIOD_NS;
+        }
+        assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_ISOLATED, -1, NULL), 0u);
+        if (on == 0) {
+            assert_int_equal(aocs_evlog_count(&r.f.log), 0u);
+            assert_close(r.wa.cfg.coulomb_nm[1], (double)(real_t)c, 0.0);
+        } else {
+            uint64_t t = 0u;
+            assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_FRICTION_HIGH, 1, &t), 1u);
+            assert_int_equal(aocs_evlog_count(&r.f.log), 1u);
+            /* windows of 100 residuals from the second sample close at steps 100, 200, ...: the one closing at
+             * 200 holds 50 periods of the grown friction and 50 before, so its scale is about (1 + 5) / 2 */
+            assert_int_equal(t, 200u * PERIOD_NS);
+            assert_int_equal(aocs_evlog_next(&r.f.log, 0u, &e, NULL), AOCS_OK);
+            assert_true(fabs((double)e.value - 3.0) < 0.1);
+            /* the next window scales the model again, silently: it ends within 2 % of the truth */
+            assert_true(fabs((double)r.wa.cfg.coulomb_nm[1] / c - 5.0) < 0.1);
+            assert_true(fabs((double)r.wa.cfg.viscous_nms[1] / b - 5.0) < 0.1);
+            assert_close(r.wa.cfg.coulomb_nm[0], (double)(real_t)c, 0.0);
+        }
+    }
 }
 
 /* three wheels: the last three cannot lose one -> wheel_isolation_refused, SAFE latched, the array unchanged */
@@ -1151,6 +1220,7 @@ int main(void)
         cmocka_unit_test(test_wheel_residual_is_the_formula),
         cmocka_unit_test(test_wheel_dies_is_detected_after_persist_steps_and_isolated),
         cmocka_unit_test(test_isolation_of_the_third_wheel_is_refused_and_latches_safe),
+        cmocka_unit_test(test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled),
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),

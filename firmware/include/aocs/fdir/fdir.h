@@ -10,6 +10,8 @@
  *                    |r_i| > frac u_s,max,i on N consecutive steps -> wheel_residual_high, wheel_isolated
  *                    (the array re-initialised without wheel i, the slew replanned), or, when the wheels
  *                    left would not span three axes, wheel_isolation_refused and SAFE latched;
+ *                    over fdir.wheel_friction_window steps sum r_i / sum f^_i - 1 > fdir.wheel_friction_excess
+ *                    -> wheel_friction_high, the wheel's friction model scaled by that ratio;
  *   star tracker     (st_monitor.c) the MEKF innovation d^2 = y^T S^-1 y > chi2 on N samples ->
  *                    st_innovation_high, st_excluded (tested, not applied); M consistent samples ->
  *                    st_restored; K identical quaternions while the gyro turns -> st_frozen, st_excluded;
@@ -61,6 +63,8 @@
 #define AOCS_FDIR_MOM_RESIDUAL_DEFAULT AOCS_R(0.0) /* off: the external torque bound is the mission's */
 #define AOCS_FDIR_MOM_WINDOW_DEFAULT 30u
 #define AOCS_FDIR_MOM_PERSIST_DEFAULT 2u
+#define AOCS_FDIR_WHEEL_FRICTION_WINDOW_DEFAULT 100u
+#define AOCS_FDIR_WHEEL_FRICTION_EXCESS_DEFAULT AOCS_R(1.0) /* the friction doubled */
 
 typedef struct {
     uint32_t enabled;             /* fdir.enabled: 1 on (default), 0 off */
@@ -79,6 +83,8 @@ typedef struct {
     real_t mom_residual_nm;       /* momentum test: mean unexplained external torque over a window, N m; 0 = none */
     uint32_t mom_window;          /* control periods per momentum window, >= 1 */
     uint32_t mom_persist;         /* consecutive inconsistent windows for an event, >= 1 */
+    uint32_t wheel_friction_window; /* steps of the friction test's sums, >= 1 */
+    real_t wheel_friction_excess; /* friction beyond the model by this fraction of it: high; 0 = no test */
 } aocs_fdir_config_t;
 
 /* What the stage sees of one step (the executive fills it after actuation). */
@@ -109,6 +115,13 @@ typedef struct {
     real_t omega_prev_radps[AOCS_WHEELS_MAX];
     uint32_t over[AOCS_WHEELS_MAX];        /* consecutive steps above the threshold */
     int have_prev;
+    /* the friction test: sums over the window of the residual and of the friction model, N m */
+    real_t f_prev_nm[AOCS_WHEELS_MAX];     /* the friction model at last step's speed */
+    real_t sum_r_nm[AOCS_WHEELS_MAX];
+    real_t sum_f_nm[AOCS_WHEELS_MAX];
+    real_t sum_abs_f_nm[AOCS_WHEELS_MAX];
+    uint32_t friction_steps;               /* steps summed so far */
+    uint32_t friction_high_mask;           /* bit i: wheel i's friction found high (its model now follows it) */
 } aocs_fdir_wheels_t;
 
 /* The star-tracker monitor's state (st_monitor.c) */
