@@ -5,6 +5,8 @@
  * scale, failed wheels, speed protection, the momentum, the SPEC 5.3 body
  * envelope of the reference pyramid and every configuration status code.
  */
+#include <string.h>
+
 #include "test_support.h"
 #include "wheel_test_support.h"
 
@@ -851,6 +853,37 @@ static void test_the_final_clamp_is_exact(void **state)
     assert_true(same(aocs_wheels_clamp_cmd(AOCS_R(NAN), lim), AOCS_R(0.0)));
 }
 
+/* The friction model replaced in place (fault management's friction test): the new model is the one the
+ * allocation compensates (its feedforward at a speed, by hand: b w + c tanh(w / eps)), Gs^+ and the null projector
+ * are untouched (bit for bit), and a model beyond the motor's limit or negative is refused with the array as it
+ * was. */
+static void test_the_friction_model_is_replaced_in_place_and_checked(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t c;
+    aocs_wheels_t wa;
+    aocs_wheels_t before;
+    test_wheels_pyramid(&c);
+    c.coulomb_width_radps[2] = AOCS_R(0.5);
+    assert_int_equal(aocs_wheels_init(&wa, &c), AOCS_OK);
+    before = wa;
+    assert_int_equal(aocs_wheels_set_friction(&wa, 2u, AOCS_R(5.0e-5), AOCS_R(0.01)), AOCS_OK);
+    assert_close(aocs_wheels_friction(&wa, 2u, AOCS_R(100.0)), (5.0e-5 * 100.0) + (0.01 * tanh(100.0 / 0.5)),
+                 TOL_TIGHT);
+    assert_close(aocs_wheels_friction(&wa, 1u, AOCS_R(100.0)), aocs_wheels_friction(&before, 1u, AOCS_R(100.0)),
+                 0.0);
+    assert_true(memcmp(wa.pinv, before.pinv, sizeof(wa.pinv)) == 0);
+    assert_true(memcmp(wa.null_proj, before.null_proj, sizeof(wa.null_proj)) == 0);
+    before = wa;
+    /* b Omega_max + c at the motor's limit, a negative term, a NaN, a wheel beyond n, NULL */
+    assert_int_equal(aocs_wheels_set_friction(&wa, 2u, AOCS_R(0.0), c.u_max_nm[2]), AOCS_ERR_WHEEL_FRICTION_EXCEEDS_LIMIT);
+    assert_int_equal(aocs_wheels_set_friction(&wa, 2u, AOCS_R(-1.0e-6), AOCS_R(0.0)), AOCS_ERR_WHEEL_FRICTION_NEGATIVE);
+    assert_int_equal(aocs_wheels_set_friction(&wa, 2u, (real_t)NAN, AOCS_R(0.0)), AOCS_ERR_WHEEL_FRICTION_NEGATIVE);
+    assert_int_equal(aocs_wheels_set_friction(&wa, c.n, AOCS_R(0.0), AOCS_R(0.0)), AOCS_ERR_NOT_INITIALISED);
+    assert_int_equal(aocs_wheels_set_friction(NULL, 0u, AOCS_R(0.0), AOCS_R(0.0)), AOCS_ERR_NULL_ARG);
+    assert_true(memcmp(&wa, &before, sizeof(wa)) == 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -874,6 +907,7 @@ int main(void)
         cmocka_unit_test(test_the_null_space_management_gives_no_body_torque),
         cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
         cmocka_unit_test(test_every_friction_and_null_space_error_has_its_code),
+        cmocka_unit_test(test_the_friction_model_is_replaced_in_place_and_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

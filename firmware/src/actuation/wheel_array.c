@@ -129,6 +129,27 @@ static aocs_status_t wheels_check_compensation(const aocs_wheels_config_t *cfg)
     return st;
 }
 
+aocs_status_t aocs_wheels_set_friction(aocs_wheels_t *wa, uint32_t i, real_t viscous_nms, real_t coulomb_nm)
+{
+    aocs_status_t st = AOCS_OK;
+    if (wa == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if ((wa->initialised == 0) || (i >= wa->cfg.n)) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else {
+        aocs_wheels_config_t cfg = wa->cfg;
+        cfg.viscous_nms[i] = viscous_nms;
+        cfg.coulomb_nm[i] = coulomb_nm;
+        st = wheels_check_model(&cfg, i);
+        if (st == AOCS_OK) {
+            /* the friction model enters neither Gs^+ nor the null-space projector: nothing to recompute */
+            wa->cfg.viscous_nms[i] = viscous_nms;
+            wa->cfg.coulomb_nm[i] = coulomb_nm;
+        }
+    }
+    return st;
+}
+
 aocs_status_t aocs_wheels_init(aocs_wheels_t *wa, const aocs_wheels_config_t *cfg)
 {
     aocs_status_t st = AOCS_OK;

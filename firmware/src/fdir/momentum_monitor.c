@@ -24,6 +24,7 @@
  * its momentum is then unknown).
  */
 #include <stddef.h>
+#include <string.h>
 
 #include "aocs/fdir/fdir.h"
 
@@ -76,7 +77,8 @@ static void mom_judge(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t h
             if (m->ineffective_run == f->cfg.mom_persist) {
                 (void)aocs_evlog_raise(&f->log, AOCS_EVT_THRUSTER_INEFFECTIVE, in->t_ns, (int32_t)i, mean_nm,
                                        f->cfg.mom_residual_nm);
-                if (aocs_mom_thr_exclude(in->mom, i) == AOCS_OK) {
+                aocs_mom_t *const mom = in->mom; /* the stage fault management may reconfigure (fdir.h) */
+                if (aocs_mom_thr_exclude(mom, i) == AOCS_OK) {
                     (void)aocs_evlog_raise(&f->log, AOCS_EVT_UNLOAD_ACTUATOR_SWITCHED, in->t_ns, (int32_t)i, mean_nm,
                                            f->cfg.mom_residual_nm);
                 }
@@ -118,6 +120,7 @@ void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_
     const aocs_det_output_t *est = in->est;
     aocs_wheels_momentum_t hm;
     int usable = 0;
+    (void)memset(&hm, 0, sizeof(hm));
     if ((f->cfg.mom_residual_nm > AOCS_R(0.0)) && (wheels != NULL) && (wheels->initialised != 0) &&
         (in->wheel_speed_radps != NULL) && (est != NULL) && (est->status == AOCS_OK) && (in->mom != NULL) &&
         (in->period_s > AOCS_R(0.0)) && (f->replan == 0) && (f->wheels_before.initialised == 0)) {

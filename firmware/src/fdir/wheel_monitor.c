@@ -13,12 +13,12 @@
  * model's error over the period and Js g . dw/dt (both bounded in spec 5.15.2).
  *
  * Friction (spec 5.15.2): a friction f = s f^ leaves r = (s - 1) f^, far below the isolation threshold for a
- * wheel whose friction grew a few times; over fdir.wheel_friction_window steps of one sign of f^,
- * sum r / sum f^ = s - 1 (the tachometers' noise telescopes in sum r: only the window's two ends count). Above
- * fdir.wheel_friction_excess the wheel's friction is high (wheel_friction_high, value s) and its friction
- * model, viscous and Coulomb, is scaled by s: the feedforward compensates the friction the wheel has. From
- * then on the model follows the wheel: a later window off by more than a tenth of the threshold scales it
- * again (no new event), so a window that held the change only in part does not leave it short.
+ * wheel whose friction grew a few times; over fdir.wheel_friction_window steps of one sign of f^, sum r / sum f^
+ * = s - 1 (the tachometers' noise telescopes in sum r: only the window's two ends count). Above
+ * fdir.wheel_friction_excess the wheel's friction is high (wheel_friction_high, value s) and its friction model,
+ * viscous and Coulomb, is scaled by s (aocs_wheels_set_friction): the feedforward compensates the friction the
+ * wheel has. From then on the model follows the wheel: a later window off by more than a tenth of the threshold
+ * scales it again (no new event), so a window that held the change only in part does not leave it short.
  */
 #include <stddef.h>
 
@@ -52,25 +52,16 @@ static aocs_status_t wheels_isolate(aocs_wheels_t *wa, uint32_t i, aocs_wheels_t
     return st;
 }
 
-/* Scales wheel i's friction model by s (its viscous and Coulomb terms): AOCS_OK and *wa re-initialised, or the
- * array's refusal (the friction then beyond the motor's limit) with *wa untouched. */
-static aocs_status_t wheels_refit_friction(aocs_wheels_t *wa, uint32_t i, real_t s)
+/* Scales wheel i's friction model by s (its viscous and Coulomb terms), or leaves it when the array refuses
+ * it (the friction then beyond the motor's limit). */
+static void wheels_refit_friction(aocs_wheels_t *wa, uint32_t i, real_t s)
 {
-    aocs_wheels_t trial;
-    aocs_wheels_config_t cfg = wa->cfg;
-    aocs_status_t st;
-    cfg.viscous_nms[i] *= s;
-    cfg.coulomb_nm[i] *= s;
-    st = aocs_wheels_init(&trial, &cfg);
-    if (st == AOCS_OK) {
-        *wa = trial;
-    }
-    return st;
+    (void)aocs_wheels_set_friction(wa, i, wa->cfg.viscous_nms[i] * s, wa->cfg.coulomb_nm[i] * s);
 }
 
 /* The friction test at the end of a window: each healthy wheel whose friction model kept one sign and at
  * least half its Coulomb level on average (a wheel spinning one way: the ratio is then well defined). */
-static void wheels_friction(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wa)
+static void wheels_friction_window_end(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wa)
 {
     aocs_fdir_wheels_t *w = &f->wheels;
     for (uint32_t i = 0u; (i < wa->cfg.n) && (i < AOCS_WHEELS_MAX); ++i) {
@@ -78,15 +69,15 @@ static void wheels_friction(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wh
         if (((wa->cfg.failed_mask & fdir_wheel_bit(i)) == 0u) && (level > AOCS_R(0.0)) &&
             (AOCS_FABS(w->sum_f_nm[i]) >= level) && (AOCS_FABS(w->sum_f_nm[i]) >= (AOCS_R(0.5) * w->sum_abs_f_nm[i]))) {
             const real_t excess = w->sum_r_nm[i] / w->sum_f_nm[i];
-            const int known = ((w->friction_high_mask & fdir_wheel_bit(i)) != 0u) ? 1 : 0;
-            if ((known == 0) && (excess > f->cfg.wheel_friction_excess)) {
+            const uint32_t known = w->friction_high_mask & fdir_wheel_bit(i);
+            if ((known == 0u) && (excess > f->cfg.wheel_friction_excess)) {
                 (void)aocs_evlog_raise(&f->log, AOCS_EVT_WHEEL_FRICTION_HIGH, in->t_ns, (int32_t)i,
                                        AOCS_R(1.0) + excess, AOCS_R(1.0) + f->cfg.wheel_friction_excess);
                 w->friction_high_mask |= fdir_wheel_bit(i);
-                (void)wheels_refit_friction(wa, i, AOCS_R(1.0) + excess);
-            } else if ((known != 0) && (AOCS_FABS(excess) > (AOCS_R(0.1) * f->cfg.wheel_friction_excess)) &&
+                wheels_refit_friction(wa, i, AOCS_R(1.0) + excess);
+            } else if ((known != 0u) && (AOCS_FABS(excess) > (AOCS_R(0.1) * f->cfg.wheel_friction_excess)) &&
                        (excess > AOCS_R(-1.0))) {
-                (void)wheels_refit_friction(wa, i, AOCS_R(1.0) + excess);
+                wheels_refit_friction(wa, i, AOCS_R(1.0) + excess);
             } else {
                 /* within the model */
             }
@@ -141,7 +132,7 @@ void aocs_fdir_wheels_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whe
             }
             w->friction_steps = aocs_fdir_count_up(w->friction_steps);
             if ((f->cfg.wheel_friction_excess > AOCS_R(0.0)) && (w->friction_steps >= f->cfg.wheel_friction_window)) {
-                wheels_friction(f, in, wheels);
+                wheels_friction_window_end(f, in, wheels);
             }
         }
         /* this step's command for the next step's test: held over the period that starts now */

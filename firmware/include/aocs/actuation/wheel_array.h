@@ -182,6 +182,12 @@ real_t aocs_wheels_alpha_envelope(const aocs_wheels_t *wa, aocs_vec3_t a, aocs_v
  */
 real_t aocs_wheels_friction(const aocs_wheels_t *wa, uint32_t i, real_t omega_radps);
 
+/* Wheel i's friction model replaced by (viscous_nms, coulomb_nm) (fault management's friction test, docs/spec.md
+ * 5.15.2), checked as aocs_wheels_init checks it (AOCS_ERR_WHEEL_FRICTION_NEGATIVE, _EXCEEDS_LIMIT); nothing else
+ * changes (the model enters neither Gs^+ nor the null projector). AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED
+ * (also for i >= n); on an error wa is unchanged. */
+aocs_status_t aocs_wheels_set_friction(aocs_wheels_t *wa, uint32_t i, real_t viscous_nms, real_t coulomb_nm);
+
 /* sum Js_i g_i Omega_i (B, N m s): the wheels' momentum relative to the body, for the feedforward
  * (docs/spec.md 5.1); zero when wa is NULL or not initialised or a speed is not finite. Total. */
 aocs_vec3_t aocs_wheels_h_B(const aocs_wheels_t *wa, const real_t *omega_radps);
