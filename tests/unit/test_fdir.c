@@ -299,6 +299,63 @@ static void test_wheel_dies_is_detected_after_persist_steps_and_isolated(void **
  * command that keeps them so): no isolation (the extra 8 to 10 mN m is below the 25 mN m threshold), but at
  * the end of the friction window that holds it wheel_friction_high names wheel 1 with the scale found, the
  * model is scaled by it and follows the wheel after (no other event); with the test off, nothing. */
+/* 600 steps of the rig's wheels spinning one way (80 to 110 rad/s) under a slowly varying command, with the
+ * test's friction; from step 150 wheel 1's friction is `scale` times the model, and, when tach_dead, its
+ * tachometer reads 0 */
+static void friction_rig_run(wheel_rig_t *r0, double b, double c, double scale, int tach_dead)
+{
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        r0->omega[i] = 80.0 + (10.0 * (double)i);
+    }
+    for (uint32_t k = 0u; k < 600u; ++k) {
+        const aocs_vec3_t u_c = aocs_vec3_make(AOCS_R(0.02 * sin(0.01 * (double)k)), AOCS_R(0.01), AOCS_R(0.0));
+        aocs_wheels_alloc_t alloc;
+        real_t om[AOCS_WHEELS_MAX] = {0};
+        aocs_fdir_input_t in;
+        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+            om[i] = (real_t)r0->omega[i];
+        }
+        if ((tach_dead != 0) && (k >= 150u)) {
+            om[1] = AOCS_R(0.0);
+        }
+        assert_int_equal(aocs_wheels_allocate(&r0->wa, u_c, om, &alloc), AOCS_OK);
+        (void)memset(&in, 0, sizeof(in));
+        in.t_ns = r0->t_ns;
+        in.period_s = AOCS_R(PERIOD_S);
+        in.have_sample = 1;
+        in.input_status = AOCS_OK;
+        in.mode = AOCS_EXEC_MODE_NOMINAL;
+        in.wheel_speed_radps = om;
+        in.alloc = &alloc;
+        aocs_fdir_step(&r0->f, &in, &r0->wa);
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            const double sc = ((i == 1u) && (k >= 150u)) ? scale : 1.0;
+            const double h = PERIOD_S / 100.0;
+            for (int j = 0; j < 100; ++j) {
+                r0->omega[i] += h * ((double)alloc.u_s_nm[i] - sc * test_friction(b, c, 0.5, r0->omega[i])) /
+                                TEST_WHEEL_JS_KGM2;
+            }
+        }
+        r0->t_ns += PERIOD_NS;
+    }
+}
+
+/* a tachometer that fails (reads 0 from step 150) jumps the residual far past the isolation threshold in the
+ * friction window that holds it (some 70 N m against a window's 0.3 N m of friction model): that window is not
+ * judged, and the later ones see a wheel at rest (no friction model to scale), so no friction is found 200 times
+ * high and the model stays (the small commands here never persist above the isolation threshold: the
+ * isolation of such a wheel is the SIL table's, spec 5.14.7) */
+static void test_a_tachometer_failure_is_not_taken_for_friction(void **state)
+{
+    (void)state;
+    wheel_rig_t r;
+    rig_init(&r, 4u, 1.0e-5, 2.0e-3);
+    friction_rig_run(&r, 1.0e-5, 2.0e-3, 1.0, 1);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_RESIDUAL_HIGH, -1, NULL), 0u);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_FRICTION_HIGH, -1, NULL), 0u);
+    assert_close(r.wa.cfg.coulomb_nm[1], (double)AOCS_R(2.0e-3), 0.0);
+}
+
 static void test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled(void **state)
 {
     (void)state;
@@ -311,37 +368,7 @@ static void test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled(voi
         if (on == 0) {
             r.f.cfg.wheel_friction_excess = AOCS_R(0.0);
         }
-        for (uint32_t i = 0u; i < 4u; ++i) {
-            r.omega[i] = 80.0 + (10.0 * (double)i);
-        }
-        for (uint32_t k = 0u; k < 600u; ++k) {
-            const aocs_vec3_t u_c = aocs_vec3_make(AOCS_R(0.02 * sin(0.01 * (double)k)), AOCS_R(0.01), AOCS_R(0.0));
-            aocs_wheels_alloc_t alloc;
-            real_t om[AOCS_WHEELS_MAX] = {0};
-            aocs_fdir_input_t in;
-            for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
-                om[i] = (real_t)r.omega[i];
-            }
-            assert_int_equal(aocs_wheels_allocate(&r.wa, u_c, om, &alloc), AOCS_OK);
-            (void)memset(&in, 0, sizeof(in));
-            in.t_ns = r.t_ns;
-            in.period_s = AOCS_R(PERIOD_S);
-            in.have_sample = 1;
-            in.input_status = AOCS_OK;
-            in.mode = AOCS_EXEC_MODE_NOMINAL;
-            in.wheel_speed_radps = om;
-            in.alloc = &alloc;
-            aocs_fdir_step(&r.f, &in, &r.wa);
-            for (uint32_t i = 0u; i < 4u; ++i) {
-                const double scale = ((i == 1u) && (k >= 150u)) ? 5.0 : 1.0;
-                const double h = PERIOD_S / 100.0;
-                for (int j = 0; j < 100; ++j) {
-                    r.omega[i] += h * ((double)alloc.u_s_nm[i] - scale * test_friction(b, c, 0.5, r.omega[i])) /
-                                  TEST_WHEEL_JS_KGM2;
-                }
-            }
-            r.t_ns += PERIOD_NS;
-        }
+        friction_rig_run(&r, b, c, 5.0, 0);
         assert_int_equal(count_id(&r.f.log, AOCS_EVT_WHEEL_ISOLATED, -1, NULL), 0u);
         if (on == 0) {
             assert_int_equal(aocs_evlog_count(&r.f.log), 0u);
@@ -1096,7 +1123,8 @@ static void test_momentum_consistent_while_dumping_and_an_unexplained_torque(voi
     assert_int_equal(count_id(&r.f.log, AOCS_EVT_MOMENTUM_INCONSISTENT, -1, &t), 1u);
     /* windows of 30 periods from the second sample (the first gives the wheels' momentum to difference): the
      * second inconsistent one closes at sample 61 */
-    assert_int_equal(t, (uint64_t)(1u + (AOCS_FDIR_MOM_PERSIST_DEFAULT * AOCS_FDIR_MOM_WINDOW_DEFAULT)) * 1000000000ull);
+    assert_int_equal(t, (uint64_t)(1u + (AOCS_FDIR_MOM_PERSIST_DEFAULT * AOCS_FDIR_MOM_WINDOW_DEFAULT)) *
+                            1000000000ull);
     assert_int_equal(aocs_evlog_count(&r.f.log), 1u);
     assert_int_equal(r.mom.thr_excluded_mask, 0u);
     /* the test off (0): silent on the same run */
@@ -1221,6 +1249,7 @@ int main(void)
         cmocka_unit_test(test_wheel_dies_is_detected_after_persist_steps_and_isolated),
         cmocka_unit_test(test_isolation_of_the_third_wheel_is_refused_and_latches_safe),
         cmocka_unit_test(test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled),
+        cmocka_unit_test(test_a_tachometer_failure_is_not_taken_for_friction),
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),

@@ -1,27 +1,26 @@
 /*
- * Fault management, the momentum monitor (aocs/fdir/fdir.h; docs/spec.md 5.15.8): the total angular momentum
- * of the spacecraft and its wheels, in the inertial frame, against the impulse the thrusters were commanded to
+ * Fault management, the momentum monitor (aocs/fdir/fdir.h; docs/spec.md 5.15.8): the total angular momentum of
+ * the spacecraft and its wheels, in the inertial frame, against the impulse the thrusters were commanded to
  * give. Euler's law for the whole system, dH_N/dt = tau_ext,N, over a window of M control periods from t_0:
  *
  *   r = H_N(t_M) - H_N(t_0) - sum_k sum_i A(q_k)^T tau_i t_on,i(k),     H_N = A(q)^T (J w + sum_i Js_i g_i Omega_i)
  *
- * (A(q) the attitude matrix B <- N of the estimate, tau_i the torque of thruster i at full thrust, t_on,i(k)
- * its on-time over period k). The rate estimate may be the gyro's mean over the period before the sample
- * (a rate-integrating gyro through the MEKF) or the rate at the sample (the ideal rate sensor): the two differ
- * by J alpha T / 2, and J alpha is, but for the external torque, the wheels' -dh_w/dt, so each end of a window
- * carries an epoch uncertainty of e = |h_w(k) - h_w(k-1)| / 2, added to the window's bound (Internal torques (wheels, their friction, a wheel that fails) leave H
- * unchanged; what is left in r is the external torque the flight software does not command (the
- * environment's, bounded by the mission: fdir.mom_residual_nm is that bound's mean over a window) and what a
- * thruster did not do. A window with |r| > mom_residual_nm M T + e_0 + e_M is inconsistent (a slew's
- * acceleration widens it by up to the wheels' torque times T, a hold's by the dump's); it is explained by
- * thruster i when adding back its commanded impulse c_i brings it inside (|r + c_i| <= the same bound): the
- * thruster
- * was commanded and did not fire. fdir.mom_persist such windows in a row naming the same thruster raise
- * thruster_ineffective, and the allocation is recomputed without it (unload_actuator_switched: the dump goes
- * on with the rest of the set); as many not explained raise momentum_inconsistent (a thruster stuck open, an
- * unmodelled torque: nothing to isolate it with). The test is off with mom_residual_nm = 0, without a wheel
- * array or an estimate, and after a wheel isolation (the isolated wheel's tachometer may be the fault, and
- * its momentum is then unknown).
+ * (A(q) the attitude matrix B <- N of the estimate, tau_i the torque of thruster i at full thrust, t_on,i(k) its
+ * on-time over period k). The rate estimate may be the gyro's mean over the period before the sample (a rate-
+ * integrating gyro through the MEKF) or the rate at the sample (the ideal rate sensor): the two differ by J
+ * alpha T / 2, and J alpha is, but for the external torque, the wheels' -dh_w/dt, so each end of a window
+ * carries an epoch uncertainty of e = |h_w(k) - h_w(k-1)| / 2, added to the window's bound. Internal torques
+ * (wheels, their friction, a wheel that fails) leave H unchanged; what is left in r is the external torque the
+ * flight software does not command (the environment's, bounded by the mission: fdir.mom_residual_nm is that
+ * bound's mean over a window) and what a thruster did not do. A window with |r| > mom_residual_nm M T + e_0 +
+ * e_M is inconsistent (a slew's acceleration widens it by up to the wheels' torque times T, a hold's by the
+ * dump's); it is explained by thruster i when adding back its commanded impulse c_i brings it inside (|r + c_i|
+ * <= the same bound): the thruster was commanded and did not fire. fdir.mom_persist such windows in a row naming
+ * the same thruster raise thruster_ineffective, and the thruster is taken out of the allocation
+ * (aocs_mom_thr_exclude; unload_actuator_switched: the dump goes on with the rest of the set); as many not explained raise
+ * momentum_inconsistent (a thruster stuck open, an unmodelled torque: nothing to isolate it with). The test is
+ * off with mom_residual_nm = 0, without a wheel array or an estimate, and after a wheel isolation (the isolated
+ * wheel's tachometer may be the fault, and its momentum is then unknown).
  */
 #include <stddef.h>
 #include <string.h>
@@ -70,8 +69,11 @@ static void mom_judge(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t h
         const uint32_t i = mom_explaining_thruster(m, r, bound);
         const real_t mean_nm = r_norm / span_s;
         if (i < AOCS_MOM_THRUSTERS_MAX) {
-            m->ineffective_run = ((m->ineffective_run > 0u) && (m->suspect == i)) ? aocs_fdir_count_up(m->ineffective_run)
-                                                                                 : 1u;
+            if ((m->ineffective_run > 0u) && (m->suspect == i)) {
+                m->ineffective_run = aocs_fdir_count_up(m->ineffective_run);
+            } else {
+                m->ineffective_run = 1u; /* a first window, or another thruster than the last one */
+            }
             m->suspect = i;
             m->inconsistent_run = 0u;
             if (m->ineffective_run == f->cfg.mom_persist) {

@@ -14,7 +14,8 @@
  *
  * Friction (spec 5.15.2): a friction f = s f^ leaves r = (s - 1) f^, far below the isolation threshold for a
  * wheel whose friction grew a few times; over fdir.wheel_friction_window steps of one sign of f^, sum r / sum f^
- * = s - 1 (the tachometers' noise telescopes in sum r: only the window's two ends count). Above
+ * = s - 1 (the tachometers' noise telescopes in sum r: only the window's two ends count; a window holding a
+ * residual above the isolation threshold, a dead motor or a tachometer jump, is not judged). Above
  * fdir.wheel_friction_excess the wheel's friction is high (wheel_friction_high, value s) and its friction model,
  * viscous and Coulomb, is scaled by s (aocs_wheels_set_friction): the feedforward compensates the friction the
  * wheel has. From then on the model follows the wheel: a later window off by more than a tenth of the threshold
@@ -66,7 +67,8 @@ static void wheels_friction_window_end(aocs_fdir_t *f, const aocs_fdir_input_t *
     aocs_fdir_wheels_t *w = &f->wheels;
     for (uint32_t i = 0u; (i < wa->cfg.n) && (i < AOCS_WHEELS_MAX); ++i) {
         const real_t level = AOCS_R(0.5) * (real_t)w->friction_steps * wa->cfg.coulomb_nm[i];
-        if (((wa->cfg.failed_mask & fdir_wheel_bit(i)) == 0u) && (level > AOCS_R(0.0)) &&
+        const uint32_t skip = wa->cfg.failed_mask | w->friction_tainted_mask;
+        if (((skip & fdir_wheel_bit(i)) == 0u) && (level > AOCS_R(0.0)) &&
             (AOCS_FABS(w->sum_f_nm[i]) >= level) && (AOCS_FABS(w->sum_f_nm[i]) >= (AOCS_R(0.5) * w->sum_abs_f_nm[i]))) {
             const real_t excess = w->sum_r_nm[i] / w->sum_f_nm[i];
             const uint32_t known = w->friction_high_mask & fdir_wheel_bit(i);
@@ -87,6 +89,7 @@ static void wheels_friction_window_end(aocs_fdir_t *f, const aocs_fdir_input_t *
         w->sum_abs_f_nm[i] = AOCS_R(0.0);
     }
     w->friction_steps = 0u;
+    w->friction_tainted_mask = 0u;
 }
 
 static void wheels_detect(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *wa, uint32_t i, real_t thr)
@@ -94,10 +97,14 @@ static void wheels_detect(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_whee
     aocs_fdir_wheels_t *w = &f->wheels;
     const real_t r = aocs_fdir_wheel_residual(w->u_net_prev_nm[i], wa->cfg.js_kgm2[i], w->omega_prev_radps[i],
                                               in->wheel_speed_radps[i], in->period_s);
-    if (AOCS_IS_FINITE(r) && AOCS_IS_FINITE(w->f_prev_nm[i])) {
+    if (AOCS_IS_FINITE(r) && AOCS_IS_FINITE(w->f_prev_nm[i]) && (AOCS_FABS(r) <= thr)) {
         w->sum_r_nm[i] += r;
         w->sum_f_nm[i] += w->f_prev_nm[i];
         w->sum_abs_f_nm[i] += AOCS_FABS(w->f_prev_nm[i]);
+    } else {
+        /* a residual the isolation test owns (a dead motor, a tachometer jump): not friction, and the window
+         * that holds it is not judged */
+        w->friction_tainted_mask |= fdir_wheel_bit(i);
     }
     if (!(AOCS_FABS(r) <= thr)) {
         w->over[i] = aocs_fdir_count_up(w->over[i]);

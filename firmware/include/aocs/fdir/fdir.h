@@ -122,6 +122,7 @@ typedef struct {
     real_t sum_abs_f_nm[AOCS_WHEELS_MAX];
     uint32_t friction_steps;               /* steps summed so far */
     uint32_t friction_high_mask;           /* bit i: wheel i's friction found high (its model now follows it) */
+    uint32_t friction_tainted_mask;        /* bit i: a residual above the isolation threshold in this window */
 } aocs_fdir_wheels_t;
 
 /* The star-tracker monitor's state (st_monitor.c) */
