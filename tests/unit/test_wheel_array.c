@@ -724,6 +724,56 @@ static void test_the_null_space_torque_gets_half_the_room_left(void **state)
     }
 }
 
+/* the defaults (wheel_array.h: "no null-space management (k_n = 0, Omega* = 0)"): with only a gain set, the
+   null-space management relaxes the wheels toward rest. The 3 + 1 array (x, y, z and a skew wheel on
+   (1 1 1) / sqrt 3) has the null vector n = [1 1 1 -sqrt 3] / sqrt 6, which is not orthogonal to a target
+   speed common to every wheel (the pyramid's [1 -1 1 -1] / 2 is: there any common Omega* would pass unseen) */
+static void test_the_default_null_space_target_is_rest(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    const double s3 = sqrt(3.0);
+    const double nv[4] = {1.0 / sqrt(6.0), 1.0 / sqrt(6.0), 1.0 / sqrt(6.0), -s3 / sqrt(6.0)};
+    aocs_wheels_config_default(&cfg);
+    cfg.n = 4u;
+    cfg.axis_B[0] = aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0));
+    cfg.axis_B[1] = aocs_vec3_make(AOCS_R(0.0), AOCS_R(1.0), AOCS_R(0.0));
+    cfg.axis_B[2] = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.0));
+    cfg.axis_B[3] = aocs_vec3_make((real_t)(1.0 / s3), (real_t)(1.0 / s3), (real_t)(1.0 / s3));
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        cfg.js_kgm2[i] = AOCS_R(JS);
+        cfg.u_max_nm[i] = AOCS_R(UMAX);
+        cfg.omega_max_radps[i] = AOCS_R(WMAX);
+    }
+    /* the defaults alone manage nothing */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(20.0), AOCS_R(-5.0), AOCS_R(7.0), 0, 0};
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_close(al.null_nm[i], 0.0, 0.0);
+    }
+    /* a gain: u_n = k_n n (n . Js (0 - Omega)), small enough to be unscaled (|u_n| < 0.02 N m) */
+    const double kn = 0.1;
+    cfg.null_gain_per_s = AOCS_R(kn);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    double e_n = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        e_n += nv[i] * JS * (0.0 - (double)om[i]);
+    }
+    assert_close(al.null_scale, 1.0, 0.0);
+    for (int i = 0; i < 4; ++i) {
+        assert_close(al.null_nm[i], kn * nv[i] * e_n, TOL_LOOSE * 0.01);
+    }
+    /* at rest there is nothing to manage */
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), ZERO_SPEEDS, &al), AOCS_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_close(al.null_nm[i], 0.0, TOL_TIGHT);
+    }
+}
+
 static void test_every_friction_and_null_space_error_has_its_code(void **state)
 {
     (void)state;
@@ -874,6 +924,7 @@ int main(void)
         cmocka_unit_test(test_the_null_space_management_gives_no_body_torque),
         cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
         cmocka_unit_test(test_every_friction_and_null_space_error_has_its_code),
+        cmocka_unit_test(test_the_default_null_space_target_is_rest),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
