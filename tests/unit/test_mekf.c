@@ -1215,6 +1215,54 @@ static void configured_start(void **state)
                   bound[0] / ARCSEC, bound[1] / ARCSEC, bound[2] / ARCSEC, worst, t_pred);
 }
 
+/*
+ * The configured start's first sample (mekf.h, aocs_mekf_step: "a rejected star-tracker sample does not make
+ * the step fail: its verdict is out->st_status"): the filter starts at q0_BN whatever the sample; one 10 deg
+ * off q0 with P0 = 1 deg (d^2 about 100, gate 16.3) is gated, one measured after the step's time is hostile,
+ * one 0.01 deg off is used: each step is AOCS_OK with the estimate usable and the verdict in st_status.
+ */
+static void configured_start_with_a_rejected_first_sample(void **state)
+{
+    (void)state;
+    sim_sensors_t c = {10.0 * ARCSEC, 10.0 * ARCSEC, 1.45e-6, 1e-10, 0.1, 1, 0u, {{0.0, 0.0, 0.0, 1.0}}};
+    const rq_t q0 = rq_norm(rq_exp((double[3]){0.1, -0.2, 0.3}));
+    const double wm[3] = {0.0, 0.0, 0.0};
+    const uint64_t t = 5u * NS;
+    struct {
+        double off_deg;      /* the sample: q0 turned by this about x */
+        uint64_t t_meas;
+        aocs_status_t verdict;
+        uint32_t n_updates, n_gated, n_hostile;
+    } cases[3] = {
+        {10.0, t, AOCS_ERR_MEKF_GATED, 0u, 1u, 0u},
+        {0.01, t + 1u, AOCS_ERR_MEKF_MEAS_FUTURE, 0u, 0u, 1u},
+        {0.01, t, AOCS_OK, 1u, 0u, 0u},
+    };
+    for (int k = 0; k < 3; ++k) {
+        aocs_mekf_t f;
+        aocs_mekf_output_t o;
+        aocs_mekf_config_t cfg = cfg_for(&c, 1.0 * DEG, 1.0 * DEG / 3600.0);
+        cfg.init_mode = AOCS_MEKF_INIT_CONFIGURED;
+        cfg.q0_BN = rq_to(q0);
+        assert_int_equal(aocs_mekf_init(&f, &cfg), AOCS_OK);
+        const rq_t q_sn = rq_norm(rq_mul(rq_exp((double[3]){cases[k].off_deg * DEG, 0.0, 0.0}), q0));
+        aocs_mekf_input_t in = input_of(t, wm, 1, q_sn, cases[k].t_meas);
+        assert_int_equal(aocs_mekf_step(&f, &in, &o), AOCS_OK);
+        assert_int_equal(o.st_status, cases[k].verdict);
+        assert_int_equal(o.n_updates, cases[k].n_updates);
+        assert_int_equal(o.n_gated, cases[k].n_gated);
+        assert_int_equal(o.n_hostile, cases[k].n_hostile);
+        /* rejected: the estimate is q0_BN; used: it moved to the sample (P0 = 1 deg against a 10 arcsec tracker) */
+        const double moved = rq_angle(q0, rq_from(o.q_BN_hat));
+        if (cases[k].verdict == AOCS_OK) {
+            assert_true(moved > 0.5 * cases[k].off_deg * DEG);
+            assert_true(moved < 1.5 * cases[k].off_deg * DEG);
+        } else {
+            assert_true(moved < 1e3 * (double)AOCS_REAL_EPS);
+        }
+    }
+}
+
 static void outage(void **state)
 {
     (void)state;
@@ -1817,6 +1865,7 @@ int main(void)
         cmocka_unit_test(riccati_ode),
         cmocka_unit_test(reference_filter),
         cmocka_unit_test(configured_start),
+        cmocka_unit_test(configured_start_with_a_rejected_first_sample),
         cmocka_unit_test(quaternion_reset),
         cmocka_unit_test(propagation_coefficients),
         cmocka_unit_test(covariance_rule),
