@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from aocs_analysis import estimation as E
-from aocs_analysis import estimation_plots
+from aocs_analysis import estimation_plots, plots
 from aocs_analysis.estimation_bounds import between_updates, steady_state_per_axis
 
 ARCSEC = 180.0 * 3600.0 / math.pi        # arcsec per rad
@@ -464,10 +464,12 @@ def _png_size_and_dpi(path):
 
 def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
     series = farrenkopf_runs[2][0][2]
-    seen, spans, lines = {}, {}, {}
+    seen, spans, lines, ylims, ticks = {}, {}, {}, {}, {}
     real_save = estimation_plots.save
 
     def spy(fig, path):
+        ylims[path.name] = [ax.get_ylim() for ax in fig.axes]
+        ticks[path.name] = [t.label1.get_fontsize() for ax in fig.axes for t in ax.yaxis.get_major_ticks()]
         seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
                            for ax in fig.axes]
         spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
@@ -500,6 +502,20 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                      if not (ln.get_linewidth() > 0.0 and ln.get_linestyle() not in ("None", "", " "))
                      and ln.get_marker() in (None, "None", "", " ")]
         assert not invisible, (name, invisible)
+    # the house style of plots.py: tick labels as plots.new_axes makes them
+    fig0, ax0 = plots.new_axes("house style", "y")
+    house = ax0.yaxis.get_major_ticks()[0].label1.get_fontsize()
+    plots._plt().close(fig0)
+    for name, sizes in ticks.items():
+        assert sizes and set(sizes) == {house}, (name, set(sizes), house)
+    # knowledge_error.png: a range symmetric about 0 that is the tested window's (module docstring): it holds
+    # every steady sample, its 3 sigma and the analytic 3 sigma, and not much more
+    steady, valid = np.asarray(series["steady"], bool), np.asarray(series["valid"], bool)
+    for i, (lo, hi) in enumerate(ylims["knowledge_error.png"]):
+        sel = steady & valid
+        need = max(np.max(np.abs(series["knowledge_arcsec"][sel, i])), np.max(3.0 * series["sigma_arcsec"][sel, i]),
+                   3.0 * series["bound_post_arcsec"][i])
+        assert lo == pytest.approx(-hi, rel=1e-12) and need <= hi <= 1.5 * need, (i, lo, hi, need)
 
 
 def _x_extent(patch):
