@@ -216,6 +216,41 @@ def test_limit_line_reads_as_english():
     assert results.limit_text(m) == "|u_i| <= 2 N per axis; 1 command beyond it"
 
 
+def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
+    """table_rows / table (what `aocs run` prints and the run report shows) of an attitude run, figures chosen
+    here: each line reads its figure with its unit (2 deg = 7200 arcsec)."""
+    counters = {"invalid": 1, "stale": 2, "missing": 3, "law_error": 0, "lost": 4, "duplicate": 5, "foreign": 6,
+                "malformed": 7, "cmd_accepted": 990, "cmd_rejected": 10, "status": {}, "mode_changes": 1,
+                "time_in_safe_mode_s": 0.0, "time_in_saturation_s": 2.5}
+    m = _summary_metrics(
+        duration_s=100.0, control_rate_hz=10.0, settle_time_s=12.34,
+        settle_criterion={"criteria": {"pointing_arcsec_max": 10.0}},
+        limits={"axis": 0.5, "unlimited": False},
+        pointing_error_arcsec={"initial": 7200.0, "final_max": 0.25, "window_s": 60.0, "requirement_arcsec": 0.3,
+                               "meets_requirement": True, "per_axis_final_max": [0.1, 0.2, 0.05],
+                               "qe_arcsec_final_max": [0.05, 0.1, 0.025]},
+        max_abs_torque_nm=[0.1, 0.2, 0.25], max_torque_norm_nm=0.3354, effort=42.5,
+        timing={"step_ns_median": 800.0, "step_ns_p99": 900.0, "step_ns_max": 1500.0, "budget_ns": 2000.0,
+                "overruns": 0},
+        counters=counters, final_mode="NOMINAL")
+    rows = dict(results.table_rows(m))
+    assert rows["duration"] == "100 s at 10 Hz" and rows["settle time"] == "12.3 s"
+    assert rows["settle criterion"] == "pointing_arcsec_max < 10"
+    assert rows["initial pointing error"] == "7200 arcsec (2 deg)"
+    assert rows["pointing, last 60 s (true angle)"] == "max 0.25 arcsec (requirement 0.3: met)"
+    assert rows["per-axis 2 qe_i max"] == "[0.1 0.2 0.05] arcsec"
+    assert rows["|qe_i| max (IRASSI figure)"] == "[0.05 0.1 0.025] arcsec"
+    assert rows["max |torque| per axis"] == "[0.1 0.2 0.25] N m"
+    assert rows["max torque norm"] == "0.3354 N m"
+    assert rows["effort (int |u|_1 dt)"] == "42.5 N m s"
+    assert rows["limit"] == "|u_i| <= 0.5 N m per axis; no command beyond it"
+    assert rows["step time"] == "median 800 ns, p99 900, max 1500, budget 2000, overruns 0"
+    assert rows["modes"] == "changes 1, safe 0 s, saturated 2.5 s, final NOMINAL"
+    text = results.table(m).splitlines()
+    assert len(text) == len(results.table_rows(m))
+    assert any(line.split() == ["max", "|torque|", "per", "axis", "[0.1", "0.2", "0.25]", "N", "m"] for line in text)
+
+
 def test_a_diverging_run_is_named_diverging():
     assert results.divergence(_summary_metrics()) is None                       # error fell: not diverging
     grew = _summary_metrics(pointing_error_arcsec={"initial": 100.0, "final_max": 5000.0})
