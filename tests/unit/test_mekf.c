@@ -761,7 +761,8 @@ static long double series_f(int first_factorial, long double scale, long double 
 
 /* Q_d of one propagation from P = 0 is all of P, and with r = w dt in the x-y plane its elements isolate
  * the coefficient functions (spec 5.6.4): P11_xy = su^2 dt^3 f4 r_x r_y, P12_xy = -su^2 dt^2 f3 r_x r_y,
- * P12_xz = su^2 dt^2 f2 r_y. Checked against the series above on both sides of the series/closed-form switch
+ * P12_xz = su^2 dt^2 f2 r_y; the same step from P = pb I on the bias adds pb Phi12 to P12 (spec 5.6.3), whose
+ * xz element pb dt f1 r_y isolates f1. Checked against the series above on both sides of the series/closed-form switch
  * (0.1 rad in double, 0.5 in float): in double to 2e-14, where dropping or flipping the fifth term of a
  * series (a relative change of th^6 / 332640, 3e-12 at 0.1 rad) is seen. */
 static void propagation_coefficients(void **state)
@@ -789,9 +790,16 @@ static void propagation_coefficients(void **state)
         assert_int_equal(aocs_mekf_step(&f, &in, &o), AOCS_OK);
         memset(&f.P, 0, sizeof(f.P));
         f.bias_B_hat = aocs_vec3_zero();
+        /* the same step from a bias covariance pb I alone: P12 gains pb Phi12, whose xz element is dt f1 r_y */
+        aocs_mekf_t fb = f;
+        const double pb = 1e-6;
+        for (int i = 3; i < 6; ++i) {
+            fb.P.m[i][i] = (real_t)pb;
+        }
         /* |w| dt = theta along (0.6, 0.8, 0) over dt = 0.1 s */
         const aocs_vec3_t w = aocs_vec3_make((real_t)(6.0 * thetas[n]), (real_t)(8.0 * thetas[n]), AOCS_R(0.0));
         assert_int_equal(aocs_mekf_propagate(&f, w, t0 + 100000000u), AOCS_OK);
+        assert_int_equal(aocs_mekf_propagate(&fb, w, t0 + 100000000u), AOCS_OK);
         const real_t dt = (real_t)100000000u * AOCS_R(1.0e-9);
         const long double rx = (long double)(w.v[0] * dt), ry = (long double)(w.v[1] * dt);
         const long double th = sqrtl(rx * rx + ry * ry);
@@ -800,9 +808,12 @@ static void propagation_coefficients(void **state)
         const long double f2 = (long double)f.P.m[0][5] / (su2 * d * d * ry);
         const long double f3 = -(long double)f.P.m[0][4] / (su2 * d * d * rx * ry);
         const long double f4 = (long double)f.P.m[0][1] / (su2 * d * d * d * rx * ry);
+        const long double f1 = ((long double)fb.P.m[0][5] - (long double)f.P.m[0][5]) / ((long double)(real_t)pb * d * ry);
+        const long double e1 = series_f(2, 1.0L, th);
         const long double e2 = series_f(3, 1.0L, th), e3 = series_f(4, 1.0L, th), e4 = series_f(5, 2.0L, th);
-        print_message("theta %.4g rad: f2, f3, f4 relative errors %.2Lg %.2Lg %.2Lg\n", (double)th,
-                      fabsl(f2 / e2 - 1.0L), fabsl(f3 / e3 - 1.0L), fabsl(f4 / e4 - 1.0L));
+        print_message("theta %.4g rad: f1, f2, f3, f4 relative errors %.2Lg %.2Lg %.2Lg %.2Lg\n", (double)th,
+                      fabsl(f1 / e1 - 1.0L), fabsl(f2 / e2 - 1.0L), fabsl(f3 / e3 - 1.0L), fabsl(f4 / e4 - 1.0L));
+        assert_true(fabsl(f1 / e1 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f2 / e2 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f3 / e3 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f4 / e4 - 1.0L) <= (long double)tol);
