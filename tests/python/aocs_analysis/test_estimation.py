@@ -158,6 +158,10 @@ def test_the_sample_period_of_the_fewest_samples():
             E.sample_period_s(t)
     with pytest.raises(ValueError, match="uniform in time"):
         E.sample_period_s([0.0, 1.0, 3.0])
+    # samples that do not advance in time have no period: refused, not a period of 0
+    for t in ([5.0, 5.0], [5.0, 5.0, 5.0, 5.0], [2.0, 1.0, 0.0]):
+        with pytest.raises(ValueError, match="uniform in time"):
+            E.sample_period_s(t)
 
 
 def test_window_errors_by_hand():
