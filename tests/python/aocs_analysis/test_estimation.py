@@ -583,3 +583,12 @@ def test_the_ensemble_nees_of_independent_runs_is_in_its_band_95_percent_of_the_
     assert good["band"] == pytest.approx(list(E.nees_band(6, 8)))
     assert 0.92 <= good["in_band_fraction"] <= 0.98, good
     assert E.nees_ensemble_test(2.25 * eps, 6)["in_band_fraction"] < 0.2
+
+
+def test_the_ensemble_test_takes_runs_by_instants_only():
+    """eps_runs is (runs, n): one run given as a flat series, no run at all, or a third axis is refused."""
+    for bad in (np.ones(5), np.zeros((0, 5)), np.ones((2, 5, 3))):
+        with pytest.raises(ValueError, match="eps_runs must be"):
+            E.nees_ensemble_test(bad, 3)
+    one = E.nees_ensemble_test(np.full((1, 4), 3.0), 3)      # one run of mean 3 = dof: inside its band
+    assert (one["runs"], one["instants"], one["in_band_fraction"], one["mean"]) == (1, 4, 1.0, 3.0)
