@@ -273,6 +273,10 @@ def test_synthetic_run_rms_max_and_three_sigma(synthetic):
     assert ke["frame"] == "B"
     assert np.allclose(ke["rms_per_axis"], np.sqrt(np.mean(e[w, :3] ** 2, axis=0)) * ARCSEC, rtol=1e-9)
     assert ke["max"] == pytest.approx(np.max(np.linalg.norm(e[w, :3], axis=1)) * ARCSEC, rel=1e-9)
+    # per axis of B over the window: the largest |dth_i| and the mean dth_i (three numbers each)
+    assert np.allclose(ke["max_abs_per_axis"], np.max(np.abs(e[w, :3]), axis=0) * ARCSEC, rtol=1e-9)
+    assert np.allclose(ke["mean_per_axis"], np.mean(e[w, :3], axis=0) * ARCSEC, rtol=0.0,
+                       atol=1e-9 * np.max(np.abs(e[w, :3])) * ARCSEC)
     # the sample rms is the model's sigma (10^5 samples, ~10^4 independent: a few 0.1 %)
     assert np.allclose(ke["rms_per_axis"], SIGMA[:3] * ARCSEC, rtol=0.04)
     assert np.allclose(s["bias_error_deg_h"]["rms_per_axis"], SIGMA[3:] / DEG_H, rtol=0.04)
