@@ -472,7 +472,7 @@ def _png_size_and_dpi(path):
 
 def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
     series = farrenkopf_runs[2][0][2]
-    seen, spans, lines, ylims, ticks = {}, {}, {}, {}, {}
+    seen, spans, lines, ylims, ticks, boxes = {}, {}, {}, {}, {}, {}
     real_save = estimation_plots.save
 
     def spy(fig, path):
@@ -482,7 +482,11 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                            for ax in fig.axes]
         spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
         lines[path.name] = [ln for ax in fig.axes for ln in ax.lines if not ln.get_label().startswith("_")]
-        return real_save(fig, path)
+        r = fig.canvas.get_renderer()   # (Agg; closed by save) the extents after save: its tight_layout done
+        out = real_save(fig, path)
+        boxes[path.name] = [(ax.get_legend().get_window_extent(r), ax.get_window_extent(r), fig.bbox)
+                            for ax in fig.axes]
+        return out
 
     monkeypatch.setattr(estimation_plots, "save", spy)
     files = estimation_plots.run_plots(series, tmp_path, "test")
@@ -510,6 +514,10 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                      if not (ln.get_linewidth() > 0.0 and ln.get_linestyle() not in ("None", "", " "))
                      and ln.get_marker() in (None, "None", "", " ")]
         assert not invisible, (name, invisible)
+    # every legend outside its axes on the right (the traces stay visible) and whole on the figure
+    for name, per_axes in boxes.items():
+        for leg, ax, fig in per_axes:
+            assert leg.x0 >= ax.x1 and leg.x1 <= fig.x1 and leg.y0 >= fig.y0 and leg.y1 <= fig.y1, (name, leg, ax, fig)
     # the house style of plots.py: tick labels as plots.new_axes makes them
     fig0, ax0 = plots.new_axes("house style", "y")
     house = ax0.yaxis.get_major_ticks()[0].label1.get_fontsize()
