@@ -58,6 +58,35 @@ def test_settle_mask_uses_every_criterion():
     assert inside.tolist() == [False, False, False, True, True, True]
 
 
+def test_geo_hinf_settles_on_every_angle_and_rate_strictly_below_its_bound():
+    """docs/spec.md 4.2: geo_hinf is settled when every angle < 1e-3 rad and every rate < 1e-5 rad/s; a value
+    at its bound is outside (the limits are read from the scenario, the values at them built here)."""
+    sc = load("geo_hinf")
+    a, r = sc.settle.angle_abs_max_rad, sc.settle.rate_abs_max_rad_s
+    assert (a, r) == (1e-3, 1e-5)
+    t = np.arange(6) * 1.0
+    euler = np.zeros((6, 3))
+    we = np.zeros((6, 3))
+    euler[1, 2] = -a                  # an angle at its bound
+    euler[2, 0] = np.nextafter(a, 0.0)
+    we[3, 1] = r                      # a rate at its bound
+    we[4, 2] = -np.nextafter(r, 0.0)
+    s = {"t": t, "rho": np.zeros((6, 3)), "we": we, "true_angle": np.zeros(6), "euler_err": euler,
+         "sigma": np.zeros((6, 3))}
+    inside, used = results.settle_mask(sc, s)
+    assert used == {"angle_abs_max_rad": a, "rate_abs_max_rad_s": r}
+    assert inside.tolist() == [True, False, True, False, True, True]
+
+
+def test_the_longest_unanswered_run_counts_consecutive_unanswered_ticks():
+    """counters.longest_unanswered_run (what the verdict's silence rule reads): the longest run of sensor
+    ticks without a command, by hand."""
+    f = results._longest_false_run
+    assert f(np.array([True, False, False, True, False, False, False, True])) == 3
+    assert f(np.array([False, True, True])) == 1 and f(np.array([True, True, False, False])) == 2
+    assert f(np.ones(5, bool)) == 0 and f(np.zeros(4, bool)) == 4 and f(np.zeros(0, bool)) == 0
+
+
 def test_a_180_deg_error_never_counts_as_settled():
     """q4 = 0 exactly: rho = q_vec / q4 is not finite (inf, or NaN where a component of q_vec is 0 too); such a
     sample is outside the rho criterion however small the rate, the way every other criterion would see it."""
