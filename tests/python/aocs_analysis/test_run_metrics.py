@@ -87,6 +87,32 @@ def test_the_longest_unanswered_run_counts_consecutive_unanswered_ticks():
     assert f(np.ones(5, bool)) == 0 and f(np.zeros(4, bool)) == 4 and f(np.zeros(0, bool)) == 0
 
 
+def test_the_run_info_carries_what_the_plant_and_the_node_reported():
+    """_run_info (the run JSON's log, lockstep, integration_error, udpm, fsw_node and wall_s parts): the
+    plant's own figures pass through as it reported them (the verdict reads integration_error), the lockstep
+    speed is simulated time over the loop's wall time (100 steps of 0.1 s in 2 s: 5x); without a plant
+    report nothing is made up."""
+    log = types.SimpleNamespace(status={}, path="run.lcmlog", counts={"truth": 3, "cmd": 2},
+                                truth={"t_s": np.arange(3) * 0.1}, cmd={"tick": np.arange(2)})
+    ie = {"attitude_arcsec_sum": 1e-3, "attitude_arcsec_local_max": 1e-4, "tolerance_arcsec": 1.0,
+          "exceeds_tolerance": False}
+    udpm = {"fragments": 0, "garbage": 0, "dropped_partial": 0}
+    plant = {"loop_s": 2.0, "startup_s": 0.5, "steps": 100, "roundtrip_ns": {"median": 1000.0, "p99": 2000.0},
+             "integration_error": ie, "udpm": udpm}
+    out = {}
+    results._run_info(out, log, {"mode": "lockstep"}, 0.1, wall_s=3.25, plant=plant, fsw={"precision": "double"})
+    assert out["log"] == {"path": "run.lcmlog", "messages": {"cmd": 2, "truth": 3}, "truth_samples": 3,
+                          "commands": 2}
+    assert out["run_mode"] == "lockstep" and out["target"] == "host" and out["transport"] == "lcm"
+    assert out["lockstep"]["realtime_factor"] == pytest.approx(5.0) and out["lockstep"]["startup_s"] == 0.5
+    assert out["integration_error"] == ie and out["udpm"] == udpm
+    assert out["fsw_node"] == {"precision": "double"} and out["wall_s"] == 3.25
+    bare = {}
+    results._run_info(bare, log, {}, 0.1, wall_s=None, plant=None, fsw=None)
+    assert bare["integration_error"] is None and bare["udpm"] is None and bare["wall_s"] is None
+    assert "lockstep" not in bare and "fsw_node" not in bare
+
+
 def test_a_180_deg_error_never_counts_as_settled():
     """q4 = 0 exactly: rho = q_vec / q4 is not finite (inf, or NaN where a component of q_vec is 0 too); such a
     sample is outside the rho criterion however small the rate, the way every other criterion would see it."""
