@@ -147,6 +147,51 @@ static void test_wheel_path(void **state)
     assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
 }
 
+/* the output guard of the wheel path (docs/spec.md 5.3.3), the independent check after the allocation: a
+   motor command beyond its limit (here the limit of wheel 0 corrupted to NaN after init, which the allocation
+   cannot meet) replaces the WHOLE allocation by zero, the null-space and friction torques too, and says so */
+static void test_the_wheel_output_guard_zeroes_the_whole_allocation(void **state)
+{
+    (void)state;
+    aocs_act_t act;
+    aocs_exec_config_t cfg = config(1);
+    aocs_exec_output_t out;
+    real_t omega[AOCS_WHEELS_MAX] = {AOCS_R(30.0), AOCS_R(-20.0), AOCS_R(5.0), AOCS_R(-10.0), AOCS_R(0.0),
+                                     AOCS_R(0.0)};
+    int sat = 0;
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        cfg.wheels.viscous_nms[i] = AOCS_R(1e-5);
+        cfg.wheels.coulomb_nm[i] = AOCS_R(1e-3);
+    }
+    cfg.wheels.null_gain_per_s = AOCS_R(0.005);
+    (void)memset(&act, 0, sizeof(act));
+    assert_int_equal(aocs_act_init(&act, &cfg), AOCS_OK);
+    (void)memset(&out, 0, sizeof(out));
+    const aocs_vec3_t uc = aocs_vec3_make(AOCS_R(0.05), AOCS_R(-0.02), AOCS_R(0.01));
+    /* healthy: friction and null-space torques on every wheel */
+    aocs_act_step(&act, 0, uc, omega, aocs_vec3_zero(), &out, &sat);
+    assert_int_equal(out.wheels_status, AOCS_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_true(fabs((double)out.wheels.null_nm[i]) > 1e-4);
+        assert_true(fabs((double)out.wheels.friction_nm[i]) > 1e-4);
+    }
+    /* corrupted: the guard trips */
+    act.wheels.cfg.u_max_nm[0] = (real_t)NAN;
+    sat = 0;
+    aocs_act_step(&act, 0, uc, omega, aocs_vec3_zero(), &out, &sat);
+    assert_int_equal(out.wheels_status, AOCS_ERR_WHEEL_CMD_INVALID);
+    assert_int_equal(sat, 1);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        assert_close(out.wheels.u_s_nm[i], 0.0, 0.0);
+        assert_close(out.wheels.friction_nm[i], 0.0, 0.0);
+        assert_close(out.wheels.null_nm[i], 0.0, 0.0);
+    }
+    assert_vec3_close(out.wheels.u_body_B_nm, aocs_vec3_zero(), 0.0);
+    assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
+    assert_close(out.wheels.scale, 0.0, 0.0);
+    assert_close(out.wheels.null_scale, 0.0, 0.0);
+}
+
 static void test_limit_check(void **state)
 {
     (void)state;
@@ -172,6 +217,7 @@ int main(void)
         cmocka_unit_test(test_body_path),
         cmocka_unit_test(test_wheel_path),
         cmocka_unit_test(test_limit_check),
+        cmocka_unit_test(test_the_wheel_output_guard_zeroes_the_whole_allocation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

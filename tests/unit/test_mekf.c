@@ -761,7 +761,8 @@ static long double series_f(int first_factorial, long double scale, long double 
 
 /* Q_d of one propagation from P = 0 is all of P, and with r = w dt in the x-y plane its elements isolate
  * the coefficient functions (spec 5.6.4): P11_xy = su^2 dt^3 f4 r_x r_y, P12_xy = -su^2 dt^2 f3 r_x r_y,
- * P12_xz = su^2 dt^2 f2 r_y. Checked against the series above on both sides of the series/closed-form switch
+ * P12_xz = su^2 dt^2 f2 r_y; the same step from P = pb I on the bias adds pb Phi12 to P12 (spec 5.6.3), whose
+ * xz element pb dt f1 r_y isolates f1. Checked against the series above on both sides of the series/closed-form switch
  * (0.1 rad in double, 0.5 in float): in double to 2e-14, where dropping or flipping the fifth term of a
  * series (a relative change of th^6 / 332640, 3e-12 at 0.1 rad) is seen. */
 static void propagation_coefficients(void **state)
@@ -789,9 +790,16 @@ static void propagation_coefficients(void **state)
         assert_int_equal(aocs_mekf_step(&f, &in, &o), AOCS_OK);
         memset(&f.P, 0, sizeof(f.P));
         f.bias_B_hat = aocs_vec3_zero();
+        /* the same step from a bias covariance pb I alone: P12 gains pb Phi12, whose xz element is dt f1 r_y */
+        aocs_mekf_t fb = f;
+        const double pb = 1e-6;
+        for (int i = 3; i < 6; ++i) {
+            fb.P.m[i][i] = (real_t)pb;
+        }
         /* |w| dt = theta along (0.6, 0.8, 0) over dt = 0.1 s */
         const aocs_vec3_t w = aocs_vec3_make((real_t)(6.0 * thetas[n]), (real_t)(8.0 * thetas[n]), AOCS_R(0.0));
         assert_int_equal(aocs_mekf_propagate(&f, w, t0 + 100000000u), AOCS_OK);
+        assert_int_equal(aocs_mekf_propagate(&fb, w, t0 + 100000000u), AOCS_OK);
         const real_t dt = (real_t)100000000u * AOCS_R(1.0e-9);
         const long double rx = (long double)(w.v[0] * dt), ry = (long double)(w.v[1] * dt);
         const long double th = sqrtl(rx * rx + ry * ry);
@@ -800,9 +808,12 @@ static void propagation_coefficients(void **state)
         const long double f2 = (long double)f.P.m[0][5] / (su2 * d * d * ry);
         const long double f3 = -(long double)f.P.m[0][4] / (su2 * d * d * rx * ry);
         const long double f4 = (long double)f.P.m[0][1] / (su2 * d * d * d * rx * ry);
+        const long double f1 = ((long double)fb.P.m[0][5] - (long double)f.P.m[0][5]) / ((long double)(real_t)pb * d * ry);
+        const long double e1 = series_f(2, 1.0L, th);
         const long double e2 = series_f(3, 1.0L, th), e3 = series_f(4, 1.0L, th), e4 = series_f(5, 2.0L, th);
-        print_message("theta %.4g rad: f2, f3, f4 relative errors %.2Lg %.2Lg %.2Lg\n", (double)th,
-                      fabsl(f2 / e2 - 1.0L), fabsl(f3 / e3 - 1.0L), fabsl(f4 / e4 - 1.0L));
+        print_message("theta %.4g rad: f1, f2, f3, f4 relative errors %.2Lg %.2Lg %.2Lg %.2Lg\n", (double)th,
+                      fabsl(f1 / e1 - 1.0L), fabsl(f2 / e2 - 1.0L), fabsl(f3 / e3 - 1.0L), fabsl(f4 / e4 - 1.0L));
+        assert_true(fabsl(f1 / e1 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f2 / e2 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f3 / e3 - 1.0L) <= (long double)tol);
         assert_true(fabsl(f4 / e4 - 1.0L) <= (long double)tol);
@@ -1213,6 +1224,54 @@ static void configured_start(void **state)
     print_message("configured start, 1 deg and 1 deg/h per axis: 30 s rms inside 3 x steady state (%.3g %.3g %.3g "
                   "arcsec) for good after %.1f s at most (8 runs); stated time (expected rms inside 1.5 x) %.1f s\n",
                   bound[0] / ARCSEC, bound[1] / ARCSEC, bound[2] / ARCSEC, worst, t_pred);
+}
+
+/*
+ * The configured start's first sample (mekf.h, aocs_mekf_step: "a rejected star-tracker sample does not make
+ * the step fail: its verdict is out->st_status"): the filter starts at q0_BN whatever the sample; one 10 deg
+ * off q0 with P0 = 1 deg (d^2 about 100, gate 16.3) is gated, one measured after the step's time is hostile,
+ * one 0.01 deg off is used: each step is AOCS_OK with the estimate usable and the verdict in st_status.
+ */
+static void configured_start_with_a_rejected_first_sample(void **state)
+{
+    (void)state;
+    sim_sensors_t c = {10.0 * ARCSEC, 10.0 * ARCSEC, 1.45e-6, 1e-10, 0.1, 1, 0u, {{0.0, 0.0, 0.0, 1.0}}};
+    const rq_t q0 = rq_norm(rq_exp((double[3]){0.1, -0.2, 0.3}));
+    const double wm[3] = {0.0, 0.0, 0.0};
+    const uint64_t t = 5u * NS;
+    struct {
+        double off_deg;      /* the sample: q0 turned by this about x */
+        uint64_t t_meas;
+        aocs_status_t verdict;
+        uint32_t n_updates, n_gated, n_hostile;
+    } cases[3] = {
+        {10.0, t, AOCS_ERR_MEKF_GATED, 0u, 1u, 0u},
+        {0.01, t + 1u, AOCS_ERR_MEKF_MEAS_FUTURE, 0u, 0u, 1u},
+        {0.01, t, AOCS_OK, 1u, 0u, 0u},
+    };
+    for (int k = 0; k < 3; ++k) {
+        aocs_mekf_t f;
+        aocs_mekf_output_t o;
+        aocs_mekf_config_t cfg = cfg_for(&c, 1.0 * DEG, 1.0 * DEG / 3600.0);
+        cfg.init_mode = AOCS_MEKF_INIT_CONFIGURED;
+        cfg.q0_BN = rq_to(q0);
+        assert_int_equal(aocs_mekf_init(&f, &cfg), AOCS_OK);
+        const rq_t q_sn = rq_norm(rq_mul(rq_exp((double[3]){cases[k].off_deg * DEG, 0.0, 0.0}), q0));
+        aocs_mekf_input_t in = input_of(t, wm, 1, q_sn, cases[k].t_meas);
+        assert_int_equal(aocs_mekf_step(&f, &in, &o), AOCS_OK);
+        assert_int_equal(o.st_status, cases[k].verdict);
+        assert_int_equal(o.n_updates, cases[k].n_updates);
+        assert_int_equal(o.n_gated, cases[k].n_gated);
+        assert_int_equal(o.n_hostile, cases[k].n_hostile);
+        /* rejected: the estimate is q0_BN; used: it moved to the sample (P0 = 1 deg against a 10 arcsec tracker) */
+        const double moved = rq_angle(q0, rq_from(o.q_BN_hat));
+        if (cases[k].verdict == AOCS_OK) {
+            assert_true(moved > 0.5 * cases[k].off_deg * DEG);
+            assert_true(moved < 1.5 * cases[k].off_deg * DEG);
+        } else {
+            assert_true(moved < 1e3 * (double)AOCS_REAL_EPS);
+        }
+    }
 }
 
 static void outage(void **state)
@@ -1817,6 +1876,7 @@ int main(void)
         cmocka_unit_test(riccati_ode),
         cmocka_unit_test(reference_filter),
         cmocka_unit_test(configured_start),
+        cmocka_unit_test(configured_start_with_a_rejected_first_sample),
         cmocka_unit_test(quaternion_reset),
         cmocka_unit_test(propagation_coefficients),
         cmocka_unit_test(covariance_rule),

@@ -243,6 +243,13 @@ static void test_shadow_set(void **state)
     aocs_vec3_t u2;
     assert_int_equal(aocs_mrp_sat_step(&law, &in, &u), AOCS_OK);
     assert_int_equal(law.shadow_used, 1);
+    /* init resets the state (mrp_sat.h): a law initialised again has taken no step, with the shadow set or not */
+    {
+        aocs_mrp_sat_t again = law;
+        assert_int_equal(aocs_mrp_sat_init(&again, &cfg), AOCS_OK);
+        assert_int_equal(again.shadow_used, 0);
+        assert_int_equal(again.guard_count, 0u);
+    }
     /* short way: sigma_z = tan(-160/4 deg) < 0, so the torque about z is positive */
     assert_true(u.v[2] > AOCS_R(0.0));
     in.q_BN = aocs_quat_make(AOCS_R(0.0), AOCS_R(0.0), (real_t)-sin(h), (real_t)-cos(h)); /* same attitude */

@@ -726,6 +726,112 @@ static void test_the_null_space_torque_gets_half_the_room_left(void **state)
     }
 }
 
+/* the defaults (wheel_array.h: "no null-space management (k_n = 0, Omega* = 0)"): with only a gain set, the
+   null-space management relaxes the wheels toward rest. The 3 + 1 array (x, y, z and a skew wheel on
+   (1 1 1) / sqrt 3) has the null vector n = [1 1 1 -sqrt 3] / sqrt 6, which is not orthogonal to a target
+   speed common to every wheel (the pyramid's [1 -1 1 -1] / 2 is: there any common Omega* would pass unseen) */
+static void test_the_default_null_space_target_is_rest(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    const double s3 = sqrt(3.0);
+    const double nv[4] = {1.0 / sqrt(6.0), 1.0 / sqrt(6.0), 1.0 / sqrt(6.0), -s3 / sqrt(6.0)};
+    aocs_wheels_config_default(&cfg);
+    cfg.n = 4u;
+    cfg.axis_B[0] = aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0));
+    cfg.axis_B[1] = aocs_vec3_make(AOCS_R(0.0), AOCS_R(1.0), AOCS_R(0.0));
+    cfg.axis_B[2] = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.0));
+    cfg.axis_B[3] = aocs_vec3_make((real_t)(1.0 / s3), (real_t)(1.0 / s3), (real_t)(1.0 / s3));
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        cfg.js_kgm2[i] = AOCS_R(JS);
+        cfg.u_max_nm[i] = AOCS_R(UMAX);
+        cfg.omega_max_radps[i] = AOCS_R(WMAX);
+    }
+    /* the defaults alone manage nothing */
+    real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(20.0), AOCS_R(-5.0), AOCS_R(7.0), 0, 0};
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_close(al.null_nm[i], 0.0, 0.0);
+    }
+    /* a gain: u_n = k_n n (n . Js (0 - Omega)), small enough to be unscaled (|u_n| < 0.02 N m) */
+    const double kn = 0.1;
+    cfg.null_gain_per_s = AOCS_R(kn);
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    double e_n = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        e_n += nv[i] * JS * (0.0 - (double)om[i]);
+    }
+    assert_close(al.null_scale, 1.0, 0.0);
+    for (int i = 0; i < 4; ++i) {
+        assert_close(al.null_nm[i], kn * nv[i] * e_n, TOL_LOOSE * 0.01);
+    }
+    /* at rest there is nothing to manage */
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), ZERO_SPEEDS, &al), AOCS_OK);
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        assert_close(al.null_nm[i], 0.0, TOL_TIGHT);
+    }
+}
+
+/* AOCS_WHEELS_MAX wheels (the pyramid, one on x and one on (0 0.6 0.8)): a three-dimensional null space. The
+   null-space torque is u_n = k_n P_N Js (Omega* - Omega) with P_N = I - Gs^T (Gs Gs^T)^-1 Gs written out here:
+   P_N e = e + min_norm_d(Gs e) */
+static void test_the_null_space_management_of_the_largest_array(void **state)
+{
+    (void)state;
+    aocs_wheels_config_t cfg;
+    aocs_wheels_t wa;
+    aocs_wheels_alloc_t al;
+    pyramid(&cfg);
+    cfg.n = AOCS_WHEELS_MAX;
+    cfg.axis_B[4] = aocs_vec3_make(AOCS_R(1.0), AOCS_R(0.0), AOCS_R(0.0));
+    cfg.axis_B[5] = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.6), AOCS_R(0.8));
+    for (uint32_t i = 4u; i < AOCS_WHEELS_MAX; ++i) {
+        cfg.js_kgm2[i] = AOCS_R(JS);
+        cfg.u_max_nm[i] = AOCS_R(UMAX);
+        cfg.omega_max_radps[i] = AOCS_R(WMAX);
+    }
+    const double kn = 0.01;
+    const double target[AOCS_WHEELS_MAX] = {40.0, -30.0, 20.0, 0.0, -50.0, 60.0};
+    const real_t om[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(20.0), AOCS_R(-35.0), AOCS_R(70.0), AOCS_R(-5.0),
+                                        AOCS_R(15.0)};
+    cfg.null_gain_per_s = AOCS_R(kn);
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        cfg.null_speed_radps[i] = (real_t)target[i];
+    }
+    assert_int_equal(aocs_wheels_init(&wa, &cfg), AOCS_OK);
+    double e[AOCS_WHEELS_MAX];
+    double ge[3] = {0.0, 0.0, 0.0};
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        e[i] = JS * (target[i] - (double)om[i]);
+        for (int r = 0; r < 3; ++r) {
+            ge[r] += (double)cfg.axis_B[i].v[r] * e[i];
+        }
+    }
+    double back[AOCS_WHEELS_MAX];
+    min_norm_d(&cfg, ge, back);
+    assert_int_equal(aocs_wheels_allocate(&wa, aocs_vec3_zero(), om, &al), AOCS_OK);
+    assert_close(al.null_scale, 1.0, 0.0); /* |u_n| < 0.05 N m: within half the room */
+    double body[3] = {0.0, 0.0, 0.0};
+    double largest = 0.0;
+    for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
+        const double un = kn * (e[i] + back[i]);
+        largest = fmax(largest, fabs(un));
+        assert_close(al.null_nm[i], un, TOL_LOOSE * 0.01);
+        assert_close(al.u_s_nm[i], un, TOL_LOOSE * 0.01);
+        for (int r = 0; r < 3; ++r) {
+            body[r] -= (double)cfg.axis_B[i].v[r] * (double)al.u_s_nm[i];
+        }
+    }
+    assert_true(largest > 0.01);
+    for (int r = 0; r < 3; ++r) {
+        assert_close(body[r], 0.0, TOL_LOOSE * 0.01);
+    }
+}
+
 static void test_every_friction_and_null_space_error_has_its_code(void **state)
 {
     (void)state;
@@ -908,6 +1014,8 @@ int main(void)
         cmocka_unit_test(test_the_null_space_torque_gets_half_the_room_left),
         cmocka_unit_test(test_every_friction_and_null_space_error_has_its_code),
         cmocka_unit_test(test_the_friction_model_is_replaced_in_place_and_checked),
+        cmocka_unit_test(test_the_default_null_space_target_is_rest),
+        cmocka_unit_test(test_the_null_space_management_of_the_largest_array),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from aocs_analysis import estimation as E
-from aocs_analysis import estimation_plots
+from aocs_analysis import estimation_plots, plots
 from aocs_analysis.estimation_bounds import between_updates, steady_state_per_axis
 
 ARCSEC = 180.0 * 3600.0 / math.pi        # arcsec per rad
@@ -158,6 +158,10 @@ def test_the_sample_period_of_the_fewest_samples():
             E.sample_period_s(t)
     with pytest.raises(ValueError, match="uniform in time"):
         E.sample_period_s([0.0, 1.0, 3.0])
+    # samples that do not advance in time have no period: refused, not a period of 0
+    for t in ([5.0, 5.0], [5.0, 5.0, 5.0, 5.0], [2.0, 1.0, 0.0]):
+        with pytest.raises(ValueError, match="uniform in time"):
+            E.sample_period_s(t)
 
 
 def test_window_errors_by_hand():
@@ -269,6 +273,10 @@ def test_synthetic_run_rms_max_and_three_sigma(synthetic):
     assert ke["frame"] == "B"
     assert np.allclose(ke["rms_per_axis"], np.sqrt(np.mean(e[w, :3] ** 2, axis=0)) * ARCSEC, rtol=1e-9)
     assert ke["max"] == pytest.approx(np.max(np.linalg.norm(e[w, :3], axis=1)) * ARCSEC, rel=1e-9)
+    # per axis of B over the window: the largest |dth_i| and the mean dth_i (three numbers each)
+    assert np.allclose(ke["max_abs_per_axis"], np.max(np.abs(e[w, :3]), axis=0) * ARCSEC, rtol=1e-9)
+    assert np.allclose(ke["mean_per_axis"], np.mean(e[w, :3], axis=0) * ARCSEC, rtol=0.0,
+                       atol=1e-9 * np.max(np.abs(e[w, :3])) * ARCSEC)
     # the sample rms is the model's sigma (10^5 samples, ~10^4 independent: a few 0.1 %)
     assert np.allclose(ke["rms_per_axis"], SIGMA[:3] * ARCSEC, rtol=0.04)
     assert np.allclose(s["bias_error_deg_h"]["rms_per_axis"], SIGMA[3:] / DEG_H, rtol=0.04)
@@ -464,15 +472,21 @@ def _png_size_and_dpi(path):
 
 def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
     series = farrenkopf_runs[2][0][2]
-    seen, spans, lines = {}, {}, {}
+    seen, spans, lines, ylims, ticks, boxes = {}, {}, {}, {}, {}, {}
     real_save = estimation_plots.save
 
     def spy(fig, path):
+        ylims[path.name] = [ax.get_ylim() for ax in fig.axes]
+        ticks[path.name] = [t.label1.get_fontsize() for ax in fig.axes for t in ax.yaxis.get_major_ticks()]
         seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
                            for ax in fig.axes]
         spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
         lines[path.name] = [ln for ax in fig.axes for ln in ax.lines if not ln.get_label().startswith("_")]
-        return real_save(fig, path)
+        r = fig.canvas.get_renderer()   # (Agg; closed by save) the extents after save: its tight_layout done
+        out = real_save(fig, path)
+        boxes[path.name] = [(ax.get_legend().get_window_extent(r), ax.get_window_extent(r), fig.bbox)
+                            for ax in fig.axes]
+        return out
 
     monkeypatch.setattr(estimation_plots, "save", spy)
     files = estimation_plots.run_plots(series, tmp_path, "test")
@@ -500,6 +514,24 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                      if not (ln.get_linewidth() > 0.0 and ln.get_linestyle() not in ("None", "", " "))
                      and ln.get_marker() in (None, "None", "", " ")]
         assert not invisible, (name, invisible)
+    # every legend outside its axes on the right (the traces stay visible) and whole on the figure
+    for name, per_axes in boxes.items():
+        for leg, ax, fig in per_axes:
+            assert leg.x0 >= ax.x1 and leg.x1 <= fig.x1 and leg.y0 >= fig.y0 and leg.y1 <= fig.y1, (name, leg, ax, fig)
+    # the house style of plots.py: tick labels as plots.new_axes makes them
+    fig0, ax0 = plots.new_axes("house style", "y")
+    house = ax0.yaxis.get_major_ticks()[0].label1.get_fontsize()
+    plots._plt().close(fig0)
+    for name, sizes in ticks.items():
+        assert sizes and set(sizes) == {house}, (name, set(sizes), house)
+    # knowledge_error.png: a range symmetric about 0 that is the tested window's (module docstring): it holds
+    # every steady sample, its 3 sigma and the analytic 3 sigma, and not much more
+    steady, valid = np.asarray(series["steady"], bool), np.asarray(series["valid"], bool)
+    for i, (lo, hi) in enumerate(ylims["knowledge_error.png"]):
+        sel = steady & valid
+        need = max(np.max(np.abs(series["knowledge_arcsec"][sel, i])), np.max(3.0 * series["sigma_arcsec"][sel, i]),
+                   3.0 * series["bound_post_arcsec"][i])
+        assert lo == pytest.approx(-hi, rel=1e-12) and need <= hi <= 1.5 * need, (i, lo, hi, need)
 
 
 def _x_extent(patch):
@@ -563,3 +595,12 @@ def test_the_ensemble_nees_of_independent_runs_is_in_its_band_95_percent_of_the_
     assert good["band"] == pytest.approx(list(E.nees_band(6, 8)))
     assert 0.92 <= good["in_band_fraction"] <= 0.98, good
     assert E.nees_ensemble_test(2.25 * eps, 6)["in_band_fraction"] < 0.2
+
+
+def test_the_ensemble_test_takes_runs_by_instants_only():
+    """eps_runs is (runs, n): one run given as a flat series, no run at all, or a third axis is refused."""
+    for bad in (np.ones(5), np.zeros((0, 5)), np.ones((2, 5, 3))):
+        with pytest.raises(ValueError, match="eps_runs must be"):
+            E.nees_ensemble_test(bad, 3)
+    one = E.nees_ensemble_test(np.full((1, 4), 3.0), 3)      # one run of mean 3 = dof: inside its band
+    assert (one["runs"], one["instants"], one["in_band_fraction"], one["mean"]) == (1, 4, 1.0, 3.0)

@@ -27,6 +27,9 @@ def test_a_constant_attitude_error_is_followed_one_to_one_and_a_rate_bias_is_not
     g = NP.AxisGains(400.0, 2000.0, 12.0)
     r = NP.paths(t, n, np.zeros_like(n), [J] * 3, [g] * 3)
     np.testing.assert_allclose(r["attitude"][-1], -n[-1], rtol=1e-5)
+    # no disturbance given, none applied: the noises alone make the total
+    assert not np.any(r["disturbance"]) and not np.any(r["rate"])
+    np.testing.assert_array_equal(r["total"], r["attitude"])
     pd = NP.paths(t, np.zeros_like(n), n, [J] * 3, [NP.AxisGains(4000.0, 8000.0)] * 3)
     np.testing.assert_allclose(pd["rate"][-1], -2.0 * 8000.0 * n[-1] / 4000.0, rtol=1e-6)
     pid = NP.paths(t, np.zeros_like(n), n, [J] * 3, [g] * 3)

@@ -70,3 +70,25 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     limit = [(y[0], lw) for y, lw in lines["torques.png"] if len(set(y)) == 1]
     ys = sorted(y for y, _ in limit)
     assert len(ys) == 2 and ys[0] == -ys[1] < 0 and all(lw > 0 for _, lw in limit)
+
+
+def test_the_wheel_speed_plot_draws_both_speed_limits(tmp_path, monkeypatch):
+    """wheel_speeds.png: each wheel's speed and the speed limits +-Omega_max as visible horizontal lines (a line
+    of width 0 is not on the figure), |H| and the wheels' share on momentum.png."""
+    figs = {}
+    real_save = plots.save
+    monkeypatch.setattr(plots, "save", lambda fig, path: (figs.__setitem__(path.name, fig), real_save(fig, path))[1])
+    t = np.arange(50) * 0.1
+    series = {"n": 3, "failed": (1,), "t": t, "speed": np.stack([10 * t, -20 * t, 5 * t], axis=1),
+              "speed_limit": [600.0, 550.0, 600.0], "H_norm": 1.0 + 0 * t, "h_wheels_norm": 0.5 + 0 * t}
+    files = plots.wheel_plots(series, tmp_path, "test")
+    assert [f.name for f in files] == ["wheel_speeds.png", "momentum.png"]
+    ax = figs["wheel_speeds.png"].axes[0]
+    level = [float(ln.get_ydata()[0]) for ln in ax.lines
+             if len(set(np.asarray(ln.get_ydata(), float))) == 1 and ln.get_linewidth() > 0.0
+             and ln.get_linestyle() not in ("None", "", " ")]
+    assert sorted(level) == [-600.0, 600.0]
+    labels = [ln.get_label() for ln in ax.lines]
+    assert labels[:3] == ["wheel 0", "wheel 1 (failed)", "wheel 2"]
+    assert [ln.get_label() for ln in figs["momentum.png"].axes[0].lines] == [
+        "|H| total, J w + sum Js g Omega", "|sum Js g Omega| (wheels)"]

@@ -58,6 +58,61 @@ def test_settle_mask_uses_every_criterion():
     assert inside.tolist() == [False, False, False, True, True, True]
 
 
+def test_geo_hinf_settles_on_every_angle_and_rate_strictly_below_its_bound():
+    """docs/spec.md 4.2: geo_hinf is settled when every angle < 1e-3 rad and every rate < 1e-5 rad/s; a value
+    at its bound is outside (the limits are read from the scenario, the values at them built here)."""
+    sc = load("geo_hinf")
+    a, r = sc.settle.angle_abs_max_rad, sc.settle.rate_abs_max_rad_s
+    assert (a, r) == (1e-3, 1e-5)
+    t = np.arange(6) * 1.0
+    euler = np.zeros((6, 3))
+    we = np.zeros((6, 3))
+    euler[1, 2] = -a                  # an angle at its bound
+    euler[2, 0] = np.nextafter(a, 0.0)
+    we[3, 1] = r                      # a rate at its bound
+    we[4, 2] = -np.nextafter(r, 0.0)
+    s = {"t": t, "rho": np.zeros((6, 3)), "we": we, "true_angle": np.zeros(6), "euler_err": euler,
+         "sigma": np.zeros((6, 3))}
+    inside, used = results.settle_mask(sc, s)
+    assert used == {"angle_abs_max_rad": a, "rate_abs_max_rad_s": r}
+    assert inside.tolist() == [True, False, True, False, True, True]
+
+
+def test_the_longest_unanswered_run_counts_consecutive_unanswered_ticks():
+    """counters.longest_unanswered_run (what the verdict's silence rule reads): the longest run of sensor
+    ticks without a command, by hand."""
+    f = results._longest_false_run
+    assert f(np.array([True, False, False, True, False, False, False, True])) == 3
+    assert f(np.array([False, True, True])) == 1 and f(np.array([True, True, False, False])) == 2
+    assert f(np.ones(5, bool)) == 0 and f(np.zeros(4, bool)) == 4 and f(np.zeros(0, bool)) == 0
+
+
+def test_the_run_info_carries_what_the_plant_and_the_node_reported():
+    """_run_info (the run JSON's log, lockstep, integration_error, udpm, fsw_node and wall_s parts): the
+    plant's own figures pass through as it reported them (the verdict reads integration_error), the lockstep
+    speed is simulated time over the loop's wall time (100 steps of 0.1 s in 2 s: 5x); without a plant
+    report nothing is made up."""
+    log = types.SimpleNamespace(status={}, path="run.lcmlog", counts={"truth": 3, "cmd": 2},
+                                truth={"t_s": np.arange(3) * 0.1}, cmd={"tick": np.arange(2)})
+    ie = {"attitude_arcsec_sum": 1e-3, "attitude_arcsec_local_max": 1e-4, "tolerance_arcsec": 1.0,
+          "exceeds_tolerance": False}
+    udpm = {"fragments": 0, "garbage": 0, "dropped_partial": 0}
+    plant = {"loop_s": 2.0, "startup_s": 0.5, "steps": 100, "roundtrip_ns": {"median": 1000.0, "p99": 2000.0},
+             "integration_error": ie, "udpm": udpm}
+    out = {}
+    results._run_info(out, log, {"mode": "lockstep"}, 0.1, wall_s=3.25, plant=plant, fsw={"precision": "double"})
+    assert out["log"] == {"path": "run.lcmlog", "messages": {"cmd": 2, "truth": 3}, "truth_samples": 3,
+                          "commands": 2}
+    assert out["run_mode"] == "lockstep" and out["target"] == "host" and out["transport"] == "lcm"
+    assert out["lockstep"]["realtime_factor"] == pytest.approx(5.0) and out["lockstep"]["startup_s"] == 0.5
+    assert out["integration_error"] == ie and out["udpm"] == udpm
+    assert out["fsw_node"] == {"precision": "double"} and out["wall_s"] == 3.25
+    bare = {}
+    results._run_info(bare, log, {}, 0.1, wall_s=None, plant=None, fsw=None)
+    assert bare["integration_error"] is None and bare["udpm"] is None and bare["wall_s"] is None
+    assert "lockstep" not in bare and "fsw_node" not in bare
+
+
 def test_a_180_deg_error_never_counts_as_settled():
     """q4 = 0 exactly: rho = q_vec / q4 is not finite (inf, or NaN where a component of q_vec is 0 too); such a
     sample is outside the rho criterion however small the rate, the way every other criterion would see it."""
@@ -214,6 +269,41 @@ def test_limit_line_reads_as_english():
                                      "plant's actuator adds a slew-rate limit 0.1 N m/s and a first-order lag 0.4 s")
     m = _summary_metrics(kind="orbit", limits={"axis": 2.0, "unlimited": False, "commands_over_limit": 1})
     assert results.limit_text(m) == "|u_i| <= 2 N per axis; 1 command beyond it"
+
+
+def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
+    """table_rows / table (what `aocs run` prints and the run report shows) of an attitude run, figures chosen
+    here: each line reads its figure with its unit (2 deg = 7200 arcsec)."""
+    counters = {"invalid": 1, "stale": 2, "missing": 3, "law_error": 0, "lost": 4, "duplicate": 5, "foreign": 6,
+                "malformed": 7, "cmd_accepted": 990, "cmd_rejected": 10, "status": {}, "mode_changes": 1,
+                "time_in_safe_mode_s": 0.0, "time_in_saturation_s": 2.5}
+    m = _summary_metrics(
+        duration_s=100.0, control_rate_hz=10.0, settle_time_s=12.34,
+        settle_criterion={"criteria": {"pointing_arcsec_max": 10.0}},
+        limits={"axis": 0.5, "unlimited": False},
+        pointing_error_arcsec={"initial": 7200.0, "final_max": 0.25, "window_s": 60.0, "requirement_arcsec": 0.3,
+                               "meets_requirement": True, "per_axis_final_max": [0.1, 0.2, 0.05],
+                               "qe_arcsec_final_max": [0.05, 0.1, 0.025]},
+        max_abs_torque_nm=[0.1, 0.2, 0.25], max_torque_norm_nm=0.3354, effort=42.5,
+        timing={"step_ns_median": 800.0, "step_ns_p99": 900.0, "step_ns_max": 1500.0, "budget_ns": 2000.0,
+                "overruns": 0},
+        counters=counters, final_mode="NOMINAL")
+    rows = dict(results.table_rows(m))
+    assert rows["duration"] == "100 s at 10 Hz" and rows["settle time"] == "12.3 s"
+    assert rows["settle criterion"] == "pointing_arcsec_max < 10"
+    assert rows["initial pointing error"] == "7200 arcsec (2 deg)"
+    assert rows["pointing, last 60 s (true angle)"] == "max 0.25 arcsec (requirement 0.3: met)"
+    assert rows["per-axis 2 qe_i max"] == "[0.1 0.2 0.05] arcsec"
+    assert rows["|qe_i| max (IRASSI figure)"] == "[0.05 0.1 0.025] arcsec"
+    assert rows["max |torque| per axis"] == "[0.1 0.2 0.25] N m"
+    assert rows["max torque norm"] == "0.3354 N m"
+    assert rows["effort (int |u|_1 dt)"] == "42.5 N m s"
+    assert rows["limit"] == "|u_i| <= 0.5 N m per axis; no command beyond it"
+    assert rows["step time"] == "median 800 ns, p99 900, max 1500, budget 2000, overruns 0"
+    assert rows["modes"] == "changes 1, safe 0 s, saturated 2.5 s, final NOMINAL"
+    text = results.table(m).splitlines()
+    assert len(text) == len(results.table_rows(m))
+    assert any(line.split() == ["max", "|torque|", "per", "axis", "[0.1", "0.2", "0.25]", "N", "m"] for line in text)
 
 
 def test_a_diverging_run_is_named_diverging():

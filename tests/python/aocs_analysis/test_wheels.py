@@ -41,3 +41,16 @@ def test_wheel_commands_over_their_limit_and_not_finite():
     assert rows["peak wheel speed"] == "[10 20 0 300] rad/s (limit 600)"
     out["within_limits"], out["removed"] = False, [2]
     assert dict(wheels.table_rows(out))["wheels"] == "4 wheels, removed: wheel 2; A LIMIT WAS EXCEEDED"
+
+
+def test_a_run_with_no_command_has_no_wheel_command_over_its_limit_or_not_finite():
+    """A log whose node sent no command (the truth was logged): nothing was commanded, so nothing is over
+    the limit or not finite, and no command was scaled."""
+    sc = load("irassi_rw")
+    truth = {"t_s": np.arange(3) * sc.dt, "wheel_speed": np.zeros((3, 4)), "wheel_torque": np.zeros((3, 4)),
+             "wheel_at_limit": np.zeros(3, int), "h_total": np.zeros((3, 3))}
+    cmd = {"tick": np.zeros(0, int), "u_wheels": np.zeros((0, 6)), "wheel_speed_margin": np.zeros(0),
+           "wheel_scale": np.zeros(0)}
+    out, _ = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
+    assert out["commands_over_limit"] == 0 and out["commands_not_finite"] == 0
+    assert out["time_scaled_s"] == 0.0

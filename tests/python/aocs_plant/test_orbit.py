@@ -71,6 +71,22 @@ def test_the_derivative_is_the_state_equation_with_the_force():
     np.testing.assert_allclose(got, A @ x + B @ force, rtol=1e-14, atol=1e-18)
 
 
+def test_the_nonlinear_derivative_takes_the_force_as_b_f_and_is_the_linear_model_near_the_chief():
+    """NonlinearOrbit.derivative(x, F): the force enters as B F of bryson_matrices (SPEC 2.8: F / m on u, v, w),
+    whatever the state; 350 m from the chief the two-body terms are A x to first order (the rest is of
+    relative size |r| / R = 5e-5)."""
+    A, B = bryson_matrices(N, MASS)
+    model = NonlinearOrbit(MU, R, MASS, (0.0,) * 6)
+    for x in (np.array([0.3, -0.2, 0.1, 50.0, -100.0, 350.0]), np.array([-2.0, 1.5, 3.0, 4e4, 2e4, -3e4])):
+        force = np.array([0.4, -0.7, 0.9])
+        free = np.array(model.derivative(tuple(x), (0.0, 0.0, 0.0)))
+        pushed = np.array(model.derivative(tuple(x), tuple(force)))
+        np.testing.assert_allclose(pushed - free, B @ force, rtol=1e-9, atol=1e-15)
+    x = np.array([0.3, -0.2, 0.1, 50.0, -100.0, 350.0])
+    free = np.array(model.derivative(tuple(x), (0.0, 0.0, 0.0)))
+    np.testing.assert_allclose(free, A @ x, rtol=1e-3, atol=1e-12)
+
+
 def test_linear_model_free_motion_matches_clohessy_wiltshire():
     x0 = (1.0, -1.0, -6.0, 50.0, -100.0, 350.0)  # SPEC 4 landsat initial state
     r0, v0 = bryson_to_hill(x0)

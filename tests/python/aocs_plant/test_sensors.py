@@ -96,6 +96,8 @@ def test_faults_dropout_nan_nonunit():
     s, tr = by_t[3.0]
     assert math.sqrt(sum(x * x for x in s["q"])) == pytest.approx(1.2, rel=1e-12)
     assert plant.counters["invalid_samples"] == 5
+    # one sample per step sensed (40), one command applied, none refused
+    assert (plant.counters["samples"], plant.counters["commands"], plant.counters["bad_commands"]) == (40, 1, 0)
 
 
 def test_a_fault_does_not_shift_the_noise_sequence():

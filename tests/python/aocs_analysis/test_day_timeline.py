@@ -1,0 +1,61 @@
+"""The mission-day timeline (aocs_analysis.day_timeline, docs/spec.md 5.11): every threshold the module
+docstring lists is on its panel at its value, and every trace named in a legend is drawn."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from aocs_analysis import day_timeline, plots
+
+
+def _visible(line) -> bool:
+    """A Line2D that puts ink on the figure: a line of positive width and a real style, or a marker."""
+    drawn = line.get_linewidth() > 0.0 and line.get_linestyle() not in ("None", "", " ")
+    return drawn or line.get_marker() not in (None, "None", "", " ")
+
+
+def _horizontal_at(ax, label):
+    """The y of the horizontal line labelled `label` on ax (axhline: ydata [y, y])."""
+    ys = [ln.get_ydata() for ln in ax.lines if ln.get_label() == label]
+    assert len(ys) == 1, (label, [ln.get_label() for ln in ax.lines])
+    y = np.asarray(ys[0], float)
+    assert y.size == 2 and y[0] == y[1]
+    return float(y[0])
+
+
+def test_the_timeline_draws_every_threshold_at_its_value_and_every_legend_trace(tmp_path, monkeypatch):
+    t = np.round(np.arange(0, 3601) * 10.0, 6)           # ten hours, hours on the axis
+    n = t.size
+    speed = np.stack([100 + 0.01 * t, -100 - 0.01 * t, 50 + 0 * t, -50 + 0 * t], axis=1)
+    flag = (t[:-1] > 7200.0) & (t[:-1] < 9000.0)
+    series = {"t": t, "true_angle": 0.1 + 0.05 * np.sin(t / 600.0), "t_cmd": t[:-1], "mode": np.ones(n - 1, int),
+              "wheels": {"t": t, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
+                         "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
+              "unloading": {"t": t[:-1], "flag": flag, "cumulative": np.cumsum(flag) * 1e-4,
+                            "cumulative_label": "propellant used (kg)"}}
+    metrics = {"holds": None, "passes": None,
+               "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0, "capacity_nms": [48.0] * 4},
+               "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
+    figs = []
+    real_save = plots.save
+    monkeypatch.setattr(plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
+    fig, = figs
+    speeds, momentum, pointing, mode = fig.axes[:4]
+    # the thresholds at their values (docstring panels 1 to 3)
+    assert _horizontal_at(speeds, "speed limit +-600 rad/s") == 600.0
+    assert _horizontal_at(momentum, "start unloading 20 N m s") == 20.0
+    assert _horizontal_at(momentum, "stop 3 N m s") == 3.0
+    assert _horizontal_at(momentum, "one wheel's capacity 48 N m s") == 48.0
+    assert _horizontal_at(pointing, "requirement 0.3 arcsec") == pytest.approx(0.3)
+    # the pointing angle over the run in hours; the dump's start at 2 h
+    true = next(ln for ln in pointing.lines if ln.get_label() == "true pointing angle")
+    assert np.asarray(true.get_xdata(), float) == pytest.approx(t / 3600.0)
+    start = next(ln for ln in momentum.lines if ln.get_label() == "dump start")
+    assert float(np.asarray(start.get_xdata(), float)[0]) == pytest.approx(7210.0 / 3600.0)
+    # every trace named in a legend is drawn: a line of width 0 is in the legend but not on the figure
+    for ax in fig.axes:
+        handles, labels = ax.get_legend_handles_labels()
+        invisible = [lab for h, lab in zip(handles, labels) if hasattr(h, "get_linewidth")
+                     and hasattr(h, "get_marker") and not _visible(h)]
+        assert not invisible, invisible
