@@ -755,6 +755,16 @@ static void test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe(void **state
     assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_STUCK, 1, &t), 1u);
     assert_int_equal(t, k * PERIOD_NS);
     assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 1, NULL), 1u);
+    {
+        /* both events carry the stuck reading as their value and no threshold (0: a repeat test has none) */
+        aocs_event_t e;
+        uint32_t seq = 0u;
+        while (aocs_evlog_next(&f.log, seq, &e, NULL) == AOCS_OK) {
+            assert_close(e.threshold, 0.0, 0.0);
+            seq = e.seq;
+        }
+        assert_int_equal(seq, 2u);
+    }
     assert_int_equal(f.safe_latched, 1);
 }
 

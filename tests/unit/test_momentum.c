@@ -687,6 +687,15 @@ static void test_thr_config_errors(void **state)
     aocs_mom_config_t bad = c;
     bad.thr_count = 13u;
     assert_int_equal(aocs_mom_init(&m, &bad), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+    /* thrusters that give no torque at all (every arm zero): a configuration error, not a set that fails to
+     * span (the allocation's scale, the largest torque, would be 0) */
+    bad = c;
+    for (int i = 0; i < N_THR; ++i) {
+        bad.thr_arm_x_m[i] = AOCS_R(0.0);
+        bad.thr_arm_y_m[i] = AOCS_R(0.0);
+        bad.thr_arm_z_m[i] = AOCS_R(0.0);
+    }
+    assert_int_equal(aocs_mom_init(&m, &bad), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
     bad = c;
     bad.thr_thrust_N = AOCS_R(0.0);
     assert_int_equal(aocs_mom_init(&m, &bad), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
