@@ -22,7 +22,7 @@ import pytest
 
 from aocs_core import registry
 from aocs_pil import frame
-from pil_support import TARGETS, configure, start
+from pil_support import TARGETS, fly
 from thruster_layout import arms as thruster_arms
 from thruster_layout import couples
 
@@ -42,7 +42,7 @@ def _pyramid():
             for a in (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi)]
 
 
-def _config(q, enabled: int):
+def _fields(enabled: int) -> dict:
     reg = registry.load()
     fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
                   quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
@@ -50,31 +50,24 @@ def _config(q, enabled: int):
     for i, g in enumerate(_pyramid()):
         fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
                        f"wheel{i}_omega_max": 600.0})
-    return configure(q, **fields)
+    return fields
 
 
 def _fly(target, enabled):
-    q = start(target)
-    try:
-        ack = _config(q, enabled)
-        assert (ack.pil_err, ack.status) == (0, 0), ack
-        replies = []
-        speeds = [50.0, -20.0, 10.0, 30.0]
-        quat = [0.02, -0.01, 0.015, math.sqrt(1.0 - 0.02 ** 2 - 0.01 ** 2 - 0.015 ** 2)]
-        for k in range(STEPS):
-            p = frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, quat, [0.0, 0.0, 0.0], (0, 0, 0), (0, 0, 0),
-                                  speeds + [0.0, 0.0])
-            _, raw = q.request(frame.T_STEP, p, frame.T_STEP_REPLY)
-            r = frame.StepReply.decode(raw)
-            replies.append(r)
-            # the wheels the test integrates: each takes its command, wheel DEAD none from FAIL_STEP on
-            for i in range(4):
-                if not (i == DEAD and k >= FAIL_STEP):
-                    speeds[i] += 0.1 * r.u_wheels[i] / JS
-        q.stop()
-        return ack, replies
-    finally:
-        q.kill()
+    speeds = [50.0, -20.0, 10.0, 30.0]
+    quat = [0.02, -0.01, 0.015, math.sqrt(1.0 - 0.02 ** 2 - 0.01 ** 2 - 0.015 ** 2)]
+
+    def payload(k):
+        return frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, quat, [0.0, 0.0, 0.0], (0, 0, 0), (0, 0, 0),
+                                 speeds + [0.0, 0.0])
+
+    def after(k, r):
+        # the wheels the test integrates: each takes its command, wheel DEAD none from FAIL_STEP on
+        for i in range(4):
+            if not (i == DEAD and k >= FAIL_STEP):
+                speeds[i] += 0.1 * r.u_wheels[i] / JS
+
+    return fly(target, _fields(enabled), STEPS, payload, after)
 
 
 @pytest.mark.parametrize("target", TARGETS)
@@ -100,36 +93,28 @@ MOM_WINDOW = 3
 
 
 def _fly_thrusters(target, enabled):
-    q = start(target)
-    try:
-        reg = registry.load()
-        arms = thruster_arms(*couples(1.2))
-        fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
-                      quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
-                      inertia=[2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3], fdir_enabled=enabled,
-                      fdir_mom_residual=0.005, fdir_mom_window=MOM_WINDOW, fdir_mom_persist=1,
-                      fdir_wheel_residual_frac=1.0,   # the tachometers below do not answer the wheel commands
-                      mom_policy=list(reg.momentum_policies).index("thrusters"),
-                      mom_trigger=1, mom_dump_torque=0.2, mom_thr_count=12, mom_thr_thrust=1.0,
-                      mom_thr_min_on=0.01, mom_thr_quantum=0.001, mom_thr_arm_x=[a[0] for a in arms],
-                      mom_thr_arm_y=[a[1] for a in arms], mom_thr_arm_z=[a[2] for a in arms])
-        for i, g in enumerate(_pyramid()):
-            fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
-                           f"wheel{i}_omega_max": 600.0})
-        ack = configure(q, **fields)
-        assert (ack.pil_err, ack.status) == (0, 0), ack
-        replies = []
-        for k in range(2 * MOM_WINDOW + 1):
-            # at rest on target, the four wheels at 150 rad/s (48 N m s along the pyramid's x axis): the dump
-            # fires the -x thruster every period and the wheels' momentum never answers
-            p = frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], (0, 0, 0),
-                                  (0, 0, 0), [150.0] * 4 + [0.0, 0.0])
-            _, raw = q.request(frame.T_STEP, p, frame.T_STEP_REPLY)
-            replies.append(frame.StepReply.decode(raw))
-        q.stop()
-        return ack, replies
-    finally:
-        q.kill()
+    reg = registry.load()
+    arms = thruster_arms(*couples(1.2))
+    fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
+                  quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
+                  inertia=[2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3], fdir_enabled=enabled,
+                  fdir_mom_residual=0.005, fdir_mom_window=MOM_WINDOW, fdir_mom_persist=1,
+                  fdir_wheel_residual_frac=1.0,   # the tachometers below do not answer the wheel commands
+                  mom_policy=list(reg.momentum_policies).index("thrusters"),
+                  mom_trigger=1, mom_dump_torque=0.2, mom_thr_count=12, mom_thr_thrust=1.0,
+                  mom_thr_min_on=0.01, mom_thr_quantum=0.001, mom_thr_arm_x=[a[0] for a in arms],
+                  mom_thr_arm_y=[a[1] for a in arms], mom_thr_arm_z=[a[2] for a in arms])
+    for i, g in enumerate(_pyramid()):
+        fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
+                       f"wheel{i}_omega_max": 600.0})
+
+    def payload(k):
+        # at rest on target, the four wheels at 150 rad/s (48 N m s along the pyramid's x axis): the dump
+        # fires the -x thruster every period and the wheels' momentum never answers
+        return frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], (0, 0, 0),
+                                 (0, 0, 0), [150.0] * 4 + [0.0, 0.0])
+
+    return fly(target, fields, 2 * MOM_WINDOW + 1, payload)
 
 
 @pytest.mark.parametrize("target", TARGETS)
@@ -162,36 +147,28 @@ VISCOUS = 1.0e-5
 def _fly_friction(target, enabled):
     """The pyramid with its friction model (2 mN m Coulomb, 1e-5 N m s viscous), the wheels integrated here with
     five times that friction from the start, windows of FRICTION_WINDOW residuals: every window closes with
-    each wheel's friction found high and its model rescaled on the target (four re-initialisations of the
-    array in the window's step, the stage's most expensive step after an isolation)."""
-    q = start(target)
-    try:
-        reg = registry.load()
-        fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
-                      quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
-                      inertia=[2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3], fdir_enabled=enabled,
-                      fdir_wheel_friction_window=FRICTION_WINDOW)
-        for i, g in enumerate(_pyramid()):
-            fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
-                           f"wheel{i}_omega_max": 600.0, f"wheel{i}_viscous": VISCOUS, f"wheel{i}_coulomb": COULOMB,
-                           f"wheel{i}_coulomb_width": 0.5})
-        ack = configure(q, **fields)
-        assert (ack.pil_err, ack.status) == (0, 0), ack
-        replies = []
-        speeds = [80.0, 90.0, 100.0, 110.0]
-        for k in range(2 * FRICTION_WINDOW + 2):
-            p = frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], (0, 0, 0),
-                                  (0, 0, 0), speeds + [0.0, 0.0])
-            _, raw = q.request(frame.T_STEP, p, frame.T_STEP_REPLY)
-            r = frame.StepReply.decode(raw)
-            replies.append(r)
-            for i in range(4):
-                f = 5.0 * (VISCOUS * speeds[i] + COULOMB * math.tanh(speeds[i] / 0.5))
-                speeds[i] += 0.1 * (r.u_wheels[i] - f) / JS
-        q.stop()
-        return ack, replies
-    finally:
-        q.kill()
+    each wheel's friction found high and its model rescaled on the target."""
+    reg = registry.load()
+    fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
+                  quat_pd_kd=80.0, u_max_norm=1.0, k_safe=2.0, wheels_count=4,
+                  inertia=[2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3], fdir_enabled=enabled,
+                  fdir_wheel_friction_window=FRICTION_WINDOW)
+    for i, g in enumerate(_pyramid()):
+        fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
+                       f"wheel{i}_omega_max": 600.0, f"wheel{i}_viscous": VISCOUS, f"wheel{i}_coulomb": COULOMB,
+                       f"wheel{i}_coulomb_width": 0.5})
+    speeds = [80.0, 90.0, 100.0, 110.0]
+
+    def payload(k):
+        return frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], (0, 0, 0),
+                                 (0, 0, 0), speeds + [0.0, 0.0])
+
+    def after(k, r):
+        for i in range(4):
+            f = 5.0 * (VISCOUS * speeds[i] + COULOMB * math.tanh(speeds[i] / 0.5))
+            speeds[i] += 0.1 * (r.u_wheels[i] - f) / JS
+
+    return fly(target, fields, 2 * FRICTION_WINDOW + 2, payload, after)
 
 
 @pytest.mark.parametrize("target", TARGETS)

@@ -197,15 +197,26 @@ static void rig_init(wheel_rig_t *r, uint32_t n_wheels, double b, double c)
     assert_int_equal(aocs_fdir_init(&r->f, &fc), AOCS_OK);
 }
 
+/* What the rig's wheels do besides taking their commands: a wheel whose motor is dead (bit i), one whose true
+ * friction is a multiple of the test's b, c, and one whose tachometer reads 0 (AOCS_WHEELS_MAX: none). */
+typedef struct {
+    uint32_t dead_mask;
+    double friction_scale[4];
+    uint32_t tach_zero;
+} rig_faults_t;
+
 /* One step: fdir on the sample, the allocation of u_c, then the test's wheels over the period (100 substeps,
- * the motor applies u_s unless dead). Returns the events raised this step (seq before the step in *seq0). */
-static void rig_step(wheel_rig_t *r, aocs_vec3_t u_c, uint32_t dead_mask, double b, double c)
+ * the motor applies u_s unless dead, friction b w + c tanh(w / 0.5) times the wheel's scale). */
+static void rig_step_with(wheel_rig_t *r, aocs_vec3_t u_c, const rig_faults_t *fl, double b, double c)
 {
     aocs_fdir_input_t in;
     aocs_wheels_alloc_t alloc;
     real_t om[AOCS_WHEELS_MAX] = {0};
     for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
         om[i] = (real_t)r->omega[i];
+    }
+    if (fl->tach_zero < AOCS_WHEELS_MAX) {
+        om[fl->tach_zero] = AOCS_R(0.0);
     }
     assert_int_equal(aocs_wheels_allocate(&r->wa, u_c, om, &alloc), AOCS_OK);
     (void)memset(&in, 0, sizeof(in));
@@ -219,13 +230,20 @@ static void rig_step(wheel_rig_t *r, aocs_vec3_t u_c, uint32_t dead_mask, double
     aocs_fdir_step(&r->f, &in, &r->wa);
     /* the wheels over the period: Js dOmega/dt = u - f(Omega) (the body does not turn here) */
     for (uint32_t i = 0u; i < 4u; ++i) {
-        const double u = ((dead_mask >> i) & 1u) ? 0.0 : (double)alloc.u_s_nm[i];
+        const double u = ((fl->dead_mask >> i) & 1u) ? 0.0 : (double)alloc.u_s_nm[i];
         const double h = PERIOD_S / 100.0;
         for (int k = 0; k < 100; ++k) {
-            r->omega[i] += h * (u - test_friction(b, c, 0.5, r->omega[i])) / TEST_WHEEL_JS_KGM2;
+            r->omega[i] += h * (u - (fl->friction_scale[i] * test_friction(b, c, 0.5, r->omega[i]))) /
+                           TEST_WHEEL_JS_KGM2;
         }
     }
     r->t_ns += PERIOD_NS;
+}
+
+static void rig_step(wheel_rig_t *r, aocs_vec3_t u_c, uint32_t dead_mask, double b, double c)
+{
+    const rig_faults_t fl = {dead_mask, {1.0, 1.0, 1.0, 1.0}, AOCS_WHEELS_MAX};
+    rig_step_with(r, u_c, &fl, b, c);
 }
 
 static uint32_t count_id(const aocs_evlog_t *log, aocs_evt_id_t id, int32_t unit, uint64_t *t_first)
@@ -295,48 +313,20 @@ static void test_wheel_dies_is_detected_after_persist_steps_and_isolated(void **
     assert_int_equal(r.f.safe_latched, 0);
 }
 
-/* wheel 1's true friction five times its model from step 150 (the rig's wheels spinning one way under a
- * command that keeps them so): no isolation (the extra 8 to 10 mN m is below the 25 mN m threshold), but at
- * the end of the friction window that holds it wheel_friction_high names wheel 1 with the scale found, the
- * model is scaled by it and follows the wheel after (no other event); with the test off, nothing. */
 /* 600 steps of the rig's wheels spinning one way (80 to 110 rad/s) under a slowly varying command, with the
  * test's friction; from step 150 wheel 1's friction is `scale` times the model, and, when tach_dead, its
  * tachometer reads 0 */
-static void friction_rig_run(wheel_rig_t *r0, double b, double c, double scale, int tach_dead)
+static void friction_rig_run(wheel_rig_t *r, double b, double c, double scale, int tach_dead)
 {
     for (uint32_t i = 0u; i < 4u; ++i) {
-        r0->omega[i] = 80.0 + (10.0 * (double)i);
+        r->omega[i] = 80.0 + (10.0 * (double)i);
     }
     for (uint32_t k = 0u; k < 600u; ++k) {
         const aocs_vec3_t u_c = aocs_vec3_make(AOCS_R(0.02 * sin(0.01 * (double)k)), AOCS_R(0.01), AOCS_R(0.0));
-        aocs_wheels_alloc_t alloc;
-        real_t om[AOCS_WHEELS_MAX] = {0};
-        aocs_fdir_input_t in;
-        for (uint32_t i = 0u; i < AOCS_WHEELS_MAX; ++i) {
-            om[i] = (real_t)r0->omega[i];
-        }
-        if ((tach_dead != 0) && (k >= 150u)) {
-            om[1] = AOCS_R(0.0);
-        }
-        assert_int_equal(aocs_wheels_allocate(&r0->wa, u_c, om, &alloc), AOCS_OK);
-        (void)memset(&in, 0, sizeof(in));
-        in.t_ns = r0->t_ns;
-        in.period_s = AOCS_R(PERIOD_S);
-        in.have_sample = 1;
-        in.input_status = AOCS_OK;
-        in.mode = AOCS_EXEC_MODE_NOMINAL;
-        in.wheel_speed_radps = om;
-        in.alloc = &alloc;
-        aocs_fdir_step(&r0->f, &in, &r0->wa);
-        for (uint32_t i = 0u; i < 4u; ++i) {
-            const double sc = ((i == 1u) && (k >= 150u)) ? scale : 1.0;
-            const double h = PERIOD_S / 100.0;
-            for (int j = 0; j < 100; ++j) {
-                r0->omega[i] += h * ((double)alloc.u_s_nm[i] - sc * test_friction(b, c, 0.5, r0->omega[i])) /
-                                TEST_WHEEL_JS_KGM2;
-            }
-        }
-        r0->t_ns += PERIOD_NS;
+        const int after = (k >= 150u) ? 1 : 0;
+        const rig_faults_t fl = {0u, {1.0, (after != 0) ? scale : 1.0, 1.0, 1.0},
+                                 ((after != 0) && (tach_dead != 0)) ? 1u : AOCS_WHEELS_MAX};
+        rig_step_with(r, u_c, &fl, b, c);
     }
 }
 
@@ -356,6 +346,10 @@ static void test_a_tachometer_failure_is_not_taken_for_friction(void **state)
     assert_close(r.wa.cfg.coulomb_nm[1], (double)AOCS_R(2.0e-3), 0.0);
 }
 
+/* wheel 1's true friction five times its model from step 150 (the rig's wheels spinning one way under a
+ * command that keeps them so): no isolation (the extra 8 to 10 mN m is below the 25 mN m threshold), but at
+ * the end of the friction window that holds it wheel_friction_high names wheel 1 with the scale found, the
+ * model is scaled by it and follows the wheel after (no other event); with the test off, nothing. */
 static void test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled(void **state)
 {
     (void)state;
@@ -528,20 +522,28 @@ static aocs_quat_t noisy_quat(test_rng_t *rng, aocs_quat_t q0, double sigma_rad)
 }
 
 /* a sample the MEKF tested (its tracker model has noise) with innovation d2 */
-static void tested_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, real_t d2)
+/* one sample of both sensors whose tracker sample the filter tested (innovation d2, its verdict st_status) */
+static void filter_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, aocs_vec3_t w, real_t d2, aocs_status_t st_status)
 {
     aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
     aocs_det_output_t est;
     (void)memset(&est, 0, sizeof(est));
     est.status = AOCS_OK;
-    est.st_status = (f->st.excluded != 0) ? AOCS_ERR_MEKF_ST_EXCLUDED : AOCS_OK;
+    est.st_status = st_status;
     est.innovation_chi2 = d2;
     in.est = &est;
     in.st_q_SN = q;
     in.st_valid = 1;
-    in.gyro_w_B = aocs_vec3_make(AOCS_R(1.0e-6), AOCS_R(-2.0e-6), AOCS_R(0.5e-6));
+    in.gyro_w_B = w;
     in.gyro_valid = 1;
     aocs_fdir_step(f, &in, NULL);
+}
+
+/* a hold's sample (the gyro at a few 1e-6 rad/s), applied unless the tracker is excluded */
+static void tested_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, real_t d2)
+{
+    filter_feed(f, k, q, aocs_vec3_make(AOCS_R(1.0e-6), AOCS_R(-2.0e-6), AOCS_R(0.5e-6)), d2,
+                (f->st.excluded != 0) ? AOCS_ERR_MEKF_ST_EXCLUDED : AOCS_OK);
 }
 
 /* in a hold (the gyro far below st_frozen_rate_radps) a tracker the MEKF tests, i.e. models with noise, that
@@ -799,22 +801,6 @@ static aocs_quat_t turning_quat(const double e[3], double rate_radps, double t_s
     return q;
 }
 
-/* one sample of both sensors with the filter's innovation test of the tracker sample (d2) */
-static void both_feed(aocs_fdir_t *f, uint64_t k, aocs_quat_t q, aocs_vec3_t w, real_t d2)
-{
-    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
-    aocs_det_output_t est;
-    (void)memset(&est, 0, sizeof(est));
-    est.status = AOCS_OK;
-    est.st_status = AOCS_ERR_MEKF_GATED;
-    est.innovation_chi2 = d2;
-    in.est = &est;
-    in.st_q_SN = q;
-    in.st_valid = 1;
-    in.gyro_w_B = w;
-    in.gyro_valid = 1;
-    aocs_fdir_step(f, &in, NULL);
-}
 
 /* A gyro pinned on every axis (saturated at 1e-3 rad/s) during a 5e-3 rad/s turn: the tracker's innovations
  * fail first and exclude it (5 samples); at the 10th identical gyro sample the tracker has turned 9 x 0.5 mrad
@@ -836,15 +822,16 @@ static void test_a_gyro_pinned_on_every_axis_while_the_tracker_turns(void **stat
     assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
     for (int i = 0; i < 200; ++i) {
         ++k;
-        both_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
-                  aocs_vec3_make((real_t)(rate * e[0]), (real_t)(rate * e[1]), (real_t)(rate * e[2])), AOCS_R(1.0));
+        filter_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
+                    aocs_vec3_make((real_t)(rate * e[0]), (real_t)(rate * e[1]), (real_t)(rate * e[2])), AOCS_R(1.0),
+                    AOCS_ERR_MEKF_GATED);
     }
     assert_int_equal(aocs_evlog_count(&f.log), 0u);
     /* now the gyro clips at 1e-3 on every axis and the filter's innovations of the tracker fail */
     for (int i = 0; i < 12; ++i) {
         ++k;
-        both_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
-                  aocs_vec3_make(AOCS_R(1.0e-3), AOCS_R(1.0e-3), AOCS_R(1.0e-3)), AOCS_R(100.0));
+        filter_feed(&f, k, turning_quat(e, rate, (double)k * PERIOD_S, &rng, sigma),
+                    aocs_vec3_make(AOCS_R(1.0e-3), AOCS_R(1.0e-3), AOCS_R(1.0e-3)), AOCS_R(100.0), AOCS_ERR_MEKF_GATED);
         if (i == 4) {
             assert_int_equal(f.st.excluded, 1); /* the 5th failed innovation (fdir.st_persist) */
         }
