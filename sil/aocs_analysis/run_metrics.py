@@ -205,8 +205,8 @@ def compute(log, scenario, meta: dict, *, wall_s: float | None = None, plant: di
     out["passes"] = (passes.metrics(sc, series, series["settle_inside"]) if sc.kind == "attitude" else None)
     out["momentum"] = momentum.metrics(log, sc, series["wheels"], plant,
                                        plan.hold_windows_s() if plan is not None else None)
-    out["estimation"], series["estimation"] = _estimation(log, sc)   # None / None without a filter
     out["events"] = events.events(log)                 # fault management's event log (docs/spec.md 5.15)
+    out["estimation"], series["estimation"] = _estimation(log, sc, out["events"])   # None / None without a filter
     out["events_alarms"] = events.alarms(out["events"])  # of them, severity warning or above
     out["events_false_alarms"] = events.false_alarms(   # of those, raised before any injected fault
         out["events"], [f.start_s for f in getattr(sc, "faults", ())])
@@ -227,11 +227,15 @@ def _faults(out: dict, series: dict, sc) -> None:
                                    faults.requirement_of(sc) if pointing is not None else None, sc.metrics.window_s)
 
 
-def _estimation(log, sc) -> tuple[dict | None, dict | None]:
+def _estimation(log, sc, evs=()) -> tuple[dict | None, dict | None]:
     """The `estimation` section (docs/spec.md 5.7) of a run whose flight software flew a filter
     ([estimator] type other than passthrough): the estimate of actuator_cmd_t against the truth of the same
     tick (truth_t: the state at t_k the tick's sensors measured), the reference qd(t_k), the filter's own
-    covariance, the sensor figures of the scenario's [sensors.star_tracker] and [sensors.gyro]."""
+    covariance, the sensor figures of the scenario's [sensors.star_tracker] and [sensors.gyro].
+    Once the filter flies without its gyro (the event estimator_gyroless, docs/spec.md 5.6.12) its state and
+    covariance hold the rate where the bias was: the filter's statistics are taken over the run before
+    that (the metric window's attitude errors over all of it), and `gyroless_from_s` says when it began
+    (None when it never did)."""
     est = getattr(sc, "estimator", None)
     if est is None or est.type == "passthrough" or sc.kind != "attitude":
         return None, None
@@ -245,14 +249,17 @@ def _estimation(log, sc) -> tuple[dict | None, dict | None]:
                if "star_tracker" in names and "gyro" in names else None)
     outages = getattr(names.get("star_tracker"), "outages", ()) or ()
     qd, valid = target_quat(sc, t), (cmd["est_status"][ic] == 0) & ~held
+    gyroless_from = next((e["t_s"] for e in evs if e.get("name") == "estimator_gyroless"), None)
+    with_gyro = valid if gyroless_from is None else valid & (t < gyroless_from)
     section, series = E.analyse(t, tr["q"][it], cmd["q_est"][ic], cmd["bias_est"][ic], tr["gyro_bias"][it],
-                                cmd["est_p"][ic], qd=qd, valid=valid, sensors=sensors,
+                                cmd["est_p"][ic], qd=qd, valid=with_gyro, sensors=sensors,
                                 control_rate_hz=sc.control_rate_hz, outages=outages,
                                 start=_filter_start(sc, tr["q"][it][0], tr["gyro_bias"][it][0]))
     # steady state: the last half of the run; the same three errors over the run's metric window (the last
     # 100 s of an IRASSI run), as `aocs compare` and docs/results.md report them beside the pointing figures
     section["metric_window"] = E.window_errors(t, tr["q"][it], cmd["q_est"][ic], qd, valid,
                                                window_s=sc.metrics.window_s)
+    section["gyroless_from_s"] = gyroless_from
     return section, series
 
 

@@ -38,7 +38,8 @@ What comes from where (docs/sil.md):
   cross / about noise arcsec -> rad, the gyro's ARW and RRW), each noise
   times [estimator] noise_scale (1: the filter knows its sensors; else a
   mistuned filter), and the filter's tuning from [estimator] (gate, P0,
-  max gap, bias prior, and the start: `mekf.init_mode`, `mekf.init_q_BN`);
+  max gap, bias prior, the start: `mekf.init_mode`, `mekf.init_q_BN`, and
+  the gyroless model: `mekf.gyroless_*`, docs/spec.md 5.6.12);
 - the momentum management, from the scenario's [momentum] (docs/spec.md 5.9):
   policy "none" (the default, every reference scenario) writes nothing; else
   `mom.policy`, `mom.trigger`, `mom.h_target_nms`, `mom.h_start_nms`,
@@ -162,6 +163,9 @@ def estimator_keys(scenario) -> dict[str, str]:
         "mekf.gate_chi2": _num(e.gate_chi2),
         "mekf.max_gap_s": _num(e.max_gap_s),
         "mekf.init_mode": e.init_mode,
+        "mekf.gyroless_torque_sigma_nm": _num(e.gyroless_torque_sigma_nm),
+        "mekf.gyroless_p0_rate_sigma_radps": _num(e.gyroless_p0_rate_sigma_radps),
+        "mekf.gyroless_rate_sigma_radps": _num(e.gyroless_rate_sigma_radps),
     }
     if e.init_mode == "configured":
         out["mekf.init_q_BN"] = _vec(e.init_q_BN)

@@ -185,7 +185,8 @@ MEKF_PREFIX = "mekf."
 FDIR_PREFIX = "fdir."
 U32_MAX = 2 ** 32 - 1
 ESTIMATOR_TUNING_KEYS = ("gate_chi2", "p0_att_sigma_rad", "p0_bias_sigma_radps", "max_gap_s", "bias0_radps",
-                         "init_mode", "init_q_BN")
+                         "init_mode", "init_q_BN", "gyroless_torque_sigma_nm", "gyroless_p0_rate_sigma_radps",
+                         "gyroless_rate_sigma_radps")
 #: the mekf.* keys written from the sensor sections, never from [estimator]
 ESTIMATOR_SENSOR_KEYS = ("st_q_SB", "st_sigma_cross_rad", "st_sigma_about_rad", "gyro_arw_radpsqrts",
                          "gyro_rrw_radps1p5")
@@ -209,6 +210,10 @@ class EstimatorConfig:
     init_mode: str = "first_star_tracker"
     init_q_BN: tuple = (0.0, 0.0, 0.0, 1.0)
     init_error_deg: tuple | None = None   # the knowledge error dth at the start, deg, B (when given)
+    # the gyroless model flown once fault management excludes the gyro (docs/spec.md 5.6.12; 0 = none)
+    gyroless_torque_sigma_nm: float = 1.0e-2
+    gyroless_p0_rate_sigma_radps: float = 1.0e-2
+    gyroless_rate_sigma_radps: float = 1.0e-5
 
 
 @dataclass(frozen=True)
@@ -831,6 +836,8 @@ def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig,
     mode = sec.string("init_mode", required=False, default=fields["init_mode"].names[0],
                       choices=fields["init_mode"].names)
     q0, err0 = _initial_estimate(sec, fields, att, mode)
+    gyroless = {k: number(k) for k in ("gyroless_torque_sigma_nm", "gyroless_p0_rate_sigma_radps",
+                                       "gyroless_rate_sigma_radps")}
     sec.done()
     for name in ("star_tracker", "gyro"):
         if name not in sensor_config.sensors:
@@ -839,7 +846,7 @@ def _read_estimator(root: _Section, kind: str, sensor_config: SensorsConfig,
     for name, key, attr in _MEKF_SENSOR_FIGURES:
         if not getattr(sensor_config[name], attr) > 0.0:
             root.fail(f"sensors.{name}.{key}", 'must be > 0 with estimator type "mekf" (the filter\'s noise model)')
-    return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale, mode, q0, err0)
+    return EstimatorConfig(typ, gate, p0a, p0b, gap, tuple(bias0), scale, mode, q0, err0, **gyroless)
 
 
 #: the largest number of thrusters the flight software allocates (AOCS_MOM_THRUSTERS_MAX, momentum.h)

@@ -14,6 +14,8 @@
  *     latches SAFE, and an isolation-refused event comes with it;
  *   - disabled: no event at all;
  *   - the bias re-inflation asked on a step only with a gyro_st_inconsistent event of that step;
+ *   - the switch to the gyroless estimator (go_gyroless) asked only when the estimator can, on the step of an
+ *     estimator_gyroless event and of a gyro_excluded one (docs/spec.md 5.6.12);
  *   - the momentum test (a thruster momentum stage, irassi_day's twelve thrusters, dumping on a 20 / 3 N m s
  *     hysteresis, stepped before the stage on the wheels' momentum): a thruster event names a configured
  *     thruster; the excluded thrusters only grow, each new one with an unload_actuator_switched event naming
@@ -21,7 +23,8 @@
  *     step never fires an excluded thruster).
  *
  * Input layout (reads past the end give zeros):
- *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters), the parameters
+ *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters, bit3 an estimator that can
+ *   fly without the gyro), the parameters
  *   (wheel_residual_frac, st_chi2, st_frozen_rate, gyro_sat as u16 scaled or raw f64; wheel_persist, st_persist,
  *   st_restore, st_frozen_samples, gyro_stuck_samples, link_lost_periods as u8; gyro_bias_chi2 scaled or raw,
  *   gyro_bias_persist u8, mom_residual_nm scaled or raw, mom_window u8, mom_persist u8, wheel_friction_window
@@ -244,6 +247,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         est.innovation_chi2 = fuzz_scaled(&r, raw, 0.0, 50.0);
         in.est = &est;
         in.gyro_valid = (int)((flags >> 3) & 1u);
+        in.gyroless_capable = (int)((setup >> 3) & 1u);
         in.gyro_w_B = aocs_vec3_make(fuzz_scaled(&r, raw, -1.0, 1.0), fuzz_scaled(&r, raw, -1.0, 1.0),
                                      fuzz_scaled(&r, raw, -1.0, 1.0));
         in.st_valid = (int)((flags >> 2) & 1u);
@@ -290,6 +294,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,
                                                              t_ns) == 0)) {
                 fuzz_fdir_fail("bias re-inflation without a gyro_st_inconsistent event of the step");
+            }
+            if ((f.go_gyroless != 0) &&
+                ((in.gyroless_capable == 0) ||
+                 (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_ESTIMATOR_GYROLESS, t_ns) == 0) ||
+                 (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_EXCLUDED, t_ns) == 0))) {
+                fuzz_fdir_fail("the gyroless switch asked without an estimator that can, or without its events");
             }
         }
         {

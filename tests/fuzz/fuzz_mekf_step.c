@@ -10,13 +10,20 @@
  * back (but on a reset); the step's return is the estimate's status.
  *
  * Input layout (reads past the end give zeros):
- *   u8  config mode (fuzz_mekf_config: bit0 tuning magnitudes, bit1 mounting, bit2 configured start) and its bytes
+ *   u8  config mode (fuzz_mekf_config: bit0 tuning magnitudes, bit1 mounting, bit2 configured start, bit3 the
+ *       gyroless model) and its bytes
  *   then ops until the end, each one u8 op then its fields:
  *     0-6  step: u8 verdict (OK mostly; STALE, MISSING, INVALID), u8 time mode (+ raw u64 when asked),
  *          u8 valid (bits 0-4: the AOCS_EXEC_VALID_* flags; bit5 raw gyro f64s, else 3 x u16 within
  *          +-4 rad/s; bit6 raw q f64s, else a unit q from 3 bytes; bit7 raw t_meas u64, else u8 age
  *          in tenths of a period, 255 = from the future)
  *     7    reset (aocs_det_reset)
+ *     8    the gyro excluded (aocs_det_set_gyroless): u8 inertia mode (< 200: a diagonal of 10^(u8 / 64) kg m^2
+ *          per axis with u8 / 1024 of it off the diagonal, else 9 raw f64s)
+ *     9    the torque held (aocs_det_set_torque): u8 raw (>= 200: 6 raw f64s, else 6 x u16 within +-1 N m
+ *          and +-50 N m s)
+ * Gyroless (spec 5.6.12), besides the invariants above: a usable estimate has every rate 1-sigma at or
+ * below mekf.gyroless_rate_sigma_radps; AOCS_ERR_MEKF_GYROLESS_CONVERGING carries the rate flag only.
  */
 #include "fuzz_support.h"
 
@@ -46,6 +53,66 @@ static aocs_quat_t fuzz_unit_quat(fuzz_reader_t *r)
     const double c = ((double)fuzz_u8(r) - 128.0) / 40.0;
     const double n = sqrt(1.0 + (a * a) + (b * b) + (c * c));
     return aocs_quat_make((real_t)(a / n), (real_t)(b / n), (real_t)(c / n), (real_t)(1.0 / n));
+}
+
+/* the gyroless stage's rules (spec 5.6.12) on one output */
+static void fuzz_check_gyroless(const aocs_det_t *det, const aocs_det_output_t *out)
+{
+    if (aocs_det_is_gyroless(det) != 0u) {
+        static const int diag[3] = {15, 18, 20}; /* (3,3), (4,4), (5,5) of the upper triangle */
+        const real_t s = det->states.mekf.cfg.gyroless_rate_sigma_radps;
+        if (out->status == AOCS_OK) {
+            for (int i = 0; i < 3; ++i) {
+                if (!((double)out->p_upper[diag[i]] <= (double)s * (double)s * (1.0 + 1e-5))) {
+                    (void)fprintf(stderr, "fuzz invariant violated: a gyroless estimate used with its rate unknown\n");
+                    abort();
+                }
+            }
+        }
+        if ((out->status == AOCS_ERR_MEKF_GYROLESS_CONVERGING) &&
+            ((out->valid != AOCS_EXEC_VALID_RATE) || (aocs_vec3_is_finite(out->w_BN_B) == 0))) {
+            (void)fprintf(stderr, "fuzz invariant violated: a converging gyroless estimate without its rate\n");
+            abort();
+        }
+    }
+}
+
+static void fuzz_gyroless(fuzz_reader_t *r, aocs_det_t *det)
+{
+    aocs_mat3_t j;
+    const uint8_t m = fuzz_u8(r);
+    aocs_status_t st;
+    if (m < 200u) {
+        for (int a = 0; a < 3; ++a) {
+            j.m[a][a] = (real_t)pow(10.0, (double)fuzz_u8(r) / 64.0);
+        }
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3;
+            const double off = ((double)fuzz_u8(r) / 1024.0) * sqrt((double)j.m[a][a] * (double)j.m[b][b]);
+            j.m[a][b] = (real_t)off;
+            j.m[b][a] = (real_t)off;
+        }
+    } else {
+        for (int a = 0; a < 9; ++a) {
+            j.m[a / 3][a % 3] = (real_t)fuzz_f64(r);
+        }
+    }
+    st = aocs_det_set_gyroless(det, &j);
+    if ((st == AOCS_OK) && (aocs_det_is_gyroless(det) == 0u)) {
+        (void)fprintf(stderr, "fuzz invariant violated: set_gyroless OK but the filter is not gyroless\n");
+        abort();
+    }
+}
+
+static void fuzz_torque(fuzz_reader_t *r, aocs_det_t *det)
+{
+    real_t v[6];
+    const uint8_t raw = fuzz_u8(r);
+    for (int i = 0; i < 6; ++i) {
+        v[i] = (raw >= 200u) ? (real_t)fuzz_f64(r)
+                             : (real_t)(((double)fuzz_u16(r) - 32768.0) / 32768.0 * ((i < 3) ? 1.0 : 50.0));
+    }
+    aocs_det_set_torque(det, aocs_vec3_make(v[0], v[1], v[2]), aocs_vec3_make(v[3], v[4], v[5]));
 }
 
 static void fuzz_counters_forward(const aocs_det_output_t *prev, const aocs_det_output_t *now)
@@ -78,7 +145,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     memset(&prev, 0, sizeof(prev));
     while ((fuzz_more(&r) != 0) && (ops < 4096)) {
-        const uint8_t op = (uint8_t)(fuzz_u8(&r) % 8u);
+        const uint8_t op = (uint8_t)(fuzz_u8(&r) % 10u);
         ++ops;
         if (op <= 6u) {
             aocs_exec_input_t in;
@@ -127,8 +194,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
             }
             fuzz_check_estimate(&out);
+            fuzz_check_gyroless(&det, &out);
             fuzz_counters_forward(&prev, &out);
             prev = out;
+        } else if (op == 8u) {
+            fuzz_gyroless(&r, &det);
+        } else if (op == 9u) {
+            fuzz_torque(&r, &det);
         } else {
             if (aocs_det_reset(&det) != AOCS_OK) {
                 abort();

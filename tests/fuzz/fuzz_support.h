@@ -166,6 +166,13 @@ static inline void fuzz_mekf_config(fuzz_reader_t *r, uint8_t mode, aocs_mekf_co
         c->init_mode = AOCS_MEKF_INIT_CONFIGURED;
         c->q0_BN = aocs_quat_make((real_t)(a / n), (real_t)(b / n), (real_t)(d / n), (real_t)(1.0 / n));
     }
+    if ((mode & 8u) != 0u) {
+        /* the gyroless model (spec 5.6.12): none (0), or torque noise, rate prior and usable rate */
+        const uint8_t none = fuzz_u8(r);
+        c->gyroless_torque_sigma_nm = (none == 0u) ? (real_t)0.0 : (real_t)fuzz_mag(r, -6.0, 1.0);
+        c->gyroless_p0_rate_sigma_radps = (real_t)fuzz_mag(r, -5.0, 0.0);
+        c->gyroless_rate_sigma_radps = (real_t)fuzz_mag(r, -8.0, -2.0);
+    }
 }
 
 /* An estimate of the determination stage: every real finite; a usable one is a unit q with both flags, an

@@ -223,6 +223,12 @@ def mekf_seeds() -> None:
            + struct.pack("<4d", float("nan"), 0.0, 0.0, 1.0) + step(valid=0x18, q=(250, 3, 3)) + step(verdict=5)
            + bytes([7]) + step())
     _write("fuzz_mekf_step", "tuned", bytes([3]) + struct.pack("<8H", *(32768,) * 8) + bytes([10, 0, 0]) + good)
+    # the gyro excluded after 40 steps (op 8: a diagonal inertia of 10^(160 / 64) ~ 316 kg m^2), a torque held
+    # (op 9), then steps with the tracker's flag only (0x08: no gyro), a reset and one more
+    gyroless = bytes([8, 0, 160, 170, 180, 10, 10, 10]) + bytes([9, 0]) + struct.pack("<6H", 33000, 32000, 32768,
+                                                                                         40000, 30000, 32768)
+    _write("fuzz_mekf_step", "gyroless", bytes([8, 1]) + struct.pack("<3H", 40000, 50000, 30000) + good + gyroless
+           + b"".join(step(valid=0x08) for _ in range(30)) + bytes([7]) + step(valid=0x08))
 
 
 def momentum_seeds() -> None:
@@ -301,6 +307,8 @@ def fdir_seeds() -> None:
     pinned = b"".join(step(cmds=(0.0,) * 4, chi2=40.0, gyro=(1e-3, 1e-3, 1e-3), q=(0.01 * k, 0.0, 0.0, 1.0))
                       for k in range(14))
     _write("fuzz_fdir_step", "gyro_pinned", cfg(0) + pinned)
+    # the same with an estimator that can fly without the gyro (setup bit3): estimator_gyroless, no SAFE latched
+    _write("fuzz_fdir_step", "gyro_pinned_gyroless", cfg(8) + pinned)
     # wheel 0 at 100 rad/s, uncommanded, slowing by one speed quantum (1400 / 65536 rad/s) a period: 5.7 times
     # the friction model's 3 mN m (the residual 14 mN m, below the 25 mN m isolation threshold): at the end of
     # the 10-step friction window wheel_friction_high, the model rescaled

@@ -51,6 +51,7 @@ static void test_event_ids_names_severities_are_the_wire_values(void **state)
         {AOCS_EVT_GYRO_SATURATED, 17u, "gyro_saturated", "warning", "gyro"},
         {AOCS_EVT_WHEEL_ISOLATION_REFUSED, 18u, "wheel_isolation_refused", "critical", "wheel"},
         {AOCS_EVT_WHEEL_FRICTION_HIGH, 19u, "wheel_friction_high", "warning", "wheel"},
+        {AOCS_EVT_ESTIMATOR_GYROLESS, 20u, "estimator_gyroless", "error", "none"},
     };
     assert_int_equal(AOCS_EVT_COUNT, sizeof(rows) / sizeof(rows[0]));
     for (size_t i = 0u; i < (sizeof(rows) / sizeof(rows[0])); ++i) {
@@ -770,6 +771,51 @@ static void test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe(void **state
     assert_int_equal(f.safe_latched, 1);
 }
 
+/* A stuck axis with an estimator that can fly without the gyro (docs/spec.md 5.6.12): the gyro excluded, no
+ * SAFE latched, estimator_gyroless raised and go_gyroless set for the executive on that step only; the
+ * excluded gyro then shown to no monitor (the executive's rule) raises nothing more. */
+static void test_gyro_stuck_goes_gyroless(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {4242u};
+    const aocs_quat_t q = test_random_quat(&rng);
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    real_t y = AOCS_R(0.0);
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 10; ++i) {
+        aocs_fdir_input_t in = base_input(++k, 1, AOCS_EXEC_MODE_NOMINAL);
+        const aocs_vec3_t n = test_random_vec3(&rng, 1.0e-6);
+        if (i == 0) {
+            y = n.v[1];
+        }
+        in.st_q_SN = q;
+        in.st_valid = 1;
+        in.gyro_w_B = aocs_vec3_make(n.v[0], y, n.v[2]);
+        in.gyro_valid = 1;
+        in.gyroless_capable = 1;
+        aocs_fdir_step(&f, &in, NULL);
+        assert_int_equal(f.go_gyroless, (i == 9) ? 1 : 0);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_EXCLUDED, 1, NULL), 1u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ESTIMATOR_GYROLESS, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(f.gyro.excluded, 1);
+    assert_int_equal(f.safe_latched, 0);
+    for (int i = 0; i < 30; ++i) {
+        aocs_fdir_input_t in = base_input(++k, 1, AOCS_EXEC_MODE_NOMINAL);
+        in.st_q_SN = q;
+        in.st_valid = 1;
+        in.gyroless_capable = 1;
+        aocs_fdir_step(&f, &in, NULL);
+        assert_int_equal(f.go_gyroless, 0);
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 3u); /* gyro_stuck, gyro_excluded, estimator_gyroless */
+}
+
 static void test_gyro_saturation(void **state)
 {
     (void)state;
@@ -1253,6 +1299,7 @@ int main(void)
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
         cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
+        cmocka_unit_test(test_gyro_stuck_goes_gyroless),
         cmocka_unit_test(test_gyro_saturation),
         cmocka_unit_test(test_a_gyro_pinned_on_every_axis_while_the_tracker_turns),
         cmocka_unit_test(test_link_and_safe_events),

@@ -165,3 +165,44 @@ void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded)
         aocs_mekf_set_st_excluded(&det->states.mekf, excluded);
     }
 }
+
+uint32_t aocs_det_gyroless_capable(const aocs_det_t *det)
+{
+    uint32_t capable = 0u;
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF) && (det->states.mekf.initialised != 0) &&
+        (det->states.mekf.cfg.gyroless_torque_sigma_nm > AOCS_R(0.0))) {
+        capable = 1u;
+    }
+    return capable;
+}
+
+aocs_status_t aocs_det_set_gyroless(aocs_det_t *det, const aocs_mat3_t *inertia_B_kgm2)
+{
+    aocs_status_t st = AOCS_ERR_NULL_ARG;
+    if (det != NULL) {
+        st = AOCS_ERR_MEKF_NOISE_NOT_POSITIVE; /* an estimator without a gyroless model */
+        if (det->id == AOCS_DET_MEKF) {
+            aocs_mekf_t *const f = &det->states.mekf;
+            aocs_mekf_output_t mo;
+            /* the rate the filter last gave (from the gyro now excluded): the dynamics' starting point */
+            aocs_vec3_t w0 = aocs_vec3_zero();
+            if (aocs_mekf_get_output(f, &mo) == AOCS_OK) {
+                w0 = mo.w_BN_B_hat;
+            }
+            st = aocs_mekf_set_gyroless(f, inertia_B_kgm2, w0);
+        }
+    }
+    return st;
+}
+
+uint32_t aocs_det_is_gyroless(const aocs_det_t *det)
+{
+    return ((det != NULL) && (det->id == AOCS_DET_MEKF)) ? aocs_mekf_is_gyroless(&det->states.mekf) : 0u;
+}
+
+void aocs_det_set_torque(aocs_det_t *det, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wheels_B_Nms)
+{
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF)) {
+        aocs_mekf_set_torque(&det->states.mekf, tau_B_Nm, h_wheels_B_Nms);
+    }
+}

@@ -309,6 +309,7 @@ static void mekf_restart(aocs_mekf_t *f)
     f->q_BN_hat = qd_identity();
     f->bias_B_hat = aocs_vec3_zero();
     f->w_meas_B_radps = aocs_vec3_zero();
+    f->w_hat_B_radps = aocs_vec3_zero();
     (void)memset(&f->P, 0, sizeof(f->P));
     mekf_clear_history(f);
     if (f->n_restarts < UINT32_MAX) {
@@ -371,6 +372,9 @@ void aocs_mekf_config_default(aocs_mekf_config_t *cfg)
         cfg->max_gap_s = AOCS_R(10.0);
         cfg->init_mode = AOCS_MEKF_INIT_FIRST_ST;
         cfg->q0_BN = aocs_quat_identity();
+        cfg->gyroless_torque_sigma_nm = AOCS_R(1.0e-2);
+        cfg->gyroless_p0_rate_sigma_radps = AOCS_R(1.0e-2);
+        cfg->gyroless_rate_sigma_radps = AOCS_R(1.0e-5);
     }
 }
 
@@ -379,14 +383,16 @@ static aocs_status_t mekf_check_config(const aocs_mekf_config_t *c)
     aocs_status_t st = AOCS_OK;
     const real_t sig[6] = {c->st_sigma_cross_rad, c->st_sigma_about_rad, c->gyro_arw_radpsqrts,
                            c->gyro_rrw_radps1p5,  c->p0_att_sigma_rad,   c->p0_bias_sigma_radps};
-    const real_t other[2] = {c->gate_chi2, c->max_gap_s};
-    if ((mekf_all_finite(sig, 6) == 0) || (mekf_all_finite(other, 2) == 0) || (aocs_quat_is_finite(c->q_SB) == 0) ||
+    const real_t other[5] = {c->gate_chi2, c->max_gap_s, c->gyroless_torque_sigma_nm,
+                             c->gyroless_p0_rate_sigma_radps, c->gyroless_rate_sigma_radps};
+    if ((mekf_all_finite(sig, 6) == 0) || (mekf_all_finite(other, 5) == 0) || (aocs_quat_is_finite(c->q_SB) == 0) ||
         (aocs_vec3_is_finite(c->bias0_B_radps) == 0) || (aocs_quat_is_finite(c->q0_BN) == 0)) {
         st = AOCS_ERR_PARAM_NOT_FINITE;
     } else if (!(AOCS_FABS(aocs_quat_norm(c->q_SB) - AOCS_R(1.0)) <= AOCS_MEKF_QUAT_UNIT_TOL) ||
                !(AOCS_FABS(aocs_quat_norm(c->q0_BN) - AOCS_R(1.0)) <= AOCS_MEKF_QUAT_UNIT_TOL)) {
         st = AOCS_ERR_QUAT_NOT_UNIT;
-    } else if (mekf_all_positive(sig, 6) == 0) {
+    } else if ((mekf_all_positive(sig, 6) == 0) || !(c->gyroless_torque_sigma_nm >= AOCS_R(0.0)) ||
+               (mekf_all_positive(&other[3], 2) == 0)) {
         st = AOCS_ERR_MEKF_NOISE_NOT_POSITIVE;
     } else if (!(c->gate_chi2 > AOCS_R(0.0))) {
         st = AOCS_ERR_MEKF_GATE_INVALID;
@@ -471,8 +477,112 @@ static aocs_status_t mekf_check_rate(aocs_vec3_t w)
     return st;
 }
 
+/* The end of a propagation step: P <- p once conditioned (else the restart, AOCS_ERR_MEKF_COV_INVALID), the
+ * attitude turned by the rotation vector r = w dt, the step into the history ring, the time to t_ns. */
+static aocs_status_t mekf_commit_step(aocs_mekf_t *f, aocs_mekf_mat6_t *p, aocs_vec3_t w, aocs_vec3_t r, uint64_t t_ns)
+{
+    aocs_status_t st = AOCS_OK;
+    if (mekf_cov_condition(p, f->p_floor) == 0) {
+        st = AOCS_ERR_MEKF_COV_INVALID;
+        mekf_restart(f);
+    } else {
+        /* spec 5.6.2: q_hat(t) = [sin(th/2) r/th; cos(th/2)] (x) q_hat(t_prev) */
+        const aocs_quat_t dq = mekf_rotvec_to_quat(r);
+        f->q_BN_hat = qd_unit(qd_mul(qd_of(dq), f->q_BN_hat));
+        f->P = *p;
+        /* spec 5.6.8: the step's rotation into the history ring */
+        f->hist_head = (f->hist_count == 0u) ? 0u : ((f->hist_head + 1u) % AOCS_MEKF_HISTORY_LEN);
+        if (f->hist_count < AOCS_MEKF_HISTORY_LEN) {
+            f->hist_count += 1u;
+        }
+        f->hist[f->hist_head].t0_ns = f->t_ns;
+        f->hist[f->hist_head].t1_ns = t_ns;
+        f->hist[f->hist_head].dq = dq;
+        f->hist[f->hist_head].w_B_radps = w;
+        f->hist[f->hist_head].w_corr_B_radps = f->w_corr_B_radps;
+        f->t_ns = t_ns;
+    }
+    return st;
+}
+
+/* spec 5.6.12: dw/dt = J^-1 (tau - w x (J w + h_w)) with the held torque and wheel momentum */
+static aocs_vec3_t mekf_rate_dot(const aocs_mekf_t *f, aocs_vec3_t w)
+{
+    const aocs_vec3_t h = aocs_vec3_add(aocs_mat3_mul_vec(f->inertia_B_kgm2, w), f->h_wheels_B_Nms);
+    return aocs_mat3_mul_vec(f->inertia_inv_B, aocs_vec3_sub(f->tau_B_Nm, aocs_vec3_cross(w, h)));
+}
+
+/* a + b + c (3x3) */
+static aocs_mat3_t mekf_mat3_sum3(aocs_mat3_t a, aocs_mat3_t b, aocs_mat3_t c)
+{
+    return aocs_mat3_add(aocs_mat3_add(a, b), c);
+}
+
+/*
+ * The gyroless step from f->t_ns to t_ns (spec 5.6.12): the rate by Heun's rule on the dynamics, the attitude
+ * turned by the step's mean rate; Phi = I + F dt + F^2 dt^2 / 2 of F = [-[w x]  I; 0  F22],
+ * F22 = J^-1 ([(J w + h_w) x] - [w x] J) at the mean rate (Phi11 the exact rotation of the error), and
+ * Q = Qc [dt^3/3  dt^2/2; dt^2/2  dt] of the torque's white noise, Qc = sigma_tau^2 J^-1 J^-T.
+ */
+static aocs_status_t mekf_propagate_dynamics(aocs_mekf_t *f, uint64_t t_ns)
+{
+    aocs_status_t st = AOCS_OK;
+    const uint64_t dt_ns = t_ns - f->t_ns;
+    const real_t dt = (real_t)dt_ns * MEKF_NS_TO_S;
+    const aocs_vec3_t w0 = f->w_hat_B_radps;
+    const aocs_vec3_t k1 = mekf_rate_dot(f, w0);
+    const aocs_vec3_t k2 = mekf_rate_dot(f, aocs_vec3_add(w0, aocs_vec3_scale(k1, dt)));
+    const aocs_vec3_t w1 = aocs_vec3_add(w0, aocs_vec3_scale(aocs_vec3_add(k1, k2), AOCS_R(0.5) * dt));
+    const aocs_vec3_t wm = aocs_vec3_scale(aocs_vec3_add(w0, w1), AOCS_R(0.5));
+    if (mekf_check_rate(w1) != AOCS_OK) {
+        st = AOCS_ERR_MEKF_RATE_RANGE; /* the model left every physical rate: start again from the tracker */
+        mekf_restart(f);
+    } else {
+        const aocs_vec3_t r = aocs_vec3_scale(wm, dt);
+        const mekf_coeffs_t c = mekf_coeffs(aocs_vec3_norm(r));
+        const aocs_mat3_t v = aocs_mat3_skew(r);
+        const aocs_mat3_t v2 = aocs_mat3_mul(v, v);
+        const aocs_mat3_t jinv = f->inertia_inv_B;
+        const aocs_vec3_t hm = aocs_vec3_add(aocs_mat3_mul_vec(f->inertia_B_kgm2, wm), f->h_wheels_B_Nms);
+        const aocs_mat3_t f22 = aocs_mat3_mul(
+            jinv, aocs_mat3_add(aocs_mat3_skew(hm),
+                                aocs_mat3_scale(aocs_mat3_mul(aocs_mat3_skew(wm), f->inertia_B_kgm2), -AOCS_R(1.0))));
+        const aocs_mat3_t a = aocs_mat3_scale(f22, dt);
+        const real_t s2 = f->cfg.gyroless_torque_sigma_nm * f->cfg.gyroless_torque_sigma_nm;
+        const aocs_mat3_t qc = aocs_mat3_scale(aocs_mat3_mul(jinv, aocs_mat3_transpose(jinv)), s2);
+        aocs_mekf_mat6_t phi;
+        aocs_mekf_mat6_t p;
+        (void)memset(&phi, 0, sizeof(phi));
+        mekf_set_block(&phi, 0, 0, mekf_poly3(AOCS_R(1.0), -c.s0, v, c.f1, v2));
+        /* Phi12 = dt I + (dt/2) (-[w x] + F22) dt = dt I - (dt/2) V + (dt/2) A */
+        mekf_set_block(&phi, 0, 3,
+                       aocs_mat3_add(mekf_poly3(dt, -AOCS_R(0.5) * dt, v, AOCS_R(0.0), v2),
+                                     aocs_mat3_scale(a, AOCS_R(0.5) * dt)));
+        mekf_set_block(&phi, 3, 3, mekf_mat3_sum3(aocs_mat3_identity(), a,
+                                                  aocs_mat3_scale(aocs_mat3_mul(a, a), AOCS_R(0.5))));
+        p = mekf_mat6_abt(&phi, &f->P, &phi);
+        {
+            const real_t dt2 = dt * dt;
+            for (int i = 0; i < 3; ++i) {
+                for (int j = 0; j < 3; ++j) {
+                    const real_t q = qc.m[i][j];
+                    p.m[i][j] += q * dt2 * dt / AOCS_R(3.0);
+                    p.m[i][j + 3] += q * AOCS_R(0.5) * dt2;
+                    p.m[i + 3][j] += q * AOCS_R(0.5) * dt2;
+                    p.m[i + 3][j + 3] += q * dt;
+                }
+            }
+        }
+        st = mekf_commit_step(f, &p, wm, r, t_ns);
+        if (st == AOCS_OK) {
+            f->w_hat_B_radps = w1;
+        }
+    }
+    return st;
+}
+
 /* the step from f->t_ns to t_ns, already checked (t_ns > f->t_ns, within max_gap) */
-static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, uint64_t t_ns)
+static aocs_status_t mekf_propagate_gyro(aocs_mekf_t *f, aocs_vec3_t w_meas, uint64_t t_ns)
 {
     aocs_status_t st = AOCS_OK;
     const uint64_t dt_ns = t_ns - f->t_ns;
@@ -510,27 +620,17 @@ static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, 
             p.m[i + 3][i + 3] += su2 * dt;
         }
     }
-    if (mekf_cov_condition(&p, f->p_floor) == 0) {
-        st = AOCS_ERR_MEKF_COV_INVALID;
-        mekf_restart(f);
-    } else {
-        /* spec 5.6.2: q_hat(t) = [sin(th/2) r/th; cos(th/2)] (x) q_hat(t_prev) */
-        const aocs_quat_t dq = mekf_rotvec_to_quat(r);
-        f->q_BN_hat = qd_unit(qd_mul(qd_of(dq), f->q_BN_hat));
-        f->P = p;
-        /* spec 5.6.8: the step's rotation into the history ring */
-        f->hist_head = (f->hist_count == 0u) ? 0u : ((f->hist_head + 1u) % AOCS_MEKF_HISTORY_LEN);
-        if (f->hist_count < AOCS_MEKF_HISTORY_LEN) {
-            f->hist_count += 1u;
-        }
-        f->hist[f->hist_head].t0_ns = f->t_ns;
-        f->hist[f->hist_head].t1_ns = t_ns;
-        f->hist[f->hist_head].dq = dq;
-        f->hist[f->hist_head].w_B_radps = w;
+    st = mekf_commit_step(f, &p, w, r, t_ns);
+    if (st == AOCS_OK) {
         f->w_meas_B_radps = w_meas;
-        f->t_ns = t_ns;
     }
     return st;
+}
+
+/* the step from f->t_ns to t_ns (checked): on the gyro, or on the dynamics once gyroless */
+static aocs_status_t mekf_propagate_checked(aocs_mekf_t *f, aocs_vec3_t w_meas, uint64_t t_ns)
+{
+    return (f->gyroless != 0u) ? mekf_propagate_dynamics(f, t_ns) : mekf_propagate_gyro(f, w_meas, t_ns);
 }
 
 aocs_status_t aocs_mekf_propagate(aocs_mekf_t *f, aocs_vec3_t w_meas_B_radps, uint64_t t_ns)
@@ -542,6 +642,8 @@ aocs_status_t aocs_mekf_propagate(aocs_mekf_t *f, aocs_vec3_t w_meas_B_radps, ui
         st = AOCS_ERR_NOT_INITIALISED;
     } else if (f->started == 0u) {
         st = AOCS_ERR_MEKF_NO_ATTITUDE;
+    } else if (f->gyroless != 0u) {
+        st = AOCS_OK; /* no gyro rate used */
     } else {
         st = mekf_check_rate(w_meas_B_radps);
     }
@@ -593,12 +695,21 @@ static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_
     }
     for (uint32_t k = 0u; (k < f->hist_count) && (found == 0); ++k) {
         const aocs_mekf_hist_t *e = &f->hist[idx];
+        /* spec 5.6.12: gyroless, the step's rate with the corrections the updates made since (its error is
+         * then the current rate error, the h term of H); the gyro's rate is a measurement: used as it was */
+        const aocs_vec3_t w = (f->gyroless != 0u)
+                                  ? aocs_vec3_add(e->w_B_radps, aocs_vec3_sub(f->w_corr_B_radps, e->w_corr_B_radps))
+                                  : e->w_B_radps;
         if (e->t0_ns <= t_meas_ns) {
             /* t_meas inside (t0, t1]: the part of the step after it, with the step's rate */
             const uint64_t tau_ns = e->t1_ns - t_meas_ns;
             const real_t tau = (real_t)tau_ns * MEKF_NS_TO_S;
-            acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(e->w_B_radps, tau))));
+            acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(w, tau))));
             found = 1;
+        } else if (f->gyroless != 0u) {
+            const uint64_t step_ns = e->t1_ns - e->t0_ns;
+            acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(w, (real_t)step_ns * MEKF_NS_TO_S))));
+            idx = (idx + AOCS_MEKF_HISTORY_LEN - 1u) % AOCS_MEKF_HISTORY_LEN;
         } else {
             acc = qd_mul(acc, qd_of(e->dq));
             idx = (idx + AOCS_MEKF_HISTORY_LEN - 1u) % AOCS_MEKF_HISTORY_LEN;
@@ -625,7 +736,8 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
         /* spec 5.6.6: R = C diag(r_S) C^T, C = A(M (x) q_SB^-1) (S to B now) */
         const aocs_mat3_t cmat = aocs_quat_to_dcm(qd_to_real(m_sb));
         const uint64_t h_ns = f->t_ns - t_meas_ns;
-        const real_t h = (real_t)h_ns * MEKF_NS_TO_S;
+        /* spec 5.6.5: H = [I  h I] against the bias error; spec 5.6.12: H = [I  -h I] against the rate error */
+        const real_t h = ((f->gyroless != 0u) ? -AOCS_R(1.0) : AOCS_R(1.0)) * ((real_t)h_ns * MEKF_NS_TO_S);
         mekf_sym3_t s;
         mekf_sym3_t l;
         mekf_sym3_t rmat;
@@ -706,7 +818,12 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
                 /* spec 5.6.6 reset: q_hat <- dq(dth) (x) q_hat, b_hat <- b_hat + db, error back to 0 */
                 const aocs_vec3_t dth = aocs_vec3_make(dx[0], dx[1], dx[2]);
                 f->q_BN_hat = qd_unit(qd_mul(qd_of(mekf_rotvec_to_quat(dth)), f->q_BN_hat));
-                f->bias_B_hat = aocs_vec3_add(f->bias_B_hat, aocs_vec3_make(dx[3], dx[4], dx[5]));
+                if (f->gyroless != 0u) {
+                    f->w_hat_B_radps = aocs_vec3_add(f->w_hat_B_radps, aocs_vec3_make(dx[3], dx[4], dx[5]));
+                    f->w_corr_B_radps = aocs_vec3_add(f->w_corr_B_radps, aocs_vec3_make(dx[3], dx[4], dx[5]));
+                } else {
+                    f->bias_B_hat = aocs_vec3_add(f->bias_B_hat, aocs_vec3_make(dx[3], dx[4], dx[5]));
+                }
                 f->P = pj;
                 f->t_last_meas_ns = t_meas_ns;
                 f->have_meas = 1u;
@@ -740,11 +857,14 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st_s
 
 /* ---- initialisation from a sample (spec 5.6.10) and the step ---- */
 
-/* the start of spec 5.6.10 at q_hat, time t_ns: b_hat = bias0, P = diag(p0_att^2 I, p0_bias^2 I), no sample yet */
+/* the start of spec 5.6.10 at q_hat, time t_ns: b_hat = bias0, P = diag(p0_att^2 I, p0_bias^2 I), no sample yet
+ * (gyroless, spec 5.6.12: w_hat = 0 and gyroless_p0_rate^2 I in place of the bias block) */
 static void mekf_start_at(aocs_mekf_t *f, aocs_mekf_quatd_t q_hat, uint64_t t_ns)
 {
     const real_t pa = f->cfg.p0_att_sigma_rad * f->cfg.p0_att_sigma_rad;
-    const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
+    const real_t sb = (f->gyroless != 0u) ? f->cfg.gyroless_p0_rate_sigma_radps : f->cfg.p0_bias_sigma_radps;
+    const real_t pb = sb * sb; /* spec 5.6.12: gyroless, the rate's prior (the rate estimate from zero) */
+    f->w_hat_B_radps = aocs_vec3_zero();
     f->q_BN_hat = q_hat;
     f->bias_B_hat = f->cfg.bias0_B_radps;
     (void)memset(&f->P, 0, sizeof(f->P));
@@ -785,7 +905,7 @@ static void mekf_fill_output(const aocs_mekf_t *f, aocs_status_t st, aocs_status
         out->q_BN_hat = aocs_quat_make((real_t)(sgn * f->q_BN_hat.q[0]), (real_t)(sgn * f->q_BN_hat.q[1]),
                                        (real_t)(sgn * f->q_BN_hat.q[2]), (real_t)(sgn * f->q_BN_hat.q[3]));
         out->bias_B_hat = f->bias_B_hat;
-        out->w_BN_B_hat = aocs_vec3_sub(f->w_meas_B_radps, f->bias_B_hat);
+        out->w_BN_B_hat = (f->gyroless != 0u) ? f->w_hat_B_radps : aocs_vec3_sub(f->w_meas_B_radps, f->bias_B_hat);
         out->P = f->P;
         for (int i = 0; i < 6; ++i) {
             out->sigma[i] = AOCS_SQRT(f->P.m[i][i]);
@@ -828,6 +948,8 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
         st = AOCS_ERR_NULL_ARG;
     } else if (f->initialised != MEKF_INIT_MAGIC) {
         st = AOCS_ERR_NOT_INITIALISED;
+    } else if (f->gyroless != 0u) {
+        st = AOCS_OK; /* spec 5.6.12: the gyro's reading is not used */
     } else {
         st = mekf_check_rate(in->w_meas_B_radps);
     }
@@ -885,7 +1007,7 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
 
 void aocs_mekf_reinflate_bias(aocs_mekf_t *f)
 {
-    if ((f != NULL) && (f->initialised != 0) && (f->started != 0u)) {
+    if ((f != NULL) && (f->initialised != 0) && (f->started != 0u) && (f->gyroless == 0u)) {
         const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
         for (int i = 3; i < 6; ++i) {
             for (int j = 0; j < 6; ++j) {
@@ -905,4 +1027,55 @@ void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded)
             f->st_excluded = 1u;
         }
     }
+}
+
+aocs_status_t aocs_mekf_set_gyroless(aocs_mekf_t *f, const aocs_mat3_t *inertia_B_kgm2, aocs_vec3_t w_hat_B_radps)
+{
+    aocs_status_t st = AOCS_OK;
+    aocs_mat3_t jinv = aocs_mat3_identity();
+    if ((f == NULL) || (inertia_B_kgm2 == NULL)) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (f->initialised != MEKF_INIT_MAGIC) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if (!(f->cfg.gyroless_torque_sigma_nm > AOCS_R(0.0))) {
+        st = AOCS_ERR_MEKF_NOISE_NOT_POSITIVE; /* no gyroless model configured */
+    } else {
+        st = aocs_mat3_check_inertia(*inertia_B_kgm2);
+        if (st == AOCS_OK) {
+            st = aocs_mat3_inverse(*inertia_B_kgm2, &jinv);
+        }
+    }
+    if (st == AOCS_OK) {
+        const real_t pa = f->cfg.p0_att_sigma_rad * f->cfg.p0_att_sigma_rad;
+        const real_t s0 = f->cfg.gyroless_p0_rate_sigma_radps;
+        const real_t fl = MEKF_FLOOR_BIAS_FRAC * s0;
+        f->inertia_B_kgm2 = *inertia_B_kgm2;
+        f->inertia_inv_B = jinv;
+        f->gyroless = 1u;
+        f->w_hat_B_radps = aocs_vec3_zero();
+        if ((aocs_vec3_is_finite(w_hat_B_radps) != 0) && (mekf_check_rate(w_hat_B_radps) == AOCS_OK)) {
+            f->w_hat_B_radps = w_hat_B_radps;
+        }
+        /* spec 5.6.12: the switch: P = diag(p0_att^2 I, p0_rate^2 I), the rate block's floor from its prior */
+        (void)memset(&f->P, 0, sizeof(f->P));
+        for (int i = 0; i < 3; ++i) {
+            f->P.m[i][i] = pa;
+            f->P.m[i + 3][i + 3] = s0 * s0;
+            f->p_floor[i + 3] = fl * fl;
+        }
+    }
+    return st;
+}
+
+void aocs_mekf_set_torque(aocs_mekf_t *f, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wheels_B_Nms)
+{
+    if (f != NULL) {
+        f->tau_B_Nm = (aocs_vec3_is_finite(tau_B_Nm) != 0) ? tau_B_Nm : aocs_vec3_zero();
+        f->h_wheels_B_Nms = (aocs_vec3_is_finite(h_wheels_B_Nms) != 0) ? h_wheels_B_Nms : aocs_vec3_zero();
+    }
+}
+
+uint32_t aocs_mekf_is_gyroless(const aocs_mekf_t *f)
+{
+    return ((f != NULL) && (f->gyroless != 0u)) ? 1u : 0u;
 }

@@ -18,6 +18,11 @@
  *      attitude knowledge (b_hat: the filter's bias estimate once started,
  *      the configured prior bias0 before). The telemetry: bias, the
  *      covariance's upper triangle, the tracker sample's verdict, counts.
+ *      Gyroless (spec 5.6.12, after fault management excluded the gyro): the
+ *      filter is stepped on every accepted sample without reading the gyro;
+ *      AOCS_ERR_MEKF_GYROLESS_CONVERGING with the RATE flag and the rate
+ *      estimate while a rate 1-sigma is above mekf.gyroless_rate_sigma_radps;
+ *      the covariance's rows 3..5 are then the rate error's.
  */
 #include <stddef.h>
 
@@ -43,6 +48,18 @@ static aocs_vec3_t mekf_stage_bias(const aocs_mekf_t *s)
         b = s->bias_B_hat;
     }
     return b;
+}
+
+/* spec 5.6.12: 1 when every rate 1-sigma of the gyroless estimate is at or below sigma_max */
+static int mekf_stage_rate_known(const aocs_mekf_output_t *mo, real_t sigma_max)
+{
+    int known = 1;
+    for (int i = 3; i < 6; ++i) {
+        if (!(mo->sigma[i] <= sigma_max)) {
+            known = 0;
+        }
+    }
+    return known;
 }
 
 /*
@@ -88,10 +105,14 @@ aocs_status_t aocs_det_mekf_step(aocs_mekf_t *s, const aocs_exec_input_t *in, ao
     aocs_status_t st = accept_status;
     aocs_mekf_output_t mo;
     aocs_vec3_t w_gyro = aocs_vec3_zero();
-    const int gyro_ok = mekf_stage_gyro(in, &w_gyro);
+    const uint32_t gyroless = aocs_mekf_is_gyroless(s);
+    /* spec 5.6.12: once gyroless the gyro is neither read nor needed */
+    const int gyro_ok = (gyroless == 0u) ? mekf_stage_gyro(in, &w_gyro) : 0;
+    aocs_vec3_t w_rate = aocs_vec3_zero(); /* the rate SAFE may damp on when the estimate is refused */
+    int rate_ok = 0;
     (void)dt_s; /* the filter propagates over the samples' own times */
 
-    if ((accept_status == AOCS_OK) && (gyro_ok != 0)) {
+    if ((accept_status == AOCS_OK) && ((gyro_ok != 0) || (gyroless != 0u))) {
         aocs_mekf_input_t mi;
         mi.t_ns = in->t_sensor_ns;
         mi.w_meas_B_radps = w_gyro;
@@ -113,6 +134,17 @@ aocs_status_t aocs_det_mekf_step(aocs_mekf_t *s, const aocs_exec_input_t *in, ao
         }
         mo.st_status = ((in->valid & AOCS_EXEC_VALID_ST) != 0u) ? st : AOCS_ERR_INPUT_MISSING;
     }
+    if (gyro_ok != 0) {
+        /* SAFE's rate damping needs only the rate: the gyro less the bias known so far */
+        w_rate = aocs_vec3_sub(w_gyro, mekf_stage_bias(s));
+        rate_ok = 1;
+    }
+    if ((st == AOCS_OK) && (gyroless != 0u) && (mekf_stage_rate_known(&mo, s->cfg.gyroless_rate_sigma_radps) == 0)) {
+        /* spec 5.6.12: the dynamics' rate is not yet known well enough to point with: SAFE damps on it */
+        st = AOCS_ERR_MEKF_GYROLESS_CONVERGING;
+        w_rate = mo.w_BN_B_hat;
+        rate_ok = 1;
+    }
 
     out->status = st;
     if (st == AOCS_OK) {
@@ -123,9 +155,8 @@ aocs_status_t aocs_det_mekf_step(aocs_mekf_t *s, const aocs_exec_input_t *in, ao
         out->q_BN = aocs_quat_identity();
         out->w_BN_B = aocs_vec3_zero();
         out->valid = 0u;
-        if (gyro_ok != 0) {
-            /* SAFE's rate damping needs only the rate: the gyro less the bias known so far */
-            out->w_BN_B = aocs_vec3_sub(w_gyro, mekf_stage_bias(s));
+        if (rate_ok != 0) {
+            out->w_BN_B = w_rate;
             out->valid = AOCS_EXEC_VALID_RATE;
         }
     }

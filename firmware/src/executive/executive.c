@@ -142,6 +142,11 @@ aocs_status_t aocs_exec_init(aocs_exec_t *exec, const aocs_exec_config_t *cfg)
             exec->requested = (cfg->law == AOCS_LAW_NONE) ? AOCS_EXEC_MODE_STANDBY : AOCS_EXEC_MODE_NOMINAL;
             exec->mode = exec->requested;
             exec->last_u_cmd = aocs_vec3_zero();
+            exec->gyroless_capable = 0;
+            if ((aocs_det_gyroless_capable(&exec->det) != 0u) &&
+                (aocs_mat3_check_inertia(cfg->guidance.slew.inertia_kgm2) == AOCS_OK)) {
+                exec->gyroless_capable = 1;
+            }
             exec->initialised = 1;
         }
     }
@@ -341,8 +346,8 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
                 fi.wheel_speed_radps = in->wheel_speed_radps;
             }
             fi.gyro_w_B = in->gyro_w_B;
-            if ((in->valid & AOCS_EXEC_VALID_GYRO) != 0u) {
-                fi.gyro_valid = 1;
+            if (((in->valid & AOCS_EXEC_VALID_GYRO) != 0u) && (exec->fdir.gyro.excluded == 0)) {
+                fi.gyro_valid = 1; /* an excluded gyro is shown to no monitor */
             }
             fi.st_q_SN = in->st_q_SN;
             if ((in->valid & AOCS_EXEC_VALID_ST) != 0u) {
@@ -352,7 +357,10 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
             fi.t_ns = exec->accept.last_t_sensor_ns;
         }
         fi.est = &out->estimate;
-        fi.gyro_rrw_radps1p5 = aocs_det_gyro_rrw(&exec->det);
+        if (aocs_det_is_gyroless(&exec->det) == 0u) {
+            fi.gyro_rrw_radps1p5 = aocs_det_gyro_rrw(&exec->det); /* gyroless: no bias state to test */
+        }
+        fi.gyroless_capable = exec->gyroless_capable;
         fi.alloc = (wheels != 0) ? &out->wheels : NULL;
         fi.wheels_status = out->wheels_status;
         fi.mom = (exec->momentum.id != AOCS_MOM_NONE) ? &exec->momentum : NULL;
@@ -371,6 +379,32 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
         if (exec->fdir.reinflate_bias != 0) {
             aocs_det_reinflate_bias(&exec->det); /* a gyro bias jump: re-estimated from its prior (5.15.4) */
         }
+        if (exec->fdir.go_gyroless != 0) {
+            /* the gyro excluded: the estimator propagates on the dynamics (5.6.12), and a sample no longer
+             * needs the gyro's flag to be accepted */
+            if (aocs_det_set_gyroless(&exec->det, &exec->cfg.guidance.slew.inertia_kgm2) == AOCS_OK) {
+                exec->accept.needs &= ~AOCS_EXEC_VALID_GYRO;
+            } else {
+                exec->fdir.safe_latched = 1;
+            }
+        }
+    }
+}
+
+/* A gyroless estimator (docs/spec.md 5.6.12) propagates over the coming period with the body torque commanded
+ * now, the wheels' (u_cmd) plus a thruster or magnetorquer unload's, and the wheels' momentum measured now. */
+static void gyroless_torque(aocs_exec_t *exec, const aocs_exec_input_t *in, const aocs_exec_output_t *out)
+{
+    if (aocs_det_is_gyroless(&exec->det) != 0u) {
+        aocs_vec3_t tau = out->u_cmd;
+        aocs_vec3_t h = aocs_vec3_zero();
+        if ((exec->momentum.id != AOCS_MOM_NONE) && (exec->mode == AOCS_EXEC_MODE_NOMINAL)) {
+            tau = aocs_vec3_add(tau, exec->momentum.out.u_unload_B_Nm);
+        }
+        if (aocs_act_has_wheels(&exec->act) != 0) {
+            h = aocs_wheels_h_B(&exec->act.wheels, in->wheel_speed_radps);
+        }
+        aocs_det_set_torque(&exec->det, tau, h);
     }
 }
 
@@ -504,6 +538,8 @@ aocs_status_t aocs_exec_step(aocs_exec_t *exec, const aocs_exec_input_t *in, aoc
                       (exec->momentum.id == AOCS_MOM_NONE) ? out->u_unsat
                                                             : aocs_vec3_sub(out->u_unsat, exec->momentum.out.u_unload_B_Nm),
                       in->wheel_speed_radps, est.w_BN_B, out, &sat);
+        /* the torque the body receives until the next sample, for a gyroless estimator's propagation */
+        gyroless_torque(exec, in, out);
         /* 7. fault management */
         manage_faults(exec, in, in_st, missing, out);
         out->step_time_ns = aocs_hal_time_ns() - t_start;

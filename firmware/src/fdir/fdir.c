@@ -143,6 +143,7 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
     if ((f != NULL) && (in != NULL) && (f->initialised != 0)) {
         f->replan = 0;
         f->reinflate_bias = 0;
+        f->go_gyroless = 0;
         if (f->cfg.enabled != 0u) {
             fdir_link(f, in);
             if ((in->have_sample != 0) && (in->input_status == AOCS_OK)) {

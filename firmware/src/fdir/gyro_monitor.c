@@ -4,8 +4,11 @@
  * fdir.gyro_stuck_samples samples) and a stuck axis (one component
  * bit-identical on fdir.gyro_stuck_samples samples while another component
  * changed: a live gyro's noise never repeats a value, a noise-free one repeats
- * on every axis at once). Either excludes the gyro: the one rate sensor, so
- * nothing is left to propagate on and SAFE is latched (gyro_excluded).
+ * on every axis at once). Either excludes the gyro (gyro_excluded): the one
+ * rate sensor, so the estimator goes on without it when it can (the MEKF's
+ * gyroless model, spec 5.6.12: estimator_gyroless), else nothing is left to
+ * propagate on and SAFE is latched. The executive no longer shows an excluded
+ * gyro to the monitors.
  *
  * A gyro whose every axis repeats is either noise-free at a constant rate or pinned (saturated on every
  * axis, or stuck): the tracker tells them apart. Over such a run the tracker's rotation, the angle of
@@ -23,7 +26,13 @@ static void gyro_exclude(aocs_fdir_t *f, const aocs_fdir_input_t *in, uint32_t a
     if (f->gyro.excluded == 0) {
         (void)aocs_evlog_raise(&f->log, AOCS_EVT_GYRO_EXCLUDED, in->t_ns, (int32_t)axis, value, thr);
         f->gyro.excluded = 1;
-        f->safe_latched = 1;
+        if (in->gyroless_capable != 0) {
+            /* spec 5.6.12: the estimator goes on without it (applied by the executive) */
+            (void)aocs_evlog_raise(&f->log, AOCS_EVT_ESTIMATOR_GYROLESS, in->t_ns, AOCS_EVT_UNIT_NONE, value, thr);
+            f->go_gyroless = 1;
+        } else {
+            f->safe_latched = 1;
+        }
     }
 }
 

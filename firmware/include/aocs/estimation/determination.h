@@ -96,6 +96,22 @@ void aocs_det_reinflate_bias(aocs_det_t *det);
  * bias state, and on NULL (the fault management's bias-jump test is then off). Total. */
 real_t aocs_det_gyro_rrw(const aocs_det_t *det);
 
+/* Fault management (docs/spec.md 5.6.12, 5.15.4): 1 when the selected estimator can go on without its gyro
+ * (the MEKF with mekf.gyroless_torque_sigma_nm > 0), else 0. Total. */
+uint32_t aocs_det_gyroless_capable(const aocs_det_t *det);
+
+/* The gyro excluded: the estimator propagates on the rigid-body dynamics of the inertia J from the next step
+ * (aocs_mekf_set_gyroless, from the rate it last gave). AOCS_OK; AOCS_ERR_NULL_ARG;
+ * AOCS_ERR_MEKF_NOISE_NOT_POSITIVE for an estimator without a gyroless model; else the MEKF's refusal. */
+aocs_status_t aocs_det_set_gyroless(aocs_det_t *det, const aocs_mat3_t *inertia_B_kgm2);
+
+/* 1 once the estimator propagates without its gyro (aocs_det_set_gyroless succeeded). Total. */
+uint32_t aocs_det_is_gyroless(const aocs_det_t *det);
+
+/* The body torque commanded for the coming period and the wheels' momentum, for a gyroless propagation
+ * (aocs_mekf_set_torque); no-op for an estimator that does not use them, and on NULL. */
+void aocs_det_set_torque(aocs_det_t *det, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wheels_B_Nms);
+
 /* The AOCS_EXEC_VALID_* flags an attitude sample must carry for estimator id (its row's NEEDS): what the
  * input acceptance checks (exec/acceptance.h). ATT|RATE out of range (the passthrough's, the conservative
  * choice). Total. */

@@ -66,6 +66,12 @@ typedef struct {
     uint32_t init_mode;          /* AOCS_MEKF_INIT_FIRST_ST or AOCS_MEKF_INIT_CONFIGURED (< AOCS_MEKF_INIT_COUNT) */
     aocs_quat_t q0_BN;           /* AOCS_MEKF_INIT_CONFIGURED: the attitude estimate the filter starts from,
                                     unit within AOCS_MEKF_QUAT_UNIT_TOL (checked in both modes) */
+    /* the gyroless model (spec 5.6.12), flown after fault management excludes the gyro */
+    real_t gyroless_torque_sigma_nm;      /* unmodelled body torque, white, N m s^0.5 (1-sigma of its
+                                             spectral density), >= 0; 0: no gyroless model */
+    real_t gyroless_p0_rate_sigma_radps;  /* rate 1-sigma per axis at the switch, rad/s, > 0 */
+    real_t gyroless_rate_sigma_radps;     /* the rate estimate is usable (AOCS_OK) once every rate
+                                             1-sigma is at or below it, rad/s, > 0 */
 } aocs_mekf_config_t;
 
 /* A quaternion in double (scalar last): the reference attitude of both builds (spec 5.6.9). */
@@ -97,7 +103,8 @@ typedef struct {
     uint64_t t0_ns;              /* start of the step */
     uint64_t t1_ns;              /* end of the step */
     aocs_quat_t dq;              /* the step's rotation: q_hat(t1) = dq (x) q_hat(t0) */
-    aocs_vec3_t w_B_radps;       /* the rate it used, omega_m - b_hat */
+    aocs_vec3_t w_B_radps;       /* the rate it used, omega_m - b_hat (gyroless: the rate estimate) */
+    aocs_vec3_t w_corr_B_radps;  /* gyroless: the filter's sum of rate corrections when it was made (5.6.12) */
 } aocs_mekf_hist_t;
 
 /* The estimate (zeroed, valid = 0, on any non-OK step). */
@@ -145,6 +152,15 @@ typedef struct {
     real_t innovation_chi2;
     uint32_t st_excluded;        /* 1: a sample is tested (innovation, gate) but not applied (spec 5.15.3);
                                     set by aocs_mekf_set_st_excluded, kept across reset and restart */
+    /* the gyroless model (spec 5.6.12): set by aocs_mekf_set_gyroless, kept across reset and restart */
+    uint32_t gyroless;           /* 1: propagate on the rigid-body dynamics; P's rows 3..5 are the rate error */
+    aocs_mat3_t inertia_B_kgm2;  /* J */
+    aocs_mat3_t inertia_inv_B;   /* J^-1 */
+    aocs_vec3_t w_hat_B_radps;   /* the rate estimate (the state replacing the bias) */
+    aocs_vec3_t w_corr_B_radps;  /* the sum of the updates' rate corrections (the history's rates are
+                                    re-expressed with the corrections made after them, 5.6.12) */
+    aocs_vec3_t tau_B_Nm;        /* body torque held over the next propagation (aocs_mekf_set_torque) */
+    aocs_vec3_t h_wheels_B_Nms;  /* wheel momentum held over it */
     int initialised;             /* set by a successful init only */
 } aocs_mekf_t;
 
@@ -208,10 +224,31 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
  * filter not yet started still starts from a tracker sample. No-op on NULL. */
 void aocs_mekf_set_st_excluded(aocs_mekf_t *f, uint32_t excluded);
 
+/*
+ * Fault management (spec 5.6.12, 5.15.4): the gyro is excluded; from the next step the filter propagates on
+ * the rigid-body dynamics J dw/dt = tau - w x (J w + h_w) with the torque and wheel momentum of
+ * aocs_mekf_set_torque, its state the attitude and the rate (the bias estimate is kept, unused), and takes the
+ * tracker as before. At the switch the rate estimate is w_hat (the last one the gyro gave, or zero), its
+ * covariance gyroless_p0_rate_sigma^2 I, the attitude's p0_att_sigma^2 I (the gyro may have spoiled it), no
+ * cross terms. AOCS_OK; AOCS_ERR_NULL_ARG; AOCS_ERR_NOT_INITIALISED; AOCS_ERR_MEKF_NOISE_NOT_POSITIVE when
+ * gyroless_torque_sigma_nm is 0 (no model configured); the inertia codes of aocs_mat3_check_inertia
+ * (nothing changed on an error). Once gyroless the filter stays so (until init).
+ */
+aocs_status_t aocs_mekf_set_gyroless(aocs_mekf_t *f, const aocs_mat3_t *inertia_B_kgm2, aocs_vec3_t w_hat_B_radps);
+
+/* The body torque (N m, B) the actuators apply from now to the next step and the wheels' momentum (N m s, B),
+ * for the gyroless propagation; ignored (kept) while the filter uses its gyro. A non-finite vector is taken as
+ * zero. No-op on NULL. */
+void aocs_mekf_set_torque(aocs_mekf_t *f, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wheels_B_Nms);
+
+/* 1 when the filter propagates on the dynamics (aocs_mekf_set_gyroless succeeded), else 0. Total. */
+uint32_t aocs_mekf_is_gyroless(const aocs_mekf_t *f);
+
 /* Fault management (docs/spec.md 5.15.4): after a detected jump of the gyro's bias, the bias block of P back to
  * its prior p0_bias_sigma^2 I and the attitude-bias cross covariance to zero (P stays symmetric positive
  * definite: two positive definite diagonal blocks); the estimates are kept. The filter then re-estimates the
- * bias as fast as at its start. No-op on NULL, before init or while the filter waits for its first sample. */
+ * bias as fast as at its start. No-op on NULL, before init, while the filter waits for its first sample, and
+ * once gyroless (no bias state). */
 void aocs_mekf_reinflate_bias(aocs_mekf_t *f);
 
 /* The current estimate into *out (st_status AOCS_ERR_INPUT_MISSING). AOCS_OK, or the reason with *out zeroed:

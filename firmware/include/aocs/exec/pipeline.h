@@ -11,8 +11,9 @@
  *   manage momentum   aocs/momentum/momentum.h      (momentum.def; "none")
  *   manage faults     aocs/fdir/fdir.h              (events.def; fdir.enabled): residual tests, the
  *                     event log, wheel isolation (the allocation re-initialised, the slew replanned),
- *                     star-tracker exclusion (applied to the next step's determination), SAFE latched
- *                     when an isolation is refused or the gyro is excluded (docs/spec.md 5.15)
+ *                     star-tracker exclusion (applied to the next step's determination), the gyro's
+ *                     exclusion (the estimator goes gyroless, 5.6.12), SAFE latched when an isolation is
+ *                     refused or the gyro is excluded with no gyroless estimator (docs/spec.md 5.15)
  *
  * The step is timed (aocs/exec/timing.h) from determination to the end of
  * actuation. Modes: STANDBY (zero command), NOMINAL (the law's command plus
@@ -58,6 +59,8 @@ typedef struct {
     aocs_exec_mode_t requested;   /* STANDBY or NOMINAL, what SAFE returns to */
     uint32_t good_run;            /* consecutive good samples while in SAFE */
     aocs_vec3_t last_u_cmd;       /* held by step_no_input below the missing threshold */
+    int gyroless_capable;         /* 1: the estimator has a gyroless model and the configured inertia is one
+                                     (docs/spec.md 5.6.12): an excluded gyro does not latch SAFE */
     aocs_exec_counters_t counters;
     int initialised;
 } aocs_exec_t;

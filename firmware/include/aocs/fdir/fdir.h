@@ -17,7 +17,9 @@
  *                    st_restored; K identical quaternions while the gyro turns -> st_frozen, st_excluded;
  *   gyro             (gyro_monitor.c) a component at the saturation limit on K samples, or stuck
  *                    (bit-identical on K samples while another component changed) -> gyro_saturated /
- *                    gyro_stuck, then gyro_excluded and SAFE latched (one gyro: nothing to propagate on);
+ *                    gyro_stuck, then gyro_excluded and, when the estimator can go on without it,
+ *                    estimator_gyroless (the MEKF propagates on the dynamics, 5.6.12; SAFE until its rate
+ *                    is known, then NOMINAL), else SAFE latched (one gyro: nothing to propagate on);
  *   momentum         (thruster_monitor.c) over windows of M periods, the change of the total angular
  *                    momentum H_N = A(q)^T (J w + h_wheels) minus the impulse the thrusters were commanded to
  *                    give: above fdir.mom_residual_nm on P windows in a row and explained by one commanded
@@ -103,6 +105,7 @@ typedef struct {
     int st_valid;                 /* a new tracker sample this step */
     const aocs_det_output_t *est; /* the determination stage's output (st_status, innovation_chi2) */
     real_t gyro_rrw_radps1p5;     /* the filter's gyro rate random walk sigma_u, rad/s^1.5 (0: no filter) */
+    int gyroless_capable;         /* 1: the estimator can go on without the gyro (docs/spec.md 5.6.12) */
     const aocs_wheels_alloc_t *alloc; /* this step's wheel allocation (NULL without an array) */
     aocs_status_t wheels_status;  /* the allocation's status this step */
     aocs_mom_t *mom;              /* the momentum stage after this step (its thruster commands; NULL: none);
@@ -185,9 +188,12 @@ typedef struct {
     uint32_t link_down;           /* 1 after link_lost until a sample */
     aocs_exec_mode_t mode_prev;
     int flown_nominal;            /* 1 once a step flew NOMINAL */
-    int safe_latched;             /* 1: an isolation was refused or the gyro excluded: stay in SAFE */
+    int safe_latched;             /* 1: an isolation was refused, or the gyro excluded with no gyroless
+                                     estimator: stay in SAFE */
     int replan;                   /* 1: the wheels changed this step, the slew guidance must adapt */
     int reinflate_bias;           /* 1: a gyro bias jump this step: the filter's bias covariance back to its prior */
+    int go_gyroless;              /* 1: the gyro was excluded this step and the estimator can fly without it:
+                                     the executive switches it to its gyroless model (5.6.12) */
     aocs_wheels_t wheels_before;  /* the array before the last isolation (the guidance's old envelope) */
     int initialised;
 } aocs_fdir_t;
