@@ -179,3 +179,20 @@ def test_a_gyro_saturated_mid_slew_is_named_and_the_slew_completes_without_it(tm
     est = m["estimation"]
     assert est["gyroless_from_s"] == t["estimator_gyroless"]
     assert est["metric_window"]["samples"] == 1001 and est["metric_window"]["knowledge_arcsec"]["max"] < 6.0
+
+
+def test_a_noisier_tracker_is_rescaled_and_readmitted(tmp_path):
+    """The tracker's noise 10 times its model from 500 s in the hold of irassi_rw_mekf: excluded by the
+    innovation test, then (a window of fdir.st_restore samples whose whitened innovation is white, spec 5.15.3)
+    re-admitted with its noise model scaled by the measured spread; the pointing is the noisier tracker's
+    (some 5 arcsec), not the gyro-only drift of a tracker excluded for good (19.5 arcsec before the rule)."""
+    res = execute(RunOptions(scenario="irassi_rw_mekf", duration=700.0, transport="direct", out=str(tmp_path / "nz"),
+                             quiet=True, plots=False, faults=["st_noise_increase@500:factor=10"],
+                             allow=("fault-management",)))
+    m = res.metrics
+    t = {e["name"]: e["t_s"] for e in reversed(m["events"])}
+    v = {e["name"]: e["value"] for e in reversed(m["events"])}
+    assert 500.0 < t["st_excluded"] < 501.0
+    assert t["st_noise_rescaled"] == t["st_restored"] < t["st_excluded"] + 3.0
+    assert 7.0 < v["st_noise_rescaled"] < 14.0          # the 1-sigma factor against the true 10
+    assert m["final_mode"] == "nominal" and m["pointing_error_arcsec"]["final_max"] < 8.0

@@ -14,6 +14,8 @@
  *     latches SAFE, and an isolation-refused event comes with it;
  *   - disabled: no event at all;
  *   - the bias re-inflation asked on a step only with a gyro_st_inconsistent event of that step;
+ *   - the tracker's noise scale finite, within [1, fdir.st_noise_scale_max] (1 when that is 0), changed only on
+ *     a step with a st_noise_rescaled event (and then st_rescaled set);
  *   - the switch to the gyroless estimator (go_gyroless) asked only when the estimator can, on the step of an
  *     estimator_gyroless event and of a gyro_excluded one (docs/spec.md 5.6.12);
  *   - the momentum test (a thruster momentum stage, irassi_day's twelve thrusters, dumping on a 20 / 3 N m s
@@ -31,7 +33,8 @@
  *   u8, wheel_friction_excess scaled or raw), then steps until the end:
  *   u8 flags (bit0 have sample, bit1 input ok, bit2 st valid, bit3 gyro valid, bit4 raw f64 values, bit5-6 mode,
  *   bit7 an innovation was tested), u8 missing, 4 x (speed, command), chi2, gyro[3], q[4] (u16 scaled or raw),
- *   u8 filter flags (bit0 the sample applied, bit1 a restart), bias[3], P bias diagonal[3], sigma_u.
+ *   u8 filter flags (bit0 the sample applied, bit1 a restart), bias[3], P bias diagonal[3], sigma_u, the
+ *   whitened innovation z[3] (u16 scaled within +-30, or raw).
  */
 #include "fuzz_support.h"
 
@@ -41,6 +44,25 @@ static void fuzz_fdir_fail(const char *what)
 {
     (void)fprintf(stderr, "fuzz_fdir_step invariant: %s\n", what);
     abort();
+}
+
+static int fuzz_fdir_raised(const aocs_evlog_t *log, uint32_t since, aocs_evt_id_t id, uint64_t t_ns);
+
+/* the tracker's noise scale (5.15.3): finite, within [1, max], changed only with its event of the step */
+static void fuzz_fdir_check_noise(const aocs_fdir_t *f, real_t scale_before, uint32_t events_before, uint64_t t_ns)
+{
+    if (f->initialised != 0) {
+        const real_t s = f->st.noise_scale;
+        const real_t hi = (f->cfg.st_noise_scale_max > AOCS_R(1.0)) ? f->cfg.st_noise_scale_max : AOCS_R(1.0);
+        if (!AOCS_IS_FINITE(s) || (s < AOCS_R(1.0)) || (s > hi)) {
+            fuzz_fdir_fail("the tracker's noise scale out of [1, fdir.st_noise_scale_max]");
+        }
+        if ((aocs_fdir_same(s, scale_before) == 0) &&
+            ((f->st_rescaled == 0) ||
+             (fuzz_fdir_raised(&f->log, events_before, AOCS_EVT_ST_NOISE_RESCALED, t_ns) == 0))) {
+            fuzz_fdir_fail("the tracker's noise scale changed without st_noise_rescaled");
+        }
+    }
 }
 
 /* 1 when an event id at t_ns was raised after sequence number since */
@@ -268,6 +290,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             est.p_upper[18] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
             est.p_upper[20] = fuzz_scaled(&r, raw, 0.0, 1.0e-10);
             in.gyro_rrw_radps1p5 = fuzz_scaled(&r, raw, 0.0, 1.0e-8);
+            est.innovation_white = aocs_vec3_make(fuzz_scaled(&r, raw, -30.0, 30.0), fuzz_scaled(&r, raw, -30.0, 30.0),
+                                                  fuzz_scaled(&r, raw, -30.0, 30.0));
             /* the momentum stage on this sample's wheels, then fault management (the executive's order) */
             {
                 aocs_mom_input_t mi;
@@ -288,8 +312,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             in.mom = &mom;
             {
                 const uint32_t excluded_before = mom.thr_excluded_mask;
+                const real_t scale_before = f.st.noise_scale;
                 aocs_fdir_step(&f, &in, &wa);
                 fuzz_fdir_check_thrusters(&f, &mom, excluded_before, events_before, t_ns);
+                fuzz_fdir_check_noise(&f, scale_before, events_before, t_ns);
             }
             if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,
                                                              t_ns) == 0)) {

@@ -273,13 +273,14 @@ def fdir_seeds() -> None:
 
     def step(flags=1 | 2 | 8 | 4 | 128, speeds=(100.0, -50.0, 30.0, 10.0), cmds=(0.0, 0.2, 0.0, 0.0), chi2=3.0,
              gyro=(1e-3, 2e-3, -1e-3), q=(0.0, 0.0, 0.0, 1.0), missing=0, applied=0, bias=(0.0, 0.0, 0.0),
-             p_bias=4.0e-15, rrw=1.0e-10):
+             p_bias=4.0e-15, rrw=1.0e-10, z=(0.5, -0.5, 1.0)):
         b = bytes([flags, missing])
         for sp, u in zip(speeds, cmds):
             b += u16(sp, -700.0, 700.0) + u16(u, -0.3, 0.3)
         b += u16(chi2, 0.0, 50.0) + b"".join(u16(g, -1.0, 1.0) for g in gyro) + b"".join(u16(x, -1.0, 1.0) for x in q)
         b += bytes([applied]) + b"".join(u16(x, -1.0e-4, 1.0e-4) for x in bias)
         b += u16(p_bias, 0.0, 1.0e-10) * 3 + u16(rrw, 0.0, 1.0e-8)
+        b += b"".join(u16(x, -30.0, 30.0) for x in z)
         return b
 
     # wheel 1 commanded 0.2 N m and not moving: isolated (four wheels), refused (three healthy)
@@ -309,6 +310,13 @@ def fdir_seeds() -> None:
     _write("fuzz_fdir_step", "gyro_pinned", cfg(0) + pinned)
     # the same with an estimator that can fly without the gyro (setup bit3): estimator_gyroless, no SAFE latched
     _write("fuzz_fdir_step", "gyro_pinned_gyroless", cfg(8) + pinned)
+    # a tracker 10 times noisier than its model (white, spread about 100): excluded at the 5th sample, re-admitted
+    # with its noise scaled at the end of its window (fdir.st_restore 6 here); then its noise back: scaled back
+    signs = [(1, -1, 1), (-1, 1, 1), (1, 1, -1), (-1, -1, -1), (1, -1, -1), (-1, 1, -1)]
+    noisy = b"".join(step(cmds=(0.0,) * 4, chi2=300.0, z=tuple(10.0 * s * (1 + 0.3 * (k % 3)) for s in signs[k % 6]))
+                     for k in range(14))
+    calm = b"".join(step(cmds=(0.0,) * 4, chi2=0.01, z=tuple(0.1 * s for s in signs[k % 6])) for k in range(8))
+    _write("fuzz_fdir_step", "st_noise_rescaled", cfg(0) + noisy + calm)
     # wheel 0 at 100 rad/s, uncommanded, slowing by one speed quantum (1400 / 65536 rad/s) a period: 5.7 times
     # the friction model's 3 mN m (the residual 14 mN m, below the 25 mN m isolation threshold): at the end of
     # the 10-step friction window wheel_friction_high, the model rescaled

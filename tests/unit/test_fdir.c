@@ -52,6 +52,7 @@ static void test_event_ids_names_severities_are_the_wire_values(void **state)
         {AOCS_EVT_WHEEL_ISOLATION_REFUSED, 18u, "wheel_isolation_refused", "critical", "wheel"},
         {AOCS_EVT_WHEEL_FRICTION_HIGH, 19u, "wheel_friction_high", "warning", "wheel"},
         {AOCS_EVT_ESTIMATOR_GYROLESS, 20u, "estimator_gyroless", "error", "none"},
+        {AOCS_EVT_ST_NOISE_RESCALED, 21u, "st_noise_rescaled", "warning", "star_tracker"},
     };
     assert_int_equal(AOCS_EVT_COUNT, sizeof(rows) / sizeof(rows[0]));
     for (size_t i = 0u; i < (sizeof(rows) / sizeof(rows[0])); ++i) {
@@ -428,6 +429,95 @@ static void st_feed(aocs_fdir_t *f, uint64_t k, real_t d2, aocs_status_t st_stat
     est.innovation_chi2 = d2;
     in.est = &est;
     aocs_fdir_step(f, &in, NULL);
+}
+
+/* one tested tracker sample whose whitened innovation is z (d^2 = |z|^2), applied unless excluded */
+static void st_feed_white(aocs_fdir_t *f, uint64_t k, aocs_vec3_t z)
+{
+    aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
+    aocs_det_output_t est;
+    (void)memset(&est, 0, sizeof(est));
+    est.status = AOCS_OK;
+    est.innovation_white = z;
+    est.innovation_chi2 = aocs_vec3_norm_sq(z);
+    est.st_status = (f->st.excluded != 0) ? AOCS_ERR_MEKF_ST_EXCLUDED : AOCS_OK;
+    in.est = &est;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+/* the tracker's noise adaptation (docs/spec.md 5.15.3): a noise 10 times its model excluded at the 5th
+ * sample, then (a window of fdir.st_restore = 20 samples whose innovation is white) re-admitted with its noise
+ * variances scaled by the measured spread, about 100; its noise back to the model's, the scale follows back
+ * to 1 within a window; a bias (a white noise around a 20 sigma offset) fails the whiteness test: never
+ * rescaled; with fdir.st_noise_scale_max 0 nothing is rescaled. */
+static void test_noisy_tracker_rescaled_and_readmitted(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    test_rng_t rng = {2026u};
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_event_t e;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    assert_close(f.st.noise_scale, 1.0, 0.0);
+    /* the window starts with the sample that excluded it (the 5th high one): the 20th is the 24th sample */
+    for (int i = 0; i < 24; ++i) {
+        st_feed_white(&f, ++k, test_random_vec3(&rng, 10.0 * sqrt(3.0))); /* uniform: per axis variance 100 */
+        assert_int_equal(f.st.excluded, ((i >= 4) && (i < 23)) ? 1 : 0);
+        assert_int_equal(f.st_rescaled, (i == 23) ? 1 : 0);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, NULL), 1u);
+    assert_true(((double)f.st.noise_scale > 50.0) && ((double)f.st.noise_scale < 200.0));
+    assert_int_equal(aocs_evlog_next(&f.log, 2u, &e, NULL), AOCS_OK); /* the rescale event: the 1-sigma factor */
+    assert_int_equal(e.id, AOCS_EVT_ST_NOISE_RESCALED);
+    assert_close(e.value, sqrt((double)f.st.noise_scale), 1e-5 * sqrt((double)f.st.noise_scale));
+    /* under the scaled model the innovation is white with unit spread: nothing moves */
+    {
+        const real_t s = f.st.noise_scale;
+        for (int i = 0; i < 60; ++i) {
+            st_feed_white(&f, ++k, test_random_vec3(&rng, sqrt(3.0)));
+        }
+        assert_close(f.st.noise_scale, s, 0.0);
+    }
+    /* the noise back to the model's: a spread of about 1 / 100 of the scaled model: back to 1 */
+    for (int i = 0; i < 20; ++i) {
+        st_feed_white(&f, ++k, test_random_vec3(&rng, 0.1 * sqrt(3.0)));
+    }
+    assert_true((double)f.st.noise_scale < 2.0);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 2u);
+    assert_int_equal(f.st.excluded, 0);
+
+    /* a 20 sigma bias with unit noise: excluded, never white, never rescaled */
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 200; ++i) {
+        aocs_vec3_t z = test_random_vec3(&rng, sqrt(3.0));
+        z.v[0] += AOCS_R(20.0);
+        st_feed_white(&f, ++k, z);
+    }
+    assert_int_equal(f.st.excluded, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 0u);
+    assert_close(f.st.noise_scale, 1.0, 0.0);
+
+    /* the adaptation off */
+    c.st_noise_scale_max = AOCS_R(0.0);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 100; ++i) {
+        st_feed_white(&f, ++k, test_random_vec3(&rng, 10.0 * sqrt(3.0)));
+    }
+    assert_int_equal(f.st.excluded, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 0u);
+    /* a spread beyond the largest scale: stays excluded */
+    c.st_noise_scale_max = AOCS_R(10.0);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 100; ++i) {
+        st_feed_white(&f, ++k, test_random_vec3(&rng, 10.0 * sqrt(3.0)));
+    }
+    assert_int_equal(f.st.excluded, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 0u);
 }
 
 static void test_st_excluded_after_persist_and_restored_after_restore(void **state)
@@ -1294,6 +1384,7 @@ int main(void)
         cmocka_unit_test(test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled),
         cmocka_unit_test(test_a_tachometer_failure_is_not_taken_for_friction),
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
+        cmocka_unit_test(test_noisy_tracker_rescaled_and_readmitted),
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),

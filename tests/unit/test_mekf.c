@@ -1869,6 +1869,52 @@ static void config_validation(void **state)
     }
 }
 
+/* spec 5.15.3: the tracker's noise scale and the whitened innovation. Two filters fed the same samples, one with
+ * its tracker noise variances scaled by 100: on a sample 20 arcsec off, d^2 falls by about the scale (S is
+ * mostly R once converged); |z|^2 = d^2; a scale below 1 or not finite is 1 (the twin stays identical). */
+static void tracker_noise_scale(void **state)
+{
+    (void)state;
+    aocs_mekf_config_t cfg;
+    aocs_mekf_t a;
+    aocs_mekf_t b;
+    aocs_mekf_t c;
+    aocs_mekf_input_t in;
+    aocs_mekf_output_t oa;
+    aocs_mekf_output_t ob;
+    aocs_mekf_output_t oc;
+    aocs_mekf_config_default(&cfg);
+    assert_int_equal(aocs_mekf_init(&a, &cfg), AOCS_OK);
+    assert_int_equal(aocs_mekf_init(&b, &cfg), AOCS_OK);
+    assert_int_equal(aocs_mekf_init(&c, &cfg), AOCS_OK);
+    aocs_mekf_set_st_noise_scale(&c, AOCS_R(0.5));
+    aocs_mekf_set_st_noise_scale(&c, (real_t)NAN);
+    memset(&in, 0, sizeof(in));
+    in.st.valid = 1u;
+    for (uint64_t k = 0u; k < 600u; ++k) { /* 60 s at rest, the tracker exact */
+        in.t_ns = k * (NS / 10u);
+        in.st.q_SN = aocs_quat_identity();
+        in.st.t_meas_ns = in.t_ns;
+        if (k == 599u) {
+            aocs_mekf_set_st_noise_scale(&b, AOCS_R(100.0));
+            in.st.q_SN = aocs_quat_make(AOCS_R(10.0 * ARCSEC), AOCS_R(0.0), AOCS_R(0.0), AOCS_R(1.0));
+        }
+        (void)aocs_mekf_step(&a, &in, &oa);
+        (void)aocs_mekf_step(&b, &in, &ob);
+        (void)aocs_mekf_step(&c, &in, &oc);
+    }
+    assert_true((double)oa.innovation_chi2 > 16.0); /* 20 arcsec against a 1 arcsec tracker: gated */
+    assert_close(aocs_vec3_norm_sq(oa.innovation_white), oa.innovation_chi2, 1e-4 * (double)oa.innovation_chi2);
+    assert_close(aocs_vec3_norm_sq(ob.innovation_white), ob.innovation_chi2, 1e-4 * (double)ob.innovation_chi2);
+    {
+        const double ratio = (double)oa.innovation_chi2 / (double)ob.innovation_chi2;
+        assert_true((ratio > 60.0) && (ratio < 101.0));
+    }
+    assert_int_equal(ob.st_status, AOCS_OK); /* within the gate once the noise is scaled */
+    assert_memory_equal(&oa.q_BN_hat, &oc.q_BN_hat, sizeof(oa.q_BN_hat));
+    assert_close(oa.innovation_chi2, oc.innovation_chi2, 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1883,6 +1929,7 @@ int main(void)
         cmocka_unit_test(bias_reinflation),
         cmocka_unit_test(innovation_covariance_zero_pivot),
         cmocka_unit_test(gating),
+        cmocka_unit_test(tracker_noise_scale),
         cmocka_unit_test(hostile_inputs),
         cmocka_unit_test(convergence),
         cmocka_unit_test(outage),

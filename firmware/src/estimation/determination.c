@@ -206,3 +206,10 @@ void aocs_det_set_torque(aocs_det_t *det, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wh
         aocs_mekf_set_torque(&det->states.mekf, tau_B_Nm, h_wheels_B_Nms);
     }
 }
+
+void aocs_det_set_st_noise_scale(aocs_det_t *det, real_t scale)
+{
+    if ((det != NULL) && (det->id == AOCS_DET_MEKF)) {
+        aocs_mekf_set_st_noise_scale(&det->states.mekf, scale);
+    }
+}

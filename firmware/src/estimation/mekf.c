@@ -431,6 +431,7 @@ aocs_status_t aocs_mekf_init(aocs_mekf_t *f, const aocs_mekf_config_t *cfg)
             f->r_S[0] = sc * sc;
             f->r_S[1] = sc * sc;
             f->r_S[2] = sa * sa;
+            f->st_noise_scale = AOCS_R(1.0);
             for (int i = 0; i < 3; ++i) {
                 f->p_floor[i] = fa * fa;
                 f->p_floor[i + 3] = fb * fb;
@@ -456,6 +457,7 @@ aocs_status_t aocs_mekf_reset(aocs_mekf_t *f)
         f->n_restarts = 0u;
         f->innovation_B_rad = aocs_vec3_zero();
         f->innovation_chi2 = AOCS_R(0.0);
+        f->innovation_white = aocs_vec3_zero();
         f->t_ns = 0u;
         f->t_last_meas_ns = 0u;
     }
@@ -767,6 +769,7 @@ static aocs_status_t mekf_update_checked(aocs_mekf_t *f, aocs_quat_t q_SN, uint6
             const real_t d2 = aocs_vec3_norm_sq(z);
             f->innovation_B_rad = y;
             f->innovation_chi2 = d2;
+            f->innovation_white = z;
             if (!(d2 <= f->cfg.gate_chi2)) {
                 st = AOCS_ERR_MEKF_GATED;
                 mekf_count(&f->n_gated);
@@ -913,6 +916,7 @@ static void mekf_fill_output(const aocs_mekf_t *f, aocs_status_t st, aocs_status
         out->valid = 1u;
         out->innovation_B_rad = f->innovation_B_rad;
         out->innovation_chi2 = f->innovation_chi2;
+        out->innovation_white = f->innovation_white;
         out->t_ns = f->t_ns;
     }
     out->st_status = st_status;
@@ -1078,4 +1082,21 @@ void aocs_mekf_set_torque(aocs_mekf_t *f, aocs_vec3_t tau_B_Nm, aocs_vec3_t h_wh
 uint32_t aocs_mekf_is_gyroless(const aocs_mekf_t *f)
 {
     return ((f != NULL) && (f->gyroless != 0u)) ? 1u : 0u;
+}
+
+void aocs_mekf_set_st_noise_scale(aocs_mekf_t *f, real_t scale)
+{
+    if ((f != NULL) && (f->initialised == MEKF_INIT_MAGIC)) {
+        const real_t sc = f->cfg.st_sigma_cross_rad;
+        const real_t sa = f->cfg.st_sigma_about_rad;
+        real_t k = AOCS_R(1.0);
+        if (AOCS_IS_FINITE(scale) && (scale > AOCS_R(1.0))) {
+            k = scale;
+        }
+        /* spec 5.15.3: R_S = diag(sc^2, sc^2, sa^2) times the scale */
+        f->st_noise_scale = k;
+        f->r_S[0] = k * sc * sc;
+        f->r_S[1] = k * sc * sc;
+        f->r_S[2] = k * sa * sa;
+    }
 }

@@ -177,9 +177,11 @@ aocs_status_t aocs_det_mekf_step(aocs_mekf_t *s, const aocs_exec_input_t *in, ao
     out->n_st_hostile = mo.n_hostile;
     out->n_restarts = mo.n_restarts;
     out->innovation_chi2 = AOCS_R(0.0);
+    out->innovation_white = aocs_vec3_zero();
     if ((mo.st_status == AOCS_OK) || (mo.st_status == AOCS_ERR_MEKF_GATED) ||
         (mo.st_status == AOCS_ERR_MEKF_ST_EXCLUDED)) {
         out->innovation_chi2 = s->innovation_chi2; /* formed this step (also when the estimate is refused) */
+        out->innovation_white = s->innovation_white;
     }
     return st;
 }

@@ -376,6 +376,9 @@ static void manage_faults(aocs_exec_t *exec, const aocs_exec_input_t *in, aocs_s
             }
         }
         aocs_det_set_st_excluded(&exec->det, (exec->fdir.st.excluded != 0) ? 1u : 0u);
+        if (exec->fdir.st_rescaled != 0) {
+            aocs_det_set_st_noise_scale(&exec->det, exec->fdir.st.noise_scale); /* the tracker's noise (5.15.3) */
+        }
         if (exec->fdir.reinflate_bias != 0) {
             aocs_det_reinflate_bias(&exec->det); /* a gyro bias jump: re-estimated from its prior (5.15.4) */
         }

@@ -43,6 +43,7 @@ void aocs_fdir_config_default(aocs_fdir_config_t *cfg)
         cfg->mom_persist = AOCS_FDIR_MOM_PERSIST_DEFAULT;
         cfg->wheel_friction_window = AOCS_FDIR_WHEEL_FRICTION_WINDOW_DEFAULT;
         cfg->wheel_friction_excess = AOCS_FDIR_WHEEL_FRICTION_EXCESS_DEFAULT;
+        cfg->st_noise_scale_max = AOCS_FDIR_ST_NOISE_SCALE_MAX_DEFAULT;
     }
 }
 
@@ -63,7 +64,8 @@ aocs_status_t aocs_fdir_config_check(const aocs_fdir_config_t *cfg)
                (cfg->gyro_bias_persist == 0u) || (cfg->link_lost_periods == 0u) ||
                !(cfg->mom_residual_nm >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->mom_residual_nm) ||
                (cfg->mom_window == 0u) || (cfg->mom_persist == 0u) || (cfg->wheel_friction_window == 0u) ||
-               !(cfg->wheel_friction_excess >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->wheel_friction_excess)) {
+               !(cfg->wheel_friction_excess >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->wheel_friction_excess) ||
+               !(cfg->st_noise_scale_max >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->st_noise_scale_max)) {
         st = AOCS_ERR_FDIR_CONFIG_INVALID;
     } else {
         st = AOCS_OK;
@@ -81,6 +83,7 @@ aocs_status_t aocs_fdir_init(aocs_fdir_t *f, const aocs_fdir_config_t *cfg)
             f->cfg = *cfg;
             aocs_evlog_init(&f->log);
             f->mode_prev = AOCS_EXEC_MODE_STANDBY;
+            f->st.noise_scale = AOCS_R(1.0);
             f->initialised = 1;
         }
     }
@@ -144,6 +147,7 @@ void aocs_fdir_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_wheels_t *
         f->replan = 0;
         f->reinflate_bias = 0;
         f->go_gyroless = 0;
+        f->st_rescaled = 0;
         if (f->cfg.enabled != 0u) {
             fdir_link(f, in);
             if ((in->have_sample != 0) && (in->input_status == AOCS_OK)) {

@@ -68,6 +68,7 @@ static void gyro_pinned(aocs_fdir_t *f, const aocs_fdir_input_t *in, int same)
                 if ((f->st.excluded != 0) && (f->st.frozen_run == 0u)) {
                     /* its innovations were the gyro's doing: the tracker is used again */
                     f->st.excluded = 0;
+                    f->st.excluded_by_innovation = 0;
                     f->st.good_run = 0u;
                     (void)aocs_evlog_raise(&f->log, AOCS_EVT_ST_RESTORED, in->t_ns, AOCS_EVT_UNIT_NONE, turned,
                                            bound);

@@ -80,10 +80,10 @@ def test_exec_fields_are_the_rows_of_pil_frame_h(reg):
         (r["name"], r["pil_id"], r["kind"].lower(), r["count"], r["key"]) for r in rows]
     # the executive's own fields 1..14, the slew guidance's from 60, the wheel array's from 65, the
     # estimator's 68, the MEKF's 69 .. 80, the momentum stage's 81 .. 96, fault management's 97, 98 and
-    # 160 .. 175, the MEKF's gyroless model 176 .. 178, then the per-wheel fields 100 .. 147 (8 per wheel,
-    # pil_frame.h)
+    # 160 .. 175, the MEKF's gyroless model 176 .. 178, the tracker's noise adaptation 179, then the
+    # per-wheel fields 100 .. 147 (8 per wheel, pil_frame.h)
     assert [x.pil_id for x in reg.exec_fields] == (list(range(1, 15)) + list(range(60, 99))
-                                                   + list(range(160, 179)) + list(range(100, 148)))
+                                                   + list(range(160, 180)) + list(range(100, 148)))
     assert reg.exec_field_of_key("wheel3.coulomb_nm").pil_id == 100 + 3 * 8 + 5
 
 

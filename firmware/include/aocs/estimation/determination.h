@@ -88,6 +88,10 @@ aocs_status_t aocs_det_step(aocs_det_t *det, const aocs_exec_input_t *in, aocs_s
  * and on NULL. */
 void aocs_det_set_st_excluded(aocs_det_t *det, uint32_t excluded);
 
+/* Fault management (docs/spec.md 5.15.3): the star tracker's noise variances the filter assumes, times scale
+ * (>= 1; the MEKF: aocs_mekf_set_st_noise_scale); no-op for an estimator without one, and on NULL. */
+void aocs_det_set_st_noise_scale(aocs_det_t *det, real_t scale);
+
 /* Fault management (docs/spec.md 5.15.4): a filter that estimates the gyro's bias takes its bias covariance
  * back to its prior (the MEKF: aocs_mekf_reinflate_bias); no-op for an estimator without one, and on NULL. */
 void aocs_det_reinflate_bias(aocs_det_t *det);

@@ -36,6 +36,8 @@ typedef struct {
     uint32_t n_restarts;          /* times the filter went back to waiting (gap, covariance failure, reset) */
     real_t innovation_chi2;       /* d^2 = y^T S^-1 y of this step's tracker sample when one was tested (st_status
                                    * AOCS_OK, AOCS_ERR_MEKF_GATED or AOCS_ERR_MEKF_ST_EXCLUDED), else 0 */
+    aocs_vec3_t innovation_white; /* that sample's whitened innovation z = L^-1 y (S = L L^T): |z|^2 = d^2, N(0, I)
+                                   * under the filter's model (the tracker's noise adaptation, spec 5.15.3); else 0 */
 } aocs_det_output_t;
 
 #endif /* AOCS_ESTIMATION_ESTIMATE_H */

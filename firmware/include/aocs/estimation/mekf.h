@@ -123,6 +123,7 @@ typedef struct {
     uint32_t n_restarts;         /* times the filter went back to waiting (gap, covariance failure) */
     aocs_vec3_t innovation_B_rad;/* last innovation y formed (used or gated), B at the current time */
     real_t innovation_chi2;      /* its d^2 = y^T S^-1 y */
+    aocs_vec3_t innovation_white;/* z = L^-1 y, S = L L^T (Cholesky): |z|^2 = d^2, N(0, I) under the model */
     uint64_t t_ns;               /* time of the estimate */
 } aocs_mekf_output_t;
 
@@ -150,6 +151,9 @@ typedef struct {
     uint32_t n_restarts;
     aocs_vec3_t innovation_B_rad;
     real_t innovation_chi2;
+    aocs_vec3_t innovation_white;
+    real_t st_noise_scale;       /* the tracker's noise variances are cfg's times this (spec 5.15.3), >= 1;
+                                    set by aocs_mekf_set_st_noise_scale, kept across reset and restart */
     uint32_t st_excluded;        /* 1: a sample is tested (innovation, gate) but not applied (spec 5.15.3);
                                     set by aocs_mekf_set_st_excluded, kept across reset and restart */
     /* the gyroless model (spec 5.6.12): set by aocs_mekf_set_gyroless, kept across reset and restart */
@@ -218,6 +222,11 @@ aocs_status_t aocs_mekf_update(aocs_mekf_t *f, const aocs_mekf_st_sample_t *st);
  * (out->st_status still the sample's verdict, counters still reported).
  */
 aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_mekf_output_t *out);
+
+/* Fault management (spec 5.15.3, the noise adaptation): the star tracker's noise variances become the
+ * configured ones times scale (its 1-sigma times sqrt(scale)) from the next update. A scale that is not finite
+ * or below 1 is taken as 1. Kept across reset and restart, not across init. No-op on NULL or before init. */
+void aocs_mekf_set_st_noise_scale(aocs_mekf_t *f, real_t scale);
 
 /* Fault management (spec 5.15.3): excluded != 0 refuses every star-tracker sample after its innovation test
  * (aocs_mekf_update returns AOCS_ERR_MEKF_ST_EXCLUDED, state untouched, d^2 kept); 0 uses them again. A

@@ -14,7 +14,10 @@
  *                    -> wheel_friction_high, the wheel's friction model scaled by that ratio;
  *   star tracker     (st_monitor.c) the MEKF innovation d^2 = y^T S^-1 y > chi2 on N samples ->
  *                    st_innovation_high, st_excluded (tested, not applied); M consistent samples ->
- *                    st_restored; K identical quaternions while the gyro turns -> st_frozen, st_excluded;
+ *                    st_restored; excluded so, a window of fdir.st_restore samples whose whitened innovation
+ *                    is white with zero mean but m times its model's spread -> st_noise_rescaled, the tracker
+ *                    re-admitted with its noise variances times m (and followed while rescaled);
+ *                    K identical quaternions while the gyro turns -> st_frozen, st_excluded;
  *   gyro             (gyro_monitor.c) a component at the saturation limit on K samples, or stuck
  *                    (bit-identical on K samples while another component changed) -> gyro_saturated /
  *                    gyro_stuck, then gyro_excluded and, when the estimator can go on without it,
@@ -67,6 +70,16 @@
 #define AOCS_FDIR_MOM_PERSIST_DEFAULT 2u
 #define AOCS_FDIR_WHEEL_FRICTION_WINDOW_DEFAULT 100u
 #define AOCS_FDIR_WHEEL_FRICTION_EXCESS_DEFAULT AOCS_R(1.0) /* the friction doubled */
+/* the star tracker's noise adaptation (5.15.3): its noise variances at most this many times the configured
+ * ones (1e4: its 1-sigma 100 times); 0 = no adaptation */
+#define AOCS_FDIR_ST_NOISE_SCALE_MAX_DEFAULT AOCS_R(1.0e4)
+/* the adaptation's whiteness test: W |z_mean|^2 / m, chi-square with 3 degrees of freedom at 99.9 % */
+#define AOCS_FDIR_ST_MEAN_CHI2 AOCS_R(16.266236196238129)
+/* a rescaled tracker's spread m followed when outside [LO, HI]: a window of W = 20 samples estimates m with
+ * some 20 % of scatter (chi-square of 3 (W - 1) degrees of freedom), and its innovations, against a model
+ * that was itself estimated, are not exactly white: at [1/2, 2] the scale was seen to chatter (5.15.3) */
+#define AOCS_FDIR_ST_NOISE_BAND_LO AOCS_R(0.25)
+#define AOCS_FDIR_ST_NOISE_BAND_HI AOCS_R(4.0)
 
 typedef struct {
     uint32_t enabled;             /* fdir.enabled: 1 on (default), 0 off */
@@ -87,6 +100,8 @@ typedef struct {
     uint32_t mom_persist;         /* consecutive inconsistent windows for an event, >= 1 */
     uint32_t wheel_friction_window; /* steps of the friction test's sums, >= 1 */
     real_t wheel_friction_excess; /* friction beyond the model by this fraction of it: high; 0 = no test */
+    real_t st_noise_scale_max;    /* the tracker's noise variances at most this times the model's; 0 = no
+                                     noise adaptation (5.15.3) */
 } aocs_fdir_config_t;
 
 /* What the stage sees of one step (the executive fills it after actuation). */
@@ -136,6 +151,12 @@ typedef struct {
     aocs_quat_t q_prev_SN;
     int have_prev;
     int excluded;                 /* 1: the MEKF refuses the tracker (applied by the executive) */
+    int excluded_by_innovation;   /* 1: excluded by the innovation test (not frozen) */
+    /* the noise adaptation (5.15.3): windows of fdir.st_restore tested samples of the whitened innovation */
+    real_t noise_scale;           /* the tracker's noise variances are the model's times this, >= 1 */
+    uint32_t win_n;               /* samples in the window so far */
+    aocs_vec3_t win_sum_z;        /* their sum */
+    real_t win_sum_zz;            /* the sum of their |z|^2 */
 } aocs_fdir_st_t;
 
 /* The gyro monitor's state (gyro_monitor.c) */
@@ -192,6 +213,7 @@ typedef struct {
                                      estimator: stay in SAFE */
     int replan;                   /* 1: the wheels changed this step, the slew guidance must adapt */
     int reinflate_bias;           /* 1: a gyro bias jump this step: the filter's bias covariance back to its prior */
+    int st_rescaled;              /* 1: st.noise_scale changed this step: the executive applies it to the filter */
     int go_gyroless;              /* 1: the gyro was excluded this step and the estimator can fly without it:
                                      the executive switches it to its gyroless model (5.6.12) */
     aocs_wheels_t wheels_before;  /* the array before the last isolation (the guidance's old envelope) */
