@@ -708,12 +708,13 @@ static int mekf_history_rotation(const aocs_mekf_t *f, uint64_t t_meas_ns, aocs_
             const real_t tau = (real_t)tau_ns * MEKF_NS_TO_S;
             acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(w, tau))));
             found = 1;
-        } else if (f->gyroless != 0u) {
-            const uint64_t step_ns = e->t1_ns - e->t0_ns;
-            acc = qd_mul(acc, qd_of(mekf_rotvec_to_quat(aocs_vec3_scale(w, (real_t)step_ns * MEKF_NS_TO_S))));
-            idx = (idx + AOCS_MEKF_HISTORY_LEN - 1u) % AOCS_MEKF_HISTORY_LEN;
         } else {
-            acc = qd_mul(acc, qd_of(e->dq));
+            aocs_quat_t dq = e->dq;
+            if (f->gyroless != 0u) {
+                const uint64_t step_ns = e->t1_ns - e->t0_ns;
+                dq = mekf_rotvec_to_quat(aocs_vec3_scale(w, (real_t)step_ns * MEKF_NS_TO_S));
+            }
+            acc = qd_mul(acc, qd_of(dq));
             idx = (idx + AOCS_MEKF_HISTORY_LEN - 1u) % AOCS_MEKF_HISTORY_LEN;
         }
     }
