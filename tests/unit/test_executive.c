@@ -445,12 +445,14 @@ static void test_select_changes_law_target_and_mode(void **state)
     assert_vec3_close(out.u_cmd, aocs_vec3_make(AOCS_R(0.0), AOCS_R(19.0 * 0.02), AOCS_R(-LIM)), TOL_TIGHT);
     assert_int_equal(out.saturated, 1);
 
-    /* NONE: STANDBY, zero command even with good inputs */
+    /* NONE: STANDBY, zero command even with good inputs, and no law run (no law error counted) */
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_NONE, NULL), AOCS_OK);
     in = sample(2);
     step_ok(&exec, &in, &out);
     assert_int_equal(out.mode, AOCS_EXEC_MODE_STANDBY);
     assert_vec3_close(out.u_cmd, aocs_vec3_zero(), 0.0);
+    assert_int_equal(out.law_status, AOCS_OK);
+    assert_int_equal(out.counters.law_error, 0u);
 
     /* back to quat_pd with the identity target: NOMINAL at once from STANDBY */
     aocs_exec_target_t id = {aocs_quat_identity(), aocs_vec3_zero(), aocs_vec3_zero()};

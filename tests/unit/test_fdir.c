@@ -1268,6 +1268,31 @@ static void test_momentum_consistent_while_dumping_and_an_unexplained_torque(voi
     assert_int_equal(aocs_evlog_count(&r.f.log), 0u);
 }
 
+/* a tachometer that reads NaN for 80 s (no wheel momentum to sum): those samples belong to no window (the
+ * momentum is not known; the test starts again from the next usable sample), so a run that is consistent
+ * raises no momentum event; taking them as zero momentum would see the wheels' whole momentum vanish */
+static void test_momentum_skips_samples_without_wheel_momentum(void **state)
+{
+    (void)state;
+    const double d_in[3] = {1.0e-3, -1.0e-3, 1.0e-3};
+    mom_rig_t r;
+    real_t saved = AOCS_R(0.0);
+    mom_rig_init(&r, 5.0e-3);
+    for (uint32_t k = 0u; k < 300u; ++k) {
+        if (k == 100u) {
+            saved = r.omega[0];
+            r.omega[0] = (real_t)NAN;
+        }
+        if (k == 180u) {
+            r.omega[0] = saved;
+        }
+        mom_rig_step(&r, d_in, MOM_THR, MOM_THR);
+    }
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_MOMENTUM_INCONSISTENT, -1, NULL), 0u);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_THRUSTER_INEFFECTIVE, -1, NULL), 0u);
+    assert_int_equal(r.mom.thr_excluded_mask, 0u);
+}
+
 /* the thruster the dump leans on most stops firing at t = 100 s: thruster_ineffective naming it and
  * unload_actuator_switched at the end of the second window that holds its deficit, it is out of the
  * allocation, its couple's partner fires instead, and no other event follows in the next 400 s */
@@ -1396,6 +1421,7 @@ int main(void)
         cmocka_unit_test(test_link_and_safe_events),
         cmocka_unit_test(test_disabled_is_silent),
         cmocka_unit_test(test_momentum_consistent_while_dumping_and_an_unexplained_torque),
+        cmocka_unit_test(test_momentum_skips_samples_without_wheel_momentum),
         cmocka_unit_test(test_thruster_stuck_closed_is_isolated_and_the_dump_goes_on),
         cmocka_unit_test(test_thruster_stuck_open_is_momentum_inconsistent),
         cmocka_unit_test(test_executive_isolates_a_dead_wheel),

@@ -1879,16 +1879,19 @@ static void tracker_noise_scale(void **state)
     aocs_mekf_t a;
     aocs_mekf_t b;
     aocs_mekf_t c;
+    aocs_mekf_t d;
     aocs_mekf_input_t in;
     aocs_mekf_output_t oa;
     aocs_mekf_output_t ob;
     aocs_mekf_output_t oc;
+    aocs_mekf_output_t od;
     aocs_mekf_config_default(&cfg);
     assert_int_equal(aocs_mekf_init(&a, &cfg), AOCS_OK);
     assert_int_equal(aocs_mekf_init(&b, &cfg), AOCS_OK);
     assert_int_equal(aocs_mekf_init(&c, &cfg), AOCS_OK);
+    assert_int_equal(aocs_mekf_init(&d, &cfg), AOCS_OK);
     aocs_mekf_set_st_noise_scale(&c, AOCS_R(0.5));
-    aocs_mekf_set_st_noise_scale(&c, (real_t)NAN);
+    aocs_mekf_set_st_noise_scale(&d, (real_t)NAN);
     memset(&in, 0, sizeof(in));
     in.st.valid = 1u;
     for (uint64_t k = 0u; k < 600u; ++k) { /* 60 s at rest, the tracker exact */
@@ -1902,6 +1905,7 @@ static void tracker_noise_scale(void **state)
         (void)aocs_mekf_step(&a, &in, &oa);
         (void)aocs_mekf_step(&b, &in, &ob);
         (void)aocs_mekf_step(&c, &in, &oc);
+        (void)aocs_mekf_step(&d, &in, &od);
     }
     assert_true((double)oa.innovation_chi2 > 16.0); /* 20 arcsec against a 1 arcsec tracker: gated */
     assert_close(aocs_vec3_norm_sq(oa.innovation_white), oa.innovation_chi2, 1e-4 * (double)oa.innovation_chi2);
@@ -1913,6 +1917,8 @@ static void tracker_noise_scale(void **state)
     assert_int_equal(ob.st_status, AOCS_OK); /* within the gate once the noise is scaled */
     assert_memory_equal(&oa.q_BN_hat, &oc.q_BN_hat, sizeof(oa.q_BN_hat));
     assert_close(oa.innovation_chi2, oc.innovation_chi2, 0.0);
+    assert_memory_equal(&oa.q_BN_hat, &od.q_BN_hat, sizeof(oa.q_BN_hat));
+    assert_close(oa.innovation_chi2, od.innovation_chi2, 0.0);
 }
 
 int main(void)

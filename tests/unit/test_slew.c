@@ -517,6 +517,8 @@ static void zero_and_half_turn(void **state)
     /* no rotation: a zero-length slew, the target at once */
     assert_int_equal(aocs_slew_plan(&s, &c.cfg, &c.env, c.q0, c.q0), AOCS_OK);
     assert_true(same((double)(s.t_end_s), (double)(AOCS_R(0.0))));
+    /* its eigenaxis is still a unit vector (the fault management's replan reads the envelope along it) */
+    assert_close(aocs_vec3_norm(s.e), 1.0, TOL_TIGHT);
     aocs_slew_eval(&s, AOCS_R(0.0), &ref);
     assert_true(same((double)(ref.qd_DN.q[3]), (double)(c.q0.q[3])));
     /* 180 deg about z: dq4 = 0, a finite profile */

@@ -59,3 +59,32 @@ def test_the_timeline_draws_every_threshold_at_its_value_and_every_legend_trace(
         invisible = [lab for h, lab in zip(handles, labels) if hasattr(h, "get_linewidth")
                      and hasattr(h, "get_marker") and not _visible(h)]
         assert not invisible, invisible
+
+
+@pytest.mark.parametrize("runs", [1, 3])
+def test_the_dumps_are_shaded_and_named_once(tmp_path, monkeypatch, runs):
+    """However many dumps the day holds (one, three), each is shaded on the momentum panel and the legend
+    names them once."""
+    t = np.round(np.arange(0, 3601) * 10.0, 6)
+    tc = t[:-1]
+    flag = np.zeros(tc.size, bool)
+    for k in range(runs):
+        flag |= (tc > 3000.0 + 8000.0 * k) & (tc < 4000.0 + 8000.0 * k)
+    speed = np.stack([100 + 0 * t] * 4, axis=1)
+    series = {"t": t, "true_angle": 0.1 + 0 * t, "t_cmd": tc, "mode": np.ones(tc.size, int),
+              "wheels": {"t": t, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
+                         "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
+              "unloading": {"t": tc, "flag": flag, "cumulative": np.cumsum(flag) * 1e-4,
+                            "cumulative_label": "propellant used (kg)"}}
+    metrics = {"holds": None, "passes": None,
+               "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0, "capacity_nms": [48.0] * 4},
+               "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
+    figs = []
+    real_save = plots.save
+    monkeypatch.setattr(plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
+    fig, = figs
+    momentum = fig.axes[1]
+    assert momentum.get_legend_handles_labels()[1].count("unloading") == 1
+    assert len(momentum.patches) == runs
+    assert all(p.get_linewidth() == 0.0 for p in momentum.patches)   # shading only: no edge line reads as a limit

@@ -120,6 +120,11 @@ def test_between_updates_and_per_axis():
     assert f.attitude_post < mid < f.attitude_pre
     # sigma_u = 0 goes through the one-state filter
     assert between_updates(sn, sv, 0.0, dt, 1) == pytest.approx(farrenkopf(sn, sv, 0.0, dt).attitude_post)
+    # ... and between updates only the angle random walk adds (the bias known: no tau^2 term),
+    # var(tau) = post^2 + sigma_v^2 tau at tau = j dt / n
+    post2 = farrenkopf(sn, sv, 0.0, dt).attitude_post ** 2
+    want = math.sqrt(sum(post2 + sv * sv * j * dt / 10 for j in range(10)) / 10)
+    assert between_updates(sn, sv, 0.0, dt, 10) == pytest.approx(want, rel=1e-12)
     # per axis of S: x, y from the cross-boresight noise, z from the about-boresight noise
     x, y, z = steady_state_per_axis(1.0, 8.0, 5.0, sv, su)
     assert x == y == pytest.approx(farrenkopf(1.0 / ARCSEC, sv, su, 0.2).attitude_post_arcsec)

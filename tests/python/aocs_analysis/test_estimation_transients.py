@@ -81,6 +81,12 @@ def test_an_outage_report_by_hand():
     # the recovery rule as trailing_rms sees it: 388 outside, 389 inside
     r = trailing_rms(t, np.where((t >= 300)[:, None], dth * ARCSEC_PER_RAD, np.nan), 30.0)
     assert np.any(r[388] > 3.0 * bound) and np.all(r[389:] <= 3.0 * bound)
+    # the sample at the outage's end is the first of the recovery: 20 bound_S there alone keeps the 30 s
+    # trailing rms outside 3 bound_S (20 / sqrt(30) = 3.65) until the window has let it go, at t = 330
+    spike = np.where(t == 300.0, 20.0, np.where((t >= 200) & (t < 300), 5.0, 0.5))
+    (first,) = outage_report(t, spike[:, None] * bound[None, :] / ARCSEC_PER_RAD, p_att, [(200.0, 300.0)],
+                             sensors, 1.0)
+    assert first["recovery_time_s"] == 30.0
     # the recovery must hold up to the last sample
     dth[-1] *= 1000.0
     (late,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)

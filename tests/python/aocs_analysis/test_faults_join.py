@@ -75,6 +75,16 @@ def test_recovery_needs_the_whole_window_inside():
     assert e["recovered_s"] == pytest.approx(150.0)
 
 
+def test_a_stretch_one_sample_short_of_the_window_is_not_a_recovery():
+    """Inside from 150.0 s to 199.9 s (49.9 s: one 0.1 s sample short of the 50 s window), out at 200.0 s, inside
+    again from 200.1 s to the end: recovered at 200.1 s; counting the sample that left would make it 150.0."""
+    p = pointing(150.0)
+    p[np.isclose(T, 200.0)] = 1.0
+    assert F.recovered_at(T, p, 61.0, 0.3, 50.0) == pytest.approx(200.1)
+    p[np.isclose(T, 200.0)] = 0.1                       # the same without the sample out: 150.0
+    assert F.recovered_at(T, p, 61.0, 0.3, 50.0) == pytest.approx(150.0)
+
+
 def test_recovery_at_the_end_of_the_run_counts_when_shorter_than_the_window():
     events = [ev(61.0, "wheel_residual_high", "wheel", 1), ev(61.0, "wheel_isolated", "wheel", 1)]
     (e,) = F.entries([WHEEL], events, T, pointing(290.0), 0.3, 50.0)

@@ -45,3 +45,11 @@ def test_meets_requirement_is_none_without_a_requirement_or_a_finite_max_and_jud
     assert [(p["start_s"], p["end_s"], p["duration_s"]) for p in judged] == [
         (5.0, 24.0, 20.0), (30.0, 59.0, 30.0), (70.0, 79.0, 10.0), (85.0, 94.0, 10.0)]
     assert [p["complete"] for p in judged] == [True] * 4
+    # a pass whose largest error is exactly the requirement meets it (at most the requirement), a hair above not
+    assert P.metrics(_scenario(20.0, wins), {"t": t, "true_angle": ang}, inside)[3]["meets_requirement"] is True
+    below = P.metrics(_scenario(math.nextafter(20.0, 0.0), wins), {"t": t, "true_angle": ang}, inside)
+    assert below[3]["meets_requirement"] is False
+    # the table's line of each missed pass says whether it had settled
+    rows = dict(P.table_rows(judged, 36.0))
+    assert rows["pass target 0 5 s"] == "MISSED: not settled, max 20 arcsec"
+    assert rows["pass target 1 30 s"] == "MISSED: settled, max 50 arcsec"

@@ -306,6 +306,28 @@ def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
     assert any(line.split() == ["max", "|torque|", "per", "axis", "[0.1", "0.2", "0.25]", "N", "m"] for line in text)
 
 
+def test_the_run_table_of_an_orbit_run_states_position_velocity_and_force():
+    """table_rows of an orbit run: the position and velocity errors over the window and the force figures,
+    each with its unit, in place of the attitude lines."""
+    m = _summary_metrics(
+        kind="orbit", pointing_error_arcsec=None, duration_s=100.0, control_rate_hz=10.0, settle_time_s=None,
+        settle_criterion={"criteria": {"position_m_max": 1.0}}, limits={"axis": 2.0, "unlimited": False},
+        position_error_m={"window_s": 50.0, "final_max": 0.125, "velocity_final_max_m_s": 0.0025},
+        max_abs_force_n=[0.5, 1.0, 2.0], effort=12.5,
+        timing={"step_ns_median": 800.0, "step_ns_p99": 900.0, "step_ns_max": 1500.0, "budget_ns": 2000.0,
+                "overruns": 0}, final_mode="NOMINAL",
+        counters={"invalid": 0, "stale": 0, "missing": 0, "law_error": 0, "lost": 0, "duplicate": 0, "foreign": 0,
+                  "malformed": 0, "cmd_accepted": 0, "cmd_rejected": 0, "status": {}, "mode_changes": 0,
+                  "time_in_safe_mode_s": 0.0, "time_in_saturation_s": 0.0})
+    rows = dict(results.table_rows(m))
+    assert rows["settle time"] == "never"
+    assert rows["position error, last 50 s"] == "max 0.125 m"
+    assert rows["velocity error, same window"] == "max 0.0025 m/s"
+    assert rows["max |force| per axis"] == "[0.5 1 2] N"
+    assert rows["effort (int |F|_1 dt)"] == "12.5 N s"
+    assert "max |torque| per axis" not in rows
+
+
 def test_a_diverging_run_is_named_diverging():
     assert results.divergence(_summary_metrics()) is None                       # error fell: not diverging
     grew = _summary_metrics(pointing_error_arcsec={"initial": 100.0, "final_max": 5000.0})

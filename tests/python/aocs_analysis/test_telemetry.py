@@ -87,6 +87,15 @@ def test_estimator_columns_knowledge_error_and_sigma():
     assert cols["control_err_arcsec"] == pytest.approx(expect, rel=1e-6, abs=1e-6)
 
 
+def test_an_injected_fault_is_active_from_its_start_tick_to_before_its_end_tick():
+    """fault_<i>_<kind>_active: True on the ticks [start, end) the plant applies the fault (Fault.ticks): a
+    wheel dying from 0.2 s to 0.4 s is active on ticks 2 and 3, not on tick 4."""
+    sc = load("irassi_rw", {"faults": [{"kind": "wheel_torque_loss", "unit": 1, "start_s": 0.2, "end_s": 0.4}]})
+    log = make_log(6, cmd_ticks=list(range(6)), sensor_ticks=list(range(6)), status_steps=[6])
+    cols = T.columns(log, sc)
+    assert cols["fault_1_wheel_torque_loss_active"].tolist() == [False, False, True, True, False, False]
+
+
 def test_decimation_keeps_every_nth_and_the_last_row():
     cols = {"t_s": np.arange(10.0), "x": np.arange(10) * 2}
     assert T.decimated(cols, 3)["t_s"].tolist() == [0.0, 3.0, 6.0, 9.0]

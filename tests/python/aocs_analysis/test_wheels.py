@@ -22,23 +22,29 @@ def test_wheel_commands_over_their_limit_and_not_finite():
     u[2, 2] = umax * (1 + 2e-9)          # beyond it: over
     u[3, 3] = np.nan                     # not finite (and not counted over)
     u[4, 1] = -0.1
-    truth = {"t_s": np.arange(3) * sc.dt, "wheel_speed": np.array([[0, 0, 0, 0], [10, -20, 0, 0], [5, 0, 0, -300.0]]),
+    # wheel 2 ends the second period within the 1e-6 relative allowance of its 600 rad/s limit: at the limit
+    truth = {"t_s": np.arange(3) * sc.dt,
+             "wheel_speed": np.array([[0, 0, 0, 0], [10, -20, 0, 0], [5, 0, 600.0 * (1 - 5e-7), -300.0]]),
              "wheel_torque": np.array([[0, 0, 0, 0], [0.1, -0.2, 0, 0], [0, 0, 0.25, 0]]),
-             "wheel_at_limit": np.array([0, 0b100, 0]), "h_total": np.zeros((3, 3))}
+             "wheel_at_limit": np.array([0, 0b100, 0]),
+             "h_total": np.array([[1.0, 0.0, 0.0], [0.0, 3.0, 4.0], [0.0, 0.0, 2.0]])}
     cmd = {"tick": np.arange(5), "u_wheels": u, "wheel_speed_margin": np.array([0.9, 0.5, 0.8, 0.7, 0.6]),
            "wheel_scale": np.array([1.0, 1.0, 0.5, 1.0, 0.25])}
     out, series = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
     assert out["commands_over_limit"] == 1 and out["commands_not_finite"] == 1
-    assert [p["peak_speed_rad_s"] for p in out["per_wheel"]] == [10.0, 20.0, 0.0, 300.0]
+    assert [p["peak_speed_rad_s"] for p in out["per_wheel"]] == [10.0, 20.0, 600.0 * (1 - 5e-7), 300.0]
+    assert [p["time_at_speed_limit_s"] for p in out["per_wheel"]] == pytest.approx([0.0, 0.0, sc.dt, 0.0])
     assert [p["peak_motor_torque_nm"] for p in out["per_wheel"]] == [0.1, 0.2, 0.25, 0.0]
     assert out["per_wheel"][2]["time_at_torque_limit_s"] == pytest.approx(sc.dt)
     assert out["min_speed_margin"] == 0.5
+    # the total momentum |H| (truth): its peak and its last sample (not the first)
+    assert out["total_momentum_nms"] == {"peak": 5.0, "final": 2.0}
     assert out["time_scaled_s"] == pytest.approx(2 * sc.dt)
     assert series["n"] == n
     # the summary lines: the wheels, and a limit exceeded said in capitals
     rows = dict(wheels.table_rows(out))
     assert rows["wheels"] == "4 wheels, removed: none" + ("" if out["within_limits"] else "; A LIMIT WAS EXCEEDED")
-    assert rows["peak wheel speed"] == "[10 20 0 300] rad/s (limit 600)"
+    assert rows["peak wheel speed"] == "[10 20 600 300] rad/s (limit 600)"
     out["within_limits"], out["removed"] = False, [2]
     assert dict(wheels.table_rows(out))["wheels"] == "4 wheels, removed: wheel 2; A LIMIT WAS EXCEEDED"
 

@@ -2,6 +2,7 @@
 one period, computed here with a tight reference integrator, and its verdict on the rtc examples."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -103,3 +104,12 @@ def test_a_sum_exactly_at_the_tolerance_does_not_exceed_it():
     assert not chk.summary()["exceeds_tolerance"]
     chk.local_sum[0] = math.nextafter(chk.tolerance, math.inf)
     assert chk.summary()["exceeds_tolerance"]
+
+
+def test_without_a_tolerance_every_local_error_is_above_the_threshold():
+    """No integrator tolerance (None): the per-period threshold is 0, so any positive local error makes the next
+    period checked too (a threshold of 1 / n_steps would let errors of that size pass unchecked)."""
+    chk = StepDoubling(dataclasses.replace(load("gao_mrp"), integrator_tolerance=None))
+    assert chk.threshold == 0.0
+    chk = StepDoubling(load("gao_mrp"))
+    assert chk.threshold == chk.tolerance / load("gao_mrp").n_steps

@@ -37,6 +37,18 @@ def test_rotating_target_follows_the_lvlh_frame():
     np.testing.assert_allclose(a[2], (-1.0, 0.0, 0.0), atol=1e-12)
 
 
+def test_a_target_turning_at_1_rad_s_about_x_turns():
+    """qd(t) = dq(wd t) (x) qd0 for any non-zero wd, 1 rad/s about x included (only wd = 0 is held at qd0):
+    A(qd(t)) = A_x(wd t) A(qd0), the frame turned 0.5 rad about its x axis after 0.5 s."""
+    plant = Plant(load("irassi_large", {"target.wd": [1.0, 0.0, 0.0]}))
+    qd0, _ = plant.target(0.0)
+    qd, wd = plant.target(0.5)
+    assert wd == (1.0, 0.0, 0.0)
+    c, s = math.cos(0.5), math.sin(0.5)
+    a_x = np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
+    np.testing.assert_allclose(np.array(quat_to_dcm(qd)), a_x @ np.array(quat_to_dcm(qd0)), atol=1e-14)
+
+
 def test_geo_plant_starts_with_the_stated_small_errors():
     plant = Plant(load("geo_hinf"))
     qd, _ = plant.target()

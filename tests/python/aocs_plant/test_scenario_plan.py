@@ -43,6 +43,7 @@ def test_plant_and_metrics_follow_the_commanded_target():
     for ti, i, g in zip(t, want_index, got):
         want = sc.plan.observations[i].qd
         assert tuple(plant.target(float(ti))[0]) == want
+        assert plant.target(float(ti))[1] == (0.0, 0.0, 0.0)   # each observation's target is inertially fixed
         np.testing.assert_array_equal(g, want)
 
 

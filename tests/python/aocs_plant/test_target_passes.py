@@ -108,17 +108,28 @@ def test_pass_metrics_by_hand():
     assert out[2]["settle_s"] == 5.0 and out[2]["meets_requirement"] is False
     assert out[0]["meets_requirement"] is True and out[3]["meets_requirement"] is True
     assert all(p["complete"] for p in out)
+    # a pass whose largest error is exactly the requirement meets it (at most the requirement)
+    at = P.metrics(sc, {"t": t, "true_angle": ang}, ang < 60.0)
+    req = at[0]["pointing_max_arcsec"]
+    sc_req = load("leo_day", {"duration_s": 40000.0, "metrics.requirement_arcsec": req})
+    assert P.metrics(sc_req, {"t": t, "true_angle": ang}, ang < 60.0)[0]["meets_requirement"] is True
+    sc_below = load("leo_day", {"duration_s": 40000.0, "metrics.requirement_arcsec": float(np.nextafter(req, 0.0))})
+    assert P.metrics(sc_below, {"t": t, "true_angle": ang}, ang < 60.0)[0]["meets_requirement"] is False
     # a run ending inside a pass: the pass is cut (complete false) and judged on what was flown
     cut = P.metrics(sc, {"t": t[:29951], "true_angle": ang[:29951]}, ang[:29951] < 60.0)
     assert cut[-1]["target"]["name"] == "Longyearbyen" and not cut[-1]["complete"] and cut[-1]["end_s"] == 29950.0
     rows = dict(P.table_rows(out, 36.0))
     assert rows["target passes"].startswith(f"{len(out)} passes") and len(rows) == 3
+    missed = [v for k, v in rows.items() if k.startswith("pass ")]
+    assert missed == ["MISSED: settled, max 40 arcsec", f"MISSED: not settled, max {out[2]['pointing_max_arcsec']:.3g} arcsec"]
 
 
 def test_passes_section_errors_name_the_key():
     sc = load("leo_day")
     with pytest.raises(ScenarioError, match="max_off_nadir_deg"):
         load("leo_day", {"passes.max_off_nadir_deg": 95.0})
+    with pytest.raises(ScenarioError, match="max_off_nadir_deg.*not below 90"):
+        load("leo_day", {"passes.max_off_nadir_deg": 90.0})     # the horizon itself: no pass geometry
     with pytest.raises(ScenarioError, match="lat_deg"):
         load("leo_day", {"passes.targets": [{"name": "x", "lat_deg": 91.0, "lon_deg": 0.0}]})
     with pytest.raises(ScenarioError, match="given twice"):
