@@ -23,24 +23,37 @@ def _horizontal_at(ax, label):
     return float(y[0])
 
 
-def test_the_timeline_draws_every_threshold_at_its_value_and_every_legend_trace(tmp_path, monkeypatch):
-    t = np.round(np.arange(0, 3601) * 10.0, 6)           # ten hours, hours on the axis
-    n = t.size
-    speed = np.stack([100 + 0.01 * t, -100 - 0.01 * t, 50 + 0 * t, -50 + 0 * t], axis=1)
-    flag = (t[:-1] > 7200.0) & (t[:-1] < 9000.0)
-    series = {"t": t, "true_angle": 0.1 + 0.05 * np.sin(t / 600.0), "t_cmd": t[:-1], "mode": np.ones(n - 1, int),
-              "wheels": {"t": t, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
-                         "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
-              "unloading": {"t": t[:-1], "flag": flag, "cumulative": np.cumsum(flag) * 1e-4,
-                            "cumulative_label": "propellant used (kg)"}}
-    metrics = {"holds": None, "passes": None,
-               "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0, "capacity_nms": [48.0] * 4},
-               "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
+#: ten hours at 10 s, hours on the axis
+T = np.round(np.arange(0, 3601) * 10.0, 6)
+METRICS = {"holds": None, "passes": None,
+           "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0, "capacity_nms": [48.0] * 4},
+           "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
+
+
+def _series(speed, angle, flag) -> dict:
+    """The timeline's series over T: wheel speeds (n, 4), the pointing angle, the unloading flag per command."""
+    return {"t": T, "true_angle": angle, "t_cmd": T[:-1], "mode": np.ones(T.size - 1, int),
+            "wheels": {"t": T, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
+                       "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
+            "unloading": {"t": T[:-1], "flag": flag, "cumulative": np.cumsum(flag) * 1e-4,
+                          "cumulative_label": "propellant used (kg)"}}
+
+
+def _figure(series, tmp_path, monkeypatch):
+    """The figure day_timeline.timeline saves (written as it would be, and kept)."""
     figs = []
     real_save = plots.save
     monkeypatch.setattr(plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
-    day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
+    day_timeline.timeline(series, METRICS, tmp_path / "day.png", "test")
     fig, = figs
+    return fig
+
+
+def test_the_timeline_draws_every_threshold_at_its_value_and_every_legend_trace(tmp_path, monkeypatch):
+    t = T
+    speed = np.stack([100 + 0.01 * t, -100 - 0.01 * t, 50 + 0 * t, -50 + 0 * t], axis=1)
+    flag = (t[:-1] > 7200.0) & (t[:-1] < 9000.0)
+    fig = _figure(_series(speed, 0.1 + 0.05 * np.sin(t / 600.0), flag), tmp_path, monkeypatch)
     speeds, momentum, pointing, mode = fig.axes[:4]
     # the thresholds at their values (docstring panels 1 to 3)
     assert _horizontal_at(speeds, "speed limit +-600 rad/s") == 600.0
@@ -65,25 +78,11 @@ def test_the_timeline_draws_every_threshold_at_its_value_and_every_legend_trace(
 def test_the_dumps_are_shaded_and_named_once(tmp_path, monkeypatch, runs):
     """However many dumps the day holds (one, three), each is shaded on the momentum panel and the legend
     names them once."""
-    t = np.round(np.arange(0, 3601) * 10.0, 6)
-    tc = t[:-1]
+    tc = T[:-1]
     flag = np.zeros(tc.size, bool)
     for k in range(runs):
         flag |= (tc > 3000.0 + 8000.0 * k) & (tc < 4000.0 + 8000.0 * k)
-    speed = np.stack([100 + 0 * t] * 4, axis=1)
-    series = {"t": t, "true_angle": 0.1 + 0 * t, "t_cmd": tc, "mode": np.ones(tc.size, int),
-              "wheels": {"t": t, "n": 4, "speed": speed, "speed_limit": [600.0] * 4,
-                         "h_wheels_norm": np.abs(speed).sum(axis=1) * 0.08},
-              "unloading": {"t": tc, "flag": flag, "cumulative": np.cumsum(flag) * 1e-4,
-                            "cumulative_label": "propellant used (kg)"}}
-    metrics = {"holds": None, "passes": None,
-               "momentum": {"policy": "thrusters", "h_start_nms": 20.0, "h_stop_nms": 3.0, "capacity_nms": [48.0] * 4},
-               "pointing_error_arcsec": {"requirement_arcsec": 0.3}}
-    figs = []
-    real_save = plots.save
-    monkeypatch.setattr(plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
-    day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
-    fig, = figs
+    fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, flag), tmp_path, monkeypatch)
     momentum = fig.axes[1]
     assert momentum.get_legend_handles_labels()[1].count("unloading") == 1
     assert len(momentum.patches) == runs
