@@ -23,7 +23,6 @@
  * wheel's tachometer may be the fault, and its momentum is then unknown).
  */
 #include <stddef.h>
-#include <string.h>
 
 #include "aocs/fdir/fdir.h"
 
@@ -120,25 +119,26 @@ void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_
 {
     aocs_fdir_mom_t *m = &f->mom;
     const aocs_det_output_t *est = in->est;
-    aocs_wheels_momentum_t hm;
+    aocs_vec3_t hw_B = aocs_vec3_zero();
+    aocs_vec3_t h_B = aocs_vec3_zero();
     int usable = 0;
-    (void)memset(&hm, 0, sizeof(hm));
     if ((f->cfg.mom_residual_nm > AOCS_R(0.0)) && (wheels != NULL) && (wheels->initialised != 0) &&
         (in->wheel_speed_radps != NULL) && (est != NULL) && (est->status == AOCS_OK) && (in->mom != NULL) &&
         (in->period_s > AOCS_R(0.0)) && (f->replan == 0) && (f->wheels_before.initialised == 0)) {
-        if ((aocs_wheels_momentum(wheels, est->w_BN_B, in->wheel_speed_radps, &hm) == AOCS_OK) &&
-            (aocs_vec3_is_finite(hm.h_total_B_Nms) != 0)) {
+        /* H = J w + h_w (docs/spec.md 5.3), the wheels' share computed once: it also gives the epoch term */
+        hw_B = aocs_wheels_h_B(wheels, in->wheel_speed_radps);
+        h_B = aocs_vec3_add(aocs_mat3_mul_vec(wheels->cfg.inertia_B_kgm2, est->w_BN_B), hw_B);
+        if (aocs_vec3_is_finite(h_B) != 0) {
             usable = 1;
         }
     }
     if (usable != 0) {
-        const aocs_vec3_t hw_B = aocs_wheels_h_B(wheels, in->wheel_speed_radps);
         if (m->have_hw_prev == 0) {
             m->open = 0; /* the epoch uncertainty needs the last sample's wheel momentum */
         } else {
             const real_t epoch_Nms = AOCS_R(0.5) * aocs_vec3_norm(aocs_vec3_sub(hw_B, m->hw_prev_B));
             const aocs_mat3_t a_NB = aocs_mat3_transpose(aocs_quat_to_dcm(est->q_BN));
-            const aocs_vec3_t h_N = aocs_mat3_mul_vec(a_NB, hm.h_total_B_Nms);
+            const aocs_vec3_t h_N = aocs_mat3_mul_vec(a_NB, h_B);
             if (m->open == 0) {
                 mom_open(m, h_N, epoch_Nms);
             } else if (m->periods >= f->cfg.mom_window) {
