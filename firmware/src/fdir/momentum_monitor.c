@@ -125,11 +125,15 @@ void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_
     if ((f->cfg.mom_residual_nm > AOCS_R(0.0)) && (wheels != NULL) && (wheels->initialised != 0) &&
         (in->wheel_speed_radps != NULL) && (est != NULL) && (est->status == AOCS_OK) && (in->mom != NULL) &&
         (in->period_s > AOCS_R(0.0)) && (f->replan == 0) && (f->wheels_before.initialised == 0)) {
-        /* H = J w + h_w (docs/spec.md 5.3), the wheels' share computed once: it also gives the epoch term */
-        hw_B = aocs_wheels_h_B(wheels, in->wheel_speed_radps);
-        h_B = aocs_vec3_add(aocs_mat3_mul_vec(wheels->cfg.inertia_B_kgm2, est->w_BN_B), hw_B);
-        if (aocs_vec3_is_finite(h_B) != 0) {
-            usable = 1;
+        /* H = J w + h_w (docs/spec.md 5.3), the wheels' share computed once: it also gives the epoch term. A
+         * tachometer speed not finite or beyond its range leaves the momentum unknown (aocs_wheels_h_B would
+         * give it as zero): the sample is no window's */
+        if (aocs_wheels_check_speeds(wheels, in->wheel_speed_radps) == AOCS_OK) {
+            hw_B = aocs_wheels_h_B(wheels, in->wheel_speed_radps);
+            h_B = aocs_vec3_add(aocs_mat3_mul_vec(wheels->cfg.inertia_B_kgm2, est->w_BN_B), hw_B);
+            if (aocs_vec3_is_finite(h_B) != 0) {
+                usable = 1;
+            }
         }
     }
     if (usable != 0) {
