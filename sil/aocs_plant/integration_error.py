@@ -65,6 +65,10 @@ class StepDoubling:
         """The command the main plant was given for this period (the same mapping, Plant.apply)."""
         self.shadow.apply(command)
 
+    def take(self, taken: dict) -> None:
+        """apply() of the command as the main plant took it (its Plant.taken, already checked: not again)."""
+        self.shadow.take(taken)
+
     def begin(self, main: Plant) -> None:
         due = main.k % self.every == 0 or self._last[0] > self.threshold
         self._start = (main.body_state(), main._x, main.k, main.fault_state() if main.faults else None) \

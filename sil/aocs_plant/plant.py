@@ -65,6 +65,9 @@ class Plant:
         self.k = 0
         self.counters = {"steps": 0, "commands": 0, "bad_commands": 0, "samples": 0,
                          "invalid_samples": 0}
+        #: the last command apply() took, as its actuators read it ({field: floats}); None before the first or
+        #: after one it refused (non-finite)
+        self.taken: dict | None = None
         attitude = self.kind == "attitude"
         self.environment = env = Environment(sc.environment)
         if attitude:
@@ -274,10 +277,20 @@ class Plant:
         self.counters["commands"] += 1
         if bad:
             self.counters["bad_commands"] += 1
+            self.taken = None
             return False
         for a in self.actuators:
             a.command(cmd)
+        self.taken = cmd
         return True
+
+    def take(self, taken: dict) -> None:
+        """The command another plant of the same scenario took (its `taken`: the fields apply() checked and
+        converted), given to this plant's actuators without checking it again: the integration check's shadow
+        plant follows the main plant so (integration_error.StepDoubling.take)."""
+        self.counters["commands"] += 1
+        for a in self.actuators:
+            a.command(taken)
 
     # ------------------------------------------------------------------ integration
     def advance(self) -> None:

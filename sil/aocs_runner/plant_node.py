@@ -19,7 +19,8 @@ After the last period, truth_t of tick N (the final state) is published.
 
 With --log PATH the plant is also the run's recorder (aocs run in lockstep, aocs campaign): its udpm
 socket receives every message on the group, its own included, and it writes each one to PATH (the
-lcm-logger format) in the order it received them; with --truth log its truth samples go to that log
+lcm-logger format) in the order it received them (written every LOG_FLUSH_TICKS ticks over LCM, every
+LOG_FLUSH_EVENTS events in process: what a killed plant can lose); with --truth log its truth samples go to that log
 only, not on the bus (no other process reads them, and sending them cost the plant, the flight computer
 and a recorder ~0.3 s of CPU per 500 s irassi_large run). After the last tick it writes --done-file and
 records on until the runner's "end" marker (the runner stops the flight computer first, so its last
@@ -69,6 +70,8 @@ EXIT_OK, EXIT_ARGS, EXIT_NOT_READY, EXIT_NO_REPLY, EXIT_SIGNAL = 0, 2, 3, 4, 5
 END_MARKER_TIMEOUT_S = 30.0
 #: --log: events kept in memory before they are written
 LOG_FLUSH_EVENTS = 1024
+#: over LCM the lockstep loop writes the log every this many ticks (what a killed plant can lose at most)
+LOG_FLUSH_TICKS = 16
 _TRUTH = b"AOCS_TRUTH"
 
 _stop = False
@@ -136,17 +139,17 @@ class _Link:
 
     def record(self, path: str, truth_on_bus: bool) -> None:
         """Record every message the socket receives (all channels) to path; truth_t to the bus or not."""
-        self.log = EventLogWriter(path)
+        self.log = log = EventLogWriter(path)
         self.truth_on_bus = truth_on_bus
-        self.lc.subscribe_all(self._on_any)
+        add = log.add
 
-    def _on_any(self, channel: bytes, data: bytes) -> None:
-        log = self.log
-        log.add(channel, data)
-        if channel == RUNNER_CHANNEL and (marker_of(data) or {}).get("marker") == "end":
-            self.end_seen = True
-        if log.pending >= LOG_FLUSH_EVENTS:   # in lockstep the loop writes once per tick
-            log.flush()
+        def on_any(channel: bytes, data: bytes) -> None:   # every message, the hot path: names bound once
+            add(channel, data)
+            if channel == RUNNER_CHANNEL and (marker_of(data) or {}).get("marker") == "end":
+                self.end_seen = True
+            if log.pending >= LOG_FLUSH_EVENTS:   # lockstep over LCM: the loop writes every LOG_FLUSH_TICKS too
+                log.flush()
+        self.lc.subscribe_all(on_any)
 
     def publish_truth(self, data: bytes) -> None:
         if self.truth_on_bus:
@@ -349,6 +352,7 @@ def _unloading_totals(plant) -> dict | None:
 class _Loop:
     def __init__(self, plant, sc, link: _Link, evs, args, check):
         self.plant, self.sc, self.link, self.evs, self.args = plant, sc, link, evs, args
+        self.dt = sc.dt
         self.check = check
         self.steps = 0
         self.last_tick = -1
@@ -385,7 +389,8 @@ class _Loop:
         self._truth_tail = (self._zero_wheel_truth + (0.0, 0.0, 0.0)
                             if self.wheels is None and self.gyro is None else None)
         if self.attitude:
-            self.qd0 = sc.target.qd0
+            qd0 = sc.target.qd0
+            self.qd0_inv = (-qd0[0], -qd0[1], -qd0[2], qd0[3])   # truth(): the fixed target's inverse, once
             self.fixed_target = not any(sc.target.wd) and sc.plan is None
 
     # -------------------------------------------------------------- messages
@@ -393,15 +398,19 @@ class _Loop:
         """truth_t of tick k: the state at t_k, the disturbance at t_k and the actuator
         output applied over the previous period (Plant.truth's meaning), on plain floats."""
         plant = self.plant
-        t_s = tick * self.sc.dt
+        t_s = tick * self.dt
         z3 = (0.0, 0.0, 0.0)
         applied = plant.applied  # mean actuator output over the last period (Plant.applied)
         dist = plant.disturbance()
         if self.attitude:
             q, w = plant.body.q, plant.body.w
-            qd = self.qd0 if self.fixed_target else plant.target(plant.t)[0]
+            if self.fixed_target:
+                qd_inv = self.qd0_inv
+            else:
+                qd = plant.target(plant.t)[0]
+                qd_inv = (-qd[0], -qd[1], -qd[2], qd[3])
             # qe = q (x) qd^-1 (SPEC 1), one product for both error figures
-            e1, e2, e3, _ = quat_mul(q, (-qd[0], -qd[1], -qd[2], qd[3]))
+            e1, e2, e3, _ = quat_mul(q, qd_inv)
             ang = 2.0 * math.asin(min(1.0, math.sqrt(e1 * e1 + e2 * e2 + e3 * e3))) * ARCSEC_PER_RAD
             tail = self._truth_tail or (*self.truth_wheels(), *self.truth_estimation())
             data = self.pack_t(self.frame_truth, int(round(t_s * 1e6)), tick, t_s,
@@ -522,9 +531,10 @@ class _Loop:
 
         lc.subscribe("AOCS_ACTUATOR_CMD", on_cmd)
         flush_log = self.link.log.flush if self.link.log is not None else (lambda: None)
-        # over LCM the log is written once per tick while the flight computer computes (free); in process
-        # nothing runs meanwhile: the recorder writes every LOG_FLUSH_EVENTS events (_Link._on_any) and at the end
-        flush_every_tick = not self.link.direct
+        # over LCM the log is written every LOG_FLUSH_TICKS ticks while the flight computer computes (a write
+        # per tick cost ~10 us of the period: measured, docs/benchmarks.md); in process nothing runs meanwhile:
+        # the recorder writes every LOG_FLUSH_EVENTS events (_Link.record); both at the end
+        flush_ticks = LOG_FLUSH_TICKS if not self.link.direct else 0
         progress_every = self.progress_every
         waits = 0
         # the integration check of the last period (StepDoubling: the command to its shadow plant, the period
@@ -550,10 +560,11 @@ class _Loop:
                 t0 = perf()
                 publish("AOCS_SENSORS", data)
                 # the last period's check, the truth of this tick and what the plant recorded written (one
-                # write per tick: a plant killed loses one tick at most), while the flight computer computes
+                # write per LOG_FLUSH_TICKS ticks: a plant killed loses that many at most), while the flight
+                # computer computes
                 checking = self._check_end(checking)
                 self.truth(tick)
-                if flush_every_tick:
+                if flush_ticks and k % flush_ticks == 0:
                     flush_log()
                 while box[0] is None:
                     left = timeout_ns - (perf() - t0)
@@ -572,7 +583,7 @@ class _Loop:
                 rt.append(perf() - t0)
                 self.last_answered = tick
                 try:
-                    cmd = apply(command(v))   # Plant.apply's mapping, applied
+                    apply(command(v))   # Plant.apply's mapping, applied (Plant.taken)
                 except WheelMismatch as exc:
                     return self.wheels_disagree(exc)
                 except ActuatorMismatch as exc:
@@ -581,7 +592,7 @@ class _Loop:
                     publish("AOCS_SENSORS", data)
             check.begin(plant)
             plant.advance()
-            checking = (None if drop else cmd,)
+            checking = (None if drop else plant.taken,)   # the command as the plant took it (None: refused)
             self.steps += 1
             if (k + 1) % progress_every == 0:
                 self.progress(k, flush_log)
@@ -591,11 +602,11 @@ class _Loop:
         return "done", EXIT_OK
 
     def _check_end(self, checking):
-        """The integration check of the period just flown, if one is pending (checking: (its command,), None
-        when no command came); returns None (nothing pending)."""
+        """The integration check of the period just flown, if one is pending (checking: (the command the plant
+        took, Plant.taken,), None when no command came or the plant refused it); returns None (nothing pending)."""
         if checking is not None:
             if checking[0] is not None:
-                self.check.apply(checking[0])
+                self.check.take(checking[0])
             self.check.end(self.plant)
         return None
 
@@ -636,12 +647,13 @@ class _Loop:
                 v = latest[0]
                 if v is not None:
                     try:
-                        cmd = apply(command(v))
+                        apply(command(v))
                     except WheelMismatch as exc:
                         return self.wheels_disagree(exc)
                     except ActuatorMismatch as exc:
                         return self.actuators_disagree(exc)
-                    check.apply(cmd)
+                    if plant.taken is not None:
+                        check.take(plant.taken)
                     self.last_answered = v[i_tick]
                 check.begin(plant)
                 plant.advance()

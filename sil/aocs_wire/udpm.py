@@ -213,6 +213,7 @@ class Udpm:
         recv = self._rx.recv
         poll = self._poll.poll
         handlers = self._handlers
+        every = self._every
         waited = False
         while True:
             # asked before each read (module docstring): every call ends on an empty queue, found by a poll
@@ -233,10 +234,10 @@ class Udpm:
             if magic != MAGIC_SHORT:
                 if magic == MAGIC_LONG:
                     self.fragments += 1
-                    if self._every is not None:
+                    if every is not None:
                         whole = self._fragment(d)
                         if whole is not None:
-                            self._every(*whole)
+                            every(*whole)
                             handled += 1
                 else:
                     self.garbage += 1
@@ -247,11 +248,14 @@ class Udpm:
                 continue
             ch = d[8:end]
             h = handlers.get(ch)
-            if self._every is not None:
-                self._every(ch, d[end + 1:])
-            if h is not None:
+            if every is not None:
+                data = d[end + 1:]
+                every(ch, data)
+                if h is not None:
+                    h(ch.decode(), data)
+                handled += 1
+            elif h is not None:
                 h(ch.decode(), d[end + 1:])
-            if h is not None or self._every is not None:
                 handled += 1
 
     def close(self) -> None:

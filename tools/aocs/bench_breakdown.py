@@ -29,7 +29,7 @@ PARTS = {
     ("aocs_wire.udpm", "Udpm", "publish"): "sensors_t sent on the udpm socket",
     ("aocs_loop.direct_adapter", "DirectBus", "publish"): "sensors_t to the node in process: C decode, executive "
                                                            "step, encode; both messages logged; the reply unpacked",
-    ("aocs_wire.recorder", "EventLogWriter", "flush"): "the log written (LCM: once per period)",
+    ("aocs_wire.recorder", "EventLogWriter", "flush"): "the log written (LCM: every LOG_FLUSH_TICKS periods)",
     ("aocs_wire.udpm", "Udpm", "handle_timeout"): "waiting for fsw_node's reply: its receive, decode, step, encode, "
                                                   "send; the plant's socket reads, dispatch and recording",
     ("aocs_runner.plant_node", "_Loop", "truth"): "truth_t of the tick built, packed and logged",

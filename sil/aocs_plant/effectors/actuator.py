@@ -122,7 +122,7 @@ class Actuator(Effector):
         clipped = False
         if self.axis_limit is not None:
             lim = self.axis_limit
-            s = tuple(min(lim, max(-lim, x)) for x in c)
+            s = (min(lim, max(-lim, c[0])), min(lim, max(-lim, c[1])), min(lim, max(-lim, c[2])))
             clipped = s != c
             c = s
         if self.norm_limit is not None:
@@ -136,7 +136,8 @@ class Actuator(Effector):
         if self.slew_rate_limit_per_s is not None:
             step = self.slew_rate_limit_per_s * self.dt
             p = self._limited
-            r = tuple(p[i] + min(step, max(-step, c[i] - p[i])) for i in range(3))
+            r = (p[0] + min(step, max(-step, c[0] - p[0])), p[1] + min(step, max(-step, c[1] - p[1])),
+                 p[2] + min(step, max(-step, c[2] - p[2])))
             if r != c:
                 self.slew_rate_limited_count += 1
             c = r

@@ -95,6 +95,22 @@ def test_a_non_finite_value_refuses_the_whole_command(thrusters):
     assert p.counters["bad_commands"] == 1 and p.counters["commands"] == 2
 
 
+def test_taken_is_the_checked_command_and_take_gives_it_to_a_twin_plant(thrusters):
+    """Plant.taken holds the command as apply() converted it (None after a refused one); a second plant of the
+    same scenario given it by take() (the integration check's shadow) integrates the same period bit for bit."""
+    p, twin = _plant(), _plant()
+    assert p.taken is None
+    assert p.apply({"u_body": [1, 0, -2], "u_thrusters": np.array([1.0, 3.0])})
+    assert p.taken == {"u_body": (1.0, 0.0, -2.0), "u_thrusters": (1.0, 3.0)}
+    assert all(type(x) is float for v in p.taken.values() for x in v)
+    twin.take(p.taken)
+    p.advance()
+    twin.advance()
+    assert p.truth()["w"] == twin.truth()["w"] and p.applied == twin.applied
+    assert not p.apply({"u_body": (math.nan, 0.0, 0.0)})
+    assert p.taken is None
+
+
 def test_unknown_fields_wrong_sizes_and_bare_vectors_are_errors():
     p = Plant(load("irassi_large"))
     with pytest.raises(ValueError, match=r"command field 'u_wheels': no actuator of this plant reads it "
