@@ -25,7 +25,6 @@ VERSION = 4
 HEADER_BYTES = 12
 CRC_BYTES = 4
 PAYLOAD_MAX = 1024
-FRAME_MAX = HEADER_BYTES + PAYLOAD_MAX + CRC_BYTES
 ICOUNT_SHIFT = 7
 TABLE_NAME_MAX = 31
 
@@ -59,9 +58,6 @@ def cfg_fields() -> dict[str, tuple[int, str, int]]:
     the build's registry."""
     return registry.load().pil_fields()
 
-
-def cfg_name_by_id() -> dict[int, str]:
-    return {v[0]: k for k, v in cfg_fields().items()}
 
 _HEADER = struct.Struct("<IBBHI")
 

@@ -382,10 +382,7 @@ int aocs_node_config_read(FILE *f, const char *path, aocs_node_config_t *cfg, ch
         rc = exclusive_gain_keys(path, cfg->line_of, err, err_size);
     }
     if (rc == 0) {
-        /* one inertia (the plant's, key 'inertia'): the slew guidance sizes its profile and feedforward with it */
-        cfg->exec.guidance.slew.inertia_kgm2 = cfg->exec.laws.smc.inertia;
-        /* the same inertia gives the wheel array's total momentum H = J w + sum Js g Omega */
-        cfg->exec.wheels.inertia_B_kgm2 = cfg->exec.laws.smc.inertia;
+        aocs_config_share_inertia(&cfg->exec); /* one inertia: the slew guidance's and the wheel array's too */
     }
     if ((rc == 0) && (cfg->line_of[slot_of_field(AOCS_PIL_CFG_STALE_TIMEOUT_NS)] == 0u)) {
         /* default: a sample older than two control periods is stale */

@@ -428,6 +428,23 @@ static void test_the_default_config_holds_the_default_column(void **state)
     assert_true(same_r(cfg.wheels.coulomb_width_radps[5], AOCS_R(0.1)));
 }
 
+static void test_one_inertia_is_shared_with_guidance_and_wheels(void **state)
+{
+    (void)state;
+    aocs_exec_config_t cfg;
+    const double j[9] = {12.0, 0.5, -0.25, 0.5, 9.0, 0.125, -0.25, 0.125, 7.0};
+    uint32_t i;
+    aocs_exec_config_default(&cfg);
+    assert_int_equal(aocs_config_set_reals(&cfg, ref_of("inertia"), j, 9u), AOCS_OK);
+    assert_false(same_r(cfg.guidance.slew.inertia_kgm2.m[0][0], AOCS_R(12.0))); /* not shared before the call */
+    aocs_config_share_inertia(&cfg);
+    for (i = 0u; i < 9u; ++i) {
+        assert_true(same_r(cfg.guidance.slew.inertia_kgm2.m[i / 3u][i % 3u], (real_t)j[i]));
+        assert_true(same_r(cfg.wheels.inertia_B_kgm2.m[i / 3u][i % 3u], (real_t)j[i]));
+    }
+    aocs_config_share_inertia(NULL); /* total */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -442,6 +459,7 @@ int main(void)
         cmocka_unit_test(test_momentum_rows),
         cmocka_unit_test(test_mekf_rows),
         cmocka_unit_test(test_the_default_config_holds_the_default_column),
+        cmocka_unit_test(test_one_inertia_is_shared_with_guidance_and_wheels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -159,4 +159,9 @@ uint64_t aocs_config_get_uint(const aocs_exec_config_t *cfg, aocs_config_ref_t r
 /* The defaults of the rows' DEFAULT column into *cfg (the rest untouched). Total (no-op on NULL). */
 void aocs_config_apply_defaults(aocs_exec_config_t *cfg);
 
+/* One inertia (key 'inertia', laws.smc.inertia, the plant's) copied to the members that need it too: the slew
+ * guidance sizes its profile and feedforward with it, the wheel array's total momentum H = J w + h_w uses it.
+ * Called once a whole configuration is read (fsw_node's file, the PIL CONFIG frame). Total (no-op on NULL). */
+void aocs_config_share_inertia(aocs_exec_config_t *cfg);
+
 #endif /* AOCS_CONFIG_REGISTRY_H */

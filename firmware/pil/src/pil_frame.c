@@ -499,10 +499,7 @@ aocs_pil_err_t aocs_pil_config_decode(const uint8_t *p, uint32_t len, aocs_exec_
                 }
             }
         }
-        /* one inertia, as in fsw_node: the plant's (the inertia field) also sizes the slew guidance and gives
-         * the wheel array's total momentum */
-        cfg->guidance.slew.inertia_kgm2 = cfg->laws.smc.inertia;
-        cfg->wheels.inertia_B_kgm2 = cfg->laws.smc.inertia;
+        aocs_config_share_inertia(cfg); /* one inertia, as in fsw_node */
     }
     return err;
 }

@@ -487,3 +487,11 @@ void aocs_config_apply_defaults(aocs_exec_config_t *cfg)
         AOCS_CONFIG_FIELD_ROWS(CFG_DEFAULT_ROW)
     }
 }
+
+void aocs_config_share_inertia(aocs_exec_config_t *cfg)
+{
+    if (cfg != NULL) {
+        cfg->guidance.slew.inertia_kgm2 = cfg->laws.smc.inertia;
+        cfg->wheels.inertia_B_kgm2 = cfg->laws.smc.inertia;
+    }
+}
