@@ -30,6 +30,14 @@ JSON_PATH = Path("registry") / "aocs_registry.json"
 SCHEMA = 3
 #: the PIL targets' names in the registry's instruction budgets
 TARGETS = ("cortex-m4f", "cortex-m7")
+#: the plant's [wheels] key -> the configuration registry's field of the flight software's value of it
+#: (config_fields.def; per wheel as wheel<i>.<field>, the others as they are): the plant's loader checks each
+#: value against that row's range (aocs_plant.effectors.reaction_wheels) and the configuration writer gives the
+#: flight software the plant's value under that key (aocs_flightcfg.fsw_config.wheel_keys)
+WHEEL_REGISTRY_ROWS = {"spin_inertia_kg_m2": "js_kgm2", "torque_limit_nm": "u_max_nm",
+                       "speed_limit_rad_s": "omega_max_radps", "viscous_nms": "viscous_nms",
+                       "coulomb_nm": "coulomb_nm", "coulomb_width_rad_s": "coulomb_width_radps",
+                       "null_speed_rad_s": "null_speed_radps", "null_gain_per_s": "wheels.null_gain"}
 
 
 @dataclass(frozen=True)

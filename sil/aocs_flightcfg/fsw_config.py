@@ -23,8 +23,9 @@ What comes from where (docs/sil.md):
 - the reaction wheel array, when the scenario has a [wheels] section: the
   same description that builds the plant's wheels (aocs_plant.effectors.
   reaction_wheels) gives `wheels.count`, `wheels.failed_mask` and per wheel
-  `wheel<i>.axis_B / js_kgm2 / u_max_nm / omega_max_radps`, the friction model
-  of the flight software's feedforward `wheel<i>.viscous_nms / coulomb_nm /
+  `wheel<i>.axis_B` and the plant's spin inertia, torque and speed limits under
+  their registry fields (aocs_core.registry.WHEEL_REGISTRY_ROWS), the friction
+  model of the flight software's feedforward `wheel<i>.viscous_nms / coulomb_nm /
   coulomb_width_radps`
   (the plant's own friction coefficients, b and c times the [wheels] key
   `fsw_friction_scale`, 1 by default) and the null-space management
@@ -121,21 +122,21 @@ def wheel_keys(scenario) -> dict[str, str]:
     out = {"wheels.count": str(w.n)}
     if w.failed:
         out["wheels.failed_mask"] = str(sum(1 << i for i in w.failed))
+    row = registry.WHEEL_REGISTRY_ROWS   # the plant's [wheels] key -> the flight software's registry field
     for i in range(w.n):
         # the flight software's model of wheel i: its registry fields (wheel<i>.<member of aocs_wheels_config_t>)
         out[f"wheel{i}.axis_B"] = _vec(w.axes[i])
-        out[f"wheel{i}.js_kgm2"] = _num(w.spin_inertia_kg_m2[i])
-        out[f"wheel{i}.u_max_nm"] = _num(w.torque_limit_nm[i])
-        out[f"wheel{i}.omega_max_radps"] = _num(w.speed_limit_rad_s[i])
+        for key in ("spin_inertia_kg_m2", "torque_limit_nm", "speed_limit_rad_s"):
+            out[f"wheel{i}.{row[key]}"] = _num(getattr(w, key)[i])
         # the friction feedforward models the plant's bearing friction (docs/spec.md 5.3.2), times
         # fsw_friction_scale (1: exactly the plant's; a model error otherwise)
-        out[f"wheel{i}.viscous_nms"] = _num(w.fsw_friction_scale * w.viscous_nms)
-        out[f"wheel{i}.coulomb_nm"] = _num(w.fsw_friction_scale * w.coulomb_nm)
-        out[f"wheel{i}.coulomb_width_radps"] = _num(w.coulomb_width_rad_s)
+        out[f"wheel{i}.{row['viscous_nms']}"] = _num(w.fsw_friction_scale * w.viscous_nms)
+        out[f"wheel{i}.{row['coulomb_nm']}"] = _num(w.fsw_friction_scale * w.coulomb_nm)
+        out[f"wheel{i}.{row['coulomb_width_rad_s']}"] = _num(w.coulomb_width_rad_s)
         if w.null_gain_per_s > 0.0:
-            out[f"wheel{i}.null_speed_radps"] = _num(w.null_speed_rad_s[i])
+            out[f"wheel{i}.{row['null_speed_rad_s']}"] = _num(w.null_speed_rad_s[i])
     if w.null_gain_per_s > 0.0:
-        out["wheels.null_gain"] = _num(w.null_gain_per_s)
+        out[row["null_gain_per_s"]] = _num(w.null_gain_per_s)
     return out
 
 

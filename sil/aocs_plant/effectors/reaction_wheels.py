@@ -93,20 +93,13 @@ def _per_wheel(sec, k, n, positive=True, required=True, default=None):
     return None if v is None else tuple(v)
 
 
-#: [wheels] key -> the configuration registry's row of the flight software's value (config_fields.def): the
-#: range of each is the registry's, one place for fsw_node, the PIL bridge and this loader (issue 25, item 7)
-REGISTRY_ROWS = {"spin_inertia_kg_m2": "js_kgm2", "torque_limit_nm": "u_max_nm", "speed_limit_rad_s": "omega_max_radps",
-                 "viscous_nms": "viscous_nms", "coulomb_nm": "coulomb_nm", "coulomb_width_rad_s": "coulomb_width_radps",
-                 "null_speed_rad_s": "null_speed_radps", "null_gain_per_s": "wheels.null_gain"}
-
-
 def _check_registry_ranges(sec, values: dict) -> None:
     """Each value inside its registry row's range (what fsw_node would refuse is refused here, by key)."""
     from aocs_core import registry  # deferred: the registry JSON of the build, only for a [wheels] section
 
     rows = {f.key: f for f in registry.load().config_fields}
     for key, vals in values.items():
-        f = rows[REGISTRY_ROWS[key]]
+        f = rows[registry.WHEEL_REGISTRY_ROWS[key]]
         for i, v in enumerate(vals):
             if not f.holds(v):
                 where = f"wheel {i}: " if len(vals) > 1 else ""
