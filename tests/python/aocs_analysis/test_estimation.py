@@ -444,9 +444,11 @@ def test_farrenkopf_filter_is_consistent_and_its_over_confident_twin_is_not(farr
 
 
 def test_the_section_has_the_names_scripts_look_for(farrenkopf_runs):
-    sec = farrenkopf_runs[2][0][0]
+    t, sec = farrenkopf_runs[0], farrenkopf_runs[2][0][0]
     assert {"knowledge_error_arcsec", "steady_state_bound_arcsec", "nees_in_band_fraction", "three_sigma_fraction",
             "sensors"} <= set(sec)
+    # the transients' times are from the first sample of the series, which the section names
+    assert sec["transients"]["convergence"]["measured_from_s"] == t[0] and t[1] > t[0]
     assert {"rms_per_axis", "frame", "max"} <= set(sec["knowledge_error_arcsec"])
     assert len(sec["knowledge_error_arcsec"]["rms_per_axis"]) == 3 and len(sec["steady_state_bound_arcsec"]) == 3
     assert sec["sensors"] == {"star_tracker": {"noise_cross_arcsec": 5.0, "noise_about_arcsec": 20.0, "rate_hz": 2.0,

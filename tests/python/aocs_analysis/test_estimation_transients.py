@@ -38,6 +38,17 @@ def test_the_predicted_history_settles_at_farrenkopfs_steady_state():
     assert rms == pytest.approx(between_updates(SIGMA_N, SIGMA_V, SIGMA_U, dt * n, n), rel=1e-4)
 
 
+def test_without_updates_a_bias_error_drifts_the_attitude_error_by_minus_its_integral():
+    """Truth minus estimate: the filter integrates w_meas - b_est, so d(dth)/dt = -(b - b_est) (docs/spec.md 5.7):
+    with a tracker that tells nothing (sigma_n 1e10 rad, the gain ~1e-26) and no process noise, the predicted
+    rms is |e0_att - t e0_bias| exactly as worked out here, zero at t = e0_att / e0_bias."""
+    dt, e_att, e_b = 0.1, 1e-3, 1e-5
+    out = predicted_rms_history(1e10, 0.0, 0.0, dt, 10, 1e-3, 1e-5, e_att, e_b, 2001)
+    t = np.arange(2001) * dt
+    np.testing.assert_allclose(out, np.abs(e_att - t * e_b), rtol=1e-9, atol=1e-13)
+    assert out[1000] < 1e-12 and out[2000] == pytest.approx(e_att, rel=1e-9)
+
+
 def test_the_predicted_convergence_is_its_definition_by_brute_force():
     """rms_S_arcsec: per axis of S, the root of the mean of the predicted squares over the window's samples
     (the samples so far at the start); time_s: the first t from which every axis stays inside k bound_S."""

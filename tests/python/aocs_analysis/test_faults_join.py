@@ -59,6 +59,14 @@ def test_a_false_alarm_before_the_start_is_not_the_detection():
     assert e["detected_s"] == 64.0 and e["events_before_start"] == 1
 
 
+def test_an_event_within_a_nanosecond_of_the_start_is_the_detection_and_not_before_it():
+    # event times are rounded (the flight software's ns clock): 1e-9 s before the start counts as at the start,
+    # so each event is either before the fault or a detection candidate, never both
+    events = [ev(60.0 - 1e-9, "wheel_residual_high", "wheel", 1), ev(60.0 - 2e-9, "wheel_residual_high", "wheel", 1)]
+    (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
+    assert e["detected_s"] == 60.0 - 1e-9 and e["events_before_start"] == 1
+
+
 def test_an_info_event_is_not_a_detection_and_a_unitless_event_matches():
     events = [ev(61.0, "wheel_residual_high", "wheel", 1, "info"), ev(62.0, "momentum_inconsistent", "wheel", -1)]
     (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)

@@ -32,8 +32,13 @@ def test_a_constant_attitude_error_is_followed_one_to_one_and_a_rate_bias_is_not
     np.testing.assert_array_equal(r["total"], r["attitude"])
     pd = NP.paths(t, np.zeros_like(n), n, [J] * 3, [NP.AxisGains(4000.0, 8000.0)] * 3)
     np.testing.assert_allclose(pd["rate"][-1], -2.0 * 8000.0 * n[-1] / 4000.0, rtol=1e-6)
+    np.testing.assert_array_equal(pd["total"], pd["rate"])     # the rate noise alone makes this total
     pid = NP.paths(t, np.zeros_like(n), n, [J] * 3, [g] * 3)
     assert np.all(np.abs(pid["rate"][-1]) < 1e-3 * np.abs(n[-1]))
+    d = (1e-4, 0.0, -2e-4)
+    both = NP.paths(t, n, n, [J] * 3, [g] * 3, d)             # and the three paths add up
+    np.testing.assert_allclose(both["total"], r["attitude"] + pid["rate"] + both["disturbance"], rtol=1e-12,
+                               atol=1e-18)
 
 
 def test_the_peak_of_t_is_one_for_pd_and_above_one_for_the_reference_pid():

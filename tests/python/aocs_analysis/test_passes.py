@@ -45,6 +45,10 @@ def test_meets_requirement_is_none_without_a_requirement_or_a_finite_max_and_jud
     assert [(p["start_s"], p["end_s"], p["duration_s"]) for p in judged] == [
         (5.0, 24.0, 20.0), (30.0, 59.0, 30.0), (70.0, 79.0, 10.0), (85.0, 94.0, 10.0)]
     assert [p["complete"] for p in judged] == [True] * 4
+    # a pass cut by the run's start (from sample 0) or its end (to the last sample) is not complete
+    cut = P.metrics(_scenario(36.0, [_window(0, 0, 10), _window(1, 90, 100), _window(2, 1, 99)]),
+                    {"t": t, "true_angle": ang}, inside)
+    assert [p["complete"] for p in cut] == [False, False, True]
     # a pass whose largest error is exactly the requirement meets it (at most the requirement), a hair above not
     assert P.metrics(_scenario(20.0, wins), {"t": t, "true_angle": ang}, inside)[3]["meets_requirement"] is True
     below = P.metrics(_scenario(math.nextafter(20.0, 0.0), wins), {"t": t, "true_angle": ang}, inside)

@@ -16,6 +16,7 @@ from aocs_analysis import run_metrics as results
 from aocs_core import conventions as rot
 from aocs_plant import Plant
 from aocs_plant.scenario import load
+from synthetic_log import make_log
 
 
 def test_target_path_matches_the_plant():
@@ -76,6 +77,48 @@ def test_geo_hinf_settles_on_every_angle_and_rate_strictly_below_its_bound():
     inside, used = results.settle_mask(sc, s)
     assert used == {"angle_abs_max_rad": a, "rate_abs_max_rad_s": r}
     assert inside.tolist() == [True, False, True, False, True, True]
+
+
+def test_an_orbit_settles_on_every_position_and_velocity_component_strictly_below_its_bound():
+    """landsat8_q1 (docs/spec.md 4.2): settled when every |relative position| < 0.1 m and every |velocity| <
+    0.01 m/s, per sample (one component outside is enough); the limits read from the scenario."""
+    sc = load("landsat8_q1")
+    pm, vm = sc.settle.pos_abs_max_m, sc.settle.vel_abs_max_m_s
+    assert (pm, vm) == (0.1, 0.01)
+    pos, vel = np.zeros((6, 3)), np.zeros((6, 3))
+    pos[0] = (1.0, 2.0, 3.0)              # far out on every axis
+    pos[1, 2] = -pm                       # one position component at its bound
+    vel[2, 0] = vm                        # one velocity component at its bound
+    pos[3] = (np.nextafter(pm, 0.0),) * 3
+    vel[4, 1] = -np.nextafter(vm, 0.0)
+    inside, used = results.settle_mask(sc, {"t": np.arange(6) * 1.0, "pos": pos, "vel": vel})
+    assert used == {"pos_abs_max_m": pm, "vel_abs_max_m_s": vm}
+    assert inside.tolist() == [False, False, False, True, True, True]
+
+
+def test_a_run_started_later_lasts_the_span_of_its_samples():
+    """A run from tick 50 (plant_node --start-tick): its duration_s is the span of its truth samples (19 periods
+    of 0.1 s), not the time of the last one."""
+    log = make_log(20, cmd_ticks=range(50, 69), sensor_ticks=range(50, 69), status_steps=[19])
+    log.truth["tick"] = np.arange(50, 70)
+    log.truth["t_s"] = 0.1 * log.truth["tick"]
+    m, _ = results.compute(log, load("irassi_small"), {"law": "quat_pd"})
+    assert m["duration_s"] == pytest.approx(1.9, abs=1e-12)
+
+
+def test_the_configured_filter_start_is_truth_minus_estimate():
+    """_filter_start (docs/spec.md 5.6.10): P0 as configured and the initial errors truth minus estimate, the
+    true bias less the prior bias0, and for a q0_BN turned 1e-3 rad about x from the truth an attitude error of
+    1e-3 rad about x; nothing for a start from the first star-tracker sample."""
+    a = 1e-3
+    est = types.SimpleNamespace(init_mode="configured", init_q_BN=(math.sin(a / 2), 0.0, 0.0, math.cos(a / 2)),
+                                p0_att_sigma_rad=0.01, p0_bias_sigma_radps=1e-4, bias0_radps=(1e-5, -2e-5, 0.0))
+    start = results._filter_start(types.SimpleNamespace(estimator=est), (0.0, 0.0, 0.0, 1.0), (3e-5, 1e-5, -1e-5))
+    assert (start["p0_att_rad"], start["p0_bias_radps"]) == (0.01, 1e-4)
+    np.testing.assert_allclose(start["e0_bias_B_radps"], (2e-5, 3e-5, -1e-5), rtol=1e-12)
+    np.testing.assert_allclose(np.abs(start["e0_att_B_rad"]), (a, 0.0, 0.0), rtol=1e-9, atol=1e-15)
+    est.init_mode = "first_star_tracker"
+    assert results._filter_start(types.SimpleNamespace(estimator=est), (0.0, 0.0, 0.0, 1.0), (0.0,) * 3) is None
 
 
 def test_the_longest_unanswered_run_counts_consecutive_unanswered_ticks():

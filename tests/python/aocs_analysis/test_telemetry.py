@@ -4,42 +4,15 @@ present, zeros unless a test sets it), and the Parquet round trip."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from aocs_analysis import telemetry as T
-from aocs_core import paths
 from aocs_plant.scenario import load
-from aocs_wire import wire
-from aocs_wire.lcmlog import Log
+from synthetic_log import make_log
 
 ARCSEC = math.degrees(1.0) * 3600.0
-
-
-def _table(codec: wire.Codec, n: int) -> dict:
-    out = {}
-    for name, k in codec.fields:
-        out[name] = np.zeros((n,) if k is None else (n, k))
-    out["log_utime"] = np.zeros(n, np.int64)
-    return out
-
-
-def make_log(n: int, cmd_ticks, sensor_ticks, status_steps) -> Log:
-    c = wire.Codecs(paths.import_bindings())
-    tr = _table(c.truth, n)
-    tr["tick"] = np.arange(n)
-    tr["t_s"] = 0.1 * np.arange(n)
-    tr["q"][:, 3] = 1.0
-    sen = _table(c.sensors, len(sensor_ticks))
-    sen["tick"] = np.asarray(sensor_ticks)
-    cmd = _table(c.actuator, len(cmd_ticks))
-    cmd["tick"] = np.asarray(cmd_ticks)
-    cmd["q_est"][:, 3] = 1.0
-    st = _table(c.status, len(status_steps))
-    st["steps"] = np.asarray(status_steps)
-    return Log(Path("synthetic.lcmlog"), tr, cmd, sen, st, _table(c.command, 0))
 
 
 def test_every_channel_lands_on_the_tick_it_carries():

@@ -208,6 +208,33 @@ def test_the_first_and_last_epochs_of_the_file_are_inside_with_their_own_rows():
         np.testing.assert_allclose(hm, h.iloc[row].values, rtol=1e-12, atol=1e-9)
 
 
+@pytest.mark.parametrize("missing,least_nt", [((2, 1), 1000.0), ((13, 13), 0.005)])
+def test_a_coefficient_missing_from_the_file_counts_as_zero(monkeypatch, missing, least_nt):
+    """A coefficient file without the pair (n, m) (a truncated model) synthesises the field of the full file with
+    g_nm = h_nm = 0: the term is skipped, no other coefficient takes its place; and the pair matters (the full
+    field differs by more than least_nt at each point: 4594 and 6422 nT for (2, 1), 0.010 and 0.28 for (13, 13))."""
+    full = Igrf()
+    epochs, keys, g, h, src = Igrf._table
+    j = keys.index(missing)
+
+    def table(drop: bool):
+        def row(r):
+            return tuple(v for i, v in enumerate(r) if i != j) if drop else tuple(0.0 if i == j else v
+                                                                                    for i, v in enumerate(r))
+        return (epochs, tuple(k for k in keys if k != missing) if drop else keys, tuple(map(row, g)),
+                tuple(map(row, h)), src)
+    monkeypatch.setattr(Igrf, "_table", table(drop=True))
+    without = Igrf()
+    monkeypatch.setattr(Igrf, "_table", table(drop=False))
+    zeroed = Igrf()
+    jd = ep.julian_date(datetime(2020, 1, 1, tzinfo=timezone.utc))
+    for colat, lon in ((0.7, 0.2), (2.1, -1.3)):
+        b_without = without.field_spherical_nt(jd, 6800.0, colat, lon)
+        np.testing.assert_allclose(b_without, zeroed.field_spherical_nt(jd, 6800.0, colat, lon), rtol=1e-14,
+                                   atol=1e-12)
+        assert max(abs(a - b) for a, b in zip(b_without, full.field_spherical_nt(jd, 6800.0, colat, lon))) > least_nt
+
+
 def test_outside_the_coefficients_the_model_says_so():
     with pytest.raises(ValueError, match="IGRF14.shc cover Julian dates"):
         Igrf().field_n_t(ep.julian_date(datetime(2045, 1, 1, tzinfo=timezone.utc)), (7e6, 0.0, 0.0))

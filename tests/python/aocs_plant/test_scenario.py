@@ -389,6 +389,13 @@ def test_gao_condition_is_enforced_with_the_inequality_named(tmp_path):
     assert "0.0577" in msg
     bad = text.replace("l1 = 0.05\nm1 = 0.05\n", "l1 = 0.05\nm1 = 0.04\n", 1)
     expect_error(tmp_path, "gao_mrp", bad, "laws.mrp_sat.m1", "L1 = M1")
+    # L1 = M1 within 1e-12 x max(1, |M1|), the bound itself included: M1 = 2^-60 and L1 = M1 + 1e-12 (both exact, so
+    # L1 - M1 is the double 1e-12 exactly) is accepted, one more 2^-60 is not
+    m1 = 2.0 ** -60
+    assert (1e-12 + m1) - m1 == 1e-12
+    assert load("gao_mrp", {"laws.mrp_sat.l1": 1e-12 + m1, "laws.mrp_sat.m1": m1}).control.laws["mrp_sat"]
+    with pytest.raises(ScenarioError, match="L1 = M1"):
+        load("gao_mrp", {"laws.mrp_sat.l1": 1e-12 + 2.0 * m1, "laws.mrp_sat.m1": m1})
 
 
 def test_syntax_error_and_missing_file(tmp_path):
