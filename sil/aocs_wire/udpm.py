@@ -213,7 +213,6 @@ class Udpm:
         recv = self._rx.recv
         poll = self._poll.poll
         handlers = self._handlers
-        every = self._every
         waited = False
         while True:
             # asked before each read (module docstring): every call ends on an empty queue, found by a poll
@@ -234,10 +233,10 @@ class Udpm:
             if magic != MAGIC_SHORT:
                 if magic == MAGIC_LONG:
                     self.fragments += 1
-                    if every is not None:
+                    if self._every is not None:
                         whole = self._fragment(d)
                         if whole is not None:
-                            every(*whole)
+                            self._every(*whole)
                             handled += 1
                 else:
                     self.garbage += 1
@@ -248,6 +247,7 @@ class Udpm:
                 continue
             ch = d[8:end]
             h = handlers.get(ch)
+            every = self._every   # read per datagram: a subscription made meanwhile (another thread) takes effect
             if every is not None:
                 data = d[end + 1:]
                 every(ch, data)
