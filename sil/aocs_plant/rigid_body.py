@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import functools
 import math
-import time
 
 import numpy as np
 
@@ -262,14 +261,3 @@ def reference_propagate(inertia, q0, w0, duration, torque=(0.0, 0.0, 0.0), term=
     y = sol.y[:, -1]
     q = y[:4] / np.linalg.norm(y[:4])
     return q, y[4:].copy()
-
-
-def benchmark_rk4(steps: int = 10000) -> float:
-    """Mean wall time of one RK4 step (s) on the IRASSI inertia, no disturbance."""
-    J = (2059.5, 0, 0, 0, 5954.2, 0, 0, 0, 5974.3)
-    Ji = (1 / 2059.5, 0, 0, 0, 1 / 5954.2, 0, 0, 0, 1 / 5974.3)
-    q, w = (0.1, 0.2, 0.3, math.sqrt(1 - 0.14)), (1e-3, -2e-3, 3e-3)
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        q, w = rk4_step(q, w, 0.1, (1e-3, 1e-3, 1e-3), J, Ji)
-    return (time.perf_counter() - t0) / steps

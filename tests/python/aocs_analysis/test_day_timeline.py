@@ -39,12 +39,12 @@ def _series(speed, angle, flag) -> dict:
                           "cumulative_label": "propellant used (kg)"}}
 
 
-def _figure(series, tmp_path, monkeypatch):
-    """The figure day_timeline.timeline saves (written as it would be, and kept)."""
+def _figure(series, tmp_path, monkeypatch, metrics=None):
+    """The figure day_timeline.timeline saves (written as it would be, and kept); METRICS unless given."""
     figs = []
     real_save = plots.save
     monkeypatch.setattr(plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
-    day_timeline.timeline(series, METRICS, tmp_path / "day.png", "test")
+    day_timeline.timeline(series, METRICS if metrics is None else metrics, tmp_path / "day.png", "test")
     fig, = figs
     return fig
 
@@ -87,3 +87,20 @@ def test_the_dumps_are_shaded_and_named_once(tmp_path, monkeypatch, runs):
     assert momentum.get_legend_handles_labels()[1].count("unloading") == 1
     assert len(momentum.patches) == runs
     assert all(p.get_linewidth() == 0.0 for p in momentum.patches)   # shading only: no edge line reads as a limit
+
+
+@pytest.mark.parametrize("holds", [1, 3])
+def test_the_holds_are_shaded_and_named_once(tmp_path, monkeypatch, holds):
+    """However many holds the day has (one, three), each is shaded on the pointing panel with its maximum drawn
+    over it, and the legend names the shading and the maxima once each."""
+    hs = [{"hold_start_s": 3000.0 + 8000.0 * k, "hold_end_s": 6000.0 + 8000.0 * k, "pointing_max_arcsec": 0.2,
+           "pointing_rms_arcsec": 0.1, "meets_requirement": True} for k in range(holds)]
+    fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, np.zeros(T.size - 1, bool)), tmp_path,
+                  monkeypatch, {**METRICS, "holds": hs})
+    pointing = fig.axes[2]
+    labels = pointing.get_legend_handles_labels()[1]
+    assert labels.count("hold") == 1 and labels.count("hold max") == 1
+    assert len(pointing.patches) == holds
+    maxima = [ln for ln in pointing.lines if len(ln.get_xdata()) == 2 and ln.get_ydata()[0] == 0.2]
+    assert sorted(float(ln.get_xdata()[0]) for ln in maxima) == pytest.approx([h["hold_start_s"] / 3600.0
+                                                                               for h in hs])

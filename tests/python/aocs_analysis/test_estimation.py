@@ -164,6 +164,40 @@ def test_the_sample_period_of_the_fewest_samples():
             E.sample_period_s(t)
 
 
+def test_rms_per_axis_by_hand_and_of_no_sample():
+    """sqrt(mean x_i^2) per column over the masked rows; a mask that keeps no row gives one NaN per column (the
+    figure is undefined), not an empty array."""
+    x = np.array([[3.0, 0.0, 1.0], [4.0, 2.0, -1.0], [100.0, 100.0, 100.0]])
+    np.testing.assert_allclose(E.rms_per_axis(x, [True, True, False]), [math.sqrt(12.5), math.sqrt(2.0), 1.0])
+    none = E.rms_per_axis(x, [False, False, False])
+    assert none.shape == (3,) and np.all(np.isnan(none))
+
+
+def test_three_sigma_fraction_by_hand_on_each_attitude_axis():
+    """(sample, axis) pairs inside 3 sigma over the attitude axes x, y, z by default: an error outside on y
+    alone, then on z alone, of two samples with sigma 1 rad on every axis: 5 of 6 pairs each time; the bias
+    axes when asked for (axes 3..5)."""
+    p = np.tile(np.eye(6), (2, 1, 1))
+    for axis in (1, 2):
+        e = np.zeros((2, 6))
+        e[0, axis] = 3.5
+        assert E.three_sigma_fraction(e, p) == pytest.approx(5.0 / 6.0)
+    e = np.zeros((2, 6))
+    e[:, 4] = 10.0
+    assert E.three_sigma_fraction(e, p) == 1.0 and E.three_sigma_fraction(e, p, axes=(3, 4, 5)) == pytest.approx(4 / 6)
+
+
+def test_transients_need_both_the_sensors_and_the_control_rate():
+    """The `transients` subsection predicts from the sensors at the control rate: none without either."""
+    n = 200
+    t, q, b = np.arange(n) * 0.1, np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)), np.zeros((n, 3))
+    p = np.tile((1e-10 * np.eye(6))[np.triu_indices(6)], (n, 1))
+    sensors = E.SensorSet(5.0, 20.0, 2.0, 1e-5, 5e-7)
+    assert E.analyse(t, q, q, b, b, p, q, sensors=sensors, control_rate_hz=10.0)[0]["transients"] is not None
+    assert E.analyse(t, q, q, b, b, p, q, sensors=sensors, control_rate_hz=None)[0].get("transients") is None
+    assert E.analyse(t, q, q, b, b, p, q, sensors=None, control_rate_hz=10.0)[0].get("transients") is None
+
+
 def test_window_errors_by_hand():
     """Knowledge, control and pointing errors over the last window: small rotations about x by known angles
     (true angle 2 asin |qe_vec| = the angle), valid samples only, the window's first and last sample."""

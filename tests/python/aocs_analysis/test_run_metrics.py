@@ -14,6 +14,7 @@ import pytest
 
 from aocs_analysis import run_metrics as results
 from aocs_core import conventions as rot
+from aocs_core.modes import mode_value
 from aocs_plant import Plant
 from aocs_plant.scenario import load
 from synthetic_log import make_log
@@ -104,6 +105,17 @@ def test_a_run_started_later_lasts_the_span_of_its_samples():
     log.truth["t_s"] = 0.1 * log.truth["tick"]
     m, _ = results.compute(log, load("irassi_small"), {"law": "quat_pd"})
     assert m["duration_s"] == pytest.approx(1.9, abs=1e-12)
+
+
+def test_safe_entries_count_a_run_that_starts_in_safe():
+    """counters.safe_entries: every change into SAFE, the first command's mode counting as one when it is SAFE
+    (modes by hand: SAFE, SAFE, NOMINAL, SAFE, NOMINAL, NOMINAL: two entries; from NOMINAL on: one)."""
+    safe, nominal = mode_value("safe"), mode_value("nominal")
+    for first, entries in ((safe, 2), (nominal, 1)):
+        log = make_log(7, cmd_ticks=range(6), sensor_ticks=range(6), status_steps=[6])
+        log.cmd["mode"] = np.array([first, first, nominal, safe, nominal, nominal])
+        m, _ = results.compute(log, load("irassi_small"), {"law": "quat_pd"})
+        assert m["counters"]["safe_entries"] == entries
 
 
 def test_the_configured_filter_start_is_truth_minus_estimate():

@@ -1,4 +1,5 @@
 """Impulsive delta-v on the orbit plant (SPEC 3.3, debris hit): a DISCRETE effector."""
+import numpy as np
 import pytest
 
 from aocs_plant import Plant, ScenarioError, load
@@ -33,6 +34,28 @@ def test_impulse_between_periods_splits_the_period():
         plant.advance()
     # moving for 0.05 s of the 0.1 s period after the hit
     assert plant.truth()["pos"][0] == pytest.approx(0.015424 * 0.05, rel=1e-2)
+
+
+def test_a_moving_spacecraft_integrates_every_period_of_the_split_one_whole():
+    """From a moving state the periods before the hit (its event pending) are flown like any period (the
+    impulse disabled: the same state bit for bit), and the period of a hit at 60.05 s is the two halves flown
+    apart: 0.05 s, the jump, 0.05 s (the same plant without the impulse, its state kicked by hand)."""
+    x0 = [1e-3, -2e-3, 5e-4, 10.0, -4.0, 2.5]
+    hit = Plant(load("landsat8_debris", {"control.enabled": False, "plant.x0": x0,
+                                         "disturbances.impulse.time_s": 60.05}))
+    ref = Plant(load("landsat8_debris", {"control.enabled": False, "plant.x0": x0,
+                                         "disturbances.impulse.enabled": False}))
+    for _ in range(600):
+        hit.advance()
+        ref.advance()
+    assert hit.orbit.x == ref.orbit.x and any(v != x0[i] for i, v in enumerate(ref.orbit.x))
+    hit.advance()
+    ref._segment(60.0, 0.05, (0.0, 0.0, 0.0))
+    kicked = list(ref.orbit.x)
+    kicked[0] += 0.015424
+    ref.orbit.x = tuple(kicked)
+    ref._segment(60.05, 0.05, (0.0, 0.0, 0.0))
+    np.testing.assert_allclose(hit.orbit.x, ref.orbit.x, rtol=1e-12, atol=1e-15)
 
 
 def test_disabled_or_scaled():

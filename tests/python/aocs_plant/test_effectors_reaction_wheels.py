@@ -240,12 +240,16 @@ def test_a_body_lighter_than_its_wheels_is_refused_and_a_light_one_is_not():
 
 def test_explicit_axes_and_section_errors():
     axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    r2 = math.sqrt(0.5)
     p = _plant(array="explicit", pyramid_axis=None, axes=axes)
     np.testing.assert_array_equal(_gs(p), np.eye(3))
     cases = [
         (dict(array="explicit", pyramid_axis=None, axes=[[1.0, 1.0, 0.0], [0, 1.0, 0], [0, 0, 1.0]]),
          r"wheels.axes\[0\]: must be a unit vector"),
         (dict(array="explicit", pyramid_axis=None, axes=[[1.0, 0, 0], [0, 1.0, 0], [0, 1.0, 0]]),
+         r"wheels.axes: the spin axes do not span the three body axes"),
+        # three axes in the plane x + y + z = 0 (none along a body axis: every term of det(Gs Gs^T) is non-zero)
+        (dict(array="explicit", pyramid_axis=None, axes=[[r2, -r2, 0.0], [0.0, r2, -r2], [r2, 0.0, -r2]]),
          r"wheels.axes: the spin axes do not span the three body axes"),
         (dict(failed=[0, 2]), r"wheels.failed: the healthy wheels left do not span"),
         (dict(failed=[7]), r"wheels.failed: wheel 7 does not exist"),
