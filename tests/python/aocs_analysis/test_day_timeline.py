@@ -91,8 +91,8 @@ def test_the_dumps_are_shaded_and_named_once(tmp_path, monkeypatch, runs):
 
 @pytest.mark.parametrize("holds", [1, 3])
 def test_the_holds_are_shaded_and_named_once(tmp_path, monkeypatch, holds):
-    """However many holds the day has (one, three), each is shaded on the pointing panel with its maximum drawn
-    over it, and the legend names the shading and the maxima once each."""
+    """However many holds the day has (one, three), each is shaded (no edge) on the pointing panel with its maximum
+    drawn over it, and the legend names the shading and the maxima once each."""
     hs = [{"hold_start_s": 3000.0 + 8000.0 * k, "hold_end_s": 6000.0 + 8000.0 * k, "pointing_max_arcsec": 0.2,
            "pointing_rms_arcsec": 0.1, "meets_requirement": True} for k in range(holds)]
     fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, np.zeros(T.size - 1, bool)), tmp_path,
@@ -101,6 +101,7 @@ def test_the_holds_are_shaded_and_named_once(tmp_path, monkeypatch, holds):
     labels = pointing.get_legend_handles_labels()[1]
     assert labels.count("hold") == 1 and labels.count("hold max") == 1
     assert len(pointing.patches) == holds
+    assert all(p.get_linewidth() == 0.0 for p in pointing.patches)   # shading only: no edge line reads as a limit
     maxima = [ln for ln in pointing.lines if len(ln.get_xdata()) == 2 and ln.get_ydata()[0] == 0.2]
     assert sorted(float(ln.get_xdata()[0]) for ln in maxima) == pytest.approx([h["hold_start_s"] / 3600.0
                                                                                for h in hs])
