@@ -2,10 +2,13 @@
 docstring lists is on its panel at its value, and every trace named in a legend is drawn."""
 from __future__ import annotations
 
+import types
+
 import numpy as np
 import pytest
 
 from aocs_analysis import day_timeline, plots
+from aocs_plant.scenario import load
 
 
 def _visible(line) -> bool:
@@ -105,3 +108,16 @@ def test_the_holds_are_shaded_and_named_once(tmp_path, monkeypatch, holds):
     maxima = [ln for ln in pointing.lines if len(ln.get_xdata()) == 2 and ln.get_ydata()[0] == 0.2]
     assert sorted(float(ln.get_xdata()[0]) for ln in maxima) == pytest.approx([h["hold_start_s"] / 3600.0
                                                                                for h in hs])
+
+
+def test_the_dipole_integral_counts_each_rod_within_its_limit():
+    """leo_day's rods (0.2 A m^2 each, 1 s period): the cumulative dipole integral sums |m_i| dt per rod, a
+    commanded dipole beyond a rod's limit counted at the limit (what the rod can give), by hand."""
+    sc = load("leo_day")
+    assert sc.momentum.policy == "magnetorquers" and sc.effectors["magnetorquers"].max_dipole_am2 == (0.2,) * 3
+    cmd = {"tick": np.arange(3), "unloading": np.array([1, 1, 0]),
+           "dipole_am2": np.array([[0.1, -0.05, 0.0], [-0.5, 0.2, 0.3], [0.0, 0.0, -0.01]])}
+    out = day_timeline.unloading_series(types.SimpleNamespace(cmd=cmd), sc)
+    assert out["flag"].tolist() == [True, True, False]
+    np.testing.assert_allclose(out["cumulative"], [0.15, 0.15 + 0.6, 0.75 + 0.01], rtol=1e-12)
+    assert out["cumulative_label"] == "dipole integral (A m^2 s)"

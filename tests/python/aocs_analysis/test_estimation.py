@@ -508,7 +508,7 @@ def _png_size_and_dpi(path):
 
 def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp_path, monkeypatch):
     series = farrenkopf_runs[2][0][2]
-    seen, spans, lines, ylims, ticks, boxes = {}, {}, {}, {}, {}, {}
+    seen, spans, lines, ylims, ticks, boxes, bands = {}, {}, {}, {}, {}, {}, {}
     real_save = estimation_plots.save
 
     def spy(fig, path):
@@ -517,6 +517,7 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
         seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
                            for ax in fig.axes]
         spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
+        bands[path.name] = [c.get_linewidth() for ax in fig.axes for c in ax.collections if "3 sigma" in c.get_label()]
         lines[path.name] = [ln for ax in fig.axes for ln in ax.lines if not ln.get_label().startswith("_")]
         r = fig.canvas.get_renderer()   # (Agg; closed by save) the extents after save: its tight_layout done
         out = real_save(fig, path)
@@ -550,6 +551,9 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                      if not (ln.get_linewidth() > 0.0 and ln.get_linestyle() not in ("None", "", " "))
                      and ln.get_marker() in (None, "None", "", " ")]
         assert not invisible, (name, invisible)
+    # the +-3 sigma bands are shading only (no edge line reads as a bound), one per axis on the bias plot
+    assert len(bands["bias_estimate.png"]) == 3
+    assert all(np.all(np.asarray(w) == 0.0) for ws in bands.values() for w in ws), bands
     # every legend outside its axes on the right (the traces stay visible) and whole on the figure
     for name, per_axes in boxes.items():
         for leg, ax, fig in per_axes:

@@ -67,6 +67,16 @@ def test_an_event_within_a_nanosecond_of_the_start_is_the_detection_and_not_befo
     assert e["detected_s"] == 60.0 - 1e-9 and e["events_before_start"] == 1
 
 
+def test_a_recovery_on_the_last_sample_of_the_run_counts():
+    """recovered_at from the last sample: inside there, it is the recovery (to the end of the run, shorter than the
+    window); outside, none."""
+    t = np.array([0.0, 1.0, 2.0])
+    assert F.recovered_at(t, np.array([5.0, 5.0, 0.1]), 2.0, 0.3, 50.0) == 2.0
+    assert F.recovered_at(t, np.array([5.0, 0.1, 0.1]), 1.0, 0.3, 50.0) == 1.0      # from t_from's own sample
+    assert F.recovered_at(t, np.array([5.0, 5.0, 0.4]), 2.0, 0.3, 50.0) is None
+    assert F.recovered_at(t, np.array([5.0, 5.0, 0.1]), 2.5, 0.3, 50.0) is None      # nothing after t_from
+
+
 def test_an_info_event_is_not_a_detection_and_a_unitless_event_matches():
     events = [ev(61.0, "wheel_residual_high", "wheel", 1, "info"), ev(62.0, "momentum_inconsistent", "wheel", -1)]
     (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)

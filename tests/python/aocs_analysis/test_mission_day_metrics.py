@@ -115,6 +115,10 @@ def test_momentum_section_maxima_in_and_out_of_holds():
                            {**series, "h_wheels_norm": series["h_wheels_norm"] * 1e-3}, None)
     assert leo["trigger"] == "continuous" and leo["h_start_nms"] is None and leo["capacity_nms"] == [6e-3] * 4
     assert momentum.metrics(log, load("irassi_large"), {}, None) is None
+    # the summary line of the section names each figure with its unit
+    rows = dict(momentum.table_rows(m))
+    assert rows["wheel momentum |h_w|"] == ("max 9 N m s, max in holds 4, final 2.5 (capacity 48 N m s per "
+                                            "wheel)")
 
 
 def test_the_day_timeline_is_drawn_at_150_dpi_or_more(tmp_path):

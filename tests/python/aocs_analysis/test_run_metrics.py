@@ -118,6 +118,16 @@ def test_safe_entries_count_a_run_that_starts_in_safe():
         assert m["counters"]["safe_entries"] == entries
 
 
+def test_an_attitude_run_with_a_filter_has_the_estimation_section_and_one_without_none():
+    """The run JSON's `estimation` section: present for an attitude scenario that flies a filter (irassi_hold_mekf,
+    on a log built in memory, the estimate at the truth), null for the pass-through (irassi_small)."""
+    log = make_log(30, cmd_ticks=range(29), sensor_ticks=range(29), status_steps=[29])
+    sc = load("irassi_hold_mekf")
+    m, _ = results.compute(log, sc, {"law": sc.control.law})
+    assert m["estimation"] is not None and m["estimation"]["knowledge_error_arcsec"]["max"] == 0.0
+    assert results.compute(log, load("irassi_small"), {"law": "quat_pd"})[0]["estimation"] is None
+
+
 def test_the_configured_filter_start_is_truth_minus_estimate():
     """_filter_start (docs/spec.md 5.6.10): P0 as configured and the initial errors truth minus estimate, the
     true bias less the prior bias0, and for a q0_BN turned 1e-3 rad about x from the truth an attitude error of

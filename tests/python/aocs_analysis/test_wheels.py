@@ -39,6 +39,12 @@ def test_wheel_commands_over_their_limit_and_not_finite():
     assert out["min_speed_margin"] == 0.5
     # the total momentum |H| (truth): its peak and its last sample (not the first)
     assert out["total_momentum_nms"] == {"peak": 5.0, "final": 2.0}
+    # the wheels' own momentum |sum Js g_i Omega_i| (speeds relative to the body): its peak and its last sample
+    w = sc.effectors["wheels"]
+    h_w = [np.linalg.norm(np.array(w.axes).T @ (np.array(sp) * np.array(w.spin_inertia_kg_m2)))
+           for sp in truth["wheel_speed"]]
+    assert out["wheel_momentum_nms"]["final"] == pytest.approx(h_w[-1], rel=1e-14) and h_w[-1] != h_w[1]
+    assert out["wheel_momentum_nms"]["peak"] == pytest.approx(max(h_w), rel=1e-14)
     assert out["time_scaled_s"] == pytest.approx(2 * sc.dt)
     assert series["n"] == n
     # the summary lines: the wheels, and a limit exceeded said in capitals

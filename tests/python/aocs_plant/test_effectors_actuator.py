@@ -57,6 +57,16 @@ def test_slew_rate_limit_per_control_period():
     assert a.slew_rate_limited_count == 3
 
 
+def test_each_axis_moves_from_its_own_previous_value():
+    """The rate limit per axis: from (0.05, -0.05, 0.02), a command 0.07 N m away on every axis (inside the
+    0.1 N m step) is taken as it is; 0.3 away, each axis moves one step from its own value."""
+    a = actuator(slew_rate_limit_per_s=1.0)
+    assert a.hold((0.05, -0.05, 0.02)) == (0.05, -0.05, 0.02)
+    np.testing.assert_allclose(a.hold((0.12, -0.12, 0.09)), (0.12, -0.12, 0.09), rtol=1e-14)
+    np.testing.assert_allclose(a.hold((0.42, -0.42, -0.21)), (0.22, -0.22, -0.01), rtol=1e-13)
+    assert a.slew_rate_limited_count == 1
+
+
 # ----------------------------------------------------------------- zero-order hold through the plant
 
 

@@ -58,6 +58,18 @@ def test_a_moving_spacecraft_integrates_every_period_of_the_split_one_whole():
     np.testing.assert_allclose(hit.orbit.x, ref.orbit.x, rtol=1e-12, atol=1e-15)
 
 
+def test_the_jump_is_delta_v_along_its_direction_on_every_axis():
+    """jump(): the inertial velocity (u, v, w) moves by scale x delta_v_m_s x direction, each component on its
+    own axis; the position does not jump."""
+    sc = load("landsat8_debris", {"disturbances.impulse.direction": [0.0, 0.6, -0.8],
+                                  "disturbances.impulse.scale": 2.0})
+    imp, = [e for e in Plant(sc).effectors if e.kind == "impulse"]
+    body = (1e-3, -2e-3, 3e-3, 10.0, 20.0, 30.0)
+    dv = 2.0 * 0.015424
+    np.testing.assert_allclose(imp.jump(60.0, body), (1e-3, -2e-3 + 0.6 * dv, 3e-3 - 0.8 * dv, 10.0, 20.0, 30.0),
+                               rtol=1e-15)
+
+
 def test_disabled_or_scaled():
     off = Plant(load("landsat8_debris", {"control.enabled": False, "disturbances.impulse.enabled": False}))
     half = Plant(load("landsat8_debris", {"control.enabled": False, "disturbances.impulse.scale": 0.5}))

@@ -396,6 +396,12 @@ def test_gao_condition_is_enforced_with_the_inequality_named(tmp_path):
     assert load("gao_mrp", {"laws.mrp_sat.l1": 1e-12 + m1, "laws.mrp_sat.m1": m1}).control.laws["mrp_sat"]
     with pytest.raises(ScenarioError, match="L1 = M1"):
         load("gao_mrp", {"laws.mrp_sat.l1": 1e-12 + 2.0 * m1, "laws.mrp_sat.m1": m1})
+    # M2 <= (2/sqrt 3) uM within 1e-12 relative, the bound itself included; the next double above is refused
+    top = 2.0 * 0.05 / math.sqrt(3.0) * (1.0 + 1e-12)
+    assert load("gao_mrp", {"laws.mrp_sat.l2": top, "laws.mrp_sat.m2": top}).control.laws["mrp_sat"]
+    up = math.nextafter(top, math.inf)
+    with pytest.raises(ScenarioError, match=r"M2 <= \(2/sqrt 3\) uM"):
+        load("gao_mrp", {"laws.mrp_sat.l2": up, "laws.mrp_sat.m2": up})
 
 
 def test_syntax_error_and_missing_file(tmp_path):

@@ -115,6 +115,19 @@ def test_latency_gives_the_attitude_at_t_meas():
         p.advance()
 
 
+def test_the_attitude_before_the_oldest_record_is_the_oldest():
+    """attitude_at: on a recorded period end its attitude, between two the slerp, before the oldest record the
+    oldest (no extrapolation), after the newest the newest."""
+    st, = [s for s in _plant({"latency_s": 0.3}).sensors if s.name == "star_tracker"]
+    def about_z(a):
+        return (0.0, 0.0, math.sin(a / 2), math.cos(a / 2))
+    q = [about_z(a) for a in (1e-3, 2e-3, 3e-3)]
+    st.records_tq[:] = [(1.0, q[0]), (1.1, q[1]), (1.2, q[2])]
+    assert st.attitude_at(0.5) == q[0] and st.attitude_at(1.0) == q[0] and st.attitude_at(1.1) == q[1]
+    assert st.attitude_at(2.0) == q[2]
+    np.testing.assert_allclose(_dcm(st.attitude_at(1.05)), _dcm(about_z(1.5e-3)), atol=1e-15)
+
+
 def test_its_own_rate_repeats_the_last_sample_between_samples():
     p = _plant({"rate_hz": 3.0, "noise_cross_arcsec": 1.0})   # control 10 Hz: due at j / 3 s
     new_at, last = [], None
