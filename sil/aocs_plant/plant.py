@@ -274,23 +274,22 @@ class Plant:
             if not all(map(isfinite, v)):
                 bad = True
             cmd[name] = v
-        self.counters["commands"] += 1
         if bad:
+            self.counters["commands"] += 1
             self.counters["bad_commands"] += 1
             self.taken = None
             return False
-        for a in self.actuators:
-            a.command(cmd)
-        self.taken = cmd
+        self.take(cmd)
         return True
 
     def take(self, taken: dict) -> None:
-        """The command another plant of the same scenario took (its `taken`: the fields apply() checked and
-        converted), given to this plant's actuators without checking it again: the integration check's shadow
-        plant follows the main plant so (integration_error.StepDoubling.take)."""
+        """A command already checked and converted by apply() (this plant's, or the `taken` of another plant of
+        the same scenario: the integration check's shadow follows the main plant so, StepDoubling.take), given to
+        the actuators without checking it again."""
         self.counters["commands"] += 1
         for a in self.actuators:
             a.command(taken)
+        self.taken = taken
 
     # ------------------------------------------------------------------ integration
     def advance(self) -> None:
