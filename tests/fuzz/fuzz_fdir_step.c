@@ -22,7 +22,11 @@
  *     hysteresis, stepped before the stage on the wheels' momentum): a thruster event names a configured
  *     thruster; the excluded thrusters only grow, each new one with an unload_actuator_switched event naming
  *     it in that step, at least one thruster left per signed axis (the stage stays initialised and its next
- *     step never fires an excluded thruster).
+ *     step never fires an excluded thruster);
+ *   - the latch valves (the couples' two thrusters on branches A and B, mom.thr_latch_b_mask 0xAAA): a valve
+ *     closes only on a step with a thruster_branch_closed event naming that branch (its value) and opens only
+ *     with a thruster_branch_reopened one, never both closed, and no thruster on a closed branch has an
+ *     on-time after fault management nor in the next step.
  *
  * Input layout (reads past the end give zeros):
  *   u8 setup (bit0 three healthy wheels, bit1 disabled, bit2 raw f64 parameters, bit3 an estimator that can
@@ -120,6 +124,7 @@ static void fuzz_fdir_thrusters(aocs_mom_config_t *mc)
     mc->thr_thrust_N = AOCS_R(1.0);
     mc->thr_min_on_s = AOCS_R(0.01);
     mc->thr_quantum_s = AOCS_R(0.001);
+    mc->thr_latch_b_mask = 0xAAAu; /* each couple's second thruster behind valve B */
     for (uint32_t i = 0u; i < 12u; ++i) {
         mc->thr_arm_x_m[i] = arm[i][0];
         mc->thr_arm_y_m[i] = arm[i][1];
@@ -127,13 +132,28 @@ static void fuzz_fdir_thrusters(aocs_mom_config_t *mc)
     }
 }
 
-/* the thruster invariants of one step: events, exclusions and their events (see the header) */
+/* 1 when a thruster on a closed latch branch has an on-time */
+static int fuzz_fdir_latched_fires(const aocs_mom_t *mom)
+{
+    int fires = 0;
+    for (uint32_t i = 0u; i < 12u; ++i) {
+        const uint32_t b = (mom->cfg.thr_latch_b_mask >> i) & 1u;
+        if ((((mom->out.latch_closed_mask >> b) & 1u) != 0u) && (mom->out.thruster_on_s[i] > AOCS_R(0.0))) {
+            fires = 1;
+        }
+    }
+    return fires;
+}
+
+/* the thruster invariants of one step: events, exclusions and their events, the latch valves (see the header) */
 static void fuzz_fdir_check_thrusters(const aocs_fdir_t *f, const aocs_mom_t *mom, uint32_t excluded_before,
-                                      uint32_t since, uint64_t t_ns)
+                                      uint32_t latch_before, uint32_t since, uint64_t t_ns)
 {
     aocs_event_t e;
     uint32_t seq = since;
     uint32_t switched = 0u;
+    uint32_t closed = 0u;
+    uint32_t reopened = 0u;
     while (aocs_evlog_next(&f->log, seq, &e, NULL) == AOCS_OK) {
         if ((e.unit_kind == AOCS_UNIT_THRUSTER) && ((e.unit < 0) || ((uint32_t)e.unit >= mom->cfg.thr_count))) {
             fuzz_fdir_fail("thruster event names no configured thruster");
@@ -141,7 +161,30 @@ static void fuzz_fdir_check_thrusters(const aocs_fdir_t *f, const aocs_mom_t *mo
         if ((e.id == AOCS_EVT_UNLOAD_ACTUATOR_SWITCHED) && (e.t_ns == t_ns) && (e.unit >= 0) && (e.unit < 12)) {
             switched |= (uint32_t)1u << (uint32_t)e.unit;
         }
+        if ((e.t_ns == t_ns) &&
+            ((e.id == AOCS_EVT_THRUSTER_BRANCH_CLOSED) || (e.id == AOCS_EVT_THRUSTER_BRANCH_REOPENED))) {
+            if ((aocs_fdir_same(e.value, AOCS_R(0.0)) == 0) && (aocs_fdir_same(e.value, AOCS_R(1.0)) == 0)) {
+                fuzz_fdir_fail("a latch event names no branch");
+            }
+            if (e.id == AOCS_EVT_THRUSTER_BRANCH_CLOSED) {
+                closed |= (e.value > AOCS_R(0.5)) ? 2u : 1u;
+            } else {
+                reopened |= (e.value > AOCS_R(0.5)) ? 2u : 1u;
+            }
+        }
         seq = e.seq;
+    }
+    if (((mom->out.latch_closed_mask & ~latch_before) & ~closed) != 0u) {
+        fuzz_fdir_fail("a latch valve closed without its thruster_branch_closed event");
+    }
+    if (((latch_before & ~mom->out.latch_closed_mask) & ~reopened) != 0u) {
+        fuzz_fdir_fail("a latch valve opened without its thruster_branch_reopened event");
+    }
+    if ((mom->out.latch_closed_mask & 3u) == 3u) {
+        fuzz_fdir_fail("both latch valves closed");
+    }
+    if (fuzz_fdir_latched_fires(mom) != 0) {
+        fuzz_fdir_fail("a thruster on a closed latch branch commanded after fault management");
     }
     if ((mom->thr_excluded_mask & excluded_before) != excluded_before) {
         fuzz_fdir_fail("an excluded thruster came back");
@@ -306,15 +349,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                         fuzz_fdir_fail("an excluded thruster fired");
                     }
                 }
+                if (fuzz_fdir_latched_fires(&mom) != 0) {
+                    fuzz_fdir_fail("a thruster on a closed latch branch fired");
+                }
             }
             est.q_BN = in.st_q_SN;
             est.w_BN_B = in.gyro_w_B;
             in.mom = &mom;
             {
                 const uint32_t excluded_before = mom.thr_excluded_mask;
+                const uint32_t latch_before = mom.out.latch_closed_mask;
                 const real_t scale_before = f.st.noise_scale;
                 aocs_fdir_step(&f, &in, &wa);
-                fuzz_fdir_check_thrusters(&f, &mom, excluded_before, events_before, t_ns);
+                fuzz_fdir_check_thrusters(&f, &mom, excluded_before, latch_before, events_before, t_ns);
                 fuzz_fdir_check_noise(&f, scale_before, events_before, t_ns);
             }
             if ((f.reinflate_bias != 0) && (fuzz_fdir_raised(&f.log, events_before, AOCS_EVT_GYRO_ST_INCONSISTENT,

@@ -323,6 +323,25 @@ def fdir_seeds() -> None:
     q = 1400.0 / 65536.0
     friction = b"".join(step(cmds=(0.0,) * 4, speeds=(100.0 - q * k, 0.0, 0.0, 0.0)) for k in range(24))
     _write("fuzz_fdir_step", "wheel_friction_high", cfg(0) + friction)
+    # a thruster stuck open (docs/spec.md 5.15.8), in raw f64 values (the u16 quantum of a rate is 3e-5 rad/s,
+    # 0.06 N m s about x, far above the period's bound): the body's x rate grows by the +x couple's 1.2 N m over
+    # each 0.1 s period, the wheels and the attitude still, no dump (STANDBY). Three periods name thruster 0:
+    # thruster_stuck_open, branch A closed; the rate still growing names its twin 1: A reopened, B closed; still
+    # growing: B reopened, both tried. Then the same with the growth stopping after A closes: a consistent
+    # window (4 periods) isolates thruster 0 behind valve A.
+    def raw_step(w_x):
+        b = bytes([1 | 2 | 8 | 16, 0])
+        b += struct.pack("<8d", 100.0, 0.0, -50.0, 0.0, 30.0, 0.0, 10.0, 0.0)
+        b += struct.pack("<d", 3.0) + struct.pack("<3d", w_x, 0.0, 0.0) + struct.pack("<4d", 0.0, 0.0, 0.0, 1.0)
+        b += bytes([0]) + struct.pack("<3d", 0.0, 0.0, 0.0) + struct.pack("<3d", 4.0e-15, 4.0e-15, 4.0e-15)
+        b += struct.pack("<d", 1.0e-10) + struct.pack("<3d", 0.5, -0.5, 1.0)
+        return b
+
+    dw = 1.2 * 0.1 / 2059.5        # the stuck thruster's rate increment per period, rad/s
+    growing = b"".join(raw_step(dw * k) for k in range(14))
+    _write("fuzz_fdir_step", "thruster_stuck_open_swapped", cfg(0, 0.005) + growing)
+    stopped = b"".join(raw_step(dw * min(k, 5)) for k in range(16))
+    _write("fuzz_fdir_step", "thruster_stuck_open_isolated", cfg(0, 0.005) + stopped)
 
 
 def pil_seeds() -> None:

@@ -53,6 +53,10 @@ static void test_event_ids_names_severities_are_the_wire_values(void **state)
         {AOCS_EVT_WHEEL_FRICTION_HIGH, 19u, "wheel_friction_high", "warning", "wheel"},
         {AOCS_EVT_ESTIMATOR_GYROLESS, 20u, "estimator_gyroless", "error", "none"},
         {AOCS_EVT_ST_NOISE_RESCALED, 21u, "st_noise_rescaled", "warning", "star_tracker"},
+        {AOCS_EVT_THRUSTER_STUCK_OPEN, 22u, "thruster_stuck_open", "error", "thruster"},
+        {AOCS_EVT_THRUSTER_BRANCH_CLOSED, 23u, "thruster_branch_closed", "warning", "thruster"},
+        {AOCS_EVT_THRUSTER_BRANCH_REOPENED, 24u, "thruster_branch_reopened", "warning", "thruster"},
+        {AOCS_EVT_THRUSTER_ISOLATED, 25u, "thruster_isolated", "error", "thruster"},
     };
     assert_int_equal(AOCS_EVT_COUNT, sizeof(rows) / sizeof(rows[0]));
     for (size_t i = 0u; i < (sizeof(rows) / sizeof(rows[0])); ++i) {
@@ -1065,12 +1069,16 @@ typedef struct {
     double q[4];      /* q_BN, vector first */
     real_t omega[AOCS_WHEELS_MAX];
     double hw[3];     /* sum Js g Omega of the wheels, B */
+    unsigned latch_b; /* bit i: the test's thruster i is fed through latch valve B */
     uint64_t t_ns;
 } mom_rig_t;
 
 static const double mom_j[3] = {2000.0, 6000.0, 6000.0};
 
-static void mom_rig_init(mom_rig_t *r, double residual_nm)
+/* latch_b_mask: the thrusters fed through latch valve B (MOM_LATCH_TWINS: each couple's two on different
+ * branches) */
+#define MOM_LATCH_TWINS 0xAAAu
+static void mom_rig_init_latch(mom_rig_t *r, double residual_nm, unsigned latch_b_mask)
 {
     /* (pos, dir) of irassi_day's thrusters: couples (0, 1) +x, (2, 3) -x, (4, 5) +y, (6, 7) -y, (8, 9) +z,
      * (10, 11) -z */
@@ -1099,6 +1107,7 @@ static void mom_rig_init(mom_rig_t *r, double residual_nm)
     mc.thr_thrust_N = AOCS_R(1.0);
     mc.thr_min_on_s = AOCS_R(0.01);
     mc.thr_quantum_s = AOCS_R(0.001);
+    mc.thr_latch_b_mask = (uint32_t)latch_b_mask;
     for (uint32_t i = 0u; i < MOM_THR; ++i) {
         mc.thr_arm_x_m[i] = (real_t)((pos[i][1] * dir[i][2]) - (pos[i][2] * dir[i][1]));
         mc.thr_arm_y_m[i] = (real_t)((pos[i][2] * dir[i][0]) - (pos[i][0] * dir[i][2]));
@@ -1152,6 +1161,12 @@ static void mom_rig_init(mom_rig_t *r, double residual_nm)
         }
     }
     r->q[3] = 1.0;
+    r->latch_b = latch_b_mask;
+}
+
+static void mom_rig_init(mom_rig_t *r, double residual_nm)
+{
+    mom_rig_init_latch(r, residual_nm, MOM_LATCH_TWINS);
 }
 
 /* One period: the momentum stage and the monitor on the sample, then the body over the period with the
@@ -1186,6 +1201,10 @@ static void mom_rig_step(mom_rig_t *r, const double d[3], uint32_t stuck_closed,
         const aocs_vec3_t t_i = aocs_mom_thr_torque_B(&r->mom, i);
         double on = (double)r->mom.out.thruster_on_s[i];
         on = (i == stuck_closed) ? 0.0 : ((i == stuck_open) ? MOM_T_S : on);
+        /* the test's valves: a closed one stops its branch, a stuck-open thruster too (it is upstream) */
+        if (((r->mom.out.latch_closed_mask >> ((r->latch_b >> i) & 1u)) & 1u) != 0u) {
+            on = 0.0;
+        }
         for (uint32_t a = 0u; a < 3u; ++a) {
             tau[a] += (double)t_i.v[a] * on / MOM_T_S;
         }
@@ -1325,21 +1344,129 @@ static void test_thruster_stuck_closed_is_isolated_and_the_dump_goes_on(void **s
     assert_true(r.mom.out.thruster_on_s[dead ^ 1u] > AOCS_R(0.0)); /* its couple's partner */
 }
 
-/* a thruster stuck open (1.2 N m, never commanded): momentum_inconsistent after two windows; it is not
- * a commanded thruster's missing impulse, so nothing is isolated */
-static void test_thruster_stuck_open_is_momentum_inconsistent(void **state)
+/* the events of the log in order */
+static uint32_t mom_events(const aocs_evlog_t *log, aocs_event_t *out, uint32_t max)
+{
+    uint32_t seq = 0u;
+    uint32_t n = 0u;
+    aocs_event_t e;
+    while ((n < max) && (aocs_evlog_next(log, seq, &e, NULL) == AOCS_OK)) {
+        out[n] = e;
+        seq = e.seq;
+        ++n;
+    }
+    return n;
+}
+
+/* |A(q)^T (J w + h_w) - h_w(0)|: the change of the rig's total momentum in N (q_BN vector first) */
+static double mom_rig_dh_N(const mom_rig_t *r)
+{
+    const double *q = r->q;
+    double h[3];
+    double hn[3];
+    double n2 = 0.0;
+    for (uint32_t a = 0u; a < 3u; ++a) {
+        h[a] = (mom_j[a] * r->w[a]) + r->hw[a];
+    }
+    /* A(q)^T h = (q4^2 - |rho|^2) h + 2 (rho . h) rho - 2 q4 (rho x h)... with the transpose's sign: + 2 q4 rho x h */
+    {
+        const double s = (q[3] * q[3]) - ((q[0] * q[0]) + (q[1] * q[1]) + (q[2] * q[2]));
+        const double rh = (q[0] * h[0]) + (q[1] * h[1]) + (q[2] * h[2]);
+        const double c[3] = {(q[1] * h[2]) - (q[2] * h[1]), (q[2] * h[0]) - (q[0] * h[2]), (q[0] * h[1]) - (q[1] * h[0])};
+        for (uint32_t a = 0u; a < 3u; ++a) {
+            hn[a] = (s * h[a]) + (2.0 * rh * q[a]) + (2.0 * q[3] * c[a]) - r->hw[a];
+            n2 += hn[a] * hn[a];
+        }
+    }
+    return sqrt(n2);
+}
+
+/* thruster `stuck` (never commanded: no dump) fires continuously from the period after sample 10: the period
+ * residuals of samples 11, 12, 13 are its impulse: thruster_stuck_open at 13 s naming the first of its couple
+ * (0 for either), the branch of 0 (A) closed at once; when 0 is the stuck one, a consistent window (13 to
+ * 43 s) isolates it (thruster_isolated, branch A); when it is its twin 1, the residual goes on: on samples 14,
+ * 15, 16 it names 1, branch A reopens and B closes at 16 s, and the window 16 to 46 s isolates 1. Nothing else
+ * is raised, the valve stays closed, and the body stops gaining momentum */
+static void stuck_open_case(uint32_t stuck)
+{
+    const double d[3] = {0.0, 0.0, 0.0};
+    mom_rig_t r;
+    aocs_event_t e[8];
+    uint32_t n;
+    mom_rig_init(&r, 5.0e-3);
+    r.mom.cfg.trigger = AOCS_MOM_TRIGGER_THRESHOLD; /* no dump: the stuck thruster is never commanded */
+    r.mom.cfg.h_start_Nms = AOCS_R(1.0e3);
+    r.mom.cfg.h_stop_Nms = AOCS_R(1.0e2);
+    for (uint32_t k = 0u; k < 100u; ++k) {
+        mom_rig_step(&r, d, MOM_THR, (k >= 10u) ? stuck : MOM_THR);
+    }
+    n = mom_events(&r.f.log, e, 8u);
+    assert_int_equal(e[0].id, AOCS_EVT_THRUSTER_STUCK_OPEN);
+    assert_int_equal(e[0].unit, 0);
+    assert_int_equal(e[0].t_ns, 13000000000ull);
+    assert_true(fabs((double)e[0].value - 1.2) < 0.05); /* the residual's torque: the thruster's 1.2 N m */
+    assert_int_equal(e[1].id, AOCS_EVT_THRUSTER_BRANCH_CLOSED);
+    assert_int_equal(e[1].unit, 0);
+    assert_int_equal((int)e[1].value, 0);
+    assert_int_equal(e[1].t_ns, 13000000000ull);
+    if (stuck == 0u) {
+        assert_int_equal(n, 3u);
+        assert_int_equal(e[2].id, AOCS_EVT_THRUSTER_ISOLATED);
+        assert_int_equal(e[2].unit, 0);
+        assert_int_equal((int)e[2].value, 0);
+        assert_int_equal(e[2].t_ns, 43000000000ull);
+        assert_int_equal(r.mom.out.latch_closed_mask, 1u);
+    } else {
+        assert_int_equal(n, 5u);
+        assert_int_equal(e[2].id, AOCS_EVT_THRUSTER_BRANCH_REOPENED);
+        assert_int_equal(e[2].unit, 1);
+        assert_int_equal((int)e[2].value, 0);
+        assert_int_equal(e[2].t_ns, 16000000000ull);
+        assert_int_equal(e[3].id, AOCS_EVT_THRUSTER_BRANCH_CLOSED);
+        assert_int_equal(e[3].unit, 1);
+        assert_int_equal((int)e[3].value, 1);
+        assert_int_equal(e[3].t_ns, 16000000000ull);
+        assert_int_equal(e[4].id, AOCS_EVT_THRUSTER_ISOLATED);
+        assert_int_equal(e[4].unit, 1);
+        assert_int_equal((int)e[4].value, 1);
+        assert_int_equal(e[4].t_ns, 46000000000ull);
+        assert_int_equal(r.mom.out.latch_closed_mask, 2u);
+    }
+    /* the spacecraft's momentum: only the 3 (or 6) whole periods of 1.2 N m s before the valve closed */
+    assert_true(fabs(mom_rig_dh_N(&r) - (((stuck == 0u) ? 3.0 : 6.0) * 1.2)) < 1.0e-3);
+}
+
+static void test_thruster_stuck_open_is_isolated_behind_its_latch_valve(void **state)
+{
+    (void)state;
+    stuck_open_case(0u);
+}
+
+static void test_thruster_stuck_open_on_the_second_branch_is_found_by_swapping_the_valves(void **state)
+{
+    (void)state;
+    stuck_open_case(1u);
+}
+
+/* every thruster behind one valve (mom.thr_latch_b_mask 0): closing it would leave no thruster, so the
+ * stuck-open thruster is named once, no valve moves, and the window test raises momentum_inconsistent */
+static void test_thruster_stuck_open_without_a_second_branch_is_momentum_inconsistent(void **state)
 {
     (void)state;
     const double d[3] = {0.0, 0.0, 0.0};
     mom_rig_t r;
     uint64_t t = 0u;
-    mom_rig_init(&r, 5.0e-3);
+    mom_rig_init_latch(&r, 5.0e-3, 0u);
     for (uint32_t k = 0u; k < 100u; ++k) {
         mom_rig_step(&r, d, MOM_THR, (k >= 10u) ? 0u : MOM_THR);
     }
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_THRUSTER_STUCK_OPEN, 0, &t), 1u);
+    assert_int_equal(t, 13000000000ull);
+    assert_int_equal(count_id(&r.f.log, AOCS_EVT_THRUSTER_BRANCH_CLOSED, -1, NULL), 0u);
     assert_int_equal(count_id(&r.f.log, AOCS_EVT_MOMENTUM_INCONSISTENT, -1, &t), 1u);
     assert_int_equal(t, 61000000000ull);
     assert_int_equal(count_id(&r.f.log, AOCS_EVT_THRUSTER_INEFFECTIVE, -1, NULL), 0u);
+    assert_int_equal(r.mom.out.latch_closed_mask, 0u);
     assert_int_equal(r.mom.thr_excluded_mask, 0u);
 }
 
@@ -1423,7 +1550,9 @@ int main(void)
         cmocka_unit_test(test_momentum_consistent_while_dumping_and_an_unexplained_torque),
         cmocka_unit_test(test_momentum_skips_samples_without_wheel_momentum),
         cmocka_unit_test(test_thruster_stuck_closed_is_isolated_and_the_dump_goes_on),
-        cmocka_unit_test(test_thruster_stuck_open_is_momentum_inconsistent),
+        cmocka_unit_test(test_thruster_stuck_open_is_isolated_behind_its_latch_valve),
+        cmocka_unit_test(test_thruster_stuck_open_on_the_second_branch_is_found_by_swapping_the_valves),
+        cmocka_unit_test(test_thruster_stuck_open_without_a_second_branch_is_momentum_inconsistent),
         cmocka_unit_test(test_executive_isolates_a_dead_wheel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

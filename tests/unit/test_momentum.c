@@ -380,17 +380,10 @@ static void thr_config(aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_
 }
 
 /* The impulse of the on-times (independent: F sum_i t_i (r_i x d_i)) against the requested torque's. */
-static void thr_check_case_without(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
-                                   aocs_vec3_t h, double dt, uint32_t excluded)
+static void thr_check_step(aocs_mom_t *mp, const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
+                           aocs_vec3_t h, double dt, uint32_t excluded)
 {
-    aocs_mom_t m;
-    assert_int_equal(aocs_mom_init(&m, c), AOCS_OK);
-    for (uint32_t i = 0u; i < N_THR; ++i) {
-        if (((excluded >> i) & 1u) != 0u) {
-            assert_int_equal(aocs_mom_thr_exclude(&m, i), AOCS_OK);
-        }
-    }
-    assert_int_equal(m.thr_excluded_mask, excluded);
+    aocs_mom_t m = *mp;
     aocs_mom_input_t in = input(h, aocs_vec3_zero(), dt);
     in.b_valid = 0; /* thrusters need no field */
     assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
@@ -438,6 +431,20 @@ static void thr_check_case_without(const aocs_mom_config_t *c, double pos[N_THR]
     if (d_norm(want) > slack) {
         assert_true(d_dot(got, dh) < 0.0);
     }
+}
+
+static void thr_check_case_without(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
+                                   aocs_vec3_t h, double dt, uint32_t excluded)
+{
+    aocs_mom_t m;
+    assert_int_equal(aocs_mom_init(&m, c), AOCS_OK);
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        if (((excluded >> i) & 1u) != 0u) {
+            assert_int_equal(aocs_mom_thr_exclude(&m, i), AOCS_OK);
+        }
+    }
+    assert_int_equal(m.thr_excluded_mask, excluded);
+    thr_check_step(&m, c, pos, dir, h, dt, excluded);
 }
 
 static void thr_check_case(const aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3],
@@ -506,14 +513,9 @@ static void test_thr_exclude_reallocates_over_the_rest(void **state)
 /* Six couples without cant or offset (irassi_day's): thruster 2k and 2k + 1 give the same torque. Taking one
  * out moves its duty to its twin on every signed axis (the allocation otherwise unchanged, bit for bit: no
  * search), and the dump is still the requested impulse (the independent check). */
-static void test_thr_exclude_moves_the_duty_to_a_twin(void **state)
+static void couples_config(aocs_mom_config_t *c, double pos[N_THR][3], double dir[N_THR][3])
 {
-    (void)state;
-    double pos[N_THR][3] = {{0}};
-    double dir[N_THR][3] = {{0}};
-    aocs_mom_config_t c;
-    test_rng_t r = {0x7717ULL};
-    thr_config(&c, pos, dir);
+    thr_config(c, pos, dir);
     for (int i = 0; i < N_THR; ++i) {
         const int k = i / 4;           /* axis of the couple's torque */
         const int j = (k + 1) % 3;
@@ -526,10 +528,20 @@ static void test_thr_exclude_moves_the_duty_to_a_twin(void **state)
         pos[i][j] = 1.2 * sd;
         dir[i][l] = sg * sd;
         d_cross(pos[i], dir[i], t);
-        c.thr_arm_x_m[i] = AOCS_R(t[0]);
-        c.thr_arm_y_m[i] = AOCS_R(t[1]);
-        c.thr_arm_z_m[i] = AOCS_R(t[2]);
+        c->thr_arm_x_m[i] = AOCS_R(t[0]);
+        c->thr_arm_y_m[i] = AOCS_R(t[1]);
+        c->thr_arm_z_m[i] = AOCS_R(t[2]);
     }
+}
+
+static void test_thr_exclude_moves_the_duty_to_a_twin(void **state)
+{
+    (void)state;
+    double pos[N_THR][3] = {{0}};
+    double dir[N_THR][3] = {{0}};
+    aocs_mom_config_t c;
+    test_rng_t r = {0x7717ULL};
+    couples_config(&c, pos, dir);
     for (uint32_t i = 0u; i < N_THR; ++i) {
         aocs_mom_t m;
         aocs_mom_t before;
@@ -547,6 +559,81 @@ static void test_thr_exclude_moves_the_duty_to_a_twin(void **state)
         for (int rep = 0; rep < 20; ++rep) {
             thr_check_case_without(&c, pos, dir, test_random_vec3(&r, 20.0), 1.0, 1u << i);
         }
+    }
+}
+
+/* Latch-valve branches (docs/spec.md 5.15.8) on the couples: thruster 2k on branch A, 2k + 1 on B
+ * (mom.thr_latch_b_mask 0xAAA). Closing A moves every even thruster's duty to its twin (bit for bit, as an
+ * exclusion does), zeroes the on-times A had been given this step, and the dump is still the requested impulse
+ * on B alone (the independent check); reopening gives back the allocation over all twelve, bit for bit.
+ * Closing B as well would leave nothing: refused, m unchanged. A branch that is not one, another policy, NULL
+ * and a stage not initialised are refused; the branch of each thruster is its bit. */
+static void test_thr_latch_branches(void **state)
+{
+    (void)state;
+    double pos[N_THR][3] = {{0}};
+    double dir[N_THR][3] = {{0}};
+    aocs_mom_config_t c;
+    aocs_mom_t m;
+    aocs_mom_t before;
+    test_rng_t r = {0x1a7c4ULL};
+    couples_config(&c, pos, dir);
+    c.thr_latch_b_mask = 0xAAAu;
+    assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        assert_int_equal(aocs_mom_thr_branch(&m, i), i % 2u);
+    }
+    assert_int_equal(aocs_mom_thr_branch(NULL, 1u), 0u);
+    assert_int_equal(aocs_mom_thr_branch(&m, 40u), 0u);
+    {
+        /* a step that fires thrusters of both branches, then A closes */
+        aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(8.0), AOCS_R(-5.0), AOCS_R(3.0)), aocs_vec3_zero(), 1.0);
+        uint32_t fired_a = 0u;
+        assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+        for (uint32_t i = 0u; i < N_THR; i += 2u) {
+            fired_a += (m.out.thruster_on_s[i] > AOCS_R(0.0)) ? 1u : 0u;
+        }
+        assert_true(fired_a > 0u);
+    }
+    before = m;
+    assert_int_equal(aocs_mom_latch_set(&m, 0u, 1), AOCS_OK);
+    assert_int_equal(m.out.latch_closed_mask, 1u);
+    assert_int_equal(m.thr_excluded_mask, 0u);
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        const real_t want_on = ((i % 2u) == 0u) ? AOCS_R(0.0) : before.out.thruster_on_s[i];
+        assert_true(!(m.out.thruster_on_s[i] < want_on) && !(m.out.thruster_on_s[i] > want_on));
+    }
+    for (uint32_t s = 0u; s < AOCS_MOM_AXES_SIGNED; ++s) {
+        for (uint32_t n = 0u; n < N_THR; ++n) {
+            const real_t want = ((n % 2u) == 0u) ? AOCS_R(0.0) : (before.thr_alloc[s][n] + before.thr_alloc[s][n - 1u]);
+            assert_true(!(m.thr_alloc[s][n] < want) && !(m.thr_alloc[s][n] > want));
+        }
+    }
+    for (int rep = 0; rep < 40; ++rep) {
+        thr_check_step(&m, &c, pos, dir, test_random_vec3(&r, 20.0), 1.0, 0x555u);
+    }
+    /* B too: nothing would be left */
+    before = m;
+    assert_int_equal(aocs_mom_latch_set(&m, 1u, 1), AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING);
+    assert_true(memcmp(&m, &before, sizeof(m)) == 0);
+    /* reopened: the allocation over all twelve again */
+    assert_int_equal(aocs_mom_latch_set(&m, 0u, 0), AOCS_OK);
+    assert_int_equal(m.out.latch_closed_mask, 0u);
+    assert_true(memcmp(m.thr_alloc, m.thr_alloc_full, sizeof(m.thr_alloc)) == 0);
+    /* B closed with thruster 0 excluded: A's 0 gone and B's 1 shut, the +x couple is empty */
+    assert_int_equal(aocs_mom_thr_exclude(&m, 0u), AOCS_OK);
+    assert_int_equal(aocs_mom_latch_set(&m, 1u, 1), AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING);
+    assert_int_equal(m.out.latch_closed_mask, 0u);
+    assert_int_equal(aocs_mom_latch_set(&m, 2u, 1), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+    assert_int_equal(aocs_mom_latch_set(NULL, 0u, 1), AOCS_ERR_NULL_ARG);
+    {
+        aocs_mom_t blank;
+        aocs_mom_config_t none;
+        (void)memset(&blank, 0, sizeof(blank));
+        assert_int_equal(aocs_mom_latch_set(&blank, 0u, 1), AOCS_ERR_NOT_INITIALISED);
+        base_config(&none, AOCS_MOM_NONE);
+        assert_int_equal(aocs_mom_init(&blank, &none), AOCS_OK);
+        assert_int_equal(aocs_mom_latch_set(&blank, 0u, 1), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
     }
 }
 
@@ -708,6 +795,12 @@ static void test_thr_config_errors(void **state)
     bad = c;
     bad.thr_quantum_s = AOCS_R(NAN);
     assert_int_equal(aocs_mom_init(&m, &bad), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+    /* a latch-valve bit for a thruster that is not there */
+    bad = c;
+    bad.thr_latch_b_mask = 1u << N_THR;
+    assert_int_equal(aocs_mom_init(&m, &bad), AOCS_ERR_MOMENTUM_CONFIG_INVALID);
+    bad.thr_latch_b_mask = (1u << N_THR) - 1u; /* every one on B: valid */
+    assert_int_equal(aocs_mom_init(&m, &bad), AOCS_OK);
 }
 
 /* ---- in the executive: the unloading torque is taken off the wheels' command ---- */
@@ -796,6 +889,7 @@ int main(void)
         cmocka_unit_test(test_thr_pwm),
         cmocka_unit_test(test_thr_exclude_reallocates_over_the_rest),
         cmocka_unit_test(test_thr_exclude_moves_the_duty_to_a_twin),
+        cmocka_unit_test(test_thr_latch_branches),
         cmocka_unit_test(test_thr_small_torque_carried),
         cmocka_unit_test(test_thr_config_errors),
         cmocka_unit_test(test_exec_feeds_unloading_forward),

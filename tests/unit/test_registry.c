@@ -78,6 +78,8 @@ static const wire_field_t WIRE_EXEC_FIELDS[] = {
     /* the MEKF's gyroless model (docs/spec.md 5.6.12) */
     {"MEKF_GYROLESS_TORQUE_SIGMA", 176u}, {"MEKF_GYROLESS_P0_RATE_SIGMA", 177u}, {"MEKF_GYROLESS_RATE_SIGMA", 178u},
     {"FDIR_ST_NOISE_SCALE_MAX", 179u},
+    /* latch-valve branches and the stuck-open test (docs/spec.md 5.15.8) */
+    {"MOM_THR_LATCH_B_MASK", 180u}, {"FDIR_THR_OPEN_PERSIST", 181u},
     /* per wheel i: 100 + 8 i + field (pil_frame.h AOCS_PIL_WHEEL_FIELD_ROWS); wheel 0 and the last one here,
      * the rest by the rule in test_pil_ids_are_the_wire_values_and_unique */
     {"WHEEL0_AXIS", 100u}, {"WHEEL0_JS", 101u}, {"WHEEL0_U_MAX", 102u}, {"WHEEL0_OMEGA_MAX", 103u},

@@ -41,6 +41,7 @@ void aocs_fdir_config_default(aocs_fdir_config_t *cfg)
         cfg->mom_residual_nm = AOCS_FDIR_MOM_RESIDUAL_DEFAULT;
         cfg->mom_window = AOCS_FDIR_MOM_WINDOW_DEFAULT;
         cfg->mom_persist = AOCS_FDIR_MOM_PERSIST_DEFAULT;
+        cfg->thr_open_persist = AOCS_FDIR_THR_OPEN_PERSIST_DEFAULT;
         cfg->wheel_friction_window = AOCS_FDIR_WHEEL_FRICTION_WINDOW_DEFAULT;
         cfg->wheel_friction_excess = AOCS_FDIR_WHEEL_FRICTION_EXCESS_DEFAULT;
         cfg->st_noise_scale_max = AOCS_FDIR_ST_NOISE_SCALE_MAX_DEFAULT;
@@ -63,7 +64,8 @@ aocs_status_t aocs_fdir_config_check(const aocs_fdir_config_t *cfg)
                !(cfg->gyro_bias_chi2 >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->gyro_bias_chi2) ||
                (cfg->gyro_bias_persist == 0u) || (cfg->link_lost_periods == 0u) ||
                !(cfg->mom_residual_nm >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->mom_residual_nm) ||
-               (cfg->mom_window == 0u) || (cfg->mom_persist == 0u) || (cfg->wheel_friction_window == 0u) ||
+               (cfg->mom_window == 0u) || (cfg->mom_persist == 0u) || (cfg->thr_open_persist == 0u) ||
+               (cfg->wheel_friction_window == 0u) ||
                !(cfg->wheel_friction_excess >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->wheel_friction_excess) ||
                !(cfg->st_noise_scale_max >= AOCS_R(0.0)) || !AOCS_IS_FINITE(cfg->st_noise_scale_max)) {
         st = AOCS_ERR_FDIR_CONFIG_INVALID;

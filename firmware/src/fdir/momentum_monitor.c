@@ -56,13 +56,26 @@ static uint32_t mom_explaining_thruster(const aocs_fdir_mom_t *m, aocs_vec3_t r,
     return best;
 }
 
+/* The window's bound so far: mom_residual_nm over its span and the epoch uncertainty of its two ends, N m s. */
+static real_t mom_bound(const aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t epoch_Nms)
+{
+    const real_t span_s = (real_t)f->mom.periods * in->period_s;
+    return (f->cfg.mom_residual_nm * span_s) + f->mom.epoch_ref_Nms + epoch_Nms;
+}
+
+/* The window's residual so far, r = H_N - H_N(t_0) - the commanded impulse, N m s. */
+static aocs_vec3_t mom_residual(const aocs_fdir_mom_t *m, aocs_vec3_t h_N)
+{
+    return aocs_vec3_sub(aocs_vec3_sub(h_N, m->h_ref_N), m->expected_N);
+}
+
 /* A window has closed: judge r, count, raise, isolate. */
 static void mom_judge(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t h_N, real_t epoch_Nms)
 {
     aocs_fdir_mom_t *m = &f->mom;
     const real_t span_s = (real_t)m->periods * in->period_s;
-    const real_t bound = (f->cfg.mom_residual_nm * span_s) + m->epoch_ref_Nms + epoch_Nms;
-    const aocs_vec3_t r = aocs_vec3_sub(aocs_vec3_sub(h_N, m->h_ref_N), m->expected_N);
+    const real_t bound = mom_bound(f, in, epoch_Nms);
+    const aocs_vec3_t r = mom_residual(m, h_N);
     const real_t r_norm = aocs_vec3_norm(r);
     if (!(r_norm <= bound)) {
         const uint32_t i = mom_explaining_thruster(m, r, bound);
@@ -96,12 +109,19 @@ static void mom_judge(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t h
     } else {
         m->ineffective_run = 0u;
         m->inconsistent_run = 0u;
+        aocs_fdir_latch_confirm(f, in);
     }
 }
 
-/* This step's thruster commands, fired over the period that starts now, into the open window. */
+/* This step's thruster commands, fired over the period that starts now, into the open window and the
+ * stuck-open test's last period. */
 static void mom_add_commands(aocs_fdir_mom_t *m, const aocs_mom_t *mom, aocs_mat3_t a_NB)
 {
+    m->a_prev_NB = a_NB;
+    m->c_prev_N = aocs_vec3_zero();
+    for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
+        m->on_prev_s[i] = AOCS_R(0.0);
+    }
     if (mom->id == AOCS_MOM_THRUSTERS) {
         for (uint32_t i = 0u; (i < mom->cfg.thr_count) && (i < AOCS_MOM_THRUSTERS_MAX); ++i) {
             const real_t t_on = mom->out.thruster_on_s[i];
@@ -109,6 +129,8 @@ static void mom_add_commands(aocs_fdir_mom_t *m, const aocs_mom_t *mom, aocs_mat
                 const aocs_vec3_t c = aocs_mat3_mul_vec(a_NB, aocs_vec3_scale(aocs_mom_thr_torque_B(mom, i), t_on));
                 m->thr_impulse_N[i] = aocs_vec3_add(m->thr_impulse_N[i], c);
                 m->expected_N = aocs_vec3_add(m->expected_N, c);
+                m->c_prev_N = aocs_vec3_add(m->c_prev_N, c);
+                m->on_prev_s[i] = t_on;
             }
         }
     }
@@ -143,8 +165,14 @@ void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_
             const real_t epoch_Nms = AOCS_R(0.5) * aocs_vec3_norm(aocs_vec3_sub(hw_B, m->hw_prev_B));
             const aocs_mat3_t a_NB = aocs_mat3_transpose(aocs_quat_to_dcm(est->q_BN));
             const aocs_vec3_t h_N = aocs_mat3_mul_vec(a_NB, h_B);
-            if (m->open == 0) {
-                mom_open(m, h_N, epoch_Nms);
+            /* the last period alone, for the stuck-open test: its residual and bound (docs/spec.md 5.15.8) */
+            int moved = 0;
+            if (m->have_period != 0) {
+                moved = aocs_fdir_open_test(f, in, aocs_vec3_sub(aocs_vec3_sub(h_N, m->h_prev_N), m->c_prev_N),
+                                            (f->cfg.mom_residual_nm * in->period_s) + m->epoch_prev_Nms + epoch_Nms);
+            }
+            if ((m->open == 0) || (moved != 0)) {
+                mom_open(m, h_N, epoch_Nms); /* a first window, or a latch valve moved: a new window from now */
             } else if (m->periods >= f->cfg.mom_window) {
                 mom_judge(f, in, h_N, epoch_Nms);
                 mom_open(m, h_N, epoch_Nms);
@@ -152,11 +180,15 @@ void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_
                 /* the window goes on */
             }
             mom_add_commands(m, in->mom, a_NB);
+            m->h_prev_N = h_N;
+            m->epoch_prev_Nms = epoch_Nms;
+            m->have_period = 1;
         }
         m->hw_prev_B = hw_B;
         m->have_hw_prev = 1;
     } else {
         m->open = 0; /* a step without a usable momentum: the next window starts afresh */
         m->have_hw_prev = 0;
+        m->have_period = 0;
     }
 }

@@ -37,10 +37,17 @@ static uint32_t thr_bit(uint32_t i)
     return (uint32_t)1u << i;
 }
 
+/* The thrusters of the configuration, as bits. */
+static uint32_t thr_all_bits(const aocs_mom_config_t *c)
+{
+    return (c->thr_count >= 32u) ? UINT32_MAX : (thr_bit(c->thr_count) - 1u);
+}
+
 static aocs_status_t thr_check(const aocs_mom_config_t *c)
 {
     aocs_status_t st = AOCS_OK;
     if ((c->thr_count < 3u) || (c->thr_count > AOCS_MOM_THRUSTERS_MAX) ||
+        ((c->thr_latch_b_mask & ~thr_all_bits(c)) != 0u) ||
         !(AOCS_IS_FINITE(c->thr_thrust_N) && (c->thr_thrust_N > AOCS_R(0.0))) ||
         !(AOCS_IS_FINITE(c->dump_torque_Nm) && (c->dump_torque_Nm > AOCS_R(0.0))) ||
         !(AOCS_IS_FINITE(c->thr_min_on_s) && (c->thr_min_on_s >= AOCS_R(0.0))) ||
@@ -137,7 +144,9 @@ aocs_status_t aocs_mom_thr_init(aocs_mom_t *m)
     aocs_status_t st = thr_check(&m->cfg);
     if (st == AOCS_OK) {
         m->thr_excluded_mask = 0u;
-        st = thr_alloc_all(&m->cfg, 0u, m->thr_alloc);
+        m->out.latch_closed_mask = 0u;
+        st = thr_alloc_all(&m->cfg, 0u, m->thr_alloc_full);
+        (void)memcpy(m->thr_alloc, m->thr_alloc_full, sizeof(m->thr_alloc));
     }
     return st;
 }
@@ -156,43 +165,116 @@ aocs_vec3_t aocs_mom_thr_torque_B(const aocs_mom_t *m, uint32_t i)
 static uint32_t thr_twin(const aocs_mom_config_t *c, uint32_t excluded, uint32_t i)
 {
     const aocs_vec3_t ti = thr_torque(c, i);
-    const real_t tol = AOCS_R(1.0e-6) * aocs_vec3_norm(ti);
+    const real_t tol2 = AOCS_R(1.0e-12) * aocs_vec3_dot(ti, ti); /* (1e-6 |t_i|)^2: squared, no root */
     uint32_t twin = c->thr_count;
     for (uint32_t j = 0u; (j < c->thr_count) && (twin == c->thr_count); ++j) {
-        if ((j != i) && ((excluded & thr_bit(j)) == 0u) &&
-            (aocs_vec3_norm(aocs_vec3_sub(thr_torque(c, j), ti)) <= tol)) {
-            twin = j;
+        if ((j != i) && ((excluded & thr_bit(j)) == 0u)) {
+            const aocs_vec3_t d = aocs_vec3_sub(thr_torque(c, j), ti);
+            if (aocs_vec3_dot(d, d) <= tol2) {
+                twin = j;
+            }
         }
     }
     return twin;
 }
 
+/* The thrusters on the closed branches of latch_closed (bit b: branch b), as bits. */
+static uint32_t thr_latched_bits(const aocs_mom_config_t *c, uint32_t latch_closed)
+{
+    uint32_t bits = 0u;
+    if ((latch_closed & 1u) != 0u) {
+        bits |= thr_all_bits(c) & ~c->thr_latch_b_mask;
+    }
+    if ((latch_closed & 2u) != 0u) {
+        bits |= c->thr_latch_b_mask;
+    }
+    return bits;
+}
+
 /*
- * The allocation without thruster i, into trial (a copy of the present one): where a signed axis's duties use
- * i and a twin with the same torque is left, i's duty moves to the twin (the same torque at the same
- * propellant, so still the least-propellant basic solution: a few hundred instructions); otherwise every
- * axis is sought again over the thrusters left (thr_alloc_all: more than 22,500 instructions on the
- * Cortex-M4F, an overrun of that step's budget, docs/spec.md 5.15.8).
+ * The allocation without the thrusters of mask, into trial, from the one over every thruster (init): where a
+ * signed axis's duties use a thruster of mask and a twin with the same torque is left, its duty moves to the
+ * twin (the same torque at the same propellant, so still the least-propellant basic solution: a few hundred
+ * instructions); otherwise every axis is sought again over the thrusters left (thr_alloc_all: more than
+ * 22,500 instructions on the Cortex-M4F, an overrun of that step's budget, docs/spec.md 5.15.8).
  */
-static aocs_status_t thr_alloc_without(const aocs_mom_t *m, uint32_t i, uint32_t mask,
+static aocs_status_t thr_alloc_without(const aocs_mom_t *m, uint32_t mask,
                                        real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX])
 {
     aocs_status_t st = AOCS_OK;
-    const uint32_t twin = thr_twin(&m->cfg, mask, i);
     int search = 0;
-    (void)memcpy(trial, m->thr_alloc, sizeof(m->thr_alloc));
-    for (uint32_t s = 0u; s < AOCS_MOM_AXES_SIGNED; ++s) {
-        if (trial[s][i] > AOCS_R(0.0)) {
-            if (twin < m->cfg.thr_count) {
-                trial[s][twin] += trial[s][i];
-            } else {
-                search = 1;
+    (void)memcpy(trial, m->thr_alloc_full, sizeof(m->thr_alloc_full));
+    for (uint32_t i = 0u; i < m->cfg.thr_count; ++i) {
+        if ((mask & thr_bit(i)) != 0u) {
+            uint32_t twin = AOCS_MOM_THRUSTERS_MAX + 1u; /* sought when a duty needs it */
+            for (uint32_t s = 0u; s < AOCS_MOM_AXES_SIGNED; ++s) {
+                if (trial[s][i] > AOCS_R(0.0)) {
+                    twin = (twin > AOCS_MOM_THRUSTERS_MAX) ? thr_twin(&m->cfg, mask, i) : twin;
+                    if (twin < m->cfg.thr_count) {
+                        trial[s][twin] += trial[s][i];
+                    } else {
+                        search = 1;
+                    }
+                    trial[s][i] = AOCS_R(0.0);
+                }
             }
-            trial[s][i] = AOCS_R(0.0);
         }
     }
     if (search != 0) {
         st = thr_alloc_all(&m->cfg, mask, trial);
+    }
+    return st;
+}
+
+/* The allocation for an excluded set and the latch valves' state; m unchanged unless AOCS_OK. */
+static aocs_status_t thr_reallocate(aocs_mom_t *m, uint32_t excluded, uint32_t latch_closed)
+{
+    real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX];
+    const uint32_t mask = excluded | thr_latched_bits(&m->cfg, latch_closed);
+    const aocs_status_t st = thr_alloc_without(m, mask, trial);
+    if (st == AOCS_OK) {
+        (void)memcpy(m->thr_alloc, trial, sizeof(trial));
+        m->thr_excluded_mask = excluded;
+        m->out.latch_closed_mask = latch_closed;
+        for (uint32_t i = 0u; i < m->cfg.thr_count; ++i) {
+            if ((mask & thr_bit(i)) != 0u) {
+                m->thr_residual_s[i] = AOCS_R(0.0); /* nothing owed by a thruster that no longer fires */
+            }
+        }
+    }
+    return st;
+}
+
+uint32_t aocs_mom_thr_branch(const aocs_mom_t *m, uint32_t i)
+{
+    uint32_t b = 0u;
+    if ((m != NULL) && (i < AOCS_MOM_THRUSTERS_MAX) && ((m->cfg.thr_latch_b_mask & thr_bit(i)) != 0u)) {
+        b = 1u;
+    }
+    return b;
+}
+
+aocs_status_t aocs_mom_latch_set(aocs_mom_t *m, uint32_t b, int closed)
+{
+    aocs_status_t st = AOCS_OK;
+    if (m == NULL) {
+        st = AOCS_ERR_NULL_ARG;
+    } else if (m->initialised == 0) {
+        st = AOCS_ERR_NOT_INITIALISED;
+    } else if ((m->id != AOCS_MOM_THRUSTERS) || (b >= AOCS_MOM_LATCH_BRANCHES)) {
+        st = AOCS_ERR_MOMENTUM_CONFIG_INVALID;
+    } else {
+        const uint32_t was = m->out.latch_closed_mask;
+        const uint32_t now = (closed != 0) ? (was | thr_bit(b)) : (was & ~thr_bit(b));
+        st = thr_reallocate(m, m->thr_excluded_mask, now);
+        if (st == AOCS_OK) {
+            const uint32_t shut = thr_latched_bits(&m->cfg, now & ~was);
+            for (uint32_t i = 0u; i < m->cfg.thr_count; ++i) {
+                if ((shut & thr_bit(i)) != 0u) {
+                    m->out.thruster_on_s[i] = AOCS_R(0.0); /* the valve stops this period's pulse too */
+                }
+            }
+        }
     }
     return st;
 }
@@ -208,14 +290,7 @@ aocs_status_t aocs_mom_thr_exclude(aocs_mom_t *m, uint32_t i)
                ((m->thr_excluded_mask & thr_bit(i)) != 0u)) {
         st = AOCS_ERR_MOMENTUM_CONFIG_INVALID;
     } else {
-        real_t trial[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX];
-        const uint32_t mask = m->thr_excluded_mask | thr_bit(i);
-        st = thr_alloc_without(m, i, mask, trial);
-        if (st == AOCS_OK) {
-            (void)memcpy(m->thr_alloc, trial, sizeof(trial));
-            m->thr_excluded_mask = mask;
-            m->thr_residual_s[i] = AOCS_R(0.0); /* nothing owed by a thruster that no longer fires */
-        }
+        st = thr_reallocate(m, m->thr_excluded_mask | thr_bit(i), m->out.latch_closed_mask);
     }
     return st;
 }

@@ -83,7 +83,7 @@ def test_exec_fields_are_the_rows_of_pil_frame_h(reg):
     # 160 .. 175, the MEKF's gyroless model 176 .. 178, the tracker's noise adaptation 179, then the
     # per-wheel fields 100 .. 147 (8 per wheel, pil_frame.h)
     assert [x.pil_id for x in reg.exec_fields] == (list(range(1, 15)) + list(range(60, 99))
-                                                   + list(range(160, 180)) + list(range(100, 148)))
+                                                   + list(range(160, 182)) + list(range(100, 148)))
     assert reg.exec_field_of_key("wheel3.coulomb_nm").pil_id == 100 + 3 * 8 + 5
 
 

@@ -23,11 +23,16 @@
  *                    gyro_stuck, then gyro_excluded and, when the estimator can go on without it,
  *                    estimator_gyroless (the MEKF propagates on the dynamics, 5.6.12; SAFE until its rate
  *                    is known, then NOMINAL), else SAFE latched (one gyro: nothing to propagate on);
- *   momentum         (thruster_monitor.c) over windows of M periods, the change of the total angular
+ *   momentum         (momentum_monitor.c) over windows of M periods, the change of the total angular
  *                    momentum H_N = A(q)^T (J w + h_wheels) minus the impulse the thrusters were commanded to
  *                    give: above fdir.mom_residual_nm on P windows in a row and explained by one commanded
  *                    thruster that did not fire -> thruster_ineffective, unload_actuator_switched (the
  *                    allocation recomputed without it); not explained -> momentum_inconsistent;
+ *   stuck open       (latch_isolation.c) a period's momentum residual that is one thruster's whole-period
+ *                    impulse on fdir.thr_open_persist periods in a row -> thruster_stuck_open and the latch
+ *                    valve of its branch closed (thruster_branch_closed; reopened and the other one closed
+ *                    when the residual goes on: thruster_branch_reopened); the next consistent window ->
+ *                    thruster_isolated;
  *   modes and link   (fdir.c) safe_entered / safe_left (after the first NOMINAL step), link_lost /
  *                    link_restored from consecutive missing samples.
  *
@@ -68,6 +73,7 @@
 #define AOCS_FDIR_MOM_RESIDUAL_DEFAULT AOCS_R(0.0) /* off: the external torque bound is the mission's */
 #define AOCS_FDIR_MOM_WINDOW_DEFAULT 30u
 #define AOCS_FDIR_MOM_PERSIST_DEFAULT 2u
+#define AOCS_FDIR_THR_OPEN_PERSIST_DEFAULT 3u
 #define AOCS_FDIR_WHEEL_FRICTION_WINDOW_DEFAULT 100u
 #define AOCS_FDIR_WHEEL_FRICTION_EXCESS_DEFAULT AOCS_R(1.0) /* the friction doubled */
 /* the star tracker's noise adaptation (5.15.3): its noise variances at most this many times the configured
@@ -98,6 +104,7 @@ typedef struct {
     real_t mom_residual_nm;       /* momentum test: mean unexplained external torque over a window, N m; 0 = none */
     uint32_t mom_window;          /* control periods per momentum window, >= 1 */
     uint32_t mom_persist;         /* consecutive inconsistent windows for an event, >= 1 */
+    uint32_t thr_open_persist;    /* consecutive periods matching a stuck-open thruster to close its branch, >= 1 */
     uint32_t wheel_friction_window; /* steps of the friction test's sums, >= 1 */
     real_t wheel_friction_excess; /* friction beyond the model by this fraction of it: high; 0 = no test */
     real_t st_noise_scale_max;    /* the tracker's noise variances at most this times the model's; 0 = no
@@ -183,7 +190,7 @@ typedef struct {
     int bias_armed;
 } aocs_fdir_gyro_t;
 
-/* The momentum monitor's state (thruster_monitor.c): the window open since H_ref was measured */
+/* The momentum monitor's state (momentum_monitor.c): the window open since H_ref was measured */
 typedef struct {
     aocs_vec3_t h_ref_N;          /* total momentum at the window's start, N, N m s */
     real_t epoch_ref_Nms;         /* its epoch uncertainty, |h_w(k) - h_w(k-1)| / 2, N m s */
@@ -196,6 +203,19 @@ typedef struct {
     uint32_t inconsistent_run;    /* consecutive windows not explained by any thruster */
     uint32_t ineffective_run;     /* consecutive windows explained by one commanded thruster not firing */
     uint32_t suspect;             /* that thruster (the last window's) */
+    /* the last period, for the stuck-open test (latch_isolation.c) */
+    aocs_vec3_t h_prev_N;         /* total momentum at the last usable sample, N, N m s */
+    real_t epoch_prev_Nms;        /* its epoch uncertainty, N m s */
+    aocs_mat3_t a_prev_NB;        /* A(q)^T at it */
+    aocs_vec3_t c_prev_N;         /* the impulse the thrusters were commanded over the period since, N, N m s */
+    real_t on_prev_s[AOCS_MOM_THRUSTERS_MAX]; /* their on-times over it, s */
+    int have_period;              /* 1: the fields above hold the last sample's */
+    /* the stuck-open test and its isolation by the latch valves (latch_isolation.c) */
+    uint32_t open_run;            /* consecutive periods whose residual is one thruster's whole-period impulse */
+    uint32_t open_suspect;        /* that thruster */
+    uint32_t latch_testing;       /* 1 + the branch whose valve is closed to test; 0: no test under way */
+    uint32_t latch_tried;         /* bit b: branch b closed to test (a branch is tested once) */
+    uint32_t latch_suspect;       /* the thruster the test under way isolates */
 } aocs_fdir_mom_t;
 
 typedef struct {
@@ -244,6 +264,14 @@ void aocs_fdir_st_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_gyro_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_gyro_bias_step(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 void aocs_fdir_mom_step(aocs_fdir_t *f, const aocs_fdir_input_t *in, const aocs_wheels_t *wheels);
+
+/* The stuck-open test of the last period (latch_isolation.c; docs/spec.md 5.15.8): dr its momentum residual,
+ * H_N(t_k) - H_N(t_k-1) - the commanded impulse, N m s, N, and bound its bound; closes, reopens and swaps latch
+ * branches. 1 when it moved a valve (the caller then starts a new window). */
+int aocs_fdir_open_test(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t dr_N, real_t bound);
+
+/* A momentum window judged consistent (|r| <= bound): a latch test under way is confirmed (thruster_isolated). */
+void aocs_fdir_latch_confirm(aocs_fdir_t *f, const aocs_fdir_input_t *in);
 
 /* 1 when a and b are the same number (neither below nor above the other; 0 with a NaN): the repeat tests of
  * a frozen tracker and a stuck gyro axis. Total. */

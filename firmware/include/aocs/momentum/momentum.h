@@ -67,6 +67,7 @@ typedef struct {
     real_t thr_arm_x_m[AOCS_MOM_THRUSTERS_MAX]; /* thrusters: x of r_i x d_i (torque per newton), m */
     real_t thr_arm_y_m[AOCS_MOM_THRUSTERS_MAX]; /* y of r_i x d_i, m */
     real_t thr_arm_z_m[AOCS_MOM_THRUSTERS_MAX]; /* z of r_i x d_i, m */
+    uint32_t thr_latch_b_mask;       /* thrusters: bit i set: thruster i fed through latch valve B, else A */
 } aocs_mom_config_t;
 
 /* One step's input (the executive forms it before actuation). */
@@ -88,6 +89,8 @@ typedef struct {
     aocs_vec3_t dh_B_Nms;            /* h_wheels - h_target */
     int unloading;                   /* 1: an unload in progress this step */
     uint32_t n_events;               /* unloads started (transitions to unloading), saturating */
+    uint32_t latch_closed_mask;      /* thrusters: bit b set: the latch valve of branch b closed (0 A, 1 B);
+                                      * held from step to step (aocs_mom_latch_set) */
     aocs_status_t status;            /* AOCS_OK, or why nothing was commanded (no field, no wheels) */
 } aocs_mom_output_t;
 
@@ -96,6 +99,8 @@ typedef struct {
     aocs_mom_config_t cfg;
     aocs_mat3_t mtq_inv;             /* maps a B-frame dipole to the rods' dipoles: (axes^T)^-1 */
     real_t thr_alloc[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX]; /* duty per N m about each signed axis */
+    real_t thr_alloc_full[AOCS_MOM_AXES_SIGNED][AOCS_MOM_THRUSTERS_MAX]; /* the same over every thruster (init):
+                                      * what an exclusion or a latch valve starts from */
     real_t thr_residual_s[AOCS_MOM_THRUSTERS_MAX]; /* on-time requested but not fired (quantum, minimum
                                       * pulse), carried to the next period while an unload lasts */
     uint32_t thr_excluded_mask;      /* bit i: thruster i taken out of the allocation (aocs_mom_thr_exclude) */
@@ -138,6 +143,23 @@ aocs_vec3_t aocs_mom_thr_torque_B(const aocs_mom_t *m, uint32_t i);
  * AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING (the thrusters left cannot torque some signed axis): m unchanged.
  */
 aocs_status_t aocs_mom_thr_exclude(aocs_mom_t *m, uint32_t i);
+
+/* Latch-valve branches (docs/spec.md 5.15.8): two, A (0) and B (1); mom.thr_latch_b_mask gives each thruster's. */
+#define AOCS_MOM_LATCH_BRANCHES 2u
+
+/* The branch of thruster i (0 A, 1 B; 0 for NULL or i out of range). Total. */
+uint32_t aocs_mom_thr_branch(const aocs_mom_t *m, uint32_t i);
+
+/*
+ * Closes (closed = 1) or opens (0) the latch valve of branch b: the thrusters on a closed branch are out of the
+ * allocation as an excluded one is (the least-propellant duties of the thrusters left, by their twins when
+ * they have them), this step's on-times of a newly closed branch are zeroed (the unloading torque this step
+ * fed forward to the wheels stays as computed: at most one period of the dump torque), and
+ * out.latch_closed_mask holds the valves' state on the wire. AOCS_OK; AOCS_ERR_NULL_ARG, AOCS_ERR_NOT_INITIALISED;
+ * AOCS_ERR_MOMENTUM_CONFIG_INVALID (not the thrusters policy, b not a branch);
+ * AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING (the thrusters left cannot torque some signed axis): m unchanged.
+ */
+aocs_status_t aocs_mom_latch_set(aocs_mom_t *m, uint32_t b, int closed);
 
 /* The hysteresis trigger alone: the next "unloading" state from the current one and |dh|. Total. */
 int aocs_mom_trigger(const aocs_mom_config_t *cfg, int unloading, real_t dh_norm_Nms);
