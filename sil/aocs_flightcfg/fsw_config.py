@@ -210,9 +210,11 @@ def momentum_keys(scenario) -> dict[str, str]:
             c = np.cross(np.asarray(r, float), np.asarray(d, float)) * (f / f_max)   # nominal geometry
             arms.append(tuple(float(x) for x in c))
         arms += [(0.0, 0.0, 0.0)] * (MOM_THRUSTERS_MAX - n)
+        # bit i set: thruster i is fed through latch valve B (clear: A), the plant's [thrusters] latch_branch
+        b_mask = sum(1 << i for i, b in enumerate(getattr(t, "latch_branch", ())) if b == 1)
         out.update({"mom.thr_count": str(n), "mom.thr_thrust_n": _num(f_max),
                     "mom.thr_min_on_s": _num(t.min_on_time_s), "mom.thr_quantum_s": _num(t.on_time_quantum_s),
-                    "mom.dump_torque_nm": _num(m.dump_torque_nm)})
+                    "mom.dump_torque_nm": _num(m.dump_torque_nm), "mom.thr_latch_b_mask": str(b_mask)})
         for c, axis in enumerate("xyz"):
             out[f"mom.thr_arm_{axis}_m"] = _vec([a[c] for a in arms])
     elif m.policy == "magnetorquers":

@@ -15,7 +15,10 @@ refused: the previous held command stays and counters["bad_commands"] counts it.
 The command is a mapping of named fields; every actuator declares the fields it
 reads (`command_fields`): "u_body" (torque, N m, B) or "u_orbit" (force, N,
 Bryson's frame) for the body actuator, "u_wheels" (N m, one per wheel) for a
-wheel array. A field no actuator reads is an error (a misspelt name).
+wheel array. A field is a tuple of floats of its declared size, or one integer
+bitmask where the declaration is a Mask (the thrusters' "thruster_latch_closed":
+an int, or a float with an integral value, in range; anything else is refused
+like a non-finite value). A field no actuator reads is an error (a misspelt name).
 
 Every measurement comes from a sensor module (aocs_plant.sensors), sampled once
 per period by a SensorSuite; the environment (aocs_plant.environment: orbit,
@@ -41,7 +44,7 @@ import numpy as np
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec, quat_from_rotvec, quat_mul
 
 from . import effectors, faults, sensors
-from .effectors import FORMS, BodyContext, Effector, Form
+from .effectors import FORMS, BodyContext, Effector, Form, Mask
 from .environment import Environment
 from .integrator import rk4
 from .orbit import LinearOrbit, NonlinearOrbit
@@ -118,12 +121,13 @@ class Plant:
 
     @staticmethod
     def _command_fields(actuators) -> dict:
-        """{field: number of floats} over every actuator; two actuators reading one field must agree on
-        its size."""
+        """{field: number of floats, or its Mask} over every actuator; two actuators reading one field must
+        agree on its size."""
         sizes: dict = {}
         for a in actuators:
             for name, n in a.command_fields.items():
-                if sizes.setdefault(name, int(n)) != int(n):
+                n = n if isinstance(n, Mask) else int(n)
+                if sizes.setdefault(name, n) != n:
                     raise ValueError(f"command field {name!r}: actuator {a.kind!r} reads {n} values, "
                                      f"another {sizes[name]}")
         return sizes
@@ -192,7 +196,8 @@ class Plant:
 
     @property
     def command_fields(self) -> dict:
-        """The command fields this plant's actuators read: {name: number of floats}."""
+        """The command fields this plant's actuators read: {name: number of floats}, or {name: Mask(bits)} for
+        a field that is one integer bitmask."""
         return dict(self._command_sizes)
 
     # ------------------------------------------------------------------ time
@@ -253,8 +258,9 @@ class Plant:
     def apply(self, command) -> bool:
         """Take the command for the current period: a mapping {field: values} (command_fields), e.g.
         {"u_body": (tx, ty, tz)} or, with a wheel array, {"u_body": ..., "u_wheels": (u1, ..., un)}.
-        False (and the whole command ignored) if any value is not finite. Each actuator reads its own
-        fields; one the command does not carry keeps its held value."""
+        False (and the whole command ignored) if any value is not finite, or a Mask field's value is not an
+        integer in its range. Each actuator reads its own fields; one the command does not carry keeps its
+        held value."""
         items = getattr(command, "items", None)   # a mapping (cheaper than isinstance(.., Mapping) per step)
         if items is None:
             raise ValueError(f"the command must be a mapping of fields ({', '.join(self._command_sizes)}), "
@@ -268,6 +274,12 @@ class Plant:
             if n is None:
                 raise ValueError(f"command field {name!r}: no actuator of this plant reads it "
                                  f"(fields: {', '.join(sizes) or 'none'})")
+            if n.__class__ is not int:     # a Mask: one integer bitmask
+                m = n.value(values)
+                if m is None:
+                    bad = True
+                cmd[name] = m
+                continue
             v = tuple(map(float, values))
             if len(v) != n:
                 raise ValueError(f"command field {name!r}: {len(v)} values, its actuator takes {n}")
@@ -519,7 +531,7 @@ def integrate_open_loop(scenario, steps: int | None = None) -> float:
     """
     plant = Plant(scenario)
     steps = scenario.n_steps if steps is None else int(steps)
-    zero = {f: (0.0,) * n for f, n in plant.command_fields.items()}
+    zero = {f: (0.0,) * n for f, n in plant.command_fields.items() if not isinstance(n, Mask)}
     t0 = time.perf_counter()
     for _ in range(steps):
         plant.sense()

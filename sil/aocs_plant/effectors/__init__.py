@@ -13,10 +13,10 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from .base import ATTITUDE, FORMS, ORBIT, REGISTRY, BodyContext, Effector, Form, ReadContext, register
+from .base import ATTITUDE, FORMS, ORBIT, REGISTRY, BodyContext, Effector, Form, Mask, ReadContext, register
 
-__all__ = ["ATTITUDE", "FORMS", "ORBIT", "REGISTRY", "BodyContext", "Effector", "Form", "ReadContext", "register",
-           "read", "build", "disturbance_kinds"]
+__all__ = ["ATTITUDE", "FORMS", "ORBIT", "REGISTRY", "BodyContext", "Effector", "Form", "Mask", "ReadContext",
+           "register", "read", "build", "disturbance_kinds"]
 
 for _m in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
     if _m.name != "base" and not _m.name.startswith("_"):

@@ -20,6 +20,7 @@ the registry (`register`, `REGISTRY`) and composes them by form.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Callable, ClassVar, Mapping
@@ -81,9 +82,11 @@ class Effector:
     applies_to: ClassVar[tuple] = (ATTITUDE,)  # plant kinds the section is valid for
     role: ClassVar[str] = "disturbance"        # "disturbance": sums into truth()["disturbance"];
     #                                            "actuator": receives the command (command())
-    command_fields: Mapping[str, int] = MappingProxyType({})   # actuators: the command fields it reads,
+    command_fields: Mapping[str, Any] = MappingProxyType({})   # actuators: the command fields it reads,
     #                                            {name: number of floats} (may be set per instance: the wheel
-    #                                            array's "u_wheels" has one value per wheel)
+    #                                            array's "u_wheels" has one value per wheel), or {name: Mask(bits)}
+    #                                            for a field that is one integer bitmask (the thrusters' latch
+    #                                            valves, "thruster_latch_closed")
     conflicts: ClassVar[tuple] = ()            # kinds that must not be enabled together with this one
     replaces: ClassVar[tuple] = ()             # kinds not built when this one is (a wheel array stands in
     #                                            for the plain body-torque actuator)
@@ -141,8 +144,9 @@ class Effector:
     # ---------------------------------------------------------------- control period, events
     def command(self, cmd: Mapping[str, tuple]) -> None:
         """Actuators: the command of the period (Plant.apply), held over it. cmd maps field names to
-        tuples of finite floats, checked against every actuator's command_fields; an actuator reads its
-        own fields and keeps its held value for a field the command does not carry."""
+        tuples of finite floats (a Mask field: to one int in its range), checked against every actuator's
+        command_fields; an actuator reads its own fields and keeps its held value for a field the command
+        does not carry."""
 
     def begin_period(self, t: float, x: tuple) -> None:
         """Before a control period is integrated (called only when overridden)."""
@@ -186,6 +190,34 @@ class Effector:
         """GENERAL actuators: their mean output over the last control period (read after
         end_period). A HELD actuator's is the value() the plant held, reported by the plant."""
         return ZERO3
+
+
+@dataclass(frozen=True)
+class Mask:
+    """A command field that is one integer, a bitmask of `bits` bits (0 .. 2**bits - 1), declared in
+    command_fields as Mask(bits) where a field of floats gives its size. Plant.apply takes an int, or a float
+    with an integral value, in range; anything else (2.5, -1, 2**bits, nan, a string, a sequence, a bool)
+    refuses the whole command like a non-finite float (counters["bad_commands"])."""
+
+    bits: int
+
+    def value(self, v) -> int | None:
+        """v as the mask, or None when it is not one."""
+        top = (1 << self.bits) - 1
+        if type(v) is int:                   # the common case: an int off the wire
+            return v if 0 <= v <= top else None
+        if isinstance(v, bool):
+            return None
+        if isinstance(v, numbers.Integral):  # numpy's integers
+            m = int(v)
+        elif isinstance(v, numbers.Real):
+            f = float(v)
+            if not f.is_integer():           # 2.5, nan, inf
+                return None
+            m = int(f)
+        else:
+            return None
+        return m if 0 <= m <= top else None
 
 
 REGISTRY: dict[str, type[Effector]] = {}

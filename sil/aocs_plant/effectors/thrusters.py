@@ -1,4 +1,4 @@
-"""Thrusters (docs/spec.md 5.8.1): `[thrusters]`, command field `thruster_on_s`.
+"""Thrusters (docs/spec.md 5.8.1): `[thrusters]`, command fields `thruster_on_s`, `thruster_latch_closed`.
 
 N thrusters at positions r_i (m, B, from the centre of mass) firing along unit directions d_i (B): the
 thrust F_i acts on the body along d_i (the exhaust leaves along -d_i). The command is the on-time of each
@@ -7,6 +7,17 @@ thruster within the control period (s). Once per command:
     tau_i = min(dt, max(0, c_i))                       clipped to the period
     tau_i = q round(tau_i / q)                         on_time_quantum_s q (none when 0), at most dt
     tau_i = 0 if tau_i < min_on_time_s                 the minimum impulse bit F_i min_on_time_s
+
+Each control period, after the injected faults (aocs_plant.faults.thrusters: a stuck-open thruster flies
+tau_i = dt) and before the thrust:
+
+    tau_i = 0 if bit b_i of the latch mask is set      b_i = latch_branch[i], 0 (branch A) or 1 (B)
+
+Every thruster is fed through the latch valve of its branch, upstream of its own valve: closing a branch's
+latch valve stops every thruster on it, a stuck-open one too (fault isolation, docs/spec.md 5.15.8). The
+command field `thruster_latch_closed` is that mask (bit 0: branch A's valve closed, bit 1: B's), an integer
+in [0, 3] (Plant.apply refuses anything else); the valves keep their state until a command carries the
+field again (all open at the start). `latch_branch` defaults to every thruster on branch A.
 
 Over each control period (the pulse is spread over the period: its impulse is exact, its timing within
 the period is not resolved), with the actual thrust of the period and the actual directions:
@@ -22,8 +33,8 @@ On the attitude plant the torque acts on the body; the force is recorded: the ef
 impulse in N, I_N = integral of A(q)^T force_B dt (N s), and the propellant used (kg), integrated by the
 same RK4 as the body. With `mass_kg` the truth also gives the velocity change I_N / mass_kg (m/s).
 Truth: on-times commanded and applied, thrust, force, torque, impulse, propellant, delta-v, the pulses
-fired and the on-time flown per thruster. Seeded streams "thrust_noise" (9, one draw of N per period)
-and "thruster_misalignment" (10, 2 N draws at construction), only when their sigma is set.
+fired and the on-time flown per thruster, the latch mask. Seeded streams "thrust_noise" (9, one draw of N
+per period) and "thruster_misalignment" (10, 2 N draws at construction), only when their sigma is set.
 """
 from __future__ import annotations
 
@@ -32,10 +43,12 @@ from dataclasses import dataclass
 
 from .. import rng
 from ..rng import NormalStream
-from .base import ATTITUDE, ZERO3, Effector, Form, register
+from .base import ATTITUDE, ZERO3, Effector, Form, Mask, register
 from .magnetorquers import cross
 
 THRUSTER_ON = "thruster_on_s"
+THRUSTER_LATCH = "thruster_latch_closed"
+LATCH_BRANCHES = 2               # latch valves A (bit 0 of the mask) and B (bit 1)
 ZERO4 = (0.0, 0.0, 0.0, 0.0)
 G0 = 9.80665                     # standard gravity, m/s^2 (the definition of Isp)
 MAX_THRUSTERS = 24
@@ -43,7 +56,7 @@ NOISE_CHANNEL, MISALIGNMENT_CHANNEL = "thrust_noise", "thruster_misalignment"
 rng.claim(NOISE_CHANNEL, 9)
 rng.claim(MISALIGNMENT_CHANNEL, 10)
 KEYS = ("thrust_n", "positions_m", "directions", "min_on_time_s", "on_time_quantum_s", "thrust_noise_frac",
-        "misalignment_deg", "isp_s", "mass_kg")
+        "misalignment_deg", "isp_s", "mass_kg", "latch_branch")
 
 
 @dataclass(frozen=True)
@@ -57,6 +70,7 @@ class ThrustersConfig:
     misalignment_deg: float = 0.0
     isp_s: float = 220.0
     mass_kg: float | None = None     # for the delta-v in the truth only
+    latch_branch: tuple = ()         # the latch valve's branch of each thruster, 0 (A) or 1 (B); (): all A
 
     @property
     def n(self) -> int:
@@ -69,6 +83,32 @@ def _flat3(sec, key: str) -> tuple:
         sec.fail(sec.key(key), "expected a flat array of 3 N numbers (x, y, z of each thruster)")
     flat = sec.vector(key, n=len(raw))
     return tuple(flat[i:i + 3] for i in range(0, len(flat), 3))
+
+
+def _what(v) -> str:
+    """A TOML value's kind, as the loader names it."""
+    for t, name in ((bool, "a boolean"), (int, "an integer"), (float, "a number"), (str, "a string"),
+                    (list, "an array"), (dict, "a table")):
+        if isinstance(v, t):
+            return name
+    return type(v).__name__
+
+
+def _latch_branch(sec, n: int) -> tuple:
+    """`latch_branch`: n integers, 0 (branch A) or 1 (branch B); absent: all 0."""
+    if not sec.has("latch_branch"):
+        return (0,) * n
+    raw = sec.data.pop("latch_branch")
+    key = sec.key("latch_branch")
+    if not isinstance(raw, list) or len(raw) != n:
+        got = f"{len(raw)} values" if isinstance(raw, list) else _what(raw)
+        sec.fail(key, f"expected an array of {n} integers (one per thruster), 0 (branch A) or 1 (branch B), "
+                      f"got {got}")
+    for i, b in enumerate(raw):
+        if isinstance(b, bool) or not isinstance(b, int) or b not in (0, 1):
+            got = repr(b) if isinstance(b, (int, float)) and not isinstance(b, bool) else _what(b)
+            sec.fail(f"{key}[{i}]", f"expected 0 (branch A) or 1 (branch B), got {got}")
+    return tuple(raw)
 
 
 def quantise_on_time(c: float, dt: float, quantum: float, min_on: float) -> float:
@@ -134,14 +174,22 @@ class Thrusters(Effector):
             sec.fail(sec.key("misalignment_deg"), f"{mis:g} deg is above 10 deg (a small misalignment)")
         isp = sec.number("isp_s", required=False, default=220.0, positive=True)
         mass = sec.number("mass_kg", required=False, default=None, positive=True)
-        return ThrustersConfig(tuple(thrust), pos, dirs, min_on, quantum, noise, mis, isp, mass)
+        return ThrustersConfig(tuple(thrust), pos, dirs, min_on, quantum, noise, mis, isp, mass,
+                               _latch_branch(sec, n))
 
     def __init__(self, config: ThrustersConfig, body):
         super().__init__(config, body)
         n = config.n
         self.n = n
         self.dt = float(body.dt)
-        self.command_fields = {THRUSTER_ON: n}
+        self.command_fields = {THRUSTER_ON: n, THRUSTER_LATCH: Mask(LATCH_BRANCHES)}
+        branch = config.latch_branch or (0,) * n
+        # for each latch mask, the thrusters its closed valves stop (None: none of them), built once
+        self._stopped = tuple(
+            tuple(bool(m >> b & 1) for b in branch) if any(m >> b & 1 for b in branch) else None
+            for m in range(1 << LATCH_BRANCHES))
+        self.latch_closed = 0                        # the mask: every valve open at the start
+        self._stop = None
         dirs = config.directions
         if config.misalignment_deg > 0.0:
             s = NormalStream(body.seed, MISALIGNMENT_CHANNEL, math.radians(config.misalignment_deg), width=2)
@@ -166,6 +214,10 @@ class Thrusters(Effector):
         return ZERO4
 
     def command(self, cmd) -> None:
+        m = cmd.get(THRUSTER_LATCH)
+        if m is not None:                   # absent: the valves keep their state
+            self.latch_closed = m           # Plant.apply hands an int in [0, 3]
+            self._stop = self._stopped[m]
         c = cmd.get(THRUSTER_ON)
         if c is None:
             return
@@ -178,9 +230,15 @@ class Thrusters(Effector):
                                           for v in c)
 
     def begin_period(self, t, x) -> None:
-        """The thrust of the period (noise drawn in every period) and the held force and torque."""
+        """The on-times flown (faults, then the latch valves), the thrust of the period (noise drawn in every
+        period) and the held force and torque."""
+        on = self.on_nominal
         if self.fault_model is not None:   # injected faults (aocs_plant.faults.thrusters) on the on-times
-            self.on = self.fault_model.on_times(t, self.on_nominal)
+            on = self.fault_model.on_times(t, on)
+        stop = self._stop
+        if stop is not None and any(on):   # a closed latch valve, upstream: stops a stuck-open thruster too
+            on = tuple(0.0 if s else v for v, s in zip(on, stop))
+        self.on = on
         nom = self.config.thrust_n
         if self.noise is not None:
             z = self.noise.next()
@@ -236,7 +294,8 @@ class Thrusters(Effector):
     def truth(self, t, body, x) -> dict:
         out = {"on_time_cmd_s": self.on_cmd, "on_time_s": self.on, "thrust_n": self.thrust,
                "force_b_n": self.force_b, "torque_nm": self.torque_b, "impulse_n_ns": tuple(x[0:3]),
-               "propellant_kg": x[3], "pulses": tuple(self.pulses), "on_time_total_s": tuple(self.on_total)}
+               "propellant_kg": x[3], "pulses": tuple(self.pulses), "on_time_total_s": tuple(self.on_total),
+               "latch_closed": self.latch_closed}
         if self.config.mass_kg is not None:
             out["delta_v_n_m_s"] = tuple(v / self.config.mass_kg for v in x[0:3])
         return out

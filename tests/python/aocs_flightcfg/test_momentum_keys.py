@@ -65,6 +65,21 @@ def test_thruster_keys_are_the_nominal_geometry():
     assert "mom.k_mtq_per_s" not in cfg
 
 
+def test_the_latch_valve_mask_is_the_b_branch_of_each_thruster():
+    """mom.thr_latch_b_mask: bit i set when thruster i is on branch B ([thrusters] latch_branch), always written
+    with the thrusters policy: the reference day's twins apart (0b101010101010), an override, and 0 without."""
+    assert fsw_config.momentum_keys(load("irassi_day_mekf"))["mom.thr_latch_b_mask"] == str(0b101010101010) == "2730"
+    assert fsw_config.momentum_keys(load("irassi_day"))["mom.thr_latch_b_mask"] == "2730"
+    branch = [1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1]
+    cfg = fsw_config.momentum_keys(load("irassi_day", {"thrusters.latch_branch": branch}))
+    assert cfg["mom.thr_latch_b_mask"] == str(1 + 2 + 32 + 64 + 2048)
+    assert fsw_config.momentum_keys(load("irassi_day", {"thrusters.latch_branch": [0] * 12}))[
+        "mom.thr_latch_b_mask"] == "0"
+    sc = _with(load("irassi_rw"), MomentumConfig("thrusters", "continuous", dump_torque_nm=0.4),
+               thrusters=_l2_thrusters())                 # a config without latch_branch: every thruster on A
+    assert fsw_config.node_config(sc, "quat_pid")["mom.thr_latch_b_mask"] == "0"
+
+
 def test_unequal_thrusts_scale_the_arms_by_the_largest():
     thr = _l2_thrusters()
     thr.thrust_n = tuple(2.0 if i == 3 else 1.0 for i in range(12))

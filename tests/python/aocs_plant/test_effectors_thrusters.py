@@ -69,6 +69,7 @@ def test_the_example_of_docs_scenarios_is_this_layout_and_loads():
     block = re.search(r"```toml\n(\[thrusters\]\n.*?)```", text, re.S).group(1)
     sec = tomllib.loads(block)["thrusters"]
     assert sec["positions_m"] == POSITIONS and sec["directions"] == DIRECTIONS and sec["thrust_n"] == 1.0
+    assert sec["latch_branch"] == TWINS_APART
     p = Plant(load("irassi_large", {"thrusters": sec}))
     assert p.command_fields["thruster_on_s"] == 12
 
@@ -253,10 +254,22 @@ def test_momentum_of_body_and_wheels_is_conserved_with_the_thrusters_off():
     (dict(thrust_n=-1.0), r"thrusters.thrust_n: must be > 0"),
     (dict(misalignment_deg=20.0), r"thrusters.misalignment_deg: 20 deg is above 10 deg"),
     (dict(colour="red"), r"thrusters.colour: unknown key"),
+    (dict(latch_branch=[0, 1] * 5 + [0]), r"thrusters.latch_branch: expected an array of 12 integers .* 11 values"),
+    (dict(latch_branch=[0, 1] * 7), r"thrusters.latch_branch: expected an array of 12 integers .* got 14 values"),
+    (dict(latch_branch=1), r"thrusters.latch_branch: expected an array of 12 integers .* got an integer"),
+    (dict(latch_branch="AB"), r"thrusters.latch_branch: expected an array of 12 integers .* got a string"),
+    (dict(latch_branch=[0] * 11 + [2]), r"thrusters.latch_branch\[11\]: expected 0 \(branch A\) or 1 \(branch B\), "
+                                        r"got 2"),
+    (dict(latch_branch=[0, -1] + [0] * 10), r"thrusters.latch_branch\[1\]: expected 0 .* got -1"),
+    (dict(latch_branch=[0.0] * 12), r"thrusters.latch_branch\[0\]: expected 0 .* got 0.0"),
+    (dict(latch_branch=[True] * 12), r"thrusters.latch_branch\[0\]: expected 0 .* got a boolean"),
+    (dict(latch_branch=["B"] * 12), r"thrusters.latch_branch\[0\]: expected 0 .* got a string"),
+    (dict(latch_branch=[[0]] * 12), r"thrusters.latch_branch\[0\]: expected 0 .* got an array"),
 ])
 def test_section_errors_name_the_key(kw, match):
-    with pytest.raises(ScenarioError, match=match):
+    with pytest.raises(ScenarioError, match=match) as e:
         load("irassi_large", {"thrusters": _section(**kw)})
+    assert "\n" not in str(e.value)
 
 
 def test_thrusters_do_not_apply_to_an_orbit_scenario():
@@ -268,3 +281,132 @@ def test_a_command_of_the_wrong_size_is_refused():
     p = _plant()
     with pytest.raises(ValueError, match="thruster_on_s"):
         p.apply({"thruster_on_s": (0.0,) * 11})
+
+
+# ------------------------------------------------------------------ latch valves (issue 26, docs/spec.md 5.8.1)
+TWINS_APART = [0, 1] * 6      # each couple's twins on different branches: thrusters 1, 3, ..., 11 on branch B
+LATCH = "thruster_latch_closed"
+
+
+def _fly(p, n=1, **cmd):
+    """n periods of the command cmd (thruster_on_s=..., thruster_latch_closed=...); the effector truth."""
+    c = {"u_body": (0.0, 0.0, 0.0)}
+    c.update({"thruster_on_s" if k == "on" else LATCH: v for k, v in cmd.items()})
+    for _ in range(n):
+        assert p.apply(c)
+        p.advance()
+    return p.truth()["effectors"]
+
+
+def _expected(on, flying, dt, F=1.0, isp=220.0):
+    """force, torque and propellant flow of one period with only the thrusters in `flying` on (numpy)."""
+    r = np.array(POSITIONS, float).reshape(12, 3)
+    d = np.array(DIRECTIONS, float).reshape(12, 3)
+    tau = np.array([on[i] if i in flying else 0.0 for i in range(12)])
+    w = F * tau / dt
+    return w @ d, w @ np.cross(r, d), w.sum() / (isp * G0)
+
+
+def test_latch_branch_defaults_to_branch_a_and_is_read():
+    assert _plant().scenario.effectors["thrusters"].latch_branch == (0,) * 12
+    assert _plant(latch_branch=TWINS_APART).scenario.effectors["thrusters"].latch_branch == tuple(TWINS_APART)
+
+
+def test_a_closed_latch_valve_stops_its_branch_and_the_other_still_fires():
+    """All twelve commanded: with A's valve closed only the odd thrusters (branch B) fly, with B's only the even
+    ones, with both none; force, torque and the propellant of the period against numpy over the flying ones."""
+    on = (0.031, 0.047, 0.022, 0.064, 0.053, 0.028, 0.071, 0.039, 0.044, 0.025, 0.058, 0.036)
+    for mask, flying in ((0, set(range(12))), (1, set(range(1, 12, 2))), (2, set(range(0, 12, 2))), (3, set())):
+        p = _plant(latch_branch=TWINS_APART)
+        tr = _fly(p, on=on, thruster_latch_closed=mask)
+        force, torque, mdot = _expected(on, flying, p.dt)
+        np.testing.assert_allclose(tr["thrusters.force_b_n"], force, rtol=1e-14, atol=1e-16)
+        np.testing.assert_allclose(tr["thrusters.torque_nm"], torque, rtol=1e-14, atol=1e-16)
+        assert tr["thrusters.propellant_kg"] == pytest.approx(mdot * p.dt, rel=1e-13, abs=0.0)
+        tau = [on[i] if i in flying else 0.0 for i in range(12)]
+        assert tr["thrusters.on_time_s"] == pytest.approx(tuple(tau), abs=1e-15)
+        assert tr["thrusters.pulses"] == tuple(1 if i in flying else 0 for i in range(12))
+        assert tr["thrusters.latch_closed"] == mask
+        assert tr["thrusters.on_time_cmd_s"] == on          # the command itself is not altered
+        if mask == 3:
+            assert tr["thrusters.torque_nm"] == (0.0, 0.0, 0.0) and tr["thrusters.propellant_kg"] == 0.0
+
+
+def test_with_every_thruster_on_branch_a_closing_b_changes_nothing():
+    on = _on((0, 0.05), (7, 0.03))
+    tr_b = _fly(_plant(), on=on, thruster_latch_closed=2)
+    tr_open = _fly(_plant(), on=on, thruster_latch_closed=0)
+    assert tr_b["thrusters.torque_nm"] == tr_open["thrusters.torque_nm"] != (0.0, 0.0, 0.0)
+    assert _fly(_plant(), on=on, thruster_latch_closed=1)["thrusters.torque_nm"] == (0.0, 0.0, 0.0)
+
+
+def test_a_stuck_open_thruster_is_stopped_by_its_latch_valve_and_fires_again_when_reopened():
+    """thruster_stuck_open on thruster 4 (branch A, +y half couple): with no on-time commanded it flies the whole
+    period; closing A stops it (after the fault model: the latch valve is upstream of its valve), closing B does
+    not, reopening A lets it fly again. Each period's torque and propellant against the hand value F (r4 x d4)."""
+    sc = load("irassi_large", {"thrusters": _section(latch_branch=TWINS_APART), "disturbances": None,
+                               "faults": [{"kind": "thruster_stuck_open", "unit": 4, "start_s": 0.0}]})
+    p = Plant(sc)
+    dt = p.dt
+    full = (0.0, L, 0.0)                           # r4 x d4 = (0, 0, L) x (1, 0, 0), 1 N
+    flow = 1.0 / (220.0 * G0)                      # kg/s with thruster 4 open all period
+    prop = 0.0
+    for mask, fires in ((0, True), (1, False), (1, False), (2, True), (3, False), (0, True)):
+        tr = _fly(p, on=(0.0,) * 12, thruster_latch_closed=mask)
+        prop += flow * dt if fires else 0.0
+        np.testing.assert_allclose(tr["thrusters.torque_nm"], full if fires else (0.0, 0.0, 0.0), atol=1e-15)
+        assert tr["thrusters.on_time_s"][4] == (dt if fires else 0.0)
+        assert tr["thrusters.propellant_kg"] == pytest.approx(prop, rel=1e-12)
+    assert tr["thrusters.pulses"][4] == 3
+    assert p.truth()["faults_active"] == (True,)
+
+
+def test_the_valves_keep_their_state_until_a_command_carries_the_field():
+    """Open at the start (a command without the field flies both branches); closed by one command, A stays
+    closed through commands without the field (and through a refused one that would open it); a command with the
+    field opens it."""
+    p = _plant(latch_branch=TWINS_APART)
+    on = _on((0, 0.05), (1, 0.05))                 # the +x couple: thruster 0 on A, thruster 1 on B
+    tr = _fly(p, on=on)                            # no latch field yet: every valve open
+    assert tr["thrusters.on_time_s"][:2] == (0.05, 0.05) and tr["thrusters.latch_closed"] == 0
+    tr = _fly(p, on=on, thruster_latch_closed=1)
+    assert tr["thrusters.on_time_s"][:2] == (0.0, 0.05)
+    tr = _fly(p, 3, on=on)                         # no latch field: A stays closed
+    assert tr["thrusters.on_time_s"][:2] == (0.0, 0.05) and tr["thrusters.latch_closed"] == 1
+    assert tr["thrusters.pulses"][:2] == (1, 5)
+    p.apply({"u_body": (0.0, 0.0, 0.0)})           # neither thruster field: the on-times and the valves hold
+    p.advance()
+    assert p.truth()["effectors"]["thrusters.pulses"][:2] == (1, 6)
+    assert not p.apply({"thruster_on_s": on, LATCH: 0, "u_body": (math.nan, 0.0, 0.0)})   # refused whole
+    p.advance()
+    assert p.truth()["effectors"]["thrusters.on_time_s"][:2] == (0.0, 0.05)
+    assert p.truth()["effectors"]["thrusters.pulses"][:2] == (1, 7)
+    tr = _fly(p, on=on, thruster_latch_closed=0)
+    assert tr["thrusters.on_time_s"][:2] == (0.05, 0.05) and tr["thrusters.latch_closed"] == 0
+    np.testing.assert_allclose(tr["thrusters.torque_nm"], (2 * L * 0.05 / p.dt, 0.0, 0.0), rtol=1e-14)
+    tr = _fly(p, 2, on=on)                         # and open it stays
+    assert tr["thrusters.pulses"][:2] == (4, 10)
+
+
+def _positive_span(arms) -> bool:
+    """Every signed body axis a non-negative combination of the torque arms (NNLS residual 0)."""
+    from scipy.optimize import nnls
+    A = np.array(arms, float).T
+    return bool(A.size) and all(nnls(A, s * np.eye(3)[k])[1] < 1e-9 for k in range(3) for s in (1.0, -1.0))
+
+
+def test_each_branch_of_the_reference_scenarios_spans_every_signed_axis():
+    """Every scenario with [thrusters] gives twins (thrusters of the same torque r x d) different branches when
+    it has them, so that each branch alone still spans +-x, +-y, +-z (a branch isolated keeps the dumping)."""
+    from aocs_plant.scenario import list_scenarios
+    with_thrusters = [sid for sid in list_scenarios() if "thrusters" in load(sid).effectors]
+    assert {"irassi_day", "irassi_day_mekf"} <= set(with_thrusters)
+    for sid in with_thrusters:
+        t = load(sid).effectors["thrusters"]
+        arms = [tuple(np.cross(r, d)) for r, d in zip(t.positions_m, t.directions)]
+        for i in range(len(arms)):
+            for j in range(i + 1, len(arms)):
+                if np.allclose(arms[i], arms[j], atol=1e-12):
+                    assert t.latch_branch[i] != t.latch_branch[j], (sid, i, j)
+        for b in (0, 1):
+            assert _positive_span([a for a, br in zip(arms, t.latch_branch) if br == b]), (sid, b)

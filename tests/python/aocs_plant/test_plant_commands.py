@@ -143,3 +143,44 @@ def test_docs_extending_shows_this_actuator_verbatim():
     block = doc.split(marker, 1)[1].split("```", 1)[0]
     assert "class ToyThrusters(Effector):" in block and "def command(" in block
     assert block in here.read_text()
+
+
+# ----------------------------------------------------------------- an integer field: the thrusters' latch valves
+LAYOUT = {"thrust_n": 1.0, "positions_m": [0, 1.2, 0, 0, -1.2, 0], "directions": [0, 0, 1, 0, 0, -1],
+          "latch_branch": [0, 1]}        # two thrusters, each +x (1.2 N m with 1 N), thruster 0 on A, 1 on B
+
+
+def _latch_plant():
+    return Plant(load("irassi_large", {"thrusters": dict(LAYOUT), "disturbances": None}))
+
+
+def test_the_latch_mask_is_an_integer_field_the_plant_checks():
+    """thruster_latch_closed is declared a Mask of 2 bits: an int, or a float with an integral value, in [0, 3]
+    (numpy's too) is taken as an int; the plant flies it (thruster 0's torque gone with A closed)."""
+    from aocs_plant.effectors import Mask
+    p = _latch_plant()
+    assert p.command_fields == {"u_body": 3, "thruster_on_s": 2, "thruster_latch_closed": Mask(2)}
+    for v, want in ((3, 3), (0, 0), (1.0, 1), (np.int64(2), 2), (np.float64(1.0), 1), (np.float32(3.0), 3)):
+        assert p.apply({"thruster_latch_closed": v})
+        assert p.taken == {"thruster_latch_closed": want} and type(p.taken["thruster_latch_closed"]) is int
+    assert p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": (0.05, 0.05), "thruster_latch_closed": 1})
+    p.advance()
+    tr = p.truth()["effectors"]
+    assert tr["thrusters.latch_closed"] == 1 and tr["thrusters.on_time_s"] == (0.0, 0.05)
+    assert tr["thrusters.torque_nm"] == pytest.approx((1.2 * 0.05 / p.dt, 0.0, 0.0), rel=1e-14)
+    assert p.counters["bad_commands"] == 0
+
+
+@pytest.mark.parametrize("bad", [2.5, -1, 4, -1.0, 4.0, math.nan, math.inf, "1", "A", None, True, (1,), [0], 1 + 0j,
+                                 np.int64(7)])
+def test_a_bad_latch_mask_refuses_the_whole_command(bad):
+    """Like a non-finite value: apply returns False, counts the command as bad, forgets Plant.taken, and every
+    actuator holds its previous command (the valves, the on-times and the body torque alike)."""
+    p = _latch_plant()
+    assert p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": (0.05, 0.05), "thruster_latch_closed": 2})
+    assert not p.apply({"u_body": (0.0, 0.0, 0.0), "thruster_on_s": (0.08, 0.0), "thruster_latch_closed": bad})
+    assert p.counters["bad_commands"] == 1 and p.counters["commands"] == 2 and p.taken is None
+    p.advance()
+    tr = p.truth()["effectors"]
+    assert tr["thrusters.latch_closed"] == 2 and tr["thrusters.on_time_s"] == (0.05, 0.0)
+    assert tr["thrusters.on_time_cmd_s"] == (0.05, 0.05)
