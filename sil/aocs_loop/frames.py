@@ -106,6 +106,7 @@ class Command:
                               # configuration (mom.thr_count; none when its momentum policy is not thrusters)
     u_dipole_am2: tuple = ()  # magnetorquer dipole of each rod, A m^2 (3; none when the policy is not
                               # magnetorquers)
+    thruster_latch_closed: int = 0  # bit b: the latch valve of thruster branch b closed (0 A, 1 B; protocol 6)
 
 
 @dataclass(slots=True)
@@ -122,14 +123,17 @@ class Momentum:
     dh: tuple = _Z3           # h_wheels - h_target, N m s
     unloading: bool = False   # a dump in progress this step
     n_events: int = 0         # unloads started so far
+    latch_closed: int = 0     # bit b: the latch valve of thruster branch b closed (protocol version 6)
 
-    def command_fields(self) -> tuple[tuple, tuple]:
-        """(thruster_on_s, u_dipole_am2) of the Command: the first n_thrusters on-times with the thrusters
-        policy, the dipole with the magnetorquers policy, else empty (the momentum.def row ids)."""
+    def command_fields(self) -> tuple[tuple, tuple, int]:
+        """(thruster_on_s, u_dipole_am2, thruster_latch_closed) of the Command: the first n_thrusters on-times
+        and the latch valves with the thrusters policy, the dipole with the magnetorquers policy, else empty
+        and 0 (the momentum.def row ids)."""
         n = max(0, min(int(self.n_thrusters), len(self.thruster_on_s)))
-        thr = tuple(self.thruster_on_s[:n]) if self.policy == POLICY_THRUSTERS else ()
+        thrusters = self.policy == POLICY_THRUSTERS
+        thr = tuple(self.thruster_on_s[:n]) if thrusters else ()
         mtq = tuple(self.dipole_am2) if self.policy == POLICY_MAGNETORQUERS else ()
-        return thr, mtq
+        return thr, mtq, (int(self.latch_closed) if thrusters else 0)
 
 
 #: momentum.def row ids (the configuration key mom.policy)
@@ -253,15 +257,16 @@ class PlantPort:
         return tick, t_s, valid, s["q"], s["w"], _Z3, _Z3, ws, st_q, st_t, gyro_w, mag
 
     def _unloading(self, cmd: Command, m: dict) -> None:
-        """The unloading actuators' fields into m: thruster_on_s and u_dipole_am2 when the plant has them (zeros
-        when the command has none); ActuatorMismatch when the command has them and the plant does not, or
-        another number of thrusters."""
+        """The unloading actuators' fields into m: thruster_on_s (with thruster_latch_closed) and u_dipole_am2
+        when the plant has them (zeros when the command has none); ActuatorMismatch when the command has them
+        and the plant does not, or another number of thrusters."""
         thr, mtq = cmd.thruster_on_s, cmd.u_dipole_am2
         n = self.n_thrusters
         if n:
             if thr and len(thr) != n:
                 raise ActuatorMismatch(f"the flight computer commands {len(thr)} thruster(s), the plant has {n}")
             m["thruster_on_s"] = thr or self._thr_zero
+            m["thruster_latch_closed"] = cmd.thruster_latch_closed
         elif thr:
             raise ActuatorMismatch(f"the flight computer commands {len(thr)} thruster(s), the plant has none "
                                    f"(no [thrusters])")

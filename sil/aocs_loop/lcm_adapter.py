@@ -27,9 +27,9 @@ class LcmCodec:
         self._pack_v = codecs.sensors.packer(self.version)   # this protocol version's frames: one call each
         a = codecs.actuator
         self.unpack = a.unpack
-        #: unpack of actuator_cmd_t's head only, through dipole_am2 (the last field command() reads: the
-        #: unloading actuators' commands of protocol version 4): plant_node's loop
-        self.unpack_command = a.unpacker("dipole_am2")
+        #: unpack of actuator_cmd_t's head only, through thruster_latch_closed (the last field command() reads:
+        #: the unloading actuators' commands of protocol versions 4 and 6): plant_node's loop
+        self.unpack_command = a.unpacker("thruster_latch_closed")
         self.i_tick = a.index("tick")
         self.i_u = a.index("u_sat")
         self.i_uw = a.index("u_wheels")
@@ -48,7 +48,7 @@ class LcmCodec:
         # the momentum-management stage (protocol version 4): each field's index, Momentum's order
         self.i_mom = tuple(a.index(n) for n in ("mom_policy", "mom_status", "n_thrusters", "thruster_on_s",
                                                  "dipole_am2", "u_unload", "h_wheels", "dh", "unloading",
-                                                 "n_unload_events"))
+                                                 "n_unload_events", "thruster_latch_closed"))
         self.max_thrusters = bindings.actuator_cmd_t.MAX_THRUSTERS
 
     def pack_sensors(self, f: SensorFrame, frame_no: int | None = None, version: int | None = None) -> bytes:
@@ -69,8 +69,8 @@ class LcmCodec:
 
     def command(self, v: tuple) -> Command:
         """The Command of actuator_cmd_t values (unpack, or unpack_command's head): u_sat, the first n_wheels
-        wheel torques, and with the thrusters policy the first n_thrusters on-times, with the magnetorquers
-        policy the dipole."""
+        wheel torques, and with the thrusters policy the first n_thrusters on-times and the latch valves, with
+        the magnetorquers policy the dipole."""
         i, iw, n = self.i_u, self.i_uw, v[self.i_nw]
         if not 0 <= n <= self.max_wheels:
             n = min(max(n, 0), self.max_wheels)
@@ -78,7 +78,7 @@ class LcmCodec:
         policy = v[ip]
         if policy == POLICY_THRUSTERS:
             it, nt = self.i_mom[3], min(max(v[self.i_mom[2]], 0), self.max_thrusters)
-            return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n], v[it:it + nt])
+            return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n], v[it:it + nt], (), v[self.i_mom[10]])
         if policy == POLICY_MAGNETORQUERS:
             idp = self.i_mom[4]
             return Command(v[self.i_tick], v[i:i + 3], v[iw:iw + n], (), v[idp:idp + 3])
@@ -86,10 +86,10 @@ class LcmCodec:
 
     def momentum(self, v: tuple) -> Momentum:
         """The Momentum of actuator_cmd_t values (the momentum fields, in the message's order)."""
-        pol, st, nt, thr, dip, unl, hw, dh, on, ev = self.i_mom
+        pol, st, nt, thr, dip, unl, hw, dh, on, ev, latch = self.i_mom
         m = self.max_thrusters
         return Momentum(v[pol], v[st], v[nt], v[thr:thr + m], v[dip:dip + 3], v[unl:unl + 3], v[hw:hw + 3],
-                        v[dh:dh + 3], bool(v[on]), v[ev])
+                        v[dh:dh + 3], bool(v[on]), v[ev], v[latch])
 
     def estimate(self, v: tuple) -> Estimate:
         """The Estimate of actuator_cmd_t values (estimator, est_status, q_est, w_est, bias_est, est_p,

@@ -52,7 +52,8 @@ def estimate_of(r: frame.StepReply) -> Estimate:
 def momentum_of(r: frame.StepReply) -> Momentum:
     """The Momentum of a STEP_REPLY (its momentum rows)."""
     return Momentum(r.mom_policy, r.mom_status, r.n_thrusters, tuple(r.thruster_on_s), tuple(r.dipole_am2),
-                    tuple(r.u_unload), tuple(r.h_wheels), tuple(r.dh), bool(r.unloading), r.n_unload_events)
+                    tuple(r.u_unload), tuple(r.h_wheels), tuple(r.dh), bool(r.unloading), r.n_unload_events,
+                    r.thruster_latch_closed)
 
 
 def reply_of(r: frame.StepReply, tick: int, n_wheels: int, clock_hz: float) -> Reply:
@@ -61,8 +62,8 @@ def reply_of(r: frame.StepReply, tick: int, n_wheels: int, clock_hz: float) -> R
     reads them), step_ns = the step's instructions at the target's nominal clock, the estimate and the
     momentum telemetry."""
     mom = momentum_of(r)
-    thr, mtq = mom.command_fields()
-    cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels], thr, mtq)
+    thr, mtq, latch = mom.command_fields()
+    cmd = Command(tick, r.u_cmd, r.u_wheels[:n_wheels], thr, mtq, latch)
     return Reply(cmd, r.u_unsat, r.law, r.mode, step_status(r), int(round(r.instructions * 1e9 / clock_hz)),
                  bool(r.overrun), r, estimate_of(r), mom)
 

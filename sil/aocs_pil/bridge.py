@@ -320,6 +320,7 @@ class Bridge:
         m.dh = list(r.dh)
         m.unloading = bool(r.unloading)
         m.n_unload_events = r.n_unload_events
+        m.thruster_latch_closed = min(r.thruster_latch_closed, 3)
         self.lc.publish(CH_ACTUATOR, m.encode())
 
     # ---------------------------------------------------------------- AOCS_COMMAND

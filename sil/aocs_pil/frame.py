@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, make_dataclass
 from aocs_core import registry
 
 MAGIC = 0x4C495041
-VERSION = 4
+VERSION = 5
 HEADER_BYTES = 12
 CRC_BYTES = 4
 PAYLOAD_MAX = 1024

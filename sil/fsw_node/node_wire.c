@@ -264,6 +264,7 @@ void aocs_node_momentum_to_cmd(const aocs_mom_output_t *mom, const aocs_mom_conf
     }
     m->unloading = (mom->unloading != 0) ? 1 : 0;
     m->n_unload_events = (int64_t)mom->n_events;
+    m->thruster_latch_closed = (int8_t)(mom->latch_closed_mask & ((1u << AOCS_MOM_LATCH_BRANCHES) - 1u));
 }
 
 /* ---- commands -------------------------------------------------------------------- */

@@ -134,7 +134,7 @@ def test_lockstep_replies_field_by_field(fsw_node, lcm_link, aocs_lcm, tol):
     assert len(replies) == len(sent)
     c = aocs_lcm.actuator_cmd_t
     for k, (m, r) in enumerate(zip(sent, replies)):
-        assert r.protocol_version == c.PROTOCOL_VERSION == 5
+        assert r.protocol_version == c.PROTOCOL_VERSION == 6
         assert r.frame == k
         assert r.tick == m.tick
         assert r.utime == m.utime
@@ -532,7 +532,7 @@ def test_wire_contract_header_fields(aocs_lcm):
     assert {"sensors_t", "actuator_cmd_t", "truth_t", "command_t", "status_t"} <= set(names)
     for name in names:
         t = getattr(aocs_lcm, name)
-        assert t.PROTOCOL_VERSION == 5, name
+        assert t.PROTOCOL_VERSION == 6, name
         assert list(t.__slots__[:3]) == ["protocol_version", "frame", "utime"], name
         # round trip through the wire format keeps every field
         m = t()

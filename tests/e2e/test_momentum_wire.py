@@ -50,8 +50,9 @@ def test_thruster_dumping_on_the_wire(fsw_node, lcm_link, aocs_lcm):
     node.wait_ready(lcm_link)
     # h = Js Omega = (3, -2, 1): below h_start = 5, no dump
     r = _send(lcm_link, aocs_lcm, 0, (30.0, -20.0, 10.0))
-    assert (r.protocol_version, r.mom_policy, r.n_thrusters, bool(r.unloading), r.n_unload_events) == (5, 2, 12,
+    assert (r.protocol_version, r.mom_policy, r.n_thrusters, bool(r.unloading), r.n_unload_events) == (6, 2, 12,
                                                                                                       False, 0)
+    assert r.thruster_latch_closed == 0     # protocol version 6: every latch valve open
     assert list(r.thruster_on_s) == [0.0] * 12 and list(r.u_unload) == [0.0] * 3
     assert r.h_wheels == pytest.approx([3.0, -2.0, 1.0], rel=1e-12)
     # h = (10, -5, 3): above, the dump starts

@@ -449,6 +449,7 @@ static void test_momentum_to_cmd(void **state)
     o.dh_B_Nms = aocs_vec3_make(AOCS_R(9.0), AOCS_R(-2.0), AOCS_R(0.5));
     o.unloading = 1;
     o.n_events = UINT32_MAX;
+    o.latch_closed_mask = 2u; /* valve B closed */
     o.status = AOCS_ERR_INPUT_MISSING;
     aocs_node_momentum_to_cmd(&o, &c, &m);
     assert_int_equal(m.tick, 7); /* the other fields as they were */
@@ -464,6 +465,11 @@ static void test_momentum_to_cmd(void **state)
     assert_same_double(m.dh[0], 9.0);
     assert_int_equal(m.unloading, 1);
     assert_true(m.n_unload_events == (int64_t)UINT32_MAX);
+    assert_int_equal(m.thruster_latch_closed, 2);
+    o.latch_closed_mask = 0xFFFFFFFFu; /* only the two branches' bits reach the wire */
+    aocs_node_momentum_to_cmd(&o, &c, &m);
+    assert_int_equal(m.thruster_latch_closed, 3);
+    o.latch_closed_mask = 2u;
     /* magnetorquers: no thrusters reported whatever thr_count holds */
     c.policy = (uint32_t)AOCS_MOM_MAGNETORQUERS;
     aocs_node_momentum_to_cmd(&o, &c, &m);
@@ -511,7 +517,7 @@ static void test_timeouts_check(void **state)
     assert_int_equal(aocs_node_timeouts_check(NULL, err, sizeof(err)), 1);
 }
 
-/* an event of the log into event_t: every field, t_s from ns, the unit clamped to int16, version 5 */
+/* an event of the log into event_t: every field, t_s from ns, the unit clamped to int16, version 6 */
 static void test_event_to_msg(void **state)
 {
     (void)state;
@@ -524,7 +530,7 @@ static void test_event_to_msg(void **state)
     assert_int_equal(aocs_evlog_raise(&log, AOCS_EVT_LINK_LOST, 3u, 70000, AOCS_R(3.0), AOCS_R(3.0)), 2u);
     assert_int_equal(aocs_evlog_next(&log, 0u, &e, NULL), AOCS_OK);
     aocs_node_event_to_msg(&e, 4u, &m);
-    assert_int_equal(m.protocol_version, 5);
+    assert_int_equal(m.protocol_version, 6);
     assert_int_equal(m.seq, 1);
     assert_close(m.t_s, 60.5, 1e-12);
     assert_int_equal(m.id, 10);

@@ -16,15 +16,15 @@
 #include "aocs/pil_frame.h"
 #include "gains/aocs_gains.h"
 
-/* BYE, seq 7, empty payload: "APIL", version 2, type 8, length 0, seq 7, CRC (zlib) */
-static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x04, 0x08, 0x00, 0x00,
-                                       0x07, 0x00, 0x00, 0x00, 0x89, 0x44, 0xD6, 0xD8};
+/* BYE, seq 7, empty payload: "APIL", version 5, type 8, length 0, seq 7, CRC (zlib) */
+static const uint8_t golden_bye[16] = {0x41, 0x50, 0x49, 0x4C, 0x05, 0x08, 0x00, 0x00,
+                                       0x07, 0x00, 0x00, 0x00, 0x17, 0x44, 0x7C, 0x14};
 
 /* HELLO seq 0 of target 2, 8-byte reals, shift 7, calib ok 2000/2000, overhead 47 */
 static const uint8_t golden_hello[44] = {
-    0x41, 0x50, 0x49, 0x4C, 0x04, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    0x41, 0x50, 0x49, 0x4C, 0x05, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
     0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x73, 0x4B, 0x4A, 0xD1};
+    0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0xE6, 0x9F, 0x3A, 0x44};
 
 /* bit-at-a-time CRC-32/ISO-HDLC, the textbook definition (independent of the table) */
 static uint32_t crc_bitwise(const uint8_t *p, size_t n)
@@ -139,7 +139,7 @@ static void test_header_errors_are_named(void **state)
     f[0] = 'X';
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_MAGIC);
     memcpy(f, golden_bye, sizeof(f));
-    f[4] = 3; /* version: the one before the magnetometer and the momentum stage */
+    f[4] = 4; /* version: the one before the latch valves */
     assert_int_equal(aocs_pil_header_decode(f, sizeof(f), &h), AOCS_PIL_ERR_VERSION);
     memcpy(f, golden_bye, sizeof(f));
     f[6] = 0x01; /* length 1025 */
@@ -397,7 +397,7 @@ static void test_rows_add_up_to_the_payload_sizes(void **state)
     AOCS_PIL_PAYLOAD_ROWS(CHECK_PAYLOAD_BYTES)
     assert_int_equal(AOCS_PIL_HELLO_BYTES, 28u); /* the wire: a size changes only with AOCS_PIL_VERSION */
     assert_int_equal(AOCS_PIL_STEP_BYTES, 256u);
-    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 732u);
+    assert_int_equal(AOCS_PIL_STEP_REPLY_BYTES, 736u);
     assert_int_equal(AOCS_PIL_SELECT_BYTES, 64u);
     assert_int_equal(AOCS_PIL_ACK_BYTES, 36u);
     assert_int_equal(AOCS_PIL_BYE_REPLY_BYTES, 16u);
@@ -714,6 +714,7 @@ static void test_step_and_reply_carry_the_magnetometer_and_momentum(void **state
     r.mom.dh_B_Nms = aocs_vec3_make(AOCS_R(9.0), AOCS_R(-2.0), AOCS_R(0.5));
     r.mom.unloading = 1;
     r.mom.n_events = 0x80000003u;
+    r.mom.latch_closed_mask = 2u;
     assert_int_equal(aocs_pil_step_reply_encode(&r, p, sizeof(p)), AOCS_PIL_OK);
     assert_int_equal(le32(&p[520]), 2u);                    /* mom_policy: after the 520 bytes of version 3 */
     assert_int_equal(le32(&p[524]), (uint32_t)AOCS_ERR_INPUT_MISSING);
@@ -724,7 +725,8 @@ static void test_step_and_reply_carry_the_magnetometer_and_momentum(void **state
     assert_int_equal(le64(&p[676]), 0x4024000000000000ull); /* h_wheels[0] = 10 */
     assert_int_equal(le64(&p[700]), 0x4022000000000000ull); /* dh[0] = 9 */
     assert_int_equal(le32(&p[724]), 1u);                    /* unloading */
-    assert_int_equal(le32(&p[728]), 0x80000003u);           /* n_unload_events: the last field */
+    assert_int_equal(le32(&p[728]), 0x80000003u);           /* n_unload_events: the last of version 4 */
+    assert_int_equal(le32(&p[732]), 2u);                    /* thruster_latch_closed (version 5): the last field */
     assert_int_equal(aocs_pil_step_reply_decode(p, sizeof(p), &rb), AOCS_PIL_OK);
     assert_int_equal(rb.mom_policy, 2u);
     assert_int_equal(rb.n_thrusters, 12u);
@@ -736,6 +738,7 @@ static void test_step_and_reply_carry_the_magnetometer_and_momentum(void **state
     assert_memory_equal(&rb.mom.dh_B_Nms, &r.mom.dh_B_Nms, sizeof(r.mom.dh_B_Nms));
     assert_int_equal(rb.mom.unloading, 0);                  /* a member not on the wire decodes as 0 */
     assert_int_equal(rb.mom.n_events, 0x80000003u);
+    assert_int_equal(rb.mom.latch_closed_mask, 2u);
 }
 
 static void test_config_field_errors(void **state)

@@ -153,10 +153,12 @@ def test_a_plant_without_unloading_actuators_gets_no_unloading_fields(aocs_lcm):
 
 
 def test_momentum_telemetry_gives_the_command_fields_of_its_policy():
-    m = Momentum(2, 0, 3, tuple(0.01 * i for i in range(12)), (1.0, 2.0, 3.0))
-    assert m.command_fields() == ((0.0, 0.01, 0.02), ())
-    assert Momentum(1, 0, 3, (0.5,) * 12, (1.0, 2.0, 3.0)).command_fields() == ((), (1.0, 2.0, 3.0))
-    assert Momentum().command_fields() == ((), ())
+    m = Momentum(2, 0, 3, tuple(0.01 * i for i in range(12)), (1.0, 2.0, 3.0), latch_closed=2)
+    assert m.command_fields() == ((0.0, 0.01, 0.02), (), 2)
+    # the latch valves are the thrusters': another policy sends none
+    assert Momentum(1, 0, 3, (0.5,) * 12, (1.0, 2.0, 3.0), latch_closed=2).command_fields() == \
+        ((), (1.0, 2.0, 3.0), 0)
+    assert Momentum().command_fields() == ((), (), 0)
 
 
 def test_no_magnetometer_no_field_and_no_flag(aocs_lcm):

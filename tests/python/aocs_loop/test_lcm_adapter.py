@@ -63,6 +63,7 @@ def _actuator(aocs_lcm, n_wheels=4, policy=0, n_thrusters=0):
     a.thruster_on_s = [0.001 * (i + 1) for i in range(12)]
     a.dipole_am2, a.u_unload, a.h_wheels, a.dh = [1.5, -2.5, 0.5], [-0.1, 0.2, -0.3], [10.0, -5.0, 3.0], [9.0, -5.0, 3.0]
     a.unloading, a.n_unload_events = True, 2**33
+    a.thruster_latch_closed = 2
     return a.encode()
 
 
@@ -82,18 +83,22 @@ def test_command_and_reply_of_an_actuator_cmd(aocs_lcm, codec):
     assert (c.thruster_on_s, c.u_dipole_am2) == ((), ())
     assert r.momentum == codec.momentum(v) == Momentum(0, -2, 0, tuple(0.001 * (i + 1) for i in range(12)),
                                                        (1.5, -2.5, 0.5), (-0.1, 0.2, -0.3), (10.0, -5.0, 3.0),
-                                                       (9.0, -5.0, 3.0), True, 2**33)
+                                                       (9.0, -5.0, 3.0), True, 2**33, 2)
 
 
 def test_the_command_carries_the_unloading_actuators_of_the_policy(aocs_lcm, codec):
-    """Protocol version 4: thrusters policy (2): the first n_thrusters on-times; magnetorquers (1): the dipole."""
+    """Protocol version 4: thrusters policy (2): the first n_thrusters on-times (and, version 6, the latch
+    valves); magnetorquers (1): the dipole."""
     c = codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=2, n_thrusters=8)))
     assert c.thruster_on_s == tuple(0.001 * (i + 1) for i in range(8)) and c.u_dipole_am2 == ()
+    assert c.thruster_latch_closed == 2
+    # plant_node's loop reads the head of the message only: it holds the latch valves
+    assert codec.command(codec.unpack_command(_actuator(aocs_lcm, 4, policy=2, n_thrusters=8))) == c
     assert len(codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=2, n_thrusters=40))).thruster_on_s) == 12
     c = codec.command(codec.unpack(_actuator(aocs_lcm, 4, policy=1, n_thrusters=8)))
-    assert c.thruster_on_s == () and c.u_dipole_am2 == (1.5, -2.5, 0.5)
+    assert c.thruster_on_s == () and c.u_dipole_am2 == (1.5, -2.5, 0.5) and c.thruster_latch_closed == 0
     r = codec.reply(codec.unpack(_actuator(aocs_lcm, 4, policy=1)))
-    assert r.command == c and r.momentum.command_fields() == ((), c.u_dipole_am2)
+    assert r.command == c and r.momentum.command_fields() == ((), c.u_dipole_am2, 0)
 
 
 class _FakeLcm:

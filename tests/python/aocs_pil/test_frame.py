@@ -36,11 +36,11 @@ HEADER = (REPO / "firmware/pil/include/aocs/pil_frame.h").read_text()
 #: the configuration registry's header: the CONFIG field ids and limits pil_frame.h takes from it
 CONFIG_HEADER = (REPO / "firmware/include/aocs/config_registry.h").read_text()
 
-GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x04, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x89, 0x44, 0xD6,
-                    0xD8])
-GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x04, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+GOLDEN_BYE = bytes([0x41, 0x50, 0x49, 0x4C, 0x05, 0x08, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x17, 0x44, 0x7C,
+                    0x14])
+GOLDEN_HELLO = bytes([0x41, 0x50, 0x49, 0x4C, 0x05, 0x01, 0x1C, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
                       0x00, 0x08, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0xD0, 0x07,
-                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0x73, 0x4B, 0x4A, 0xD1])
+                      0x00, 0x00, 0xD0, 0x07, 0x00, 0x00, 0x2F, 0x00, 0x00, 0x00, 0xE6, 0x9F, 0x3A, 0x44])
 
 
 def c_define(name: str) -> int:
@@ -211,7 +211,7 @@ def test_step_reply_layout_of_the_estimate():
                             q_est=(0.0, 0.0, -0.75, 0.5), est_p=tuple(0.0625 * (i + 1) for i in range(21)),
                             st_status=-7, n_st_used=0x80000001, n_est_restarts=4)
     p = r.encode()
-    assert len(p) == 732
+    assert len(p) == 736
     assert struct.unpack_from("<I", p, 244)[0] == 1 and struct.unpack_from("<i", p, 248)[0] == -4
     assert struct.unpack_from("<Q", p, 268)[0] == 0xBFE8000000000000
     assert struct.unpack_from("<Q", p, 332)[0] == 0x3FB0000000000000
@@ -400,7 +400,8 @@ def test_version_4_layout_of_the_magnetometer_and_the_momentum_stage():
     r = dataclasses.replace(frame.StepReply.decode(bytes(frame.STEP_REPLY.size)), mom_policy=2, mom_status=-3,
                             n_thrusters=12, thruster_on_s=tuple(0.0078125 * (i + 1) for i in range(12)),
                             dipole_am2=(1.5, -2.5, 0.25), u_unload=(-0.125, 0.0, 0.5), h_wheels=(10.0, -2.0, 0.5),
-                            dh=(9.0, -2.0, 0.5), unloading=1, n_unload_events=0x80000003)
+                            dh=(9.0, -2.0, 0.5), unloading=1, n_unload_events=0x80000003,
+                            thruster_latch_closed=2)
     p = r.encode()
     assert struct.unpack_from("<I", p, 520)[0] == 2 and struct.unpack_from("<i", p, 524)[0] == -3
     assert struct.unpack_from("<I", p, 528)[0] == 12
@@ -410,4 +411,5 @@ def test_version_4_layout_of_the_magnetometer_and_the_momentum_stage():
     assert struct.unpack_from("<Q", p, 676)[0] == 0x4024000000000000
     assert struct.unpack_from("<Q", p, 700)[0] == 0x4022000000000000
     assert struct.unpack_from("<I", p, 724)[0] == 1 and struct.unpack_from("<I", p, 728)[0] == 0x80000003
+    assert struct.unpack_from("<I", p, 732)[0] == 2 and len(p) == 736   # version 5: the latch valves, last
     assert frame.StepReply.decode(p) == r

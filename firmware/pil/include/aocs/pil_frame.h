@@ -32,7 +32,7 @@
 #include "aocs/types.h"
 
 #define AOCS_PIL_MAGIC 0x4C495041UL   /* "APIL" read as a little-endian uint32 */
-#define AOCS_PIL_VERSION 4U   /* 4: magnetometer, momentum management; 3: star tracker, gyro, estimate; 2: the wheel array (CONFIG fields 65-67 and 100-147,
+#define AOCS_PIL_VERSION 5U   /* 5: the thruster latch valves (STEP_REPLY thruster_latch_closed); 4: magnetometer, momentum management; 3: star tracker, gyro, estimate; 2: the wheel array (CONFIG fields 65-67 and 100-147,
                                 * tachometers, wheel torques) */
 #define AOCS_PIL_HEADER_BYTES 12U
 #define AOCS_PIL_CRC_BYTES 4U
@@ -58,7 +58,7 @@
 /* Payload sizes of the fixed-layout frames (the sums of their rows below, which the encoders check). */
 #define AOCS_PIL_HELLO_BYTES 28U
 #define AOCS_PIL_STEP_BYTES 256U
-#define AOCS_PIL_STEP_REPLY_BYTES 732U
+#define AOCS_PIL_STEP_REPLY_BYTES 736U
 #define AOCS_PIL_SELECT_BYTES 64U
 #define AOCS_PIL_ACK_BYTES 36U
 #define AOCS_PIL_BYE_REPLY_BYTES 16U
@@ -324,7 +324,8 @@ typedef struct {
     X(h_wheels, vec3, mom.h_wheels_B_Nms)            \
     X(dh, vec3, mom.dh_B_Nms)                        \
     X(unloading, u32, unloading)                     \
-    X(n_unload_events, u32, mom.n_events)
+    X(n_unload_events, u32, mom.n_events)            \
+    X(thruster_latch_closed, u32, mom.latch_closed_mask)
 
 /* SELECT: target.wd_dot_B is not sent (it decodes as zero, as fsw_node sets it) */
 #define AOCS_PIL_SELECT_ROWS(X)                      \
