@@ -7,10 +7,11 @@ For each injected fault (aocs_plant.faults: kind, unit, start_s, end_s) and the 
 - detected_s: the time of the first event at or after start_s of the fault's unit kind (catalogue: the kind the
   flight software isolates), of the same unit index where both the fault and the event have one (an event unit
   of -1 or none has none), with severity warning or above, or an event the catalogue lists in the kind's
-  detected_by (the thrusters: momentum_inconsistent, which names no unit); None if none. An event of that kind before start_s
+  detected_by (the thrusters: momentum_inconsistent, which names no unit, and a stuck-open thruster's
+  thruster_stuck_open, which may name its twin); None if none. An event of that kind before start_s
   is not a detection (it is counted in events_before_start: a false alarm, or an earlier fault's);
 - isolated: an isolation event (ISOLATIONS: st_excluded, gyro_excluded, wheel_isolated,
-  unload_actuator_switched) of that unit kind and unit at or after start_s;
+  unload_actuator_switched, thruster_isolated) of that unit kind and unit at or after start_s;
 - recovered_s: the first time t >= detected_s from which the true pointing error stays at or below the
   scenario's recovery figure ([metrics] recovery_arcsec, else requirement_arcsec, else [settle]
   pointing_arcsec_max) for the settle window
@@ -29,7 +30,7 @@ from aocs_core.fault_catalogue import KINDS
 
 SEVERITIES = ("info", "warning", "error", "critical")
 #: the event names that isolate a unit (the contract of issue 26; their unit kind is the event's own)
-ISOLATIONS = ("st_excluded", "gyro_excluded", "wheel_isolated", "unload_actuator_switched")
+ISOLATIONS = ("st_excluded", "gyro_excluded", "wheel_isolated", "unload_actuator_switched", "thruster_isolated")
 
 
 def _severity(e) -> int:

@@ -38,8 +38,8 @@ class Kind:
     isolate_expected: bool
     params: tuple = ()
     meaning: str = ""
-    #: events of no unit that also detect this kind (the momentum test cannot name a thruster it did not
-    #: command: a thruster stuck open is seen as momentum_inconsistent)
+    #: events that also detect this kind whatever unit they name (the momentum test cannot tell a stuck-open
+    #: thruster from its twin: thruster_stuck_open may name either, momentum_inconsistent names none)
     detected_by: tuple = ()
 
     def isolation_unit(self, unit):
@@ -89,7 +89,8 @@ KINDS = {k.name: k for k in (
     _k("thruster_stuck_closed", THRUSTERS, "thruster", "thruster", True, True, (),
        "the thruster gives no thrust whatever its command", ("momentum_inconsistent",)),
     _k("thruster_stuck_open", THRUSTERS, "thruster", "thruster", True, True, (),
-       "the thruster fires continuously (on-time the whole period, propellant counted)", ("momentum_inconsistent",)),
+       "the thruster fires continuously (on-time the whole period, propellant counted)",
+       ("momentum_inconsistent", "thruster_stuck_open")),
     _k("link_drop_burst", LINK, None, "link", True, False, (),
        "every sensor message of the interval is dropped (the transport's drop event at each tick)"),
 )}

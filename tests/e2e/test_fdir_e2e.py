@@ -146,6 +146,42 @@ def test_a_thruster_stuck_closed_is_isolated_and_the_dump_completes_on_its_partn
     assert off_u["time_s"] > 2400.0 > 1000.0 > on_u["time_s"]
 
 
+#: a thruster stuck open in the hold (spec 5.15.9): the -x couple's 2 (branch A) or its twin 3 (branch B); the
+#: events named in order: the first of the couple is suspected, A closed; for 3 the residual goes on, A reopens
+#: and B closes
+STUCK_OPEN_EVENTS = {
+    2: [("thruster_stuck_open", 2), ("thruster_branch_closed", 2), ("thruster_isolated", 2)],
+    3: [("thruster_stuck_open", 2), ("thruster_branch_closed", 2), ("thruster_branch_reopened", 3),
+        ("thruster_branch_closed", 3), ("thruster_isolated", 3)],
+}
+
+
+@pytest.mark.parametrize("unit", sorted(STUCK_OPEN_EVENTS))
+def test_a_thruster_stuck_open_is_isolated_behind_its_latch_valve(tmp_path, unit):
+    """irassi_day_mekf (in process), thruster `unit` stuck open from 1500 s (1.2 N m about -x, five times a
+    wheel's torque): named within fdir.thr_open_persist periods (3 s at 1 Hz) of the first whole period, its
+    branch's latch valve closed (the other one after a wrong guess), the isolation confirmed by the next
+    consistent momentum window; the thruster fires no more, the dumps go on the other branch, and the pointing
+    is back within the scenario's 10 arcsec."""
+    start = 1500.0
+    m = _run(tmp_path, f"open{unit}", scenario="irassi_day_mekf", duration=2500.0, transport="direct",
+             sets=THR_SETS, faults=[f"thruster_stuck_open@{start:g}:unit={unit}"])
+    assert [(e["name"], e["unit"]) for e in m["events"]] == STUCK_OPEN_EVENTS[unit], m["events"]
+    first, closed = m["events"][0], m["events"][-2]
+    # the samples of 1502, 1503, 1504 s: the MEKF's rate is the rate-integrating gyro's mean over the period
+    # before the sample, so the first stuck period (1500 to 1501 s) shows half its impulse at 1501 s
+    assert first["t_s"] == pytest.approx(start + 4.0)
+    assert first["value"] == pytest.approx(1.2, rel=0.05)  # the residual's torque: the thruster's
+    assert closed["value"] == unit % 2                     # the branch closed for good: the thruster's own
+    (f,) = m["faults"]
+    print(f"\nstuck open, unit {unit}: detected {f['detected_s']:.1f} s, isolated {m['events'][-1]['t_s']:.1f} s, "
+          f"recovered {f['recovered_s']} s")
+    assert f["detected_s"] == first["t_s"] and f["isolated"] is True and f["handled"] is True
+    assert f["recovered_s"] - f["detected_s"] < 300.0
+    # what it costs: the hold it struck misses its requirement; nothing else fails (no SAFE, no divergence)
+    assert [x["check"] for x in m["verdict"]["failures"]] == ["holds-missed"], m["verdict"]
+
+
 def test_a_gyro_saturated_mid_slew_is_named_and_the_slew_completes_without_it(tmp_path):
     """The gyro clipped at 1e-3 rad/s on every axis 60 s into the slew (rates of some 5e-3 rad/s): the pinned
     test (spec 5.15.4) names the gyro at its 10th identical sample, although the tracker's innovations failed

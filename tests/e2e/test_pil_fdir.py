@@ -13,7 +13,11 @@ The momentum test (spec 5.15.8) the same way: the thruster momentum stage dumpin
 tachometers that do not move, so that the first window closed finds the commanded -x thruster ineffective and
 takes it out of the allocation on the target: its duty moves to its twin (the other thruster of the couple,
 the same torque), the stage's most expensive step. (Its twin is then commanded and, the tachometers still not
-moving, found ineffective one window later: the run stops before that window closes.)"""
+moving, found ineffective one window later: the run stops before that window closes.)
+
+A thruster stuck open (spec 5.15.8): the body's rate grows by the thruster's torque until the target closes the
+latch valve of its branch; the step that closes it (the allocation moved onto the other branch) and the step
+whose consistent window confirms the isolation."""
 from __future__ import annotations
 
 import math
@@ -92,7 +96,9 @@ def test_fdir_within_its_instruction_allowance(target):
 MOM_WINDOW = 3
 
 
-def _fly_thrusters(target, enabled):
+def _thruster_fields(enabled, **extra):
+    """quat_pd on the pyramid with irassi_day's twelve thrusters (the couples), the momentum test on windows of
+    MOM_WINDOW periods, the tachometers of these tests not answering the wheel commands; extra fields over it."""
     reg = registry.load()
     arms = thruster_arms(*couples(1.2))
     fields = dict(law=reg.law_ids()["quat_pd"], period_s=0.1, target_q=[0.0, 0.0, 0.0, 1.0], quat_pd_kp=40.0,
@@ -101,12 +107,17 @@ def _fly_thrusters(target, enabled):
                   fdir_mom_residual=0.005, fdir_mom_window=MOM_WINDOW, fdir_mom_persist=1,
                   fdir_wheel_residual_frac=1.0,   # the tachometers below do not answer the wheel commands
                   mom_policy=list(reg.momentum_policies).index("thrusters"),
-                  mom_trigger=1, mom_dump_torque=0.2, mom_thr_count=12, mom_thr_thrust=1.0,
+                  mom_dump_torque=0.2, mom_thr_count=12, mom_thr_thrust=1.0,
                   mom_thr_min_on=0.01, mom_thr_quantum=0.001, mom_thr_arm_x=[a[0] for a in arms],
-                  mom_thr_arm_y=[a[1] for a in arms], mom_thr_arm_z=[a[2] for a in arms])
+                  mom_thr_arm_y=[a[1] for a in arms], mom_thr_arm_z=[a[2] for a in arms], **extra)
     for i, g in enumerate(_pyramid()):
         fields.update({f"wheel{i}_axis": g, f"wheel{i}_js": JS, f"wheel{i}_u_max": U_MAX,
                        f"wheel{i}_omega_max": 600.0})
+    return fields
+
+
+def _fly_thrusters(target, enabled):
+    fields = _thruster_fields(enabled, mom_trigger=1)
 
     def payload(k):
         # at rest on target, the four wheels at 150 rad/s (48 N m s along the pyramid's x axis): the dump
@@ -135,6 +146,52 @@ def test_thruster_isolation_within_the_allowance(target):
     assert all(r.thruster_on_s[2] == 0.0 and r.thruster_on_s[3] > 0.0 for r in on[iso + 1:])
     assert all(r.thruster_on_s[2] > 0.0 for r in off)
     assert ack_on.budget == ack_off.budget + ALLOWANCE[target]
+    assert max(cost) <= ALLOWANCE[target]
+    assert all(r.instructions <= r.budget and r.overrun == 0 for r in on)
+
+
+OPEN_FROM = 2
+OPEN_PERSIST = 3
+
+
+def _fly_stuck_open(target, enabled):
+    """The couples behind two latch valves (mom.thr_latch_b_mask 0xAAA), no dump (the threshold far above the
+    wheels' momentum), the tachometers still and the body's x rate growing by a +x thruster's 1.2 N m over each
+    0.1 s period from step OPEN_FROM until fault management closes a valve: the test's own plant, a thruster
+    stuck open behind valve A."""
+    fields = _thruster_fields(enabled, fdir_thr_open_persist=OPEN_PERSIST, mom_trigger=0, mom_h_start=1000.0,
+                              mom_h_stop=100.0, mom_thr_latch_b_mask=0xAAA)
+    state = {"w": 0.0}
+
+    def payload(k):
+        return frame.encode_step(k, (k + 1) * 100_000_000, 1 | 2, [0.0, 0.0, 0.0, 1.0], [state["w"], 0.0, 0.0],
+                                 (0, 0, 0), (0, 0, 0), [50.0, -20.0, 10.0, 30.0] + [0.0, 0.0])
+
+    def after(k, r):
+        if k >= OPEN_FROM - 1 and not r.thruster_latch_closed & 1:   # valve A open: the thruster fires
+            state["w"] += 1.2 * 0.1 / 2059.5
+
+    return fly(target, fields, OPEN_FROM + OPEN_PERSIST + MOM_WINDOW + 3, payload, after)
+
+
+@pytest.mark.parametrize("target", TARGETS)
+def test_stuck_open_thruster_isolation_within_the_allowance(target):
+    ack_off, off = _fly_stuck_open(target, 0)
+    ack_on, on = _fly_stuck_open(target, 1)
+    assert all(r.exact == 1 and r.unloading == 0 for r in on + off)
+    cost = [a.instructions - b.instructions for a, b in zip(on, off)]
+    # the samples of steps OPEN_FROM .. OPEN_FROM + OPEN_PERSIST - 1 show the thruster's whole periods (it fires
+    # from the period after step OPEN_FROM - 1): valve A closes at the last of them on the target (and never
+    # without fault management); the window from there closes consistent MOM_WINDOW steps later
+    # (thruster_isolated)
+    close = OPEN_FROM + OPEN_PERSIST - 1
+    confirm = close + MOM_WINDOW
+    assert [r.thruster_latch_closed for r in on] == [0] * close + [1] * (len(on) - close)
+    assert all(r.thruster_latch_closed == 0 for r in off)
+    ordinary = [c for k, c in enumerate(cost) if k not in (close, confirm)]
+    print(f"\nfdir stuck-open test on {target}: cost per step min {min(ordinary)} max {max(ordinary)}, the step that "
+          f"closes valve A {cost[close]}, the window that confirms it {cost[confirm]}; whole step max "
+          f"{max(r.instructions for r in on)}; budget {ack_on.budget}")
     assert max(cost) <= ALLOWANCE[target]
     assert all(r.instructions <= r.budget and r.overrun == 0 for r in on)
 
