@@ -585,6 +585,13 @@ static void test_thr_latch_branches(void **state)
     }
     assert_int_equal(aocs_mom_thr_branch(NULL, 1u), 0u);
     assert_int_equal(aocs_mom_thr_branch(&m, 40u), 0u);
+    /* on each branch, a thruster itself or its couple's twin (no other thruster has its torque) */
+    for (uint32_t i = 0u; i < N_THR; ++i) {
+        assert_int_equal(aocs_mom_thr_like_on_branch(&m, i % 2u, i), i);
+        assert_int_equal(aocs_mom_thr_like_on_branch(&m, 1u - (i % 2u), i), i ^ 1u);
+    }
+    assert_int_equal(aocs_mom_thr_like_on_branch(NULL, 0u, 1u), AOCS_MOM_THRUSTERS_MAX);
+    assert_int_equal(aocs_mom_thr_like_on_branch(&m, 0u, N_THR), AOCS_MOM_THRUSTERS_MAX);
     {
         /* a step that fires thrusters of both branches, then A closes */
         aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(8.0), AOCS_R(-5.0), AOCS_R(3.0)), aocs_vec3_zero(), 1.0);
@@ -622,6 +629,7 @@ static void test_thr_latch_branches(void **state)
     assert_true(memcmp(m.thr_alloc, m.thr_alloc_full, sizeof(m.thr_alloc)) == 0);
     /* B closed with thruster 0 excluded: A's 0 gone and B's 1 shut, the +x couple is empty */
     assert_int_equal(aocs_mom_thr_exclude(&m, 0u), AOCS_OK);
+    assert_int_equal(aocs_mom_thr_like_on_branch(&m, 0u, 1u), AOCS_MOM_THRUSTERS_MAX); /* excluded: none */
     assert_int_equal(aocs_mom_latch_set(&m, 1u, 1), AOCS_ERR_MOMENTUM_THRUSTERS_NOT_SPANNING);
     assert_int_equal(m.out.latch_closed_mask, 0u);
     assert_int_equal(aocs_mom_latch_set(&m, 2u, 1), AOCS_ERR_MOMENTUM_CONFIG_INVALID);

@@ -57,27 +57,6 @@ static uint32_t open_match(const aocs_fdir_mom_t *m, const aocs_mom_t *mom, aocs
     return best;
 }
 
-/* 1 when thrusters i and j give the same torque (to 1e-6 of it, squared: no root): a couple's twins */
-static int open_same_torque(const aocs_mom_t *mom, uint32_t i, uint32_t j)
-{
-    const aocs_vec3_t ti = aocs_mom_thr_torque_B(mom, i);
-    const aocs_vec3_t d = aocs_vec3_sub(aocs_mom_thr_torque_B(mom, j), ti);
-    return (aocs_vec3_dot(d, d) <= (AOCS_R(1.0e-12) * aocs_vec3_dot(ti, ti))) ? 1 : 0;
-}
-
-/* 1 when branch b feeds a thruster, not excluded, with the suspect's torque (the suspect or its twin). */
-static int latch_holds_suspect(const aocs_mom_t *mom, uint32_t b, uint32_t suspect)
-{
-    int holds = 0;
-    for (uint32_t j = 0u; (j < mom->cfg.thr_count) && (holds == 0); ++j) {
-        if ((aocs_mom_thr_branch(mom, j) == b) && (((mom->thr_excluded_mask >> j) & 1u) == 0u) &&
-            (open_same_torque(mom, j, suspect) != 0)) {
-            holds = 1;
-        }
-    }
-    return holds;
-}
-
 /* Closes the first untried branch that holds the suspect or its twin, the suspect's own first; 1 when a valve
  * was closed. A branch whose closing is refused (the rest would not span) counts as tried. */
 static int latch_close_next(aocs_fdir_t *f, const aocs_fdir_input_t *in, uint32_t suspect)
@@ -90,7 +69,7 @@ static int latch_close_next(aocs_fdir_t *f, const aocs_fdir_input_t *in, uint32_
         const uint32_t b = (own + k) % AOCS_MOM_LATCH_BRANCHES;
         if (((m->latch_tried >> b) & 1u) == 0u) {
             m->latch_tried |= (uint32_t)1u << b;
-            if ((latch_holds_suspect(mom, b, suspect) != 0) && (aocs_mom_latch_set(mom, b, 1) == AOCS_OK)) {
+            if ((aocs_mom_thr_like_on_branch(mom, b, suspect) < AOCS_MOM_THRUSTERS_MAX) && (aocs_mom_latch_set(mom, b, 1) == AOCS_OK)) {
                 (void)aocs_evlog_raise(&f->log, AOCS_EVT_THRUSTER_BRANCH_CLOSED, in->t_ns, (int32_t)suspect,
                                        (real_t)b, AOCS_R(0.0));
                 m->latch_testing = b + 1u;
@@ -145,13 +124,9 @@ void aocs_fdir_latch_confirm(aocs_fdir_t *f, const aocs_fdir_input_t *in)
     aocs_fdir_mom_t *m = &f->mom;
     if ((m->latch_testing != 0u) && (in->mom != NULL)) {
         const uint32_t b = m->latch_testing - 1u;
-        uint32_t unit = m->latch_suspect;
         /* the thruster of the closed branch with the suspect's torque: the suspect, or else its twin */
-        for (uint32_t j = 0u; (j < in->mom->cfg.thr_count) && (aocs_mom_thr_branch(in->mom, unit) != b); ++j) {
-            if ((aocs_mom_thr_branch(in->mom, j) == b) && (open_same_torque(in->mom, j, m->latch_suspect) != 0)) {
-                unit = j;
-            }
-        }
+        const uint32_t like = aocs_mom_thr_like_on_branch(in->mom, b, m->latch_suspect);
+        const uint32_t unit = (like < AOCS_MOM_THRUSTERS_MAX) ? like : m->latch_suspect;
         (void)aocs_evlog_raise(&f->log, AOCS_EVT_THRUSTER_ISOLATED, in->t_ns, (int32_t)unit, (real_t)b, AOCS_R(0.0));
         m->latch_testing = 0u;
     }

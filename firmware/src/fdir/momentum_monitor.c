@@ -56,26 +56,13 @@ static uint32_t mom_explaining_thruster(const aocs_fdir_mom_t *m, aocs_vec3_t r,
     return best;
 }
 
-/* The window's bound so far: mom_residual_nm over its span and the epoch uncertainty of its two ends, N m s. */
-static real_t mom_bound(const aocs_fdir_t *f, const aocs_fdir_input_t *in, real_t epoch_Nms)
-{
-    const real_t span_s = (real_t)f->mom.periods * in->period_s;
-    return (f->cfg.mom_residual_nm * span_s) + f->mom.epoch_ref_Nms + epoch_Nms;
-}
-
-/* The window's residual so far, r = H_N - H_N(t_0) - the commanded impulse, N m s. */
-static aocs_vec3_t mom_residual(const aocs_fdir_mom_t *m, aocs_vec3_t h_N)
-{
-    return aocs_vec3_sub(aocs_vec3_sub(h_N, m->h_ref_N), m->expected_N);
-}
-
 /* A window has closed: judge r, count, raise, isolate. */
 static void mom_judge(aocs_fdir_t *f, const aocs_fdir_input_t *in, aocs_vec3_t h_N, real_t epoch_Nms)
 {
     aocs_fdir_mom_t *m = &f->mom;
     const real_t span_s = (real_t)m->periods * in->period_s;
-    const real_t bound = mom_bound(f, in, epoch_Nms);
-    const aocs_vec3_t r = mom_residual(m, h_N);
+    const real_t bound = (f->cfg.mom_residual_nm * span_s) + m->epoch_ref_Nms + epoch_Nms;
+    const aocs_vec3_t r = aocs_vec3_sub(aocs_vec3_sub(h_N, m->h_ref_N), m->expected_N);
     const real_t r_norm = aocs_vec3_norm(r);
     if (!(r_norm <= bound)) {
         const uint32_t i = mom_explaining_thruster(m, r, bound);

@@ -160,19 +160,50 @@ aocs_vec3_t aocs_mom_thr_torque_B(const aocs_mom_t *m, uint32_t i)
     return t;
 }
 
-/* A thruster not in `excluded`, other than i, whose torque is i's (to 1e-6 of it): its redundant twin; the
- * thruster count when there is none. */
+/* The rule of a couple's twins: torque tj is ti to 1e-6 of |ti|, compared squared (no root) against
+ * tol2 = thr_twin_tol2(ti), computed once per ti. */
+static real_t thr_twin_tol2(aocs_vec3_t ti)
+{
+    return AOCS_R(1.0e-12) * aocs_vec3_dot(ti, ti);
+}
+
+static int thr_torques_equal(aocs_vec3_t ti, aocs_vec3_t tj, real_t tol2)
+{
+    const aocs_vec3_t d = aocs_vec3_sub(tj, ti);
+    return (aocs_vec3_dot(d, d) <= tol2) ? 1 : 0;
+}
+
+uint32_t aocs_mom_thr_like_on_branch(const aocs_mom_t *m, uint32_t b, uint32_t i)
+{
+    uint32_t found = AOCS_MOM_THRUSTERS_MAX;
+    if ((m != NULL) && (m->initialised != 0) && (m->id == AOCS_MOM_THRUSTERS) && (i < m->cfg.thr_count)) {
+        const aocs_mom_config_t *c = &m->cfg;
+        const uint32_t on_b = (b == 1u) ? c->thr_latch_b_mask : (thr_all_bits(c) & ~c->thr_latch_b_mask);
+        const uint32_t open = on_b & ~m->thr_excluded_mask;
+        const aocs_vec3_t ti = thr_torque(c, i);
+        const real_t tol2 = thr_twin_tol2(ti);
+        if ((open & thr_bit(i)) != 0u) {
+            found = i;
+        }
+        for (uint32_t j = 0u; (j < c->thr_count) && (found == AOCS_MOM_THRUSTERS_MAX); ++j) {
+            if (((open & thr_bit(j)) != 0u) && (thr_torques_equal(ti, thr_torque(c, j), tol2) != 0)) {
+                found = j;
+            }
+        }
+    }
+    return found;
+}
+
+/* A thruster not in `excluded`, other than i, whose torque is i's: its redundant twin; the thruster count when
+ * there is none. */
 static uint32_t thr_twin(const aocs_mom_config_t *c, uint32_t excluded, uint32_t i)
 {
     const aocs_vec3_t ti = thr_torque(c, i);
-    const real_t tol2 = AOCS_R(1.0e-12) * aocs_vec3_dot(ti, ti); /* (1e-6 |t_i|)^2: squared, no root */
+    const real_t tol2 = thr_twin_tol2(ti);
     uint32_t twin = c->thr_count;
     for (uint32_t j = 0u; (j < c->thr_count) && (twin == c->thr_count); ++j) {
-        if ((j != i) && ((excluded & thr_bit(j)) == 0u)) {
-            const aocs_vec3_t d = aocs_vec3_sub(thr_torque(c, j), ti);
-            if (aocs_vec3_dot(d, d) <= tol2) {
-                twin = j;
-            }
+        if ((j != i) && ((excluded & thr_bit(j)) == 0u) && (thr_torques_equal(ti, thr_torque(c, j), tol2) != 0)) {
+            twin = j;
         }
     }
     return twin;

@@ -147,6 +147,11 @@ aocs_status_t aocs_mom_thr_exclude(aocs_mom_t *m, uint32_t i);
 /* Latch-valve branches (docs/spec.md 5.15.8): two, A (0) and B (1); mom.thr_latch_b_mask gives each thruster's. */
 #define AOCS_MOM_LATCH_BRANCHES 2u
 
+/* Thruster i itself when it is on branch b (0 A, 1 B) and not excluded, else the first such thruster with i's
+ * torque (to 1e-6 of it: its twin, the rule by which an exclusion moves a duty); AOCS_MOM_THRUSTERS_MAX when
+ * none, for NULL, another policy or i out of range. Total. */
+uint32_t aocs_mom_thr_like_on_branch(const aocs_mom_t *m, uint32_t b, uint32_t i);
+
 /* The branch of thruster i (0 A, 1 B; 0 for NULL or i out of range). Total. */
 uint32_t aocs_mom_thr_branch(const aocs_mom_t *m, uint32_t i);
 
