@@ -488,7 +488,7 @@ def steady_state_bounds(sensors: SensorSet, control_rate_hz: float | None = None
     pre = steady_state_per_axis(*args, when="pre")
     dt = 1.0 / s.rate_hz
     per = [x / ARCSEC_PER_RAD for x in (s.noise_cross_arcsec, s.noise_cross_arcsec, s.noise_about_arcsec)]
-    n = max(1, int(round(control_rate_hz / s.rate_hz))) if control_rate_hz else 1
+    n = T.control_steps_per_update(s, control_rate_hz) if control_rate_hz else 1
     log_rms = [between_updates(sn, s.arw_rad_sqrt_s, s.rrw_rad_s_sqrt_s, dt, n) * ARCSEC_PER_RAD for sn in per]
     bias = [farrenkopf(sn, s.arw_rad_sqrt_s, s.rrw_rad_s_sqrt_s, dt).bias_post * DEG_H_PER_RAD_S for sn in per]
     q = s.mounting_q

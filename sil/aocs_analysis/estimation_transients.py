@@ -81,10 +81,16 @@ def time_inside_for_good(t_s, r, limit, start_s: float | None = None, end_s: flo
     return float(t[idx[0]]) if out.size == 0 else float(t[idx[out[-1] + 1]])
 
 
+def control_steps_per_update(sensors, control_rate_hz: float) -> int:
+    """n: the control periods between two star-tracker updates (at least one; the loader holds the tracker's
+    rate at or below the control rate)."""
+    return max(1, int(round(control_rate_hz / sensors.rate_hz)))
+
+
 def steady_rms_S_arcsec(sensors, control_rate_hz: float) -> np.ndarray:
     """bound_S: the steady-state rms per axis of S of a control-rate log (estimation_bounds.between_updates)."""
     s = sensors
-    n = max(1, int(round(control_rate_hz / s.rate_hz)))
+    n = control_steps_per_update(s, control_rate_hz)
     per = (s.noise_cross_arcsec, s.noise_cross_arcsec, s.noise_about_arcsec)
     return np.array([between_updates(a / ARCSEC_PER_RAD, s.arw_rad_sqrt_s, s.rrw_rad_s_sqrt_s, 1.0 / s.rate_hz, n)
                      for a in per]) * ARCSEC_PER_RAD
@@ -126,7 +132,7 @@ def predicted_convergence(sensors, control_rate_hz: float, p0_att_rad: float, p0
     "bound_S_arcsec", "k"}; time_s None when the prediction does not enter within duration_s."""
     s = sensors
     dt = 1.0 / control_rate_hz
-    n = max(1, int(round(control_rate_hz / s.rate_hz)))
+    n = control_steps_per_update(s, control_rate_hz)
     steps = int(round(duration_s * control_rate_hz))
     e_att = to_tracker_frame(np.asarray(e0_att_B_rad, float)[None, :], s.mounting_q)[0]
     e_b = to_tracker_frame(np.asarray(e0_bias_B_radps, float)[None, :], s.mounting_q)[0]

@@ -121,3 +121,23 @@ def test_the_dipole_integral_counts_each_rod_within_its_limit():
     assert out["flag"].tolist() == [True, True, False]
     np.testing.assert_allclose(out["cumulative"], [0.15, 0.15 + 0.6, 0.75 + 0.01], rtol=1e-12)
     assert out["cumulative_label"] == "dipole integral (A m^2 s)"
+
+
+@pytest.mark.parametrize("n_passes", [1, 3])
+def test_the_target_passes_are_shaded_and_named_once_with_their_maxima(tmp_path, monkeypatch, n_passes):
+    """However many target passes the day has (one, three), each is shaded (no edge) with its maximum as a bar
+    over it in the colour of its verdict, and the legend names the shading and the maxima once each."""
+    ps = [{"start_s": 3000.0 + 8000.0 * k, "end_s": 3600.0 + 8000.0 * k, "pointing_max_arcsec": 0.2 + 0.1 * k,
+           "meets_requirement": k != 1, "target": {"name": f"T{k}"}} for k in range(n_passes)]
+    fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, np.zeros(T.size - 1, bool)), tmp_path,
+                  monkeypatch, {**METRICS, "passes": ps})
+    pointing = fig.axes[2]
+    labels = pointing.get_legend_handles_labels()[1]
+    assert labels.count("target pass") == 1 and labels.count("pass max") == 1
+    assert len(pointing.patches) == n_passes
+    assert all(p.get_linewidth() == 0.0 for p in pointing.patches)
+    bars = [ln for ln in pointing.lines if len(ln.get_xdata()) == 2 and ln.get_linewidth() == 2.5]
+    assert [float(ln.get_ydata()[0]) for ln in bars] == pytest.approx([p["pointing_max_arcsec"] for p in ps])
+    assert [ln.get_color() for ln in bars] == ["tab:purple" if p["meets_requirement"] else "red" for p in ps]
+    names = [a.get_text() for a in pointing.texts]
+    assert [p["target"]["name"] for p in ps] == [n for n in names if n.startswith("T")]

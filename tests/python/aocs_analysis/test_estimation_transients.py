@@ -102,3 +102,20 @@ def test_an_outage_report_by_hand():
     dth[-1] *= 1000.0
     (late,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
     assert late["recovery_time_s"] is None
+
+
+def test_an_outage_reports_the_three_sigma_its_last_sample_reached():
+    """sigma grows linearly through the outage [200, 300) (1 Hz, from pre to 2 pre at t = 299) and falls back
+    after it: the 3 sigma at its end is that of t = 299, 3 x 2 pre per axis (arcsec), not the first sample's nor
+    the recovered one's; the largest ratio is the first sample's (the error held at 5 bound_S)."""
+    sensors = SensorSet(3.0, 20.0, 1.0, SIGMA_V, SIGMA_U)
+    bound = steady_rms_S_arcsec(sensors, 1.0)
+    t = np.arange(1000.0)
+    level = np.where((t >= 200) & (t < 300), 5.0, 0.5)
+    dth = level[:, None] * bound[None, :] / ARCSEC_PER_RAD
+    pre = np.array([farrenkopf(a / ARCSEC_PER_RAD, SIGMA_V, SIGMA_U, 1.0).attitude_pre for a in (3.0, 3.0, 20.0)])
+    grow = np.where((t >= 200) & (t < 300), 1.0 + (t - 200.0) / 99.0, 1.0)
+    p_att = (grow ** 2)[:, None, None] * np.diag(pre ** 2)[None, :, :]
+    (rep,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
+    np.testing.assert_allclose(rep["three_sigma_at_end_arcsec"], 3.0 * 2.0 * pre * ARCSEC_PER_RAD, rtol=1e-12)
+    assert rep["max_ratio_to_3sigma_per_axis"] == pytest.approx(list(5.0 * bound / (3.0 * pre * ARCSEC_PER_RAD)))

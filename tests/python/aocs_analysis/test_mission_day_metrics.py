@@ -115,6 +115,7 @@ def test_momentum_section_maxima_in_and_out_of_holds():
                            {**series, "h_wheels_norm": series["h_wheels_norm"] * 1e-3}, None)
     assert leo["trigger"] == "continuous" and leo["h_start_nms"] is None and leo["capacity_nms"] == [6e-3] * 4
     assert momentum.metrics(log, load("irassi_large"), {}, None) is None
+    assert momentum.metrics(log, sc, {}, None) is None        # wheels, but no wheel series was logged
     # the summary line of the section names each figure with its unit
     rows = dict(momentum.table_rows(m))
     assert rows["wheel momentum |h_w|"] == ("max 9 N m s, max in holds 4, final 2.5 (capacity 48 N m s per "
@@ -142,3 +143,10 @@ def test_the_day_timeline_is_drawn_at_150_dpi_or_more(tmp_path):
     p = day_timeline.timeline(series, metrics, tmp_path / "day.png", "test")
     with Image.open(p) as im:
         assert im.info["dpi"][0] >= 150 and im.size[0] >= 1500
+
+
+def test_a_log_without_a_command_has_no_unloading():
+    """No command logged (a run stopped before its first period): no event, no time unloading, no propellant."""
+    sc = load("irassi_day", {"duration_s": 4.0, "metrics.window_s": 1.0})
+    u = momentum.unloading(_log(np.zeros((0, 12)), np.zeros((0, 3)), [], [], sc.dt), sc, None)
+    assert (u["events"], u["time_s"], u["propellant_kg"]) == (0, 0.0, 0.0)

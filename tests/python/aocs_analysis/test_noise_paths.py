@@ -82,3 +82,20 @@ def test_the_noises_of_a_log_are_estimate_minus_truth_on_the_ticks_both_sides_lo
     np.testing.assert_allclose(n["n_rate_radps"], dw[keep], rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(n["pointing_rad"], np.tile([0.0, 2.0 * np.sin(b / 2), 0.0], (3, 1)), rtol=1e-9,
                                atol=1e-14)
+
+
+@pytest.mark.parametrize("kz", [0.0, 1.0, 12.0])
+def test_the_three_paths_are_the_loops_transfer_functions_written_out(kz):
+    """At s = j w the paths are, from J theta'' = u + d, u = -kq theta/2 - kw theta' - kz z, z' = theta/2
+    (theta the truth, n added to the measured attitude and rate): T_att = -(kq/2 + kz/(2 s)) / D,
+    T_rate = -kw / D, T_d = 1 / D with D = J s^2 + kw s + kq/2 + kz/(2 s) (every integral gain, 1 among
+    them, keeps its term)."""
+    from scipy import signal
+    g = NP.AxisGains(400.0, 2000.0, kz)
+    w = np.logspace(-3, 1, 50)
+    s = 1j * w
+    d = J * s ** 2 + g.kw * s + g.kq / 2.0 + g.kz / (2.0 * s)
+    expected = (-(g.kq / 2.0 + g.kz / (2.0 * s)) / d, -g.kw / d, 1.0 / d)
+    for (num, den), want in zip(NP.closed_loop(J, g), expected):
+        _, h = signal.freqs(num, den, w)
+        np.testing.assert_allclose(h, want, rtol=1e-9)

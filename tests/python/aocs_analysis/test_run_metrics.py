@@ -336,13 +336,12 @@ def test_limit_line_reads_as_english():
     assert results.limit_text(m) == "|u_i| <= 2 N per axis; 1 command beyond it"
 
 
-def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
-    """table_rows / table (what `aocs run` prints and the run report shows) of an attitude run, figures chosen
-    here: each line reads its figure with its unit (2 deg = 7200 arcsec)."""
+def _attitude_run_metrics(**kw):
+    """The metrics of an attitude run, figures chosen here (the run table's tests)."""
     counters = {"invalid": 1, "stale": 2, "missing": 3, "law_error": 0, "lost": 4, "duplicate": 5, "foreign": 6,
                 "malformed": 7, "cmd_accepted": 990, "cmd_rejected": 10, "status": {}, "mode_changes": 1,
                 "time_in_safe_mode_s": 0.0, "time_in_saturation_s": 2.5}
-    m = _summary_metrics(
+    return _summary_metrics(
         duration_s=100.0, control_rate_hz=10.0, settle_time_s=12.34,
         settle_criterion={"criteria": {"pointing_arcsec_max": 10.0}},
         limits={"axis": 0.5, "unlimited": False},
@@ -352,7 +351,13 @@ def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
         max_abs_torque_nm=[0.1, 0.2, 0.25], max_torque_norm_nm=0.3354, effort=42.5,
         timing={"step_ns_median": 800.0, "step_ns_p99": 900.0, "step_ns_max": 1500.0, "budget_ns": 2000.0,
                 "overruns": 0},
-        counters=counters, final_mode="NOMINAL")
+        counters=counters, final_mode="NOMINAL", **kw)
+
+
+def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
+    """table_rows / table (what `aocs run` prints and the run report shows) of an attitude run, figures chosen
+    here: each line reads its figure with its unit (2 deg = 7200 arcsec)."""
+    m = _attitude_run_metrics()
     rows = dict(results.table_rows(m))
     assert rows["duration"] == "100 s at 10 Hz" and rows["settle time"] == "12.3 s"
     assert rows["settle criterion"] == "pointing_arcsec_max < 10"
@@ -430,3 +435,36 @@ def test_attitude_series_against_the_error_rotation_by_hand():
     np.testing.assert_allclose(s["rho"], np.tan(theta / 2)[:, None] * n, rtol=1e-9)
     np.testing.assert_allclose(s["sigma"], np.tan(theta / 4)[:, None] * n, rtol=1e-9)
     np.testing.assert_allclose(s["we"], dw, rtol=1e-9, atol=1e-15)
+
+
+def test_plan_index_is_the_observation_commanded_at_each_time():
+    """Commands at 0, 10.05 and 20 s with a 0.1 s period act from the ticks 0, 101 and 200: the observation at
+    each time by hand, and ObservationPlan.index_at sample by sample."""
+    from aocs_plant.observation_plan import ObservationPlan
+    plan = types.SimpleNamespace(command_times_s=[0.0, 10.05, 20.0])
+    t = np.array([0.0, 5.0, 10.0, 10.1, 19.9, 20.0, 30.0])
+    np.testing.assert_array_equal(results.plan_index(plan, t, 0.1), [0, 0, 0, 1, 1, 2, 2])
+    dense = np.round(np.arange(0, 301) * 0.1, 9)
+    ref = [ObservationPlan.index_at(plan, x, 0.1) for x in dense]
+    np.testing.assert_array_equal(results.plan_index(plan, dense, 0.1), ref)
+
+
+def test_the_lockstep_line_states_the_round_trip_it_measured():
+    m = _attitude_run_metrics(lockstep={"realtime_factor": 812.4, "loop_s": 0.6155, "startup_s": 0.41,
+                                   "roundtrip_ns": {"median": 33400.0, "p99": 61250.0}})
+    rows = dict(results.table_rows(m))
+    assert rows["lockstep speed"] == ("812x real time, loop 0.616 s, round trip median 33.4 us p99 61.2 us, "
+                                      "startup 0.41 s")
+    m["lockstep"]["roundtrip_ns"] = None                     # a direct run: no round trip, zeros
+    assert "round trip median 0.0 us p99 0.0 us" in dict(results.table_rows(m))["lockstep speed"]
+
+
+@pytest.mark.parametrize("bound_s,settle_s,ratio", [(0.5, 0.6, "1.200"), (1.0, 0.75, "0.750"), (0.0, 3.0, "-"),
+                                                    (None, 3.0, "-"), (2.0, None, "-")])
+def test_the_settle_over_bound_ratio_for_any_positive_bound(bound_s, settle_s, ratio):
+    """settle / bound for every positive bound, sub-second ones too; none (-) without a bound, a positive one,
+    or a settle time."""
+    m = {"law": "smc", "limits": {"unlimited": True}, "settle_time_s": settle_s, "slew_bound_s": bound_s,
+         "pointing_error_arcsec": {}, "max_torque_norm_nm": 1.0, "effort": 1.0, "timing": {"step_ns_p99": 1.0},
+         "counters": {"time_in_safe_mode_s": 0.0}}
+    assert results.comparison_table([m], bound=True).splitlines()[2].split()[3:5][-1] == ratio

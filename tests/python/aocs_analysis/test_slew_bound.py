@@ -73,3 +73,17 @@ def test_the_wheel_envelope_is_the_spec_5_3_pyramid():
     full = slew_bound.scenario_slew_bound_s(load("irassi_rw"))
     reduced = slew_bound.scenario_slew_bound_s(load("irassi_rw_failed"))
     assert full == pytest.approx(186.84, abs=0.01) and reduced == pytest.approx(252.98, abs=0.01)
+
+
+def test_a_wheel_the_axis_does_not_use_does_not_limit_it():
+    """Three wheels on the body axes with limits 0.1, 0.05 and 0.02 N m, J = diag(2, 4, 8): about x only the x
+    wheel works (the others' share is exactly 0), alpha = 0.1 / 2; about y, 0.05 / 4; a failed wheel leaves
+    the allocation too (the y wheel failed: about x still 0.1 / 2)."""
+    import types
+    w = types.SimpleNamespace(n=3, failed=(), axes=[(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)],
+                              torque_limit_nm=[0.1, 0.05, 0.02])
+    j = np.diag([2.0, 4.0, 8.0])
+    assert sb.alpha_max(j, [1.0, 0.0, 0.0], None, None, w) == 0.1 / 2.0
+    assert sb.alpha_max(j, [0.0, 1.0, 0.0], None, None, w) == 0.05 / 4.0
+    failed = types.SimpleNamespace(**{**vars(w), "failed": (1,)})
+    assert sb.alpha_max(j, [1.0, 0.0, 0.0], None, None, failed) == 0.1 / 2.0

@@ -196,6 +196,19 @@ def test_a_scenario_selects_igrf_and_its_field_follows_the_orbit():
         assert f(t) == FieldAlongOrbit(env, dt)(t), t
 
 
+@pytest.mark.parametrize("environment", [
+    {"epoch_utc": "2026-03-20T00:00:00Z", "orbit": {"radius_m": 6878137.0, "inclination_deg": 97.4}},
+    {"epoch_utc": "2026-03-20T00:00:00Z", "magnetic_field": {"model": "igrf"}},
+    None])
+def test_the_field_along_the_orbit_needs_both_an_orbit_and_a_model(environment):
+    """An orbit without a field model, a model without an orbit, no environment at all: no field (None) at any
+    time, nothing evaluated."""
+    env = None if environment is None else Plant(load("irassi_large", {"environment": environment})).environment
+    f = FieldAlongOrbit(env, 0.1)
+    assert not f.active
+    assert all(f(t) is None for t in (0.0, 0.05, 1234.5))
+
+
 def test_the_first_and_last_epochs_of_the_file_are_inside_with_their_own_rows():
     """The model covers its file's epochs inclusively: at the first (1900) and the last (the secular-variation
     end) the coefficients are ppigrf's rows of those dates."""

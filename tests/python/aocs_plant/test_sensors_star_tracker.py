@@ -288,6 +288,14 @@ def test_bad_input_is_one_line_naming_file_and_key(st, message):
     assert "\n" not in str(exc.value)
 
 
+def test_a_rate_at_the_control_rate_within_rounding_is_the_control_rate():
+    """rate_hz is compared with 1 / dt to 1e-9 relative: the control rate written with its rounding (10 Hz
+    plus 1e-12 relative, as 1 / dt can come out) is accepted; 1e-8 above it is refused."""
+    assert load("irassi_large", {"sensors.star_tracker": {"rate_hz": 10.0 * (1.0 + 1e-12)}}) is not None
+    with pytest.raises(ScenarioError, match="is above the control rate"):
+        load("irassi_large", {"sensors.star_tracker": {"rate_hz": 10.0 * (1.0 + 1e-8)}})
+
+
 def test_it_does_not_apply_to_an_orbit_scenario_and_is_absent_by_default():
     with pytest.raises(ScenarioError, match=r"landsat8_q1.toml: sensors.star_tracker: does not apply to a orbit"):
         load("landsat8_q1", {"sensors.star_tracker": {}})
