@@ -2,8 +2,9 @@
 """make mutation: a seeded sample of single-line mutants, each run against the tests that can see it
 (docs/mutation.md).
 
-Areas: firmware/src (C; the host and host-float unit tests, rebuilt in scratch build directories), the
-plant (sil/aocs_plant) and the metrics (sil/aocs_analysis) packages (Python; their pytest directories).
+Areas: firmware/src (C; the host, host-float and host-sanitize unit tests, rebuilt in scratch build
+directories), the plant (sil/aocs_plant) and the metrics (sil/aocs_analysis) packages (Python; their pytest
+directories).
 Every mutant is applied to a scratch copy of the tree (build/mutation/src), never to the worktree; the
 copy is refreshed from the worktree at every start, so an interrupted run leaves no mutant behind that
 a later run would test against. Each mutant ends killed, survived, timeout (counted as killed) or
@@ -37,7 +38,11 @@ REPO = Path(__file__).resolve().parents[2]
 OUT = REPO / "build" / "mutation"
 SRC = OUT / "src"
 EQUIVALENT = REPO / "tests" / "mutation" / "equivalent.toml"
-C_PRESETS = {"host": "OFF", "host-float": "ON"}  # preset -> AOCS_REAL_FLOAT
+#: preset -> its cache variables, run in this order (a mutant is killed by the first that fails): double, float,
+#: then double under ASan + UBSan (as `make test` runs the unit tests: an out-of-bounds write the two plain builds
+#: survive is a failing test there)
+C_PRESETS = {"host": ("-DAOCS_REAL_FLOAT=OFF",), "host-float": ("-DAOCS_REAL_FLOAT=ON",),
+             "host-sanitize": ("-DAOCS_REAL_FLOAT=OFF", "-DAOCS_SANITIZE=ON")}
 
 
 @dataclass
@@ -133,10 +138,10 @@ class CBuilds:
         self.users: dict[str, list[str]] = {}  # firmware/src/x.c -> test executables linking its object
 
     def setup(self) -> None:
-        for preset, flt in C_PRESETS.items():
+        for preset, cache in C_PRESETS.items():
             d = self.dirs[preset]
             st, out = run(["cmake", "-S", str(SRC), "-B", str(d), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=RelWithDebInfo",
-                           f"-DAOCS_REAL_FLOAT={flt}", "-DAOCS_BUILD_SIL=OFF", "-DAOCS_BUILD_TESTS=ON"], REPO)
+                           *cache, "-DAOCS_BUILD_SIL=OFF", "-DAOCS_BUILD_TESTS=ON"], REPO)
             if st != "ok":
                 fail(f"configure of the scratch {preset} build failed:\n{out[-2000:]}")
             st, out = run(["cmake", "--build", str(d), "-j", str(self.jobs)], REPO)
@@ -176,7 +181,7 @@ class CBuilds:
             if st != "ok":
                 failed = re.findall(r"\d+ - (\S+) \(", out)
                 return "killed", f"{preset}: " + ", ".join(failed or ["ctest failed"])
-        return "survived", f"host and host-float pass: {', '.join(tests)}"
+        return "survived", f"{', '.join(C_PRESETS)} pass: {', '.join(tests)}"
 
 
 def _nm(path: Path) -> list[str]:
@@ -289,7 +294,7 @@ def main() -> None:
     used = {area.name for area, m in sample if m.key() not in equivalent and m.ident not in kept}
     cb = CBuilds(a.jobs)
     if "firmware" in used:
-        print("mutation: building the unmutated scratch host and host-float unit tests", flush=True)
+        print(f"mutation: building the unmutated scratch {', '.join(C_PRESETS)} unit tests", flush=True)
         cb.setup()
     py = PyTests()
     py_areas = [AREAS[n] for n in ("plant", "metrics") if n in used]

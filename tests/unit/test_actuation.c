@@ -97,6 +97,33 @@ static void test_body_path(void **state)
     assert_vec3_close(aocs_act_saturate(NULL, small, &sat), aocs_vec3_zero(), 0.0);
 }
 
+/* aocs_act_check_sample: the tachometers against the array's range on the wheel path, nothing to check on the
+ * body path; a missing stage or a missing sample is AOCS_ERR_NULL_ARG on either path. */
+static void test_check_sample(void **state)
+{
+    (void)state;
+    real_t omega[AOCS_WHEELS_MAX] = {AOCS_R(10.0), AOCS_R(-20.0), AOCS_R(5.0), AOCS_R(0.0), AOCS_R(0.0),
+                                     AOCS_R(0.0)};
+    for (int wheels = 0; wheels < 2; ++wheels) {
+        aocs_act_t act;
+        aocs_exec_config_t cfg = config(wheels);
+        (void)memset(&act, 0, sizeof(act));
+        assert_int_equal(aocs_act_init(&act, &cfg), AOCS_OK);
+        assert_int_equal(aocs_act_check_sample(&act, omega), AOCS_OK);
+        assert_int_equal(aocs_act_check_sample(&act, NULL), AOCS_ERR_NULL_ARG);
+        assert_int_equal(aocs_act_check_sample(NULL, omega), AOCS_ERR_NULL_ARG);
+    }
+    {
+        aocs_act_t act;
+        aocs_exec_config_t cfg = config(1);
+        (void)memset(&act, 0, sizeof(act));
+        assert_int_equal(aocs_act_init(&act, &cfg), AOCS_OK);
+        /* far past its speed limit, beyond the range a tachometer can read */
+        omega[1] = AOCS_R(1.01) * AOCS_WHEEL_SPEED_RANGE_FACTOR * cfg.wheels.omega_max_radps[1];
+        assert_int_equal(aocs_act_check_sample(&act, omega), AOCS_ERR_WHEEL_SPEED_RANGE);
+    }
+}
+
 static void test_wheel_path(void **state)
 {
     (void)state;
@@ -215,6 +242,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rows_and_selection),
         cmocka_unit_test(test_body_path),
+        cmocka_unit_test(test_check_sample),
         cmocka_unit_test(test_wheel_path),
         cmocka_unit_test(test_limit_check),
         cmocka_unit_test(test_the_wheel_output_guard_zeroes_the_whole_allocation),

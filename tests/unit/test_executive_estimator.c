@@ -262,6 +262,34 @@ static void test_mekf_bad_tracker_sample_keeps_nominal_bad_gyro_does_not(void **
     assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
 }
 
+/* docs/spec.md 5.6.12: the estimator may go on without the gyro only when the MEKF has a gyroless model
+ * (mekf.gyroless_torque_sigma_nm > 0) and the configured inertia is one; else a gyro exclusion is SAFE. */
+static void test_gyroless_capable_only_with_a_model_and_an_inertia(void **state)
+{
+    (void)state;
+    static const aocs_det_id_t est[4] = {AOCS_DET_MEKF, AOCS_DET_MEKF, AOCS_DET_MEKF, AOCS_DET_PASSTHROUGH};
+    static const double sigma_nm[4] = {0.0, 1.0e-4, 1.0e-4, 1.0e-4};
+    static const int with_inertia[4] = {1, 1, 0, 1};
+    static const int capable[4] = {0, 1, 0, 0}; /* no model; both; no inertia (zero); the model is the MEKF's */
+    for (int c = 0; c < 4; ++c) {
+        aocs_exec_config_t cfg;
+        aocs_exec_t exec;
+        base_config(&cfg, est[c]);
+        cfg.determination.mekf.gyroless_torque_sigma_nm = (real_t)sigma_nm[c];
+        (void)memset(&cfg.guidance.slew.inertia_kgm2, 0, sizeof(cfg.guidance.slew.inertia_kgm2));
+        if (with_inertia[c] != 0) {
+            for (int i = 0; i < 3; ++i) {
+                cfg.guidance.slew.inertia_kgm2.m[i][i] = (real_t)(10.0 * (double)(i + 1));
+            }
+        }
+        assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+        if (exec.gyroless_capable != capable[c]) {
+            print_error("case %d: gyroless_capable %d\n", c, exec.gyroless_capable);
+        }
+        assert_int_equal(exec.gyroless_capable, capable[c]);
+    }
+}
+
 static void test_passthrough_needs_a_measured_attitude(void **state)
 {
     (void)state;
@@ -326,6 +354,7 @@ int main(void)
         cmocka_unit_test(test_mekf_law_flies_the_estimate),
         cmocka_unit_test(test_mekf_waits_in_safe_damping_the_gyro_rate),
         cmocka_unit_test(test_mekf_bad_tracker_sample_keeps_nominal_bad_gyro_does_not),
+        cmocka_unit_test(test_gyroless_capable_only_with_a_model_and_an_inertia),
         cmocka_unit_test(test_passthrough_needs_a_measured_attitude),
         cmocka_unit_test(test_orbit_law_runs_on_the_acceptance_verdict),
     };

@@ -518,7 +518,7 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                            for ax in fig.axes]
         spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
         bands[path.name] = [c.get_linewidth() for ax in fig.axes for c in ax.collections if "3 sigma" in c.get_label()]
-        lines[path.name] = [ln for ax in fig.axes for ln in ax.lines if not ln.get_label().startswith("_")]
+        lines[path.name] = [ln for ax in fig.axes for ln in ax.lines]     # labelled or not (the -3 sigma line)
         r = fig.canvas.get_renderer()   # (Agg; closed by save) the extents after save: its tight_layout done
         out = real_save(fig, path)
         boxes[path.name] = [(ax.get_legend().get_window_extent(r), ax.get_window_extent(r), fig.bbox)
@@ -541,8 +541,8 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
     assert [y for y, _, _ in nees] == ["NEES, 6 dof (-)", "NEES, 3 dof (-)"]
     assert all(any(s.startswith("95 % band of the mean") for s in lab) and any(s.startswith("expected") for s in lab)
                for _, _, lab in nees)
-    # every panel shades the tested window from its first to its last sample, and every trace in a legend is
-    # drawn (a line of width 0 without a marker is in the legend but not on the figure)
+    # every panel shades the tested window from its first to its last sample, and every line is drawn, in a
+    # legend or not (a line of width 0 without a marker is not on the figure)
     ts = np.asarray(series["t"])[np.asarray(series["steady"], dtype=bool)]
     for name, per_axes in spans.items():
         assert per_axes == [[pytest.approx((ts[0], ts[-1]), rel=1e-9)]] * len(per_axes), name
@@ -572,6 +572,12 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
         need = max(np.max(np.abs(series["knowledge_arcsec"][sel, i])), np.max(3.0 * series["sigma_arcsec"][sel, i]),
                    3.0 * series["bound_post_arcsec"][i])
         assert lo == pytest.approx(-hi, rel=1e-12) and need <= hi <= 1.5 * need, (i, lo, hi, need)
+    # the analytic bound at +3 sigma and at -3 sigma on each axis
+    for i in range(3):
+        at = sorted(float(ln.get_ydata()[0]) for ln in lines["knowledge_error.png"]
+                    if ln.axes is not None and ln.get_color() == "red" and len(ln.get_ydata()) == 2
+                    and ln.axes.get_ylabel() == f"dth_{'xyz'[i]} (arcsec)")
+        assert at == pytest.approx([-3.0 * series["bound_post_arcsec"][i], 3.0 * series["bound_post_arcsec"][i]])
 
 
 def _x_extent(patch):

@@ -125,7 +125,20 @@ def test_events_in_any_order_and_the_json_form_of_a_fault():
     events = [ev(70.0, "wheel_residual_high", "wheel", 1), ev(65.0, "wheel_residual_high", "wheel", 1)]
     (e,) = F.entries([WHEEL.to_json()], events, T, pointing(None), 0.3, 50.0)
     assert e["detected_s"] == 65.0 and e["recovered_s"] is None
-    assert "never" in F.not_handled([e])[0] or "not recovered" in F.not_handled([e])[0]
+    assert F.not_handled([e]) == ["wheel_torque_loss unit 1 at 60 s: no wheel isolated, not recovered"]
+
+
+def test_each_reason_a_fault_is_not_handled_in_its_own_words():
+    """Never detected and never back: both said, the second as "not recovered"; detected and isolated but never
+    back: the pointing named; detected and back but not isolated: only that."""
+    never = F.entries([WHEEL], [], T, pointing(None), 0.3, 50.0)
+    assert F.not_handled(never) == ["wheel_torque_loss unit 1 at 60 s: never detected, no wheel isolated, "
+                                    "not recovered"]
+    events = [ev(61.5, "wheel_residual_high", "wheel", 1), ev(62.0, "wheel_isolated", "wheel", 1, "error")]
+    stays = F.entries([WHEEL], events, T, pointing(None), 0.3, 50.0)
+    assert F.not_handled(stays) == ["wheel_torque_loss unit 1 at 60 s: pointing never back inside the requirement"]
+    back = F.entries([WHEEL], events[:1], T, pointing(150.0), 0.3, 50.0)
+    assert F.not_handled(back) == ["wheel_torque_loss unit 1 at 60 s: no wheel isolated"]
 
 
 def test_the_summary_lines_name_each_fault_with_its_times():

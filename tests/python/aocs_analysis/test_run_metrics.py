@@ -80,6 +80,24 @@ def test_geo_hinf_settles_on_every_angle_and_rate_strictly_below_its_bound():
     assert inside.tolist() == [True, False, True, False, True, True]
 
 
+@pytest.mark.parametrize("name,key,series", [("irassi_large", "pointing_arcsec_max", "true_angle"),
+                                              ("gao_mrp", "sigma_norm_max", "sigma"),
+                                              ("rtc_ex2a", "rho_norm_max", "rho"),
+                                              ("rtc_ex2a", "w_norm_max_rad_s", "we")])
+def test_an_attitude_settles_on_each_norm_strictly_below_its_bound(name, key, series):
+    """docs/spec.md 4.2: a pointing angle, |sigma|, |rho| or |w_e| at its bound is outside, one ulp below inside
+    (the bound read from the scenario; the other criteria held at zero)."""
+    sc = load(name)
+    b = getattr(sc.settle, key)
+    s = {"t": np.arange(3) * 1.0, "rho": np.zeros((3, 3)), "we": np.zeros((3, 3)), "true_angle": np.zeros(3),
+         "euler_err": np.zeros((3, 3)), "sigma": np.zeros((3, 3))}
+    v = np.array([b, np.nextafter(b, 0.0), 0.0])
+    s[series] = v if s[series].ndim == 1 else np.column_stack([v, np.zeros(3), np.zeros(3)])
+    inside, used = results.settle_mask(sc, s)
+    assert used[key] == b
+    assert inside.tolist() == [False, True, True]
+
+
 def test_an_orbit_settles_on_every_position_and_velocity_component_strictly_below_its_bound():
     """landsat8_q1 (docs/spec.md 4.2): settled when every |relative position| < 0.1 m and every |velocity| <
     0.01 m/s, per sample (one component outside is enough); the limits read from the scenario."""

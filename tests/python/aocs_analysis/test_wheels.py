@@ -66,3 +66,23 @@ def test_a_run_with_no_command_has_no_wheel_command_over_its_limit_or_not_finite
     out, _ = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
     assert out["commands_over_limit"] == 0 and out["commands_not_finite"] == 0
     assert out["time_scaled_s"] == 0.0
+
+
+@pytest.mark.parametrize("speed_rel,torque_rel,within", [(1.0, 1.0, True), (1.0 + 5e-4, 1.0 + 5e-10, True),
+                                                          (1.0 + 2e-3, 1.0, False), (1.0, 1.0 + 2e-9, False)])
+def test_within_limits_allows_the_plants_overshoot_of_the_speed_limit_and_nothing_more(speed_rel, torque_rel, within):
+    """The plant cuts a motor at the speed limit stage by stage, so a wheel can end a period a little past it
+    (600.05 rad/s for 600 in test_faults_models' speed-limit case, 9e-5 relative): a peak speed within 1e-3
+    relative of the limit and a peak motor torque within 1e-9 are within the limits; beyond either, not."""
+    sc = load("irassi_rw")
+    speed = np.zeros((3, 4))
+    speed[2, 1] = -600.0 * speed_rel
+    torque = np.zeros((3, 4))
+    torque[1, 3] = 0.25 * torque_rel
+    truth = {"t_s": np.arange(3) * sc.dt, "wheel_speed": speed, "wheel_torque": torque,
+             "wheel_at_limit": np.zeros(3, int), "h_total": np.zeros((3, 3))}
+    cmd = {"tick": np.arange(2), "u_wheels": np.zeros((2, 6)), "wheel_speed_margin": np.ones(2),
+           "wheel_scale": np.ones(2)}
+    out, _ = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
+    assert out["within_limits"] is within
+    assert dict(wheels.table_rows(out))["wheels"].endswith("; A LIMIT WAS EXCEEDED") is not within

@@ -7,6 +7,7 @@ propellant on hand values, the link's dropped ticks; a run without faults unchan
 import math
 
 import numpy as np
+import pytest
 from scipy.integrate import solve_ivp
 
 from aocs_core.conventions import ARCSEC_PER_RAD
@@ -182,6 +183,17 @@ def test_wheel_friction_increase_multiplies_the_friction():
     _fly(p, 300, u_wheels=(0.05, 0.0, 0.0))
     sol = _one_axis(30.0, JS * 100.0, 0.0, lambda om: 0.05 - k * (b * om + c * math.tanh(om / 0.5)))
     np.testing.assert_allclose(_x_state(p)[:2], sol.sol(30.0), rtol=1e-8, atol=1e-13)
+
+
+@pytest.mark.parametrize("faults", [[], [{"kind": "wheel_friction_increase", "unit": 1, "start_s": 0.0, "factor": 2.0}]],
+                         ids=["nominal", "under_a_fault"])
+def test_the_speed_limit_cuts_only_a_torque_that_drives_the_wheel_further(faults):
+    """A wheel at +Omega_max: a torque pushing it further is cut (at_speed_limit), none or a braking one is not
+    a cut; the same with a fault elsewhere in the array (the fault model's own derivative)."""
+    for u, cut in ((0.1, True), (0.0, False), (-0.1, False)):
+        p = _wheel_plant(faults, [600.0, 0, 0])
+        _fly(p, 1, u_wheels=(u, 0.0, 0.0))
+        assert p.truth()["effectors"]["wheels.at_speed_limit"] == (cut, False, False), u
 
 
 def test_a_seized_wheel_gives_its_momentum_to_the_body():

@@ -532,3 +532,12 @@ def test_a_law_field_is_read_with_its_own_sign_rule():
     with pytest.raises(ScenarioError, match=r"laws.quat_pd.kp: must be >= 0, got -2.0"):
         read("nonneg", -2.0)
     assert read("any", -2.0) == -2.0
+
+
+def test_an_mrp_on_the_unit_sphere_is_accepted_and_one_outside_refused():
+    """|sigma| = 1 is a rotation by 180 deg (the shadow set's boundary, still the set |sigma| <= 1): sigma =
+    (1, 0, 0) is q = (1, 0, 0, 0); |sigma| > 1 is refused in one line naming the key."""
+    sc = load("gao_mrp", {"plant.sigma": [1.0, 0.0, 0.0]})
+    np.testing.assert_allclose(sc.attitude.q0, (1.0, 0.0, 0.0, 0.0), atol=1e-15)
+    with pytest.raises(ScenarioError, match=r"gao_mrp.toml: plant.sigma: use the MRP set with \|sigma\| <= 1$"):
+        load("gao_mrp", {"plant.sigma": [0.8, 0.8, 0.0]})

@@ -302,3 +302,22 @@ def test_it_does_not_apply_to_an_orbit_scenario_and_is_absent_by_default():
     assert "star_tracker" not in load("irassi_large").sensors.sensors
     assert [s.name for s in Plant(load("irassi_large", {"sensors.star_tracker": {}})).sensors] == [
         "attitude", "rate", "star_tracker"]
+
+
+def test_the_latency_interpolation_is_the_shortest_path_slerp():
+    """_slerp (the attitude between two records) against scipy's Slerp on random pairs, the pairs given with
+    either sign of the second quaternion (the same rotation): the rotation a fraction f along the shortest path."""
+    from scipy.spatial.transform import Rotation, Slerp
+
+    from aocs_plant.sensors.star_tracker import _slerp
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        qa, qb = (tuple(r.as_quat()) for r in Rotation.random(2, random_state=rng))
+        d = Rotation.from_quat(qb) * Rotation.from_quat(qa).inv()
+        if d.magnitude() < 1e-3:
+            continue
+        ref = Slerp([0.0, 1.0], Rotation.from_quat([qa, qb]))
+        for sign in (1.0, -1.0):
+            for f in (0.0, 0.25, 0.5, 0.9, 1.0):
+                q = np.array(_slerp(qa, tuple(sign * x for x in qb), f))
+                assert abs(float(q @ ref([f]).as_quat()[0])) == pytest.approx(1.0, abs=1e-12), (qa, qb, f)
