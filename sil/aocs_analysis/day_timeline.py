@@ -132,7 +132,7 @@ def _draw_passes(ax, passes: list[dict]) -> None:
         ax.plot([mid - half, mid + half], [y, y], lw=2.5, color="tab:purple" if ok else "red",
                 label="pass max" if k == 0 else None)
         ax.annotate(p["target"]["name"], (mid, y), textcoords="offset points", xytext=(0, 3 + 7 * (k % 2)),
-                    ha="center", fontsize=plots.LEGEND_PT - 1, color="tab:purple" if ok else "red")
+                    ha="center", fontsize=plots.NOTE_PT, color="tab:purple" if ok else "red")
 
 
 def _shade(ax, t, flag, color, label):

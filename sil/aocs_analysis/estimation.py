@@ -102,7 +102,7 @@ def rotation_vector_rad(q) -> np.ndarray:
     n = np.linalg.norm(v, axis=-1, keepdims=True)
     ang = 2.0 * np.arctan2(n, q[..., 3:4])
     with np.errstate(invalid="ignore", divide="ignore"):
-        k = np.where(n > 0.0, ang / np.where(n > 0.0, n, 1.0), 0.0)
+        k = np.where(n > 0.0, ang / n, 0.0)          # the identity's 0 / 0 is left out
     return v * k
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .plots import AXES, COLORS, FIG_WIDTH_IN, LABEL_PT, LEGEND_PT, TITLE_PT, save
+from .plots import AXES, COLORS, FIG_WIDTH_IN, LABEL_PT, LEGEND_PT, NOTE_PT, TITLE_PT, save
 
 #: NEES values below this are drawn at it (log axis), and the figure says so
 NEES_FLOOR = 1e-3
@@ -54,7 +54,7 @@ def _window_span(ax, t, steady, label=True):
 
 def _note(ax, text):
     ax.annotate(text, xy=(1.0, 1.02), xycoords="axes fraction", ha="right", va="bottom",
-                fontsize=LEGEND_PT - 1, color="dimgray")
+                fontsize=NOTE_PT, color="dimgray")
 
 
 def knowledge_error_plot(series: dict, path, title: str) -> Path:

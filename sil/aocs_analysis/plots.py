@@ -39,6 +39,8 @@ def _plt():
 FIG_WIDTH_IN = 8.0     # x DPI = 1280 px
 DPI = 160
 LEGEND_PT = 9
+#: notes on a figure (a clip, the tested window, a target's name): a point below the legend, read as annotations
+NOTE_PT = LEGEND_PT - 1
 LABEL_PT = 10
 TITLE_PT = 11
 #: smallest value a log-scale error plot draws (smaller values are drawn at it, and the axis says so)
@@ -67,7 +69,7 @@ def new_axes(title: str, ylabel: str, height_in: float = 4.0, xlabel: str = "t (
 def clip_note(ax, floor: float = LOG_FLOOR) -> None:
     """States, on the figure, that a log axis draws values below floor at floor."""
     ax.annotate(f"log scale: values below {floor:g} are drawn at {floor:g}", xy=(1.0, -0.16),
-                xycoords="axes fraction", ha="right", va="top", fontsize=LEGEND_PT - 1, color="dimgray")
+                xycoords="axes fraction", ha="right", va="top", fontsize=NOTE_PT, color="dimgray")
 
 
 def legend(ax, ncol: int = 1) -> None:

@@ -665,6 +665,17 @@ static void test_thr_pwm(void **state)
     for (int rep = 0; rep < 100; ++rep) {
         thr_check_case(&c, pos, dir, test_random_vec3(&r, 20.0), 0.1);
     }
+    {
+        /* any momentum to dump is dumped, well below 1 N m s too: |dh| = 0.5 N m s in a 1 s period at the
+         * 0.5 N m dump torque fires, and the torque fed forward is -dh / T */
+        aocs_mom_t m;
+        const aocs_vec3_t h = aocs_vec3_make(AOCS_R(0.3), AOCS_R(-0.4), AOCS_R(0.0));
+        aocs_mom_input_t in = input(h, aocs_vec3_zero(), 1.0);
+        in.b_valid = 0;
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+        assert_vec3_close(m.out.u_unload_B_Nm, aocs_vec3_scale(h, AOCS_R(-1.0)), TOL_LOOSE);
+    }
     /* a dump torque beyond what the thrusters give in a period: the duties scaled by the largest, the
      * direction kept; for the momentum along each signed axis, the diagonals and one oblique, and with the
      * thrusters numbered otherwise (0 and 1 swapped: then thruster 0 carries the -x dump): the on-times are

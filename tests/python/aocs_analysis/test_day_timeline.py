@@ -141,3 +141,21 @@ def test_the_target_passes_are_shaded_and_named_once_with_their_maxima(tmp_path,
     assert [ln.get_color() for ln in bars] == ["tab:purple" if p["meets_requirement"] else "red" for p in ps]
     names = [a.get_text() for a in pointing.texts]
     assert [p["target"]["name"] for p in ps] == [n for n in names if n.startswith("T")]
+
+
+@pytest.mark.parametrize("basis,on", [("sensors", "rms"), ("requirement", "max")])
+def test_the_sensors_figure_is_drawn_only_when_the_holds_are_held_to_it(tmp_path, monkeypatch, basis, on):
+    """Holds held to the sensors' figure (rms): its limit drawn as its own threshold and each hold's rms bar in
+    dotted line; held to the requirement (max): neither (the requirement's own line is the threshold)."""
+    need = {"basis": basis, "on": on, "limit_arcsec": 0.45}
+    hs = [{"hold_start_s": 3000.0, "hold_end_s": 6000.0, "pointing_max_arcsec": 0.6, "pointing_rms_arcsec": 0.2,
+           "meets_requirement": True, "requirement": need}]
+    fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, np.zeros(T.size - 1, bool)), tmp_path,
+                  monkeypatch, {**METRICS, "holds": hs})
+    pointing = fig.axes[2]
+    labels = [ln.get_label() for ln in pointing.lines]
+    if basis == "sensors":
+        assert _horizontal_at(pointing, "sensors' figure (rms) 0.45 arcsec") == pytest.approx(0.45)
+        assert labels.count("hold rms") == 1
+    else:
+        assert not any(lab.startswith("sensors' figure") for lab in labels) and "hold rms" not in labels

@@ -13,6 +13,7 @@ import pytest
 
 from aocs_analysis import estimation as E
 from aocs_analysis import estimation_plots, plots
+from aocs_analysis import estimation_transients as T
 from aocs_analysis.estimation_bounds import between_updates, steady_state_per_axis
 
 ARCSEC = 180.0 * 3600.0 / math.pi        # arcsec per rad
@@ -650,3 +651,43 @@ def test_the_ensemble_test_takes_runs_by_instants_only():
             E.nees_ensemble_test(bad, 3)
     one = E.nees_ensemble_test(np.full((1, 4), 3.0), 3)      # one run of mean 3 = dof: inside its band
     assert (one["runs"], one["instants"], one["in_band_fraction"], one["mean"]) == (1, 4, 1.0, 3.0)
+
+
+def test_the_predicted_convergence_is_looked_for_over_the_runs_own_span():
+    """A log that starts late (t0 = 5000 s, the filter's start): the prediction runs over the log's span, t_end -
+    t0 plus one period, whatever t0 is: a span shorter than the predicted time gives none, a longer one the
+    time predicted from the start."""
+    sensors = E.SensorSet(5.0, 20.0, 2.0, 1e-5, 5e-7)
+    start = {"p0_att_rad": 1e-2, "p0_bias_radps": 1e-5, "e0_att_B_rad": np.array([5e-3, -4e-3, 2e-3]),
+             "e0_bias_B_radps": np.array([2e-6, 0.0, -1e-6])}
+    full = T.predicted_convergence(sensors, 10.0, start["p0_att_rad"], start["p0_bias_radps"], start["e0_att_B_rad"],
+                                   start["e0_bias_B_radps"], 2000.0, k=T.PREDICTION_K)["time_s"]
+    assert full is not None and 5.0 < full < 1000.0
+    for span, want in ((0.5 * full, None), (2.0 * full, full)):
+        t = 5000.0 + np.arange(0.0, span, 0.1)
+        n = t.size
+        rep = E._transients(t, np.zeros((n, 3)), np.broadcast_to(np.eye(6) * 1e-12, (n, 6, 6)), np.ones(n, bool),
+                            sensors, 10.0, [], start)
+        got = rep["convergence"]["predicted_time_s"]
+        assert got == (None if want is None else pytest.approx(want)), (span, got)
+
+
+@pytest.mark.parametrize("peak,noted", [(1.3, False), (1.3000001, True)])
+def test_the_clipped_note_only_when_a_sample_is_beyond_the_range_drawn(tmp_path, monkeypatch, peak, noted):
+    """knowledge_error.png's range is 1.3 times the tested window's largest figure (here an error of 1 arcsec):
+    a transient before the window at exactly that range is drawn at its edge (no note), one beyond it is
+    clipped and the panel says so."""
+    t = np.arange(0.0, 100.0, 1.0)
+    e = np.zeros((t.size, 3))
+    e[5, :] = peak
+    e[60:, :] = 1.0
+    series = {"t": t, "steady": t >= 50.0, "valid": np.ones(t.size, bool), "knowledge_arcsec": e,
+              "sigma_arcsec": np.full((t.size, 3), 0.1), "bound_post_arcsec": None, "convergence_time_s": None}
+    figs = []
+    real_save = estimation_plots.save
+    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    estimation_plots.knowledge_error_plot(series, tmp_path / "ke.png", "test")
+    (fig,) = figs
+    for ax in fig.axes:
+        assert ax.get_ylim() == pytest.approx((-1.3, 1.3))
+        assert any("clipped" in a.get_text() for a in ax.texts) is noted

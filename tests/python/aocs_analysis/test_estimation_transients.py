@@ -119,3 +119,18 @@ def test_an_outage_reports_the_three_sigma_its_last_sample_reached():
     (rep,) = outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)
     np.testing.assert_allclose(rep["three_sigma_at_end_arcsec"], 3.0 * 2.0 * pre * ARCSEC_PER_RAD, rtol=1e-12)
     assert rep["max_ratio_to_3sigma_per_axis"] == pytest.approx(list(5.0 * bound / (3.0 * pre * ARCSEC_PER_RAD)))
+
+
+def test_an_outage_the_log_does_not_see_whole_is_not_reported():
+    """No report for an outage that ends after the log's last sample (its recovery cannot be judged), nor for
+    one without a valid sample during it; the same log reports an outage inside it."""
+    sensors = SensorSet(3.0, 20.0, 1.0, SIGMA_V, SIGMA_U)
+    bound = steady_rms_S_arcsec(sensors, 1.0)
+    t = np.arange(1000.0)
+    dth = np.where(((t >= 200) & (t < 300))[:, None], 5.0, 0.5) * bound[None, :] / ARCSEC_PER_RAD
+    pre = np.array([farrenkopf(a / ARCSEC_PER_RAD, SIGMA_V, SIGMA_U, 1.0).attitude_pre for a in (3.0, 3.0, 20.0)])
+    p_att = np.broadcast_to(np.diag(pre ** 2), (t.size, 3, 3))
+    assert len(outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0)) == 1
+    assert outage_report(t, dth, p_att, [(900.0, 1200.0)], sensors, 1.0) == []        # ends after the log
+    valid = ~((t >= 200) & (t < 300))
+    assert outage_report(t, dth, p_att, [(200.0, 300.0)], sensors, 1.0, valid=valid) == []   # nothing valid in it

@@ -40,6 +40,8 @@ def test_run_plots_are_large_enough_to_read(tmp_path):
         assert w >= 1200 and h >= 500, (f.name, w, h)
         assert dpi is not None and dpi >= 150, (f.name, dpi)
     assert plots.LEGEND_PT >= 8
+    # notes read as annotations, below the legend, and stay legible at the figure's dpi
+    assert 7 <= plots.NOTE_PT < plots.LEGEND_PT
 
 
 def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):

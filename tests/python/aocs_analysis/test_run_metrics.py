@@ -127,13 +127,17 @@ def test_a_run_started_later_lasts_the_span_of_its_samples():
 
 def test_safe_entries_count_a_run_that_starts_in_safe():
     """counters.safe_entries: every change into SAFE, the first command's mode counting as one when it is SAFE
-    (modes by hand: SAFE, SAFE, NOMINAL, SAFE, NOMINAL, NOMINAL: two entries; from NOMINAL on: one)."""
+    (modes by hand: SAFE, SAFE, NOMINAL, SAFE, NOMINAL, NOMINAL: two entries; from NOMINAL on: one; SAFE for the
+    first command alone: two); final_mode is the last command's."""
     safe, nominal = mode_value("safe"), mode_value("nominal")
-    for first, entries in ((safe, 2), (nominal, 1)):
+    for modes, entries, final in (((safe, safe, nominal, safe, nominal, nominal), 2, "nominal"),
+                                  ((nominal, nominal, nominal, safe, nominal, nominal), 1, "nominal"),
+                                  ((safe, nominal, nominal, safe, nominal, safe), 3, "safe")):
         log = make_log(7, cmd_ticks=range(6), sensor_ticks=range(6), status_steps=[6])
-        log.cmd["mode"] = np.array([first, first, nominal, safe, nominal, nominal])
+        log.cmd["mode"] = np.array(modes)
         m, _ = results.compute(log, load("irassi_small"), {"law": "quat_pd"})
         assert m["counters"]["safe_entries"] == entries
+        assert m["final_mode"] == final
 
 
 def test_an_attitude_run_with_a_filter_has_the_estimation_section_and_one_without_none():
@@ -194,6 +198,16 @@ def test_the_run_info_carries_what_the_plant_and_the_node_reported():
     results._run_info(bare, log, {}, 0.1, wall_s=None, plant=None, fsw=None)
     assert bare["integration_error"] is None and bare["udpm"] is None and bare["wall_s"] is None
     assert "lockstep" not in bare and "fsw_node" not in bare
+    # a real-time run: the node's largest jitter from its status messages, the plant's wake jitter as it said
+    rt_log = types.SimpleNamespace(**{**vars(log), "status": {"steps": np.array([10, 20]),
+                                                               "jitter_ns_max": np.array([1500, 900])}})
+    rt = {}
+    results._run_info(rt, rt_log, {"mode": "realtime"}, 0.1, wall_s=None, plant={**plant, "wake_jitter_ns_max": 4321},
+                      fsw=None)
+    assert rt["realtime"] == {"jitter_ns_max": 1500, "plant_wake_jitter_ns_max": 4321}
+    assert rt["loop"]["realtime_factor"] == pytest.approx(5.0) and "lockstep" not in rt
+    results._run_info(rt, rt_log, {"mode": "realtime"}, 0.1, wall_s=None, plant=None, fsw=None)
+    assert rt["realtime"] == {"jitter_ns_max": 1500, "plant_wake_jitter_ns_max": None}
 
 
 def test_a_180_deg_error_never_counts_as_settled():

@@ -541,3 +541,19 @@ def test_an_mrp_on_the_unit_sphere_is_accepted_and_one_outside_refused():
     np.testing.assert_allclose(sc.attitude.q0, (1.0, 0.0, 0.0, 0.0), atol=1e-15)
     with pytest.raises(ScenarioError, match=r"gao_mrp.toml: plant.sigma: use the MRP set with \|sigma\| <= 1$"):
         load("gao_mrp", {"plant.sigma": [0.8, 0.8, 0.0]})
+
+
+@pytest.mark.parametrize("section", [None, {"policy": "none"}, {"policy": "none", "trigger": "continuous"}])
+def test_the_momentum_keys_left_out_are_the_flight_registrys_defaults(section):
+    """[momentum] absent, or with its keys left out: each value the flight software's own default
+    (config_fields.def, as fsw_node would take it without the key), read here from the registry."""
+    from aocs_core import registry
+    f = {x.key: x for x in registry.load().config_fields}
+    sc = load("irassi_rw", {} if section is None else {"momentum": section})
+    m = sc.momentum
+    given = section or {}
+    assert m.policy == given.get("policy", f["mom.policy"].names[f["mom.policy"].default])
+    assert m.trigger == given.get("trigger", f["mom.trigger"].names[f["mom.trigger"].default])
+    assert m.h_target_nms == tuple(float(x) for x in f["mom.h_target_nms"].default)
+    for attr in ("h_start_nms", "h_stop_nms", "k_mtq_per_s", "dump_torque_nm"):
+        assert getattr(m, attr) == float(f["mom." + attr].default[0]), attr
