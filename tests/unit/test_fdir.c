@@ -92,6 +92,18 @@ static void test_log_sequence_ring_and_counts(void **state)
     assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_INFO), 40u);
     assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_WARNING), 20u); /* the error ones */
     assert_int_equal(aocs_evlog_count_at_least(&log, AOCS_SEV_CRITICAL), 0u);
+    {
+        /* the sum over severities saturates at UINT32_MAX, never wraps (two counts near it, as a long run
+         * could hold them) */
+        aocs_evlog_t big = log;
+        big.count_by_severity[AOCS_SEV_WARNING] = UINT32_MAX - 5u;
+        big.count_by_severity[AOCS_SEV_ERROR] = 10u;
+        assert_int_equal(aocs_evlog_count_at_least(&big, AOCS_SEV_WARNING), UINT32_MAX);
+        big.count_by_severity[AOCS_SEV_ERROR] = 5u;
+        assert_int_equal(aocs_evlog_count_at_least(&big, AOCS_SEV_WARNING), UINT32_MAX);
+        big.count_by_severity[AOCS_SEV_ERROR] = 4u;
+        assert_int_equal(aocs_evlog_count_at_least(&big, AOCS_SEV_WARNING), UINT32_MAX - 1u);
+    }
     /* a reader that saw nothing: the oldest held is 40 - 32 + 1 = 9, 8 were lost */
     assert_int_equal(aocs_evlog_next(&log, 0u, &e, &lost), AOCS_OK);
     assert_int_equal(e.seq, 9u);

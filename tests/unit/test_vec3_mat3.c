@@ -248,6 +248,10 @@ static void test_inertia_rejects_each_with_own_code(void **state)
     const double indef3[3][3] = {{1, 0.5, 0.9}, {0.5, 1, -0.9}, {0.9, -0.9, 1}};
     assert_int_equal(aocs_mat3_check_inertia(mat_from(indef3)), AOCS_ERR_INERTIA_NOT_POS_DEF);
     assert_int_equal(aocs_mat3_check_inertia(aocs_mat3_zero()), AOCS_ERR_INERTIA_NOT_POS_DEF);
+    /* two negative eigenvalues: the determinant 1 + 9 - 4 - 2.25 - 2.25 = 1.5 > 0 passes, the leading 2x2
+     * minor 1 - 4 = -3 (a negative J12) alone refuses it (Sylvester's criterion needs every leading minor) */
+    const double indef2neg[3][3] = {{1, -2, 1.5}, {-2, 1, -1.5}, {1.5, -1.5, 1}};
+    assert_int_equal(aocs_mat3_check_inertia(mat_from(indef2neg)), AOCS_ERR_INERTIA_NOT_POS_DEF);
 
     /* positive semidefinite, rank 2: eigenvalues 0, 2, 1 */
     const double sing[3][3] = {{1, 1, 0}, {1, 1, 0}, {0, 0, 1}};

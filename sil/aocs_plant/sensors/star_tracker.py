@@ -45,19 +45,20 @@ KEYS = ("mounting_q", "rate_hz", "latency_s", "noise_cross_arcsec", "noise_about
 
 @dataclass(frozen=True)
 class StarTrackerConfig:
-    mounting_q: tuple = IDENTITY          # q_SB, scalar last
-    rate_hz: float = 1.0                  # its sample rate (<= the control rate)
-    latency_s: float = 0.0
-    noise_cross_arcsec: float = 0.0       # 1-sigma about x_S and y_S
-    noise_about_arcsec: float = 0.0       # 1-sigma about z_S (the boresight)
-    bias_arcsec: tuple = ZERO3            # fixed misalignment rotation, per axis of S
-    low_frequency: str = "none"
-    low_frequency_amplitude_arcsec: tuple = ZERO3   # gauss_markov: stationary std; sinusoid: amplitude
-    low_frequency_time_s: tuple = (1.0, 1.0, 1.0)  # gauss_markov: correlation time; sinusoid: period
-    low_frequency_phase_deg: tuple = ZERO3          # sinusoid only
-    sun_exclusion_deg: float = 0.0        # 0: no exclusion
-    earth_exclusion_deg: float = 0.0
-    outages: tuple = ()                   # ((start_s, end_s), ...)
+    """The [sensors.star_tracker] figures, built only by _read (its defaults are the keys' defaults there)."""
+    mounting_q: tuple                      # q_SB, scalar last
+    rate_hz: float                         # its sample rate (<= the control rate)
+    latency_s: float
+    noise_cross_arcsec: float              # 1-sigma about x_S and y_S
+    noise_about_arcsec: float              # 1-sigma about z_S (the boresight)
+    bias_arcsec: tuple                     # fixed misalignment rotation, per axis of S
+    low_frequency: str
+    low_frequency_amplitude_arcsec: tuple  # gauss_markov: stationary std; sinusoid: amplitude
+    low_frequency_time_s: tuple            # gauss_markov: correlation time; sinusoid: period
+    low_frequency_phase_deg: tuple         # sinusoid only
+    sun_exclusion_deg: float               # 0: no exclusion
+    earth_exclusion_deg: float
+    outages: tuple                         # ((start_s, end_s), ...)
 
     @property
     def ideal(self) -> bool:

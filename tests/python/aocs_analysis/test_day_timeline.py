@@ -139,6 +139,11 @@ def test_the_target_passes_are_shaded_and_named_once_with_their_maxima(tmp_path,
     bars = [ln for ln in pointing.lines if len(ln.get_xdata()) == 2 and ln.get_linewidth() == 2.5]
     assert [float(ln.get_ydata()[0]) for ln in bars] == pytest.approx([p["pointing_max_arcsec"] for p in ps])
     assert [ln.get_color() for ln in bars] == ["tab:purple" if p["meets_requirement"] else "red" for p in ps]
+    # each bar centred on its pass, as wide as the pass (or the smallest width drawn, for a short one)
+    for ln, p in zip(bars, ps):
+        a, b = p["start_s"] / 3600.0, p["end_s"] / 3600.0
+        half = 0.5 * max(b - a, day_timeline.PASS_MIN_WIDTH_H)
+        assert list(ln.get_xdata()) == pytest.approx([0.5 * (a + b) - half, 0.5 * (a + b) + half])
     names = [a.get_text() for a in pointing.texts]
     assert [p["target"]["name"] for p in ps] == [n for n in names if n.startswith("T")]
 
@@ -159,3 +164,13 @@ def test_the_sensors_figure_is_drawn_only_when_the_holds_are_held_to_it(tmp_path
         assert labels.count("hold rms") == 1
     else:
         assert not any(lab.startswith("sensors' figure") for lab in labels) and "hold rms" not in labels
+
+
+def test_a_dump_still_going_at_the_end_is_shaded_to_the_last_command(tmp_path, monkeypatch):
+    """Unloading from 30000 s to the run's end: one shading from its first command to the last one's time."""
+    tc = T[:-1]
+    flag = tc >= 30000.0
+    fig = _figure(_series(np.stack([100 + 0 * T] * 4, axis=1), 0.1 + 0 * T, flag), tmp_path, monkeypatch)
+    (patch,) = fig.axes[1].patches
+    v = patch.get_patch_transform().transform(patch.get_path().vertices)
+    assert (float(v[:, 0].min()), float(v[:, 0].max())) == pytest.approx((30000.0 / 3600.0, tc[-1] / 3600.0))

@@ -340,6 +340,10 @@ def test_synthetic_run_nees_consistent_and_over_confident(synthetic):
     assert good["nees"]["autocorrelation_reliable"] is True
     assert good["nees"]["spacing_s"] == pytest.approx(2.0 * good["nees"]["autocorrelation_time_s"], abs=DT)
     assert good["nees"]["independent_windows"] >= 50
+    # the band a window's mean is tested against, low then high: the chi-square quantiles of M x 6 dof over M
+    m = good["nees"]["samples_per_window"]
+    assert good["nees"]["band_of_window_mean"] == pytest.approx(list(E.nees_band(6, m)), rel=1e-12)
+    assert good["nees"]["band_of_window_mean"][0] < 6.0 < good["nees"]["band_of_window_mean"][1]
     for scale in (0.25, 4.0):          # over-confident (P / 4) and under-confident (P x 4) both fail
         bad = E.summary(t, q_true, q_est, bias_est, bias_true, est_p * scale, qd)
         assert bad["nees_in_band_fraction"] <= 0.5 and bad["nees_attitude_in_band_fraction"] <= 0.5
@@ -691,3 +695,12 @@ def test_the_clipped_note_only_when_a_sample_is_beyond_the_range_drawn(tmp_path,
     for ax in fig.axes:
         assert ax.get_ylim() == pytest.approx((-1.3, 1.3))
         assert any("clipped" in a.get_text() for a in ax.texts) is noted
+
+
+def test_a_half_turn_keeps_the_axis_it_is_given():
+    """q4 = 0 exactly (a half turn): both signs of q are the short representative (q4 >= 0), so the rotation
+    vector is pi times the given axis, not flipped: +pi x for (1, 0, 0, 0), -pi x for (-1, 0, 0, 0)."""
+    np.testing.assert_allclose(E.rotation_vector_rad(np.array([[1.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0],
+                                                                [0.0, 0.6, -0.8, 0.0]])),
+                               [[math.pi, 0.0, 0.0], [-math.pi, 0.0, 0.0], [0.0, 0.6 * math.pi, -0.8 * math.pi]],
+                               rtol=0, atol=1e-15)

@@ -66,6 +66,8 @@ def test_a_run_with_no_command_has_no_wheel_command_over_its_limit_or_not_finite
     out, _ = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
     assert out["commands_over_limit"] == 0 and out["commands_not_finite"] == 0
     assert out["time_scaled_s"] == 0.0
+    assert out["min_speed_margin"] is None                  # no margin was reported, none is made up
+    assert "speed margin" not in dict(wheels.table_rows(out))
 
 
 @pytest.mark.parametrize("speed_rel,torque_rel,within", [(1.0, 1.0, True), (1.0 + 5e-4, 1.0 + 5e-10, True),

@@ -209,6 +209,18 @@ def test_the_field_along_the_orbit_needs_both_an_orbit_and_a_model(environment):
     assert all(f(t) is None for t in (0.0, 0.05, 1234.5))
 
 
+def test_the_field_cache_tells_positions_apart_by_every_component():
+    """field_n_t keeps its answers by (jd, position): two positions at the same date that differ in one
+    component only (x, y or z) get their own fields, as a model without a cache computes them."""
+    jd = ep.julian_date(datetime(2025, 1, 1, tzinfo=timezone.utc))
+    base = (4.0e6, 3.0e6, 4.2e6)
+    m = Igrf()
+    m.field_n_t(jd, base)
+    for axis in range(3):
+        r = tuple(x + (2.0e5 if k == axis else 0.0) for k, x in enumerate(base))
+        assert m.field_n_t(jd, r) == Igrf().field_n_t(jd, r) != m.field_n_t(jd, base), axis
+
+
 def test_the_first_and_last_epochs_of_the_file_are_inside_with_their_own_rows():
     """The model covers its file's epochs inclusively: at the first (1900) and the last (the secular-variation
     end) the coefficients are ppigrf's rows of those dates."""
