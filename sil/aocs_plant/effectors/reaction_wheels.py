@@ -44,6 +44,7 @@ _AXES = {"x": 0, "y": 1, "z": 2}
 
 @dataclass(frozen=True)
 class WheelsConfig:
+    """The [wheels] figures, built only by ReactionWheels.read (every field passed; the keys' defaults there)."""
     axes: tuple                   # N unit spin axes g_i in B (rows)
     spin_inertia_kg_m2: tuple     # Js_i
     torque_limit_nm: tuple        # u_s,max per wheel
@@ -56,12 +57,12 @@ class WheelsConfig:
     failed: tuple                 # indices (0-based) of the wheels declared failed at t = 0
     tach_noise_rad_s: float       # tachometer white noise std (0 = none)
     tach_quantum_rad_s: float     # tachometer quantisation step (0 = none)
-    array: str = "explicit"       # "pyramid" | "explicit" (how the axes were given)
+    array: str                    # "pyramid" | "explicit" (how the axes were given)
     # flight software only (the plant has no use for them): the null-space wheel speed management
-    null_gain_per_s: float = 0.0  # k_n, 1/s (0 = none)
-    null_speed_rad_s: tuple = ()  # Omega*_i, target speeds (their null-space part is what counts)
-    fsw_friction_scale: float = 1.0   # the flight software's friction model = this x (b, c): 1 = the plant's
-                                      # own, 0 = no feedforward, else a model error (campaign dispersions)
+    null_gain_per_s: float        # k_n, 1/s (0 = none)
+    null_speed_rad_s: tuple       # Omega*_i, target speeds (their null-space part is what counts)
+    fsw_friction_scale: float     # the flight software's friction model = this x (b, c): 1 = the plant's
+                                  # own, 0 = no feedforward, else a model error (campaign dispersions)
 
     @property
     def n(self) -> int:
