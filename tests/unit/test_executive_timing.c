@@ -257,6 +257,12 @@ static void test_timer_deadlines_slips_jitter(void **state)
     uint64_t dl = 0u;
     assert_int_equal(aocs_exec_timer_init(&tmr, 100u, 1000u), AOCS_OK);
     assert_true((double)aocs_exec_timer_jitter_rms_ns(&tmr) <= 0.0);
+    {
+        /* after its first period alone the rms is that period's jitter (7 late) */
+        aocs_exec_timer_t one = tmr;
+        assert_int_equal(aocs_exec_timer_period_start(&one, 1007u, &dl), AOCS_OK);
+        assert_close(aocs_exec_timer_jitter_rms_ns(&one), 7.0, TOL_TIGHT);
+    }
 
     assert_int_equal(aocs_exec_timer_period_start(&tmr, 1000u, &dl), AOCS_OK); /* on time */
     assert_int_equal(dl, 1100u);

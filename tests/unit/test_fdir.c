@@ -772,6 +772,31 @@ static void test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound(v
     }
 }
 
+/* The bound grows with the gyro's rate random walk since the reference, sigma_u^2 dt: with sigma_u = 1e-9
+ * rad/s^1.5, 3380 s after the reference the walk is 0.8 sigma^2, the bound 25 (2 + 0.8) sigma^2 = 70 sigma^2:
+ * an estimate 7.5 sigma off (56.25 sigma^2, beyond the 50 sigma^2 of the bound without the walk) raises
+ * nothing; 8.5 sigma off (72.25 sigma^2) is inconsistent at the 10th sample */
+static void test_gyro_bias_bound_grows_with_the_rate_random_walk(void **state)
+{
+    (void)state;
+    const double p[3] = {BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA};
+    const aocs_vec3_t b0 = aocs_vec3_make(AOCS_R(4.8e-7), AOCS_R(-4.8e-7), AOCS_R(2.4e-7));
+    const uint64_t later = (uint64_t)(0.8 * BIAS_SIGMA * BIAS_SIGMA / (1.0e-9 * 1.0e-9) / 0.1) + 1u; /* periods */
+    for (int big = 0; big < 2; ++big) {
+        aocs_fdir_t f;
+        aocs_fdir_config_t c;
+        aocs_fdir_config_default(&c);
+        assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+        bias_feed_rrw(&f, 1u, b0, p, 0u, AOCS_OK, 1.0e-9);
+        const double off = (big != 0) ? 8.5 : 7.5;
+        for (uint64_t k = later; k < (later + 10u); ++k) {
+            bias_feed_rrw(&f, k, aocs_vec3_make(b0.v[0], b0.v[1] + (real_t)(off * BIAS_SIGMA), b0.v[2]), p, 0u,
+                          AOCS_OK, 1.0e-9);
+        }
+        assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, 1, NULL), (big != 0) ? 1u : 0u);
+    }
+}
+
 /* What does not test: a sample the filter did not apply (gated, excluded, none), a filter that restarted (the
  * reference afresh), no filter (sigma_u 0), the test switched off (chi2 0); a converging filter renews its
  * reference (stale: the reference's variance above twice the present one) instead of testing against it */
@@ -1552,6 +1577,7 @@ int main(void)
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
+        cmocka_unit_test(test_gyro_bias_bound_grows_with_the_rate_random_walk),
         cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
         cmocka_unit_test(test_gyro_stuck_goes_gyroless),

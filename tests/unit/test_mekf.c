@@ -1824,6 +1824,8 @@ static void hostile_inputs(void **state)
         assert_output_zero(&o);
         assert_int_equal(o.n_hostile, 0u);
         assert_int_equal(o.n_updates, 0u);
+        assert_int_equal(o.n_gated, 0u);
+        assert_int_equal(o.n_restarts, 0u); /* the filter's own count starts again (the stage counts resets) */
     }
 }
 

@@ -768,6 +768,38 @@ static void test_thr_small_torque_carried(void **state)
     assert_true(d_norm(want) > 10.0 * slack); /* so the bound says something */
 }
 
+/* An unload that ends owes nothing: the on-time carried below the minimum pulse (every thruster's, the first
+ * one's too) is dropped when the stage stops unloading, so the next unload starts from none. */
+static void test_thr_an_ended_unload_carries_nothing(void **state)
+{
+    (void)state;
+    double pos[N_THR][3], dir[N_THR][3];
+    aocs_mom_config_t c;
+    thr_config(&c, pos, dir);
+    c.dump_torque_Nm = AOCS_R(0.05); /* duties below the 20 ms pulse: carried */
+    int found = 0;
+    for (int k = 0; (k < 8) && (found == 0); ++k) {
+        aocs_mom_t m;
+        const aocs_vec3_t h = aocs_vec3_make((real_t)(((k & 1) != 0) ? -3.0 : 3.0),
+                                             (real_t)(((k & 2) != 0) ? 2.0 : -2.0),
+                                             (real_t)(((k & 4) != 0) ? -1.0 : 1.0));
+        aocs_mom_input_t in = input(h, aocs_vec3_zero(), 0.1);
+        in.b_valid = 0;
+        assert_int_equal(aocs_mom_init(&m, &c), AOCS_OK);
+        assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+        if (m.thr_residual_s[0] > AOCS_R(0.0)) {
+            found = 1;
+            in.enabled = 0; /* the unload ends */
+            assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+            assert_int_equal(m.out.unloading, 0);
+            for (int i = 0; i < N_THR; ++i) {
+                assert_true(!(m.thr_residual_s[i] > AOCS_R(0.0)) && !(m.thr_residual_s[i] < AOCS_R(0.0)));
+            }
+        }
+    }
+    assert_int_equal(found, 1); /* some dump direction leaves thruster 0 an on-time to carry */
+}
+
 static void test_thr_config_errors(void **state)
 {
     (void)state;
@@ -882,6 +914,17 @@ static void test_exec_feeds_unloading_forward(void **state)
         /* and the unloading torque opposes h */
         assert_true(aocs_vec3_dot(mom.u_unload_B_Nm, mom.h_wheels_B_Nms) < AOCS_R(0.0));
     }
+    /* a period without a sample while unloading: no momentum measured, the unload stops, nothing fires */
+    {
+        aocs_exec_t held = exec;
+        assert_int_equal(aocs_exec_step_no_input(&held, &out), AOCS_OK);
+        mom = aocs_exec_momentum(&held);
+        assert_int_equal(mom.unloading, 0);
+        assert_close(aocs_vec3_norm(mom.u_unload_B_Nm), 0.0, 0.0);
+        for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {
+            assert_true(!(mom.thruster_on_s[i] > AOCS_R(0.0)));
+        }
+    }
     /* STANDBY: nothing fires */
     assert_int_equal(aocs_exec_select(&exec, AOCS_LAW_NONE, NULL), AOCS_OK);
     in.tick = 4u;
@@ -910,6 +953,7 @@ int main(void)
         cmocka_unit_test(test_thr_exclude_moves_the_duty_to_a_twin),
         cmocka_unit_test(test_thr_latch_branches),
         cmocka_unit_test(test_thr_small_torque_carried),
+        cmocka_unit_test(test_thr_an_ended_unload_carries_nothing),
         cmocka_unit_test(test_thr_config_errors),
         cmocka_unit_test(test_exec_feeds_unloading_forward),
     };

@@ -61,16 +61,17 @@ KEYS = ("thrust_n", "positions_m", "directions", "min_on_time_s", "on_time_quant
 
 @dataclass(frozen=True)
 class ThrustersConfig:
+    """The [thrusters] figures, built only by Thrusters.read (every field passed; the keys' defaults there)."""
     thrust_n: tuple              # per thruster, N
     positions_m: tuple           # r_i, B, from the centre of mass
     directions: tuple            # d_i, unit, B
-    min_on_time_s: float = 0.0
-    on_time_quantum_s: float = 0.0
-    thrust_noise_frac: float = 0.0
-    misalignment_deg: float = 0.0
-    isp_s: float = 220.0
-    mass_kg: float | None = None     # for the delta-v in the truth only
-    latch_branch: tuple = ()         # the latch valve's branch of each thruster, 0 (A) or 1 (B); (): all A
+    min_on_time_s: float
+    on_time_quantum_s: float
+    thrust_noise_frac: float
+    misalignment_deg: float
+    isp_s: float
+    mass_kg: float | None        # for the delta-v in the truth only
+    latch_branch: tuple          # the latch valve's branch of each thruster, 0 (A) or 1 (B); (): all A
 
     @property
     def n(self) -> int:

@@ -15,6 +15,7 @@ from aocs_analysis import estimation as E
 from aocs_analysis import estimation_plots, plots
 from aocs_analysis import estimation_transients as T
 from aocs_analysis.estimation_bounds import between_updates, steady_state_per_axis
+from figure_checks import x_extent
 
 ARCSEC = 180.0 * 3600.0 / math.pi        # arcsec per rad
 DEG_H = math.pi / 180.0 / 3600.0         # 1 deg/h in rad/s
@@ -521,7 +522,7 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
         ticks[path.name] = [t.label1.get_fontsize() for ax in fig.axes for t in ax.yaxis.get_major_ticks()]
         seen[path.name] = [(ax.get_ylabel(), ax.get_xlabel(), [t.get_text() for t in ax.get_legend().get_texts()])
                            for ax in fig.axes]
-        spans[path.name] = [[_x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
+        spans[path.name] = [[x_extent(p) for p in ax.patches if p.get_label() == "tested window"] for ax in fig.axes]
         bands[path.name] = [c.get_linewidth() for ax in fig.axes for c in ax.collections if "3 sigma" in c.get_label()]
         lines[path.name] = [ln for ax in fig.axes for ln in ax.lines]     # labelled or not (the -3 sigma line)
         r = fig.canvas.get_renderer()   # (Agg; closed by save) the extents after save: its tight_layout done
@@ -583,12 +584,6 @@ def test_plots_are_written_with_their_axes_labels_and_bands(farrenkopf_runs, tmp
                     if ln.axes is not None and ln.get_color() == "red" and len(ln.get_ydata()) == 2
                     and ln.axes.get_ylabel() == f"dth_{'xyz'[i]} (arcsec)")
         assert at == pytest.approx([-3.0 * series["bound_post_arcsec"][i], 3.0 * series["bound_post_arcsec"][i]])
-
-
-def _x_extent(patch):
-    """(x0, x1) in data units of an axvspan (a Rectangle in data x, or an older matplotlib's Polygon)."""
-    v = patch.get_patch_transform().transform(patch.get_path().vertices)
-    return float(v[:, 0].min()), float(v[:, 0].max())
 
 
 def test_a_run_too_short_for_its_correlation_time_gives_no_fraction():

@@ -135,12 +135,15 @@ def test_without_quantum_or_minimum_the_on_time_is_flown_as_commanded():
     assert quantise_on_time(0.0123456, 0.1, 0.0, 0.0) == 0.0123456
 
 
-def test_propellant_and_impulse_integrals():
+@pytest.mark.parametrize("d5", [(-1.0, 0.0, 0.0), (0.48, -0.6, 0.64)])
+def test_propellant_and_impulse_integrals(d5):
     """Thruster 5 fires through the centre of mass (r parallel to d): no torque, so the attitude stays
-    and the impulse in N is A(q0)^T (F tau K) along its direction; the propellant is F tau K / (Isp g0)."""
-    pos = list(POSITIONS)
-    pos[15:18] = [-0.7, 0.0, 0.0]          # thruster 5 at -0.7 x, firing along -x: through the CoM
-    p = _plant(positions_m=pos, mass_kg=2500.0)
+    and the impulse in N is A(q0)^T (F tau K) along its direction; the propellant is F tau K / (Isp g0).
+    Along -x, then along an oblique direction (every term of A(q)^T f at work)."""
+    pos, dirs = list(POSITIONS), list(DIRECTIONS)
+    pos[15:18] = [0.7 * x for x in d5]     # thruster 5 at 0.7 d, firing along d: through the CoM
+    dirs[15:18] = list(d5)
+    p = _plant(positions_m=pos, directions=dirs, mass_kg=2500.0)
     q0 = np.array(p.body.q)
     w0 = np.array(p.body.w)
     K, tau, F = 40, 0.037, 1.0
@@ -154,7 +157,7 @@ def test_propellant_and_impulse_integrals():
     assert tr["thrusters.pulses"][5] == K
     if not np.any(w0):
         A0 = np.array(quat_to_dcm(tuple(q0)))
-        want = A0.T @ np.array([-F * tau * K, 0.0, 0.0])
+        want = A0.T @ (F * tau * K * np.array(d5))
         np.testing.assert_allclose(tr["thrusters.impulse_n_ns"], want, rtol=1e-12, atol=1e-14)
         np.testing.assert_allclose(tr["thrusters.delta_v_n_m_s"], want / 2500.0, rtol=1e-12, atol=1e-17)
     else:   # the body turns: the magnitude of the impulse is still F tau K (a force fixed in B)
