@@ -919,6 +919,8 @@ static void test_exec_feeds_unloading_forward(void **state)
         aocs_exec_t held = exec;
         assert_int_equal(aocs_exec_step_no_input(&held, &out), AOCS_OK);
         mom = aocs_exec_momentum(&held);
+        assert_int_equal(mom.status, AOCS_ERR_INPUT_MISSING); /* the stage was given no momentum, not a zero one */
+        assert_close(aocs_vec3_norm(mom.h_wheels_B_Nms), 0.0, 0.0);
         assert_int_equal(mom.unloading, 0);
         assert_close(aocs_vec3_norm(mom.u_unload_B_Nm), 0.0, 0.0);
         for (uint32_t i = 0u; i < AOCS_MOM_THRUSTERS_MAX; ++i) {

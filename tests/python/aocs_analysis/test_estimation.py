@@ -126,6 +126,10 @@ def test_nees_of_a_known_error_and_a_broken_covariance():
     assert eps[0] == pytest.approx(2.0) and np.isnan(eps[1]) and np.isnan(eps[2])
     pc = np.array([[[2.0, 1.0], [1.0, 2.0]]])       # e^T P^-1 e by hand: P^-1 = [[2, -1], [-1, 2]] / 3
     assert E.nees(np.array([[1.0, 1.0]]), pc)[0] == pytest.approx(2.0 / 3.0)
+    # a P that is not quite symmetric (rounding in a filter's update) counts as its symmetric part (P + P^T) / 2,
+    # not as whichever triangle the factorisation happens to read
+    pa = np.array([[[2.0, 1.5], [0.5, 2.0]]])
+    assert E.nees(np.array([[1.0, 1.0]]), pa)[0] == pytest.approx(2.0 / 3.0)
 
 
 def test_autocorrelation_of_the_fewest_samples():
@@ -669,6 +673,23 @@ def test_the_predicted_convergence_is_looked_for_over_the_runs_own_span():
                             sensors, 10.0, [], start)
         got = rep["convergence"]["predicted_time_s"]
         assert got == (None if want is None else pytest.approx(want)), (span, got)
+
+
+def test_the_measured_convergence_is_timed_from_the_logs_first_sample():
+    """The same knowledge error (1 arcsec decaying with a 30 s time constant) in a log from 0 s and in one from
+    5000 s: the measured convergence is the same time after the first sample in both, and some time at all."""
+    sensors = E.SensorSet(5.0, 20.0, 2.0, 1e-5, 5e-7)
+    rel = np.arange(0.0, 1500.0, 0.1)
+    n = rel.size
+    dth = np.exp(-rel / 30.0)[:, None] * np.array([1.0, -1.0, 0.5]) * (1000.0 / ARCSEC)
+    got = []
+    for t0 in (0.0, 5000.0):
+        rep = E._transients(t0 + rel, dth, np.broadcast_to(np.eye(6) * 1e-12, (n, 6, 6)), np.ones(n, bool),
+                            sensors, 10.0, [], None)
+        assert rep["convergence"]["measured_from_s"] == t0
+        got.append(rep["convergence"]["time_s"])
+    assert got[0] is not None and 0.0 < got[0] < 1000.0
+    assert got[1] == pytest.approx(got[0], abs=1e-6)
 
 
 @pytest.mark.parametrize("peak,noted", [(1.3, False), (1.3000001, True)])

@@ -49,6 +49,7 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     real_save = plots.save
 
     lines = {}
+    budget = {}
 
     def spy(fig, path):
         ax = fig.axes[0]
@@ -56,6 +57,8 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
                      [t.get_text() for t in ax.texts]))
         lines[path.name] = [(tuple(ln.get_ydata()), ln.get_linewidth()) for ln in ax.get_lines()
                             if ln.get_linestyle() == "--" and ln.get_color() == "red"]
+        budget[path.name] = [(set(ln.get_ydata()), ln.get_linewidth()) for ln in ax.get_lines()
+                             if ln.get_label() == "budget"]
         return real_save(fig, path)
 
     monkeypatch.setattr(plots, "save", spy)
@@ -72,6 +75,9 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     limit = [(y[0], lw) for y, lw in lines["torques.png"] if len(set(y)) == 1]
     ys = sorted(y for y, _ in limit)
     assert len(ys) == 2 and ys[0] == -ys[1] < 0 and all(lw > 0 for _, lw in limit)
+    # the step time's budget: one visible line at its value, named in the legend
+    assert "budget" in dict((n, lb) for n, lb, _ in seen)["step_time.png"]
+    assert [(y, lw > 0) for y, lw in budget["step_time.png"]] == [({2000.0}, True)]
 
 
 def test_the_wheel_speed_plot_draws_both_speed_limits(tmp_path, monkeypatch):

@@ -89,13 +89,14 @@ def test_an_attitude_settles_on_each_norm_strictly_below_its_bound(name, key, se
     (the bound read from the scenario; the other criteria held at zero)."""
     sc = load(name)
     b = getattr(sc.settle, key)
-    s = {"t": np.arange(3) * 1.0, "rho": np.zeros((3, 3)), "we": np.zeros((3, 3)), "true_angle": np.zeros(3),
-         "euler_err": np.zeros((3, 3)), "sigma": np.zeros((3, 3))}
-    v = np.array([b, np.nextafter(b, 0.0), 0.0])
-    s[series] = v if s[series].ndim == 1 else np.column_stack([v, np.zeros(3), np.zeros(3)])
+    n = 4                             # samples: not 3, so that a norm over the wrong axis cannot pass
+    s = {"t": np.arange(n) * 1.0, "rho": np.zeros((n, 3)), "we": np.zeros((n, 3)), "true_angle": np.zeros(n),
+         "euler_err": np.zeros((n, 3)), "sigma": np.zeros((n, 3))}
+    v = np.array([b, np.nextafter(b, 0.0), 0.0, b])
+    s[series] = v if s[series].ndim == 1 else np.column_stack([np.zeros(n), v, np.zeros(n)])
     inside, used = results.settle_mask(sc, s)
     assert used[key] == b
-    assert inside.tolist() == [False, True, True]
+    assert inside.tolist() == [False, True, True, False]
 
 
 def test_an_orbit_settles_on_every_position_and_velocity_component_strictly_below_its_bound():

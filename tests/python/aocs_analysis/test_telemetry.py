@@ -39,6 +39,15 @@ def test_every_channel_lands_on_the_tick_it_carries():
     assert "q_est_1" not in cols                                   # passthrough: no estimator columns
 
 
+def test_a_scenario_without_wheels_has_no_wheel_columns():
+    """irassi_large flies the reference's unlimited actuator: the wire's wheel slots (zeros) give no column."""
+    sc = load("irassi_large")
+    assert sc.effectors.get("wheels") is None
+    cols = T.columns(make_log(3, cmd_ticks=[0, 1, 2], sensor_ticks=[0, 1, 2], status_steps=[]), sc)
+    assert "torque_cmd_x_nm" in cols
+    assert [k for k in cols if "wheel" in k] == []
+
+
 def test_estimator_columns_knowledge_error_and_sigma():
     sc = load("irassi_hold_mekf")
     n = 4

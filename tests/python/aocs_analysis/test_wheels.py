@@ -71,11 +71,13 @@ def test_a_run_with_no_command_has_no_wheel_command_over_its_limit_or_not_finite
 
 
 @pytest.mark.parametrize("speed_rel,torque_rel,within", [(1.0, 1.0, True), (1.0 + 5e-4, 1.0 + 5e-10, True),
+                                                          (1.0 + 1e-3, 1.0 + 1e-9, True),
                                                           (1.0 + 2e-3, 1.0, False), (1.0, 1.0 + 2e-9, False)])
 def test_within_limits_allows_the_plants_overshoot_of_the_speed_limit_and_nothing_more(speed_rel, torque_rel, within):
     """The plant cuts a motor at the speed limit stage by stage, so a wheel can end a period a little past it
     (600.05 rad/s for 600 in test_faults_models' speed-limit case, 9e-5 relative): a peak speed within 1e-3
-    relative of the limit and a peak motor torque within 1e-9 are within the limits; beyond either, not."""
+    relative of the limit and a peak motor torque within 1e-9 are within the limits, at either tolerance too;
+    beyond either, not."""
     sc = load("irassi_rw")
     speed = np.zeros((3, 4))
     speed[2, 1] = -600.0 * speed_rel
