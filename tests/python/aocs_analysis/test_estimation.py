@@ -256,7 +256,8 @@ def test_bounds_in_b_follow_the_mounting():
     ref = steady_state_per_axis(cross, about, 4.0, 1e-6, 1e-9)
     assert np.allclose(plain["post_arcsec"], ref, rtol=1e-12)
     assert np.allclose(turned["post_arcsec"], [ref[0], ref[2], ref[1]], rtol=1e-12)
-    assert E.steady_state_bounds(E.SensorSet(**{**base, "noise_about_arcsec": 0.0})) is None
+    for zero in ("noise_cross_arcsec", "noise_about_arcsec", "rate_hz"):   # no steady state without it
+        assert E.steady_state_bounds(E.SensorSet(**{**base, zero: 0.0})) is None, zero
 
 
 # --------------------------------------------------------------------------- synthetic run: known covariance, AR(1)

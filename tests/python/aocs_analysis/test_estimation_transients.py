@@ -13,6 +13,7 @@ from aocs_analysis.estimation_transients import (
     predicted_convergence,
     predicted_rms_history,
     steady_rms_S_arcsec,
+    time_inside_for_good,
     trailing_rms,
 )
 from aocs_core.conventions import ARCSEC_PER_RAD
@@ -66,6 +67,16 @@ def test_the_predicted_convergence_is_its_definition_by_brute_force():
     first = next(j for j in range(inside.size) if inside[j:].all())
     assert 0 < first < inside.size - 1
     assert p["time_s"] == pytest.approx(first / rate, abs=1e-9)
+
+
+def test_inside_for_good_with_one_sample_or_none():
+    """One sample in the span: its time if inside, None if outside; no sample in the span: None."""
+    t = np.array([0.0, 1.0, 2.0])
+    r = np.array([[5.0], [5.0], [0.5]])
+    assert time_inside_for_good(t, r, [1.0], start_s=2.0) == 2.0
+    assert time_inside_for_good(t, r, [1.0], start_s=0.5, end_s=1.5) is None
+    assert time_inside_for_good(t, r, [1.0], start_s=3.0) is None
+    assert time_inside_for_good(t, r, [1.0]) == 2.0
 
 
 def test_an_outage_report_by_hand():

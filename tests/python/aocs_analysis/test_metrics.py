@@ -72,6 +72,11 @@ def test_window_and_timing_summary():
     assert summary.step_ns_median == 50.5
     assert summary.step_ns_max == 100
     assert summary.overruns == 50
+    # one step: every statistic is that step; none: zeros and the budget
+    one = metrics.timing_summary(np.array([1234.0]), 2000.0, np.array([True]))
+    assert (one.step_ns_median, one.step_ns_p99, one.step_ns_max, one.overruns) == (1234.0, 1234.0, 1234.0, 1)
+    none = metrics.timing_summary(np.zeros(0), 2000.0, np.zeros(0, bool))
+    assert (none.step_ns_median, none.step_ns_max, none.budget_ns, none.overruns) == (0.0, 0.0, 2000.0, 0)
 
 
 def test_time_in_saturation_holds_each_flag_over_its_own_interval():

@@ -407,6 +407,27 @@ def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
     text = results.table(m).splitlines()
     assert len(text) == len(results.table_rows(m))
     assert any(line.split() == ["max", "|torque|", "per", "axis", "[0.1", "0.2", "0.25]", "N", "m"] for line in text)
+    # target passes are judged against the run's pointing requirement, which their line names
+    m["passes"] = [{"target": {"name": "T1"}, "start_s": 30.0, "settle_s": 0.0, "pointing_max_arcsec": 0.2,
+                    "meets_requirement": True}]
+    assert dict(results.table_rows(m))["target passes"] == ("1 passes of 1 targets, 1 meet the requirement "
+                                                           "(0.3 arcsec); worst pass max 0.2 arcsec")
+
+
+@pytest.mark.parametrize("name,mode", [("irassi_large", "step"), ("irassi_rw_mekf", "slew"), ("landsat8_q1", None)])
+def test_the_guidance_section_is_the_attitude_scenarios_own_and_none_for_an_orbit(name, mode):
+    """metrics["guidance"]: the scenario's [guidance] mode for an attitude run (the slew's settings only in slew
+    mode), None for an orbit run (its loader gives it the default guidance all the same)."""
+    sc = load(name)
+    assert sc.guidance is not None
+    out = {}
+    results._guidance(out, sc, None)
+    if mode is None:
+        assert out["guidance"] is None
+    else:
+        assert out["guidance"]["mode"] == mode
+        assert (out["guidance"]["margin"] is None) is (mode != "slew")
+        assert out["guidance"]["profile_end_s"] is None            # no flight-software report given
 
 
 def test_the_run_table_of_an_orbit_run_states_position_velocity_and_force():
