@@ -12,6 +12,8 @@
  *    is an invalid sample (SAFE, no rate to damp);
  *  - MEKF with the orbit law: the law runs on the acceptance's verdict (it
  *    uses no attitude);
+ *  - MEKF: a gyro excluded whose switch to the gyroless model is refused
+ *    latches SAFE;
  *  - passthrough: a gyro-only sample is invalid for it (its needs are
  *    ATT|RATE), its estimate telemetry is zero.
  */
@@ -290,6 +292,80 @@ static void test_gyroless_capable_only_with_a_model_and_an_inertia(void **state)
     }
 }
 
+/* docs/spec.md 5.6.12: a gyro excluded when the estimator was to go on without it, but whose switch to the
+ * gyroless model the estimator refuses, latches SAFE (nothing is left to propagate on, as with no gyroless
+ * model at all). aocs_exec_init cannot produce that refusal: it sets gyroless_capable only when the MEKF has a
+ * gyroless model and the inertia is one, the two things aocs_det_set_gyroless checks. So the test breaks that
+ * promise by hand, the one way into the guard: a MEKF without a gyroless model (gyroless_torque_sigma_nm 0)
+ * and gyroless_capable forced to 1. Samples of a gyro with noise on every axis (1e-6 rad/s) keep NOMINAL; then
+ * its y axis sticks: the 10th identical y sample (fdir.gyro_stuck_samples) raises gyro_stuck and
+ * gyro_excluded (axis 1) and estimator_gyroless (fault management was told the estimator could go on), the
+ * switch fails, and from the next step the executive is in SAFE and stays there over 20 samples (beyond the
+ * recovery count of 3) though the samples and the filter's estimate are good: safe_entered (value AOCS_OK:
+ * neither the input nor the estimator failed) and no safe_left. */
+static void test_a_refused_switch_to_gyroless_latches_safe(void **state)
+{
+    (void)state;
+    static const aocs_evt_id_t expected[4] = {AOCS_EVT_GYRO_STUCK, AOCS_EVT_GYRO_EXCLUDED,
+                                              AOCS_EVT_ESTIMATOR_GYROLESS, AOCS_EVT_SAFE_ENTERED};
+    aocs_exec_config_t cfg;
+    aocs_exec_t exec;
+    aocs_exec_output_t out;
+    test_rng_t rng = {2718u};
+    body_t b;
+    uint32_t k = 0u;
+    uint32_t k_excluded = 0u;
+    real_t y_stuck = AOCS_R(0.0);
+    base_config(&cfg, AOCS_DET_MEKF);
+    cfg.determination.mekf.gyroless_torque_sigma_nm = AOCS_R(0.0);
+    assert_int_equal(aocs_exec_init(&exec, &cfg), AOCS_OK);
+    assert_int_equal(exec.gyroless_capable, 0);
+    exec.gyroless_capable = 1; /* the broken promise */
+    body_init(&b);
+    for (; k < 30u; ++k) {
+        aocs_exec_input_t in = mekf_sample(&b, k, ((k % 5u) == 0u) ? 1 : 0);
+        in.gyro_w_B = aocs_vec3_add(in.gyro_w_B, test_random_vec3(&rng, 1.0e-6));
+        assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+        assert_int_equal(out.mode, AOCS_EXEC_MODE_NOMINAL);
+        body_step(&b, 0.1);
+    }
+    assert_int_equal(aocs_evlog_count(aocs_exec_events(&exec)), 0u);
+    /* y stuck from the first of these samples: the 10th is the 10th identical one */
+    for (uint32_t n = 1u; n <= 30u; ++n, ++k) {
+        aocs_exec_input_t in = mekf_sample(&b, k, ((k % 5u) == 0u) ? 1 : 0);
+        in.gyro_w_B = aocs_vec3_add(in.gyro_w_B, test_random_vec3(&rng, 1.0e-6));
+        if (n == 1u) {
+            y_stuck = in.gyro_w_B.v[1];
+        }
+        in.gyro_w_B.v[1] = y_stuck;
+        assert_int_equal(aocs_exec_step(&exec, &in, &out), AOCS_OK);
+        assert_int_equal(out.input_status, AOCS_OK);
+        assert_int_equal(out.estimate.status, AOCS_OK);
+        if (n == 10u) {
+            k_excluded = k;
+        }
+        /* the latch holds the mode from the step after the exclusion */
+        assert_int_equal(out.mode, (n <= 10u) ? AOCS_EXEC_MODE_NOMINAL : AOCS_EXEC_MODE_SAFE);
+        body_step(&b, 0.1);
+    }
+    {
+        const aocs_evlog_t *log = aocs_exec_events(&exec);
+        aocs_event_t e;
+        uint32_t seq = 0u;
+        assert_int_equal(aocs_evlog_count(log), 4u);
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            assert_int_equal(aocs_evlog_next(log, seq, &e, NULL), AOCS_OK);
+            assert_int_equal(e.id, expected[i]);
+            assert_int_equal(e.t_ns, (uint64_t)((i < 3u) ? k_excluded : (k_excluded + 1u)) * PERIOD_NS);
+            if (i < 2u) {
+                assert_int_equal(e.unit, 1);
+            }
+            seq = e.seq;
+        }
+        assert_close(e.value, (double)AOCS_OK, 0.0); /* safe_entered: no input or estimator fault */
+    }
+}
+
 static void test_passthrough_needs_a_measured_attitude(void **state)
 {
     (void)state;
@@ -355,6 +431,7 @@ int main(void)
         cmocka_unit_test(test_mekf_waits_in_safe_damping_the_gyro_rate),
         cmocka_unit_test(test_mekf_bad_tracker_sample_keeps_nominal_bad_gyro_does_not),
         cmocka_unit_test(test_gyroless_capable_only_with_a_model_and_an_inertia),
+        cmocka_unit_test(test_a_refused_switch_to_gyroless_latches_safe),
         cmocka_unit_test(test_passthrough_needs_a_measured_attitude),
         cmocka_unit_test(test_orbit_law_runs_on_the_acceptance_verdict),
     };

@@ -402,6 +402,79 @@ static void test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled(voi
     }
 }
 
+/* The friction test's threshold is strict (spec 5.15.2: a friction excess *above* fdir.wheel_friction_excess
+ * is high): a window whose sum r / sum f^ is exactly the threshold raises nothing. The samples are built here
+ * so that every figure is exact in float and in double: the four wheels spin down from 100 rad/s, where
+ * tanh(100 / 0.5) is 1 to the last bit (the model's friction is its Coulomb level c = 1/64 N m, no viscous
+ * term); Js = 1/16 kg m^2, T = 1/8 s, no motor command (u_s = 0: the net torque the monitor expects is -c).
+ * Wheel 1 slows by 1/16 rad/s a period, a net torque of -Js (1/16) / T = -2c: its friction is twice the
+ * model's, r = -c + 2c = c on each of the window's 100 residuals, sum r / sum f^ = 100 c / 100 c = 1, the
+ * default threshold (the friction doubled). The other wheels slow by 1/32 rad/s a period, the model's c: r = 0.
+ * At the threshold 1: no event and the model kept. With the threshold at 7/8 the same samples are high:
+ * wheel_friction_high names wheel 1 at the window's end (the 100th residual, sample 100) with the scale 2 and
+ * the threshold 1 + 7/8, and its model is doubled (which shows the excess was 1 exactly). */
+static void test_a_friction_excess_exactly_at_the_threshold_is_not_high(void **state)
+{
+    (void)state;
+    const double c = 1.0 / 64.0;
+    const uint64_t period_ns = 125000000ull;
+    for (int below = 0; below < 2; ++below) {
+        aocs_wheels_config_t wc;
+        aocs_fdir_config_t fc;
+        aocs_wheels_t wa;
+        aocs_fdir_t f;
+        aocs_wheels_alloc_t alloc;
+        test_wheels_pyramid(&wc);
+        wc.period_s = AOCS_R(0.125);
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            wc.js_kgm2[i] = AOCS_R(0.0625);
+            wc.coulomb_nm[i] = (real_t)c;
+            wc.coulomb_width_radps[i] = AOCS_R(0.5);
+        }
+        assert_int_equal(aocs_wheels_init(&wa, &wc), AOCS_OK);
+        aocs_fdir_config_default(&fc);
+        assert_close(fc.wheel_friction_excess, 1.0, 0.0);
+        assert_int_equal(fc.wheel_friction_window, 100u);
+        if (below != 0) {
+            fc.wheel_friction_excess = AOCS_R(0.875);
+        }
+        assert_int_equal(aocs_fdir_init(&f, &fc), AOCS_OK);
+        (void)memset(&alloc, 0, sizeof(alloc));
+        for (uint32_t k = 0u; k <= 100u; ++k) {
+            aocs_fdir_input_t in;
+            real_t om[AOCS_WHEELS_MAX] = {0};
+            for (uint32_t i = 0u; i < 4u; ++i) {
+                om[i] = (real_t)(100.0 - ((double)k * ((i == 1u) ? (1.0 / 16.0) : (1.0 / 32.0))));
+            }
+            (void)memset(&in, 0, sizeof(in));
+            in.t_ns = (uint64_t)k * period_ns;
+            in.period_s = AOCS_R(0.125);
+            in.have_sample = 1;
+            in.input_status = AOCS_OK;
+            in.mode = AOCS_EXEC_MODE_NOMINAL;
+            in.wheel_speed_radps = om;
+            in.alloc = &alloc;
+            aocs_fdir_step(&f, &in, &wa);
+        }
+        if (below == 0) {
+            assert_int_equal(count_id(&f.log, AOCS_EVT_WHEEL_FRICTION_HIGH, -1, NULL), 0u);
+            assert_int_equal(aocs_evlog_count(&f.log), 0u);
+            assert_close(wa.cfg.coulomb_nm[1], c, 0.0);
+        } else {
+            aocs_event_t e;
+            assert_int_equal(aocs_evlog_count(&f.log), 1u);
+            assert_int_equal(aocs_evlog_next(&f.log, 0u, &e, NULL), AOCS_OK);
+            assert_int_equal(e.id, AOCS_EVT_WHEEL_FRICTION_HIGH);
+            assert_int_equal(e.unit, 1);
+            assert_int_equal(e.t_ns, 100u * period_ns);
+            assert_close(e.value, 2.0, 0.0);
+            assert_close(e.threshold, 1.875, 0.0);
+            assert_close(wa.cfg.coulomb_nm[1], 2.0 * c, 0.0);
+            assert_close(wa.cfg.coulomb_nm[0], c, 0.0);
+        }
+    }
+}
+
 /* three wheels: the last three cannot lose one -> wheel_isolation_refused, SAFE latched, the array unchanged */
 static void test_isolation_of_the_third_wheel_is_refused_and_latches_safe(void **state)
 {
@@ -534,6 +607,55 @@ static void test_noisy_tracker_rescaled_and_readmitted(void **state)
     }
     assert_int_equal(f.st.excluded, 1);
     assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 0u);
+}
+
+/* A watched tracker's sample whose whitened innovation is not finite (tested by the filter, but no z to sum)
+ * restarts the noise window (spec 5.15.3: a window is W = fdir.st_restore = 20 tested samples of z): the
+ * window then closes at the 20th sample after it, not before. The innovations are built here, z = +-(10, 10,
+ * 10) alternating (d^2 = 300, far above st_chi2: the tracker is excluded at the 5th and never restored by the
+ * innovation test); the window starts with that 5th sample, holds 10 when the non-finite one comes, and the
+ * 20 samples after it sum to zero: white (mean 0), spread m = 20 x 300 / (3 x 19) = 6000 / 57, so at the 20th
+ * the noise is scaled by m and the tracker re-admitted (st_noise_rescaled, value sqrt(m); st_restored,
+ * value m). A window that kept counting across the non-finite sample would close one sample early. */
+static void test_a_non_finite_innovation_restarts_the_noise_window(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    const double m = 6000.0 / 57.0;
+    const aocs_vec3_t z = aocs_vec3_make(AOCS_R(10.0), AOCS_R(10.0), AOCS_R(10.0));
+    uint64_t k = 0u;
+    uint64_t t = 0u;
+    aocs_event_t e;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(c.st_restore, 20u);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 14; ++i) {
+        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+        assert_int_equal(f.st.excluded, (i >= 4) ? 1 : 0);
+    }
+    st_feed_white(&f, ++k, aocs_vec3_make((real_t)NAN, (real_t)NAN, (real_t)NAN));
+    for (int i = 0; i < 19; ++i) {
+        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+    }
+    /* 19 samples of the new window: nothing yet */
+    assert_int_equal(f.st.excluded, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 0u);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, NULL), 0u);
+    assert_close(f.st.noise_scale, 1.0, 0.0);
+    /* the 20th closes it */
+    st_feed_white(&f, ++k, aocs_vec3_scale(z, AOCS_R(-1.0)));
+    assert_int_equal(f.st.excluded, 0);
+    assert_int_equal(f.st_rescaled, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_RESTORED, -1, &t), 1u);
+    assert_int_equal(t, k * PERIOD_NS);
+    assert_close(f.st.noise_scale, m, 1.0e-6); /* relative */
+    assert_int_equal(aocs_evlog_next(&f.log, 2u, &e, NULL), AOCS_OK); /* after innovation_high and excluded */
+    assert_int_equal(e.id, AOCS_EVT_ST_NOISE_RESCALED);
+    assert_close(e.value, sqrt(m), 1.0e-6);
+    assert_int_equal(aocs_evlog_count(&f.log), 4u);
 }
 
 static void test_st_excluded_after_persist_and_restored_after_restore(void **state)
@@ -1067,6 +1189,65 @@ static void test_link_and_safe_events(void **state)
     assert_int_equal(aocs_evlog_count(&f.log), 6u);
 }
 
+/* a step in mode with a sample whose acceptance verdict is input_status, and the estimate est (NULL: none) */
+static void verdict_feed(aocs_fdir_t *f, uint64_t k, aocs_exec_mode_t mode, aocs_status_t input_status,
+                         const aocs_det_output_t *est)
+{
+    aocs_fdir_input_t in = base_input(k, 1, mode);
+    in.input_status = input_status;
+    in.est = est;
+    aocs_fdir_step(f, &in, NULL);
+}
+
+/* safe_entered's value is why SAFE was entered: the sample's acceptance verdict when the sample was refused
+ * (whatever the estimator says then), the estimator's status only when the sample was accepted, and AOCS_OK
+ * when neither failed or there is no estimate (the SAFE is another's: a law, a latch). Four entries, each left
+ * for NOMINAL before the next. */
+static void test_safe_entered_value_is_the_input_verdict_before_the_estimator_status(void **state)
+{
+    (void)state;
+    static const struct {
+        aocs_status_t input_status;
+        int with_est;
+        aocs_status_t est_status;
+        aocs_status_t why;
+    } rows[] = {
+        {AOCS_ERR_INPUT_INVALID, 1, AOCS_ERR_MEKF_NO_ATTITUDE, AOCS_ERR_INPUT_INVALID},
+        {AOCS_OK, 1, AOCS_ERR_MEKF_NO_ATTITUDE, AOCS_ERR_MEKF_NO_ATTITUDE},
+        {AOCS_ERR_INPUT_INVALID, 0, AOCS_OK, AOCS_ERR_INPUT_INVALID},
+        {AOCS_OK, 0, AOCS_OK, AOCS_OK},
+    };
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    aocs_det_output_t ok_est;
+    uint64_t k = 0u;
+    uint32_t seq = 0u;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    (void)memset(&ok_est, 0, sizeof(ok_est));
+    ok_est.status = AOCS_OK;
+    for (size_t r = 0u; r < (sizeof(rows) / sizeof(rows[0])); ++r) {
+        aocs_det_output_t est;
+        aocs_event_t e;
+        (void)memset(&est, 0, sizeof(est));
+        est.status = rows[r].est_status;
+        verdict_feed(&f, ++k, AOCS_EXEC_MODE_NOMINAL, AOCS_OK, &ok_est);
+        verdict_feed(&f, ++k, AOCS_EXEC_MODE_SAFE, rows[r].input_status, (rows[r].with_est != 0) ? &est : NULL);
+        /* the previous row's safe_left, then this row's safe_entered */
+        if (r > 0u) {
+            assert_int_equal(aocs_evlog_next(&f.log, seq, &e, NULL), AOCS_OK);
+            assert_int_equal(e.id, AOCS_EVT_SAFE_LEFT);
+            seq = e.seq;
+        }
+        assert_int_equal(aocs_evlog_next(&f.log, seq, &e, NULL), AOCS_OK);
+        assert_int_equal(e.id, AOCS_EVT_SAFE_ENTERED);
+        assert_int_equal(e.t_ns, k * PERIOD_NS);
+        assert_close(e.value, (double)rows[r].why, 0.0);
+        seq = e.seq;
+    }
+    assert_int_equal(aocs_evlog_count(&f.log), 7u);
+}
+
 static void test_disabled_is_silent(void **state)
 {
     (void)state;
@@ -1381,6 +1562,47 @@ static void test_thruster_stuck_closed_is_isolated_and_the_dump_goes_on(void **s
     assert_true(r.mom.out.thruster_on_s[dead ^ 1u] > AOCS_R(0.0)); /* its couple's partner */
 }
 
+/* thruster_ineffective needs fdir.mom_persist (2) windows in a row explained by the same thruster: a window
+ * between two the dead thruster explains, that it does not explain, ends the run, whether that window is
+ * consistent or inconsistent. Windows of 30 periods close at 31, 61, 91, 121, 151, 181 s. The thruster the dump
+ * leans on most does not fire over the window [61, 91] (its deficit explains it: a first window); it fires
+ * again over [91, 121], with the disturbance inside the bound (a consistent window) or, in the second case, with
+ * an external torque of 30 mN m along x (0.9 N m s over the window against a bound of 0.15 N m s and a commanded
+ * impulse per thruster below 0.5 N m s: no thruster explains it; one inconsistent window, so no
+ * momentum_inconsistent); it is dead again from 121 s, so the windows [121, 151] and [151, 181] are the first
+ * and the second of a new run: thruster_ineffective and unload_actuator_switched name it at 181 s, not at
+ * 151 s, and nothing else is raised. */
+static void test_a_window_the_dead_thruster_does_not_explain_ends_its_run(void **state)
+{
+    (void)state;
+    const double d[3] = {1.0e-3, -1.0e-3, 1.0e-3};
+    const double d_big[3] = {3.0e-2, 0.0, 0.0};
+    for (int unexplained = 0; unexplained < 2; ++unexplained) {
+        mom_rig_t r;
+        uint64_t t_ineff = 0u;
+        uint64_t t_sw = 0u;
+        uint32_t dead = MOM_THR;
+        mom_rig_init(&r, 5.0e-3);
+        for (uint32_t k = 0u; k <= 181u; ++k) {
+            const int big = ((unexplained != 0) && (k >= 91u) && (k < 121u)) ? 1 : 0;
+            const int off = (((k >= 61u) && (k < 91u)) || (k >= 121u)) ? 1 : 0;
+            mom_rig_step(&r, (big != 0) ? d_big : d, (off != 0) ? dead : MOM_THR, MOM_THR);
+            if (k == 0u) {
+                dead = mom_busiest(&r.mom);
+            }
+            if (k < 181u) {
+                assert_int_equal(aocs_evlog_count(&r.f.log), 0u);
+            }
+        }
+        assert_int_equal(count_id(&r.f.log, AOCS_EVT_THRUSTER_INEFFECTIVE, (int32_t)dead, &t_ineff), 1u);
+        assert_int_equal(t_ineff, 181000000000ull);
+        assert_int_equal(count_id(&r.f.log, AOCS_EVT_UNLOAD_ACTUATOR_SWITCHED, (int32_t)dead, &t_sw), 1u);
+        assert_int_equal(t_sw, t_ineff);
+        assert_int_equal(aocs_evlog_count(&r.f.log), 2u);
+        assert_int_equal(r.mom.thr_excluded_mask, 1u << dead);
+    }
+}
+
 /* the events of the log in order */
 static uint32_t mom_events(const aocs_evlog_t *log, aocs_event_t *out, uint32_t max)
 {
@@ -1572,8 +1794,10 @@ int main(void)
         cmocka_unit_test(test_isolation_of_the_third_wheel_is_refused_and_latches_safe),
         cmocka_unit_test(test_a_wheel_whose_friction_grew_is_found_and_its_model_rescaled),
         cmocka_unit_test(test_a_tachometer_failure_is_not_taken_for_friction),
+        cmocka_unit_test(test_a_friction_excess_exactly_at_the_threshold_is_not_high),
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
         cmocka_unit_test(test_noisy_tracker_rescaled_and_readmitted),
+        cmocka_unit_test(test_a_non_finite_innovation_restarts_the_noise_window),
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
@@ -1584,10 +1808,12 @@ int main(void)
         cmocka_unit_test(test_gyro_saturation),
         cmocka_unit_test(test_a_gyro_pinned_on_every_axis_while_the_tracker_turns),
         cmocka_unit_test(test_link_and_safe_events),
+        cmocka_unit_test(test_safe_entered_value_is_the_input_verdict_before_the_estimator_status),
         cmocka_unit_test(test_disabled_is_silent),
         cmocka_unit_test(test_momentum_consistent_while_dumping_and_an_unexplained_torque),
         cmocka_unit_test(test_momentum_skips_samples_without_wheel_momentum),
         cmocka_unit_test(test_thruster_stuck_closed_is_isolated_and_the_dump_goes_on),
+        cmocka_unit_test(test_a_window_the_dead_thruster_does_not_explain_ends_its_run),
         cmocka_unit_test(test_thruster_stuck_open_is_isolated_behind_its_latch_valve),
         cmocka_unit_test(test_thruster_stuck_open_on_the_second_branch_is_found_by_swapping_the_valves),
         cmocka_unit_test(test_thruster_stuck_open_without_a_second_branch_is_momentum_inconsistent),
