@@ -61,9 +61,10 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
     G = np.array(w.axes).T
     js = np.array(w.spin_inertia_kg_m2)
     h_w = np.linalg.norm((G @ (speed * js).T).T, axis=1)     # |sum Js g Omega|
-    # truth sample k reports the period before it: every sample after the first is one period
-    at_t = np.array([[(b >> i) & 1 for i in range(n)] for b in bits[1:]]) if bits.size > 1 else np.zeros((0, n))
-    at_s = np.array([[(b >> (8 + i)) & 1 for i in range(n)] for b in bits[1:]]) if bits.size > 1 else np.zeros((0, n))
+    # truth sample k reports the period before it: every sample after the first is one period, (samples - 1, n),
+    # bit i (at the torque limit) and bit 8 + i (speed cut) of wheel i
+    at_t = (bits[1:, None] >> np.arange(n)) & 1
+    at_s = (bits[1:, None] >> (8 + np.arange(n))) & 1
     wmax = np.asarray(w.speed_limit_rad_s, float)
     at_end = np.abs(speed[1:]) >= wmax[None, :] * (1.0 - SPEED_LIMIT_REL)
     per = []
@@ -74,12 +75,11 @@ def metrics(log, scenario) -> tuple[dict | None, dict]:
             "speed_limit_rad_s": w.speed_limit_rad_s[i],
             "peak_motor_torque_nm": _f(np.max(np.abs(torque[:, i]))) if torque.size else None,
             "torque_limit_nm": w.torque_limit_nm[i],
-            "time_at_torque_limit_s": _f(at_t[:, i].sum() * dt) if at_t.size else 0.0,
+            "time_at_torque_limit_s": _f(at_t[:, i].sum() * dt),
             # periods that end with the wheel at its limit: the plant cut its motor, or the flight software holds
             # it within SPEED_LIMIT_REL of the limit (its allocation scales the command down rather than cross it)
-            "time_at_speed_limit_s": _f(np.count_nonzero(at_s[:, i].astype(bool) | at_end[:, i]) * dt)
-            if at_s.size else 0.0,
-            "time_speed_cut_s": _f(at_s[:, i].sum() * dt) if at_s.size else 0.0,
+            "time_at_speed_limit_s": _f(np.count_nonzero(at_s[:, i].astype(bool) | at_end[:, i]) * dt),
+            "time_speed_cut_s": _f(at_s[:, i].sum() * dt),
         })
     tol = 1e-9
     within = all(p["peak_motor_torque_nm"] is None or p["peak_motor_torque_nm"] <= p["torque_limit_nm"] * (1 + tol)

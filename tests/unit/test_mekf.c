@@ -1573,6 +1573,17 @@ static void bias_reinflation(void **state)
         assert_true(!(idle.P.m[i][i] > AOCS_R(0.0)) && !(idle.P.m[i][i] < AOCS_R(0.0)));
     }
     aocs_mekf_reinflate_bias(NULL);
+    /* a started filter's copy whose init mark is not init's (memory not set by aocs_mekf_init): nothing, as
+     * every other entry point refuses it */
+    {
+        bench_t c;
+        harness_start(&c, 20);
+        const real_t p33 = c.f.P.m[3][3];
+        c.f.initialised = 1;
+        aocs_mekf_reinflate_bias(&c.f);
+        assert_true(same_real(c.f.P.m[3][3], p33));
+        assert_int_equal(aocs_mekf_get_output(&c.f, &o0), AOCS_ERR_NOT_INITIALISED);
+    }
 }
 
 static void covariance_rule(void **state)
@@ -1664,6 +1675,48 @@ static void innovation_covariance_zero_pivot(void **state)
     assert_int_equal(b.f.n_gated, gated);
     assert_int_equal(aocs_mekf_get_output(&b.f, &o), AOCS_ERR_MEKF_NO_ATTITUDE);
     assert_output_zero(&o);
+}
+
+/* P after an update must be positive definite: a zero last pivot of its factorisation (a singular P, the bias
+ * z error a copy of the bias x error: P_33 = 4, P_35 = 2, P_55 = 1, so that P_55 - L_53^2 = 1 - (2/2)^2 = 0
+ * exactly, in both precisions) is refused like a negative one and restarts the filter. The update is at the
+ * estimate's time (h = 0) with the bias decoupled from the attitude, so the bias block comes out of the Joseph
+ * form unchanged. The restart count saturates at UINT32_MAX rather than wrap to 0. */
+static void updated_covariance_zero_last_pivot(void **state)
+{
+    (void)state;
+    bench_t b;
+    harness_start(&b, 20);
+    b.t += 100000000u;
+    assert_int_equal(aocs_mekf_propagate(&b.f, aocs_vec3_zero(), b.t), AOCS_OK);
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 3; j < 6; ++j) {
+            b.f.P.m[i][j] = AOCS_R(0.0);
+            b.f.P.m[j][i] = AOCS_R(0.0);
+        }
+    }
+    for (int i = 3; i < 6; ++i) {
+        for (int j = 3; j < 6; ++j) {
+            b.f.P.m[i][j] = AOCS_R(0.0);
+        }
+    }
+    b.f.P.m[3][3] = AOCS_R(4.0);
+    b.f.P.m[4][4] = AOCS_R(1.0);
+    b.f.P.m[5][5] = AOCS_R(1.0);
+    b.f.P.m[3][5] = AOCS_R(2.0);
+    b.f.P.m[5][3] = AOCS_R(2.0);
+    for (int i = 3; i < 6; ++i) {
+        assert_true(b.f.P.m[i][i] > b.f.p_floor[i]); /* the floor leaves the diagonal as it is */
+    }
+    b.f.n_restarts = UINT32_MAX;
+    aocs_mekf_st_sample_t smp;
+    memset(&smp, 0, sizeof(smp));
+    smp.valid = 1u;
+    smp.q_SN = rq_to(sim_tracker(&b.s, &b.c, 0));
+    smp.t_meas_ns = b.t;
+    assert_int_equal(aocs_mekf_update(&b.f, &smp), AOCS_ERR_MEKF_COV_INVALID);
+    assert_int_equal(b.f.n_restarts, UINT32_MAX);
+    assert_int_equal(b.f.started, 0u);
 }
 
 static void hostile_inputs(void **state)
@@ -1936,6 +1989,7 @@ int main(void)
         cmocka_unit_test(covariance_rule),
         cmocka_unit_test(bias_reinflation),
         cmocka_unit_test(innovation_covariance_zero_pivot),
+        cmocka_unit_test(updated_covariance_zero_last_pivot),
         cmocka_unit_test(gating),
         cmocka_unit_test(tracker_noise_scale),
         cmocka_unit_test(hostile_inputs),

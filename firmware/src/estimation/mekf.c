@@ -1012,7 +1012,7 @@ aocs_status_t aocs_mekf_step(aocs_mekf_t *f, const aocs_mekf_input_t *in, aocs_m
 
 void aocs_mekf_reinflate_bias(aocs_mekf_t *f)
 {
-    if ((f != NULL) && (f->initialised != 0) && (f->started != 0u) && (f->gyroless == 0u)) {
+    if ((f != NULL) && (f->initialised == MEKF_INIT_MAGIC) && (f->started != 0u) && (f->gyroless == 0u)) {
         const real_t pb = f->cfg.p0_bias_sigma_radps * f->cfg.p0_bias_sigma_radps;
         for (int i = 3; i < 6; ++i) {
             for (int j = 0; j < 6; ++j) {

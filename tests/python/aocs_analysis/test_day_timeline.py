@@ -152,6 +152,10 @@ def test_the_target_passes_are_shaded_and_named_once_with_their_maxima(tmp_path,
         assert list(ln.get_xdata()) == pytest.approx([0.5 * (a + b) - half, 0.5 * (a + b) + half])
     names = [a.get_text() for a in pointing.texts]
     assert [p["target"]["name"] for p in ps] == [n for n in names if n.startswith("T")]
+    # each name centred above its bar (no sideways offset), neighbours' names at alternating heights
+    labels = [a for a in pointing.texts if a.get_text().startswith("T")]
+    assert [tuple(a.xyann) for a in labels] == [(0.0, 3.0 + 7.0 * (k % 2)) for k in range(n_passes)]
+    assert all(a.get_ha() == "center" for a in labels)
 
 
 @pytest.mark.parametrize("basis,on", [("sensors", "rms"), ("requirement", "max")])

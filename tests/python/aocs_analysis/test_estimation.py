@@ -239,6 +239,9 @@ def test_steady_state_window_and_convergence_time():
     assert t[m][0] == 45.0 and 47.0 not in t[m] and np.count_nonzero(m) == 9
     # the fraction is in (0, 1]: the whole run at 1, nothing at or below 0 or above 1
     assert E.steady_state_mask(t, fraction=1.0).all()
+    # the last half of the run's own span, for a log that starts late too: 5049.5 s on for 5000 s to 5099 s
+    late = 5000.0 + np.arange(100) * 1.0
+    assert late[E.steady_state_mask(late)].tolist() == (5050.0 + np.arange(50)).tolist()
     for bad in (0.0, -0.5, math.nextafter(1.0, 2.0)):
         with pytest.raises(ValueError, match=r"fraction must be in \(0, 1\]"):
             E.steady_state_mask(t, fraction=bad)
@@ -646,6 +649,19 @@ def test_the_ensemble_nees_of_independent_runs_is_in_its_band_95_percent_of_the_
     assert good["band"] == pytest.approx(list(E.nees_band(6, 8)))
     assert 0.92 <= good["in_band_fraction"] <= 0.98, good
     assert E.nees_ensemble_test(2.25 * eps, 6)["in_band_fraction"] < 0.2
+
+
+def test_a_mean_at_either_edge_of_the_band_is_inside():
+    """The band is closed: window means (two samples, so that the mean of equal values is exact) at exactly
+    its upper quantile, and ensemble means (two runs) at exactly its lower one, are in band."""
+    t = np.arange(20) * 0.1
+    lo, hi = E.nees_band(3, 2)
+    w = E.nees_window_test(t, np.full(t.size, hi), 3, samples_per_window=2, spacing_s=0.1)
+    assert w.windows == 10 and w.in_band_fraction == 1.0
+    assert E.nees_window_test(t, np.full(t.size, np.nextafter(hi, 2 * hi)), 3, samples_per_window=2,
+                              spacing_s=0.1).in_band_fraction == 0.0
+    assert E.nees_ensemble_test(np.full((2, 5), lo), 3)["in_band_fraction"] == 1.0     # 2 runs: the same band
+    assert E.nees_ensemble_test(np.full((2, 5), np.nextafter(lo, 0.0)), 3)["in_band_fraction"] == 0.0
 
 
 def test_the_ensemble_test_takes_runs_by_instants_only():

@@ -75,6 +75,7 @@ def test_a_recovery_on_the_last_sample_of_the_run_counts():
     assert F.recovered_at(t, np.array([5.0, 0.1, 0.1]), 1.0, 0.3, 50.0) == 1.0      # from t_from's own sample
     assert F.recovered_at(t, np.array([5.0, 5.0, 0.4]), 2.0, 0.3, 50.0) is None
     assert F.recovered_at(t, np.array([5.0, 5.0, 0.1]), 2.5, 0.3, 50.0) is None      # nothing after t_from
+    assert F.recovered_at(t, np.array([5.0, 5.0, 0.3]), 2.0, 0.3, 50.0) == 2.0      # at the requirement: met
 
 
 def test_an_info_event_is_not_a_detection_and_a_unitless_event_matches():

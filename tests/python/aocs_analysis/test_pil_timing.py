@@ -29,3 +29,12 @@ def test_without_a_bridge_summary_the_figures_are_none():
     run_metrics.pil_timing(timing, series, cmd, "pil-m7", None)
     assert timing["instructions_median"] is None and timing["law_instructions_median"] is None
     assert timing["budget_ns"] == 5.0e6 and timing["overruns"] == 0
+
+
+def test_a_run_without_a_command_flagged_no_overrun():
+    """No command at all (the image never answered): no overrun counted, no budget series."""
+    cmd = {"tick": np.zeros(0, np.int64), "overrun": np.zeros(0)}
+    timing, series = {"budget_ns": 5.0e6}, {}
+    run_metrics.pil_timing(timing, series, cmd, "pil-m7", None)
+    assert timing["overruns"] == timing["over_step_budget"] == 0
+    assert "budget_ns" not in series

@@ -50,6 +50,7 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
 
     lines = {}
     budget = {}
+    drawn = {}
 
     def spy(fig, path):
         ax = fig.axes[0]
@@ -59,6 +60,7 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
                             if ln.get_linestyle() == "--" and ln.get_color() == "red"]
         budget[path.name] = [(set(ln.get_ydata()), ln.get_linewidth()) for ln in ax.get_lines()
                              if ln.get_label() == "budget"]
+        drawn[path.name] = {ln.get_label(): ln.get_linewidth() for ln in ax.get_lines()}
         return real_save(fig, path)
 
     monkeypatch.setattr(plots, "save", spy)
@@ -78,6 +80,12 @@ def test_thresholds_settle_time_and_clip_are_drawn(tmp_path, monkeypatch):
     # the step time's budget: one visible line at its value, named in the legend
     assert "budget" in dict((n, lb) for n, lb, _ in seen)["step_time.png"]
     assert [(y, lw > 0) for y, lw in budget["step_time.png"]] == [({2000.0}, True)]
+    # the settle threshold and the requirement drawn visibly, not only named
+    assert drawn["attitude_error.png"]["settle threshold 10 arcsec"] > 0
+    assert drawn["attitude_error.png"]["requirement 0.3 arcsec"] > 0
+    # the rate error: one visible line per axis, each named in the legend
+    assert {k: lw > 0 for k, lw in drawn["rates.png"].items()} == {"w x": True, "w y": True, "w z": True}
+    assert set(dict((n, lb) for n, lb, _ in seen)["rates.png"]) == {"w x", "w y", "w z"}
 
 
 def test_the_wheel_speed_plot_draws_both_speed_limits(tmp_path, monkeypatch):

@@ -175,6 +175,19 @@ def test_the_longest_unanswered_run_counts_consecutive_unanswered_ticks():
     assert f(np.ones(5, bool)) == 0 and f(np.zeros(4, bool)) == 4 and f(np.zeros(0, bool)) == 0
 
 
+def test_only_sensor_frames_of_the_wire_contracts_version_await_an_answer():
+    """counters.sensor_ticks_unanswered and longest_unanswered_run count the frames of this PROTOCOL_VERSION
+    only: the node refuses (and never answers) another version's, so ticks 2 and 3 (version + 1) are not
+    unanswered frames; of the others, tick 5 alone went unanswered."""
+    log = make_log(6, cmd_ticks=[0, 1, 4], sensor_ticks=range(6), status_steps=[])
+    log.sensors["protocol_version"][:] = results.paths_version()
+    log.sensors["protocol_version"][2:4] = results.paths_version() + 1
+    out = {}
+    results._counters(out, log, 0.1)
+    assert out["counters"]["sensor_ticks_unanswered"] == 1
+    assert out["counters"]["longest_unanswered_run"] == 1
+
+
 def test_the_run_info_carries_what_the_plant_and_the_node_reported():
     """_run_info (the run JSON's log, lockstep, integration_error, udpm, fsw_node and wall_s parts): the
     plant's own figures pass through as it reported them (the verdict reads integration_error), the lockstep
@@ -342,6 +355,15 @@ def test_step_budget_in_slew_and_step_modes_and_a_step_of_exactly_its_budget():
         results._timing(out, series, cmd, {"law": "quat_pd"}, cfg, None)
         np.testing.assert_array_equal(series["budget_ns"], [budget] * 3)
         assert out["timing"]["over_step_budget"] == 1, cfg
+    # the MEKF adds its own budget to every step's: NOMINAL (the law's) and SAFE (standby's) alike
+    mekf = registry.estimator_budget_ns("mekf")
+    assert mekf > 0
+    cmd = {"tick": np.arange(2), "law_id": np.full(2, law), "mode": np.array([mode_value("nominal"), mode_value("safe")]),
+           "step_ns": np.zeros(2, np.int64), "overrun": np.zeros(2)}
+    out, series = {}, {}
+    results._timing(out, series, cmd, {"law": "quat_pd"}, {"estimator": "mekf"}, None)
+    np.testing.assert_array_equal(series["budget_ns"], [2000 + mekf, registry.law_budget_ns("none") + mekf])
+    assert out["timing"]["budget_ns"] == 2000 + mekf
 
 
 def test_comparison_table_columns_with_and_without_the_slew_bound():
@@ -412,6 +434,15 @@ def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
                     "meets_requirement": True}]
     assert dict(results.table_rows(m))["target passes"] == ("1 passes of 1 targets, 1 meet the requirement "
                                                            "(0.3 arcsec); worst pass max 0.2 arcsec")
+    # a sub-second slew bound has its ratio too (12.34 s / 0.5 s)
+    m["slew_bound_s"] = 0.5
+    assert dict(results.table_rows(m))["slew bound (eigenaxis bang-bang)"] == "0.5 s (settle / bound 24.680)"
+    # the momentum section's lines are the table's too, after the wheels' and before the holds'
+    m["momentum"] = {"max_nms": 9.0, "final_nms": 2.5, "capacity_nms": [48.0] * 4, "policy": "thrusters",
+                     "unloading": {"events": 2, "time_s": 120.0}}
+    names = [k for k, _ in results.table_rows(m)]
+    assert names.index("momentum unloading") == names.index("wheel momentum |h_w|") + 1
+    assert dict(results.table_rows(m))["momentum unloading"] == "thrusters: 2 unloads, 120 s unloading"
 
 
 @pytest.mark.parametrize("name,mode", [("irassi_large", "step"), ("irassi_rw_mekf", "slew"), ("landsat8_q1", None)])

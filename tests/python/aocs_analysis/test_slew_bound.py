@@ -24,6 +24,24 @@ def test_no_limit_no_bound_and_orbit():
     assert sb.slew_bound_s(np.eye(3), (0, 0, 0, 1), (0, 0, 0, 1), 1.0, None) == 0.0
 
 
+def test_no_rotation_is_zero_about_a_unit_axis():
+    """qf = q0 (either sign): theta = 0, and the axis returned is still a unit vector (any will do)."""
+    q = (0.1, -0.2, 0.3, math.sqrt(1.0 - 0.14))
+    for qf in (q, tuple(-x for x in q)):
+        theta, e = sb.eigenaxis(q, qf)
+        assert theta == 0.0 and np.linalg.norm(e) == 1.0
+
+
+def test_a_half_turn_is_pi_about_its_own_axis():
+    """qf = (0, 1, 0, 0) from the identity: |vector part| = 1 exactly, a rotation of pi about y (not no
+    rotation), whose bound is 2 sqrt(pi / alpha) with alpha = u / J_yy."""
+    theta, e = sb.eigenaxis((0.0, 0.0, 0.0, 1.0), (0.0, 1.0, 0.0, 0.0))
+    assert theta == pytest.approx(math.pi, rel=1e-15) and e.tolist() == [0.0, 1.0, 0.0]
+    j = np.diag([10.0, 20.0, 30.0])
+    assert sb.slew_bound_s(j, (0.0, 0.0, 0.0, 1.0), (0.0, 1.0, 0.0, 0.0), 0.5, None) == pytest.approx(
+        2.0 * math.sqrt(math.pi / (0.5 / 20.0)), rel=1e-14)
+
+
 def test_bound_by_integration_and_sign_invariance():
     rng = np.random.default_rng(3)
     j = np.diag([10.0, 20.0, 30.0])

@@ -1,6 +1,8 @@
 """The verdict of a run (aocs_analysis.verdict): each check fails on its own case, --allow lets it pass."""
 from __future__ import annotations
 
+import math
+
 from aocs_analysis import verdict
 
 
@@ -91,3 +93,8 @@ def test_requested_safe_injected_faults_and_small_errors_pass():
     assert verdict.judge(injected, [], realtime=False, injected=3)["passed"]
     ie = {"attitude_arcsec_sum": 50.0, "tolerance_arcsec": 1.0}
     assert verdict.judge(_diverged(integration_error=ie), [], realtime=False)["passed"]   # only a warning
+    # the factor is a bound: an error of exactly INTEGRATION_MAX_FACTOR tolerances passes, one ulp more fails
+    edge = verdict.INTEGRATION_MAX_FACTOR * 0.5
+    for err, passed in ((edge, True), (math.nextafter(edge, math.inf), False)):
+        ie = {"attitude_arcsec_sum": err, "tolerance_arcsec": 0.5}
+        assert verdict.judge(_diverged(integration_error=ie), [], realtime=False)["passed"] is passed, err

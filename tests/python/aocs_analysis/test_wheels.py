@@ -70,6 +70,28 @@ def test_a_run_with_no_command_has_no_wheel_command_over_its_limit_or_not_finite
     assert "speed margin" not in dict(wheels.table_rows(out))
 
 
+@pytest.mark.parametrize("samples", [0, 1, 3])
+def test_the_times_at_a_limit_count_the_periods_after_the_first_sample(samples):
+    """Truth sample k reports the period before it: bits 0 (wheel 1 at its torque limit) and 9 (wheel 2's motor
+    cut at its speed limit) set on every sample count one period each after the first, none for a log of one
+    sample or none; wheel 3 held exactly at the flight software's margin below its limit, (1 - SPEED_LIMIT_REL)
+    Omega_max, is at its speed limit too."""
+    sc = load("irassi_rw")
+    bits = np.full(samples, (1 << 0) | (1 << 9), np.int64)
+    speed = np.zeros((samples, 4))
+    speed[:, 2] = -sc.effectors["wheels"].speed_limit_rad_s[2] * (1.0 - wheels.SPEED_LIMIT_REL)
+    truth = {"t_s": np.arange(samples) * sc.dt, "wheel_speed": speed,
+             "wheel_torque": np.zeros((samples, 4)), "wheel_at_limit": bits, "h_total": np.zeros((samples, 3))}
+    cmd = {"tick": np.zeros(0, int), "u_wheels": np.zeros((0, 6)), "wheel_speed_margin": np.zeros(0),
+           "wheel_scale": np.zeros(0)}
+    out, _ = wheels.metrics(types.SimpleNamespace(truth=truth, cmd=cmd), sc)
+    periods = max(samples - 1, 0) * sc.dt
+    per = out["per_wheel"]
+    assert [p["time_at_torque_limit_s"] for p in per] == pytest.approx([periods, 0.0, 0.0, 0.0])
+    assert [p["time_speed_cut_s"] for p in per] == pytest.approx([0.0, periods, 0.0, 0.0])
+    assert [p["time_at_speed_limit_s"] for p in per] == pytest.approx([0.0, periods, periods, 0.0])
+
+
 @pytest.mark.parametrize("speed_rel,torque_rel,within", [(1.0, 1.0, True), (1.0 + 5e-4, 1.0 + 5e-10, True),
                                                           (1.0 + 1e-3, 1.0 + 1e-9, True),
                                                           (1.0 + 2e-3, 1.0, False), (1.0, 1.0 + 2e-9, False)])

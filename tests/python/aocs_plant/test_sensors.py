@@ -31,6 +31,14 @@ def test_ideal_sensors_return_truth():
     assert s["q_valid"] and s["w_valid"] and s["t"] == 0.0 and s["seq"] == 0
 
 
+def test_an_ideal_sensor_reads_as_a_zero_error_would():
+    """y = x + e with e = 0: a body rate of negative zeros is measured as +0.0 on every axis (-0.0 + 0.0), the
+    bits the general path gives, whichever path the ideal sensor takes."""
+    plant = Plant(load("irassi_large", {"plant.w0": [-0.0, -0.0, -0.0]}))
+    assert [math.copysign(1.0, x) for x in plant.truth()["w"]] == [-1.0, -1.0, -1.0]
+    assert [math.copysign(1.0, x) for x in plant.sense()["w"]] == [1.0, 1.0, 1.0]
+
+
 def test_noise_is_repeatable_for_a_seed_and_differs_between_seeds():
     a = _samples(_noisy(7), 50)
     b = _samples(_noisy(7), 50)

@@ -113,6 +113,18 @@ def test_the_true_rate_is_the_mean_over_the_sample_from_the_plants_attitudes():
         p.advance()
 
 
+def test_a_sample_at_the_time_of_the_last_reads_the_rate_it_is_given():
+    """Two samples at t = 3 s (no time between them, the plant sampled twice): the second has no interval to
+    average over, so it reads the body rate given, like the first sample, not a rotation over 0 s."""
+    g = _gyro({"arw_rad_sqrt_s": 0.0, "rrw_rad_s_sqrt_s": 0.0})
+    w = (0.01, -0.02, 0.005)
+    q = (0.0, 0.0, 0.0, 1.0)
+    first = g.measure((3.0, q, w))
+    again = g.measure((3.0, q, w))
+    np.testing.assert_allclose(again, first, rtol=0, atol=0)
+    np.testing.assert_allclose(first, w, rtol=1e-12)
+
+
 def test_scale_factor_and_misalignment():
     w = np.array([0.01, -0.02, 0.03])
     sf, d = [100.0, -200.0, 300.0], [1e-3, -2e-3, 0.5e-3]
