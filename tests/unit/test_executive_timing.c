@@ -263,6 +263,15 @@ static void test_timer_deadlines_slips_jitter(void **state)
         assert_int_equal(aocs_exec_timer_period_start(&one, 1007u, &dl), AOCS_OK);
         assert_close(aocs_exec_timer_jitter_rms_ns(&one), 7.0, TOL_TIGHT);
     }
+    {
+        /* below a nanosecond: 1 ns late once, then three periods on time: mean square 1/4 ns^2, rms 0.5 ns */
+        aocs_exec_timer_t sub = tmr;
+        const uint64_t starts[4] = {1001u, 1100u, 1200u, 1300u};
+        for (int k = 0; k < 4; ++k) {
+            assert_int_equal(aocs_exec_timer_period_start(&sub, starts[k], &dl), AOCS_OK);
+        }
+        assert_close(aocs_exec_timer_jitter_rms_ns(&sub), 0.5, TOL_TIGHT);
+    }
 
     assert_int_equal(aocs_exec_timer_period_start(&tmr, 1000u, &dl), AOCS_OK); /* on time */
     assert_int_equal(dl, 1100u);

@@ -1645,6 +1645,17 @@ static void covariance_rule(void **state)
     }
 }
 
+/* A valid star-tracker sample of the bench's truth taken at the estimate's time (h = 0), given to the update. */
+static aocs_status_t update_at_estimate_time(bench_t *b)
+{
+    aocs_mekf_st_sample_t smp;
+    memset(&smp, 0, sizeof(smp));
+    smp.valid = 1u;
+    smp.q_SN = rq_to(sim_tracker(&b->s, &b->c, 0));
+    smp.t_meas_ns = b->t;
+    return aocs_mekf_update(&b->f, &smp);
+}
+
 /* S = H P H^T + R must be positive definite: a zero pivot of its factorisation is refused as an invalid
  * covariance and restarts the filter, like a negative one; it is never used as a divisor (d^2 would be inf or
  * NaN and the sample would count as gated). Here the last pivot, S_22 - L_20^2 - L_21^2 = P_22 + R_22 = 0
@@ -1665,12 +1676,7 @@ static void innovation_covariance_zero_pivot(void **state)
         b.f.P.m[j][2] = AOCS_R(0.0);
     }
     b.f.P.m[2][2] = -b.f.r_S[2];
-    aocs_mekf_st_sample_t smp;
-    memset(&smp, 0, sizeof(smp));
-    smp.valid = 1u;
-    smp.q_SN = rq_to(sim_tracker(&b.s, &b.c, 0));
-    smp.t_meas_ns = b.t;
-    assert_int_equal(aocs_mekf_update(&b.f, &smp), AOCS_ERR_MEKF_COV_INVALID);
+    assert_int_equal(update_at_estimate_time(&b), AOCS_ERR_MEKF_COV_INVALID);
     assert_int_equal(b.f.n_restarts, restarts + 1u);
     assert_int_equal(b.f.n_gated, gated);
     assert_int_equal(aocs_mekf_get_output(&b.f, &o), AOCS_ERR_MEKF_NO_ATTITUDE);
@@ -1709,12 +1715,7 @@ static void updated_covariance_zero_last_pivot(void **state)
         assert_true(b.f.P.m[i][i] > b.f.p_floor[i]); /* the floor leaves the diagonal as it is */
     }
     b.f.n_restarts = UINT32_MAX;
-    aocs_mekf_st_sample_t smp;
-    memset(&smp, 0, sizeof(smp));
-    smp.valid = 1u;
-    smp.q_SN = rq_to(sim_tracker(&b.s, &b.c, 0));
-    smp.t_meas_ns = b.t;
-    assert_int_equal(aocs_mekf_update(&b.f, &smp), AOCS_ERR_MEKF_COV_INVALID);
+    assert_int_equal(update_at_estimate_time(&b), AOCS_ERR_MEKF_COV_INVALID);
     assert_int_equal(b.f.n_restarts, UINT32_MAX);
     assert_int_equal(b.f.started, 0u);
 }
