@@ -153,6 +153,17 @@ static void test_config_check(void **state)
     aocs_fdir_config_default(&c);
     c.gyro_bias_persist = 0u;
     assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    /* fdir.st_restore is a count of samples (the restoration run, the noise window): 0 is refused, and the
+     * least one, 1, is a valid configuration (a tracker restored at its first consistent sample) */
+    aocs_fdir_config_default(&c);
+    c.st_restore = 0u;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_ERR_FDIR_CONFIG_INVALID);
+    assert_int_equal(f.initialised, 0);
+    c.st_restore = 1u;
+    assert_int_equal(aocs_fdir_config_check(&c), AOCS_OK);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    assert_int_equal(f.initialised, 1);
     aocs_fdir_config_default(&c);
     c.gyro_bias_chi2 = AOCS_R(-1.0);
     assert_int_equal(aocs_fdir_config_check(&c), AOCS_ERR_FDIR_CONFIG_INVALID);
@@ -658,6 +669,63 @@ static void test_a_non_finite_innovation_restarts_the_noise_window(void **state)
     assert_int_equal(aocs_evlog_count(&f.log), 4u);
 }
 
+/* A rescaled tracker whose innovations become too small follows them down, but never below its model: the
+ * scale is not below 1 (spec 5.15.3). The tracker is first excluded and rescaled as in the test above: z =
+ * +-(10, 10, 10) alternating (d^2 = 300), excluded at the 5th sample, the window from that 5th sample to the
+ * 24th sums to zero, m = 20 x 300 / (3 x 19) = 6000 / 57 (about 105): scaled by m and re-admitted. Rescaled,
+ * it is watched; then 20 samples z = +-(1/16, 1/16, 1/16) alternating (d^2 = 3 / 256, consistent): mean 0
+ * (white), spread m' = 20 x 3 / 256 / (3 x 19) = 20 / 4864, below AOCS_FDIR_ST_NOISE_BAND_LO = 1/4, and the
+ * scale times m', (6000 / 57) x (20 / 4864) = 0.43, is below 1: the scale goes to exactly 1 (not to 0.43, and
+ * not to anything below), with an st_noise_rescaled event of value sqrt(1) = 1 (threshold: the largest
+ * 1-sigma factor, sqrt(fdir.st_noise_scale_max)). At 1 the tracker is no longer watched: nothing more. */
+static void test_a_small_innovation_rescales_the_tracker_noise_back_to_1_not_below(void **state)
+{
+    (void)state;
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    const double m = 6000.0 / 57.0;
+    const aocs_vec3_t z = aocs_vec3_make(AOCS_R(10.0), AOCS_R(10.0), AOCS_R(10.0));
+    const aocs_vec3_t zs = aocs_vec3_make(AOCS_R(0.0625), AOCS_R(0.0625), AOCS_R(0.0625));
+    uint64_t k = 0u;
+    aocs_event_t e;
+    aocs_fdir_config_default(&c);
+    assert_int_equal(c.st_restore, 20u);
+    assert_true((double)c.st_noise_scale_max >= m);
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    for (int i = 0; i < 24; ++i) {
+        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+        assert_int_equal(f.st.excluded, ((i >= 4) && (i < 23)) ? 1 : 0);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 1u);
+    assert_close(f.st.noise_scale, m, 1.0e-6); /* relative */
+    /* the small innovations: 19 samples, the window still open */
+    for (int i = 0; i < 19; ++i) {
+        st_feed_white(&f, ++k, ((i % 2) == 0) ? zs : aocs_vec3_scale(zs, AOCS_R(-1.0)));
+        assert_int_equal(f.st.excluded, 0);
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 1u);
+    assert_close(f.st.noise_scale, m, 1.0e-6);
+    /* the 20th closes it: the scale back to 1, exactly */
+    st_feed_white(&f, ++k, aocs_vec3_scale(zs, AOCS_R(-1.0)));
+    assert_int_equal(f.st.excluded, 0);
+    assert_int_equal(f.st_rescaled, 1);
+    assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 2u);
+    assert_close(f.st.noise_scale, 1.0, 0.0);
+    /* events: innovation_high, excluded, rescaled, restored, then this rescale */
+    assert_int_equal(aocs_evlog_count(&f.log), 5u);
+    assert_int_equal(aocs_evlog_next(&f.log, 4u, &e, NULL), AOCS_OK);
+    assert_int_equal(e.id, AOCS_EVT_ST_NOISE_RESCALED);
+    assert_int_equal(e.t_ns, k * PERIOD_NS);
+    assert_close(e.value, 1.0, 0.0);
+    assert_close(e.threshold, sqrt((double)c.st_noise_scale_max), 1.0e-6);
+    /* at 1 it is not watched: 40 more small samples change nothing */
+    for (int i = 0; i < 40; ++i) {
+        st_feed_white(&f, ++k, ((i % 2) == 0) ? zs : aocs_vec3_scale(zs, AOCS_R(-1.0)));
+    }
+    assert_close(f.st.noise_scale, 1.0, 0.0);
+    assert_int_equal(aocs_evlog_count(&f.log), 5u);
+}
+
 static void test_st_excluded_after_persist_and_restored_after_restore(void **state)
 {
     (void)state;
@@ -916,6 +984,51 @@ static void test_gyro_bias_bound_grows_with_the_rate_random_walk(void **state)
                           AOCS_OK, 1.0e-9);
         }
         assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, 1, NULL), (big != 0) ? 1u : 0u);
+    }
+}
+
+/* The bias-jump test is strict (spec 5.15.4: z = d^2 / var above fdir.gyro_bias_chi2): a change exactly at
+ * the bound is not over. Everything here is a power of two, so that d^2 and chi2 var are the same number in
+ * double and in float: the filter's and the reference's bias variances 2^-40 (rad/s)^2 per axis, var = 2^-39;
+ * chi2 = 32, chi2 var = 2^-34; the estimate 2^-17 rad/s off its reference on x, d^2 = 2^-34. The random walk
+ * is sigma_u = 2^-100 rad/s^1.5: sigma_u^2 dt (2^-200 times at most 2 s) is 0 in float (underflow) and in
+ * double far below half a unit in the last place of var (2^-92): var stays 2^-39 exactly. The reference is
+ * never stale (2^-40 + walk is not above 2 x 2^-40). At the bound: nothing over any number of samples. The
+ * control, the same sequence with chi2 = 31 (d^2 = 32 var, over): gyro_st_inconsistent at the
+ * fdir.gyro_bias_persist-th sample, on axis x, value z = d^2 / var = 32 exactly, threshold 31. */
+static void test_a_gyro_bias_change_exactly_at_the_bound_is_not_over(void **state)
+{
+    (void)state;
+    const double p[3] = {ldexp(1.0, -40), ldexp(1.0, -40), ldexp(1.0, -40)};
+    const double rrw = ldexp(1.0, -100);
+    const aocs_vec3_t b0 = aocs_vec3_zero();
+    const aocs_vec3_t b1 = aocs_vec3_make((real_t)ldexp(1.0, -17), AOCS_R(0.0), AOCS_R(0.0));
+    for (int control = 0; control < 2; ++control) {
+        aocs_fdir_t f;
+        aocs_fdir_config_t c;
+        uint64_t k = 0u;
+        uint64_t t = 0u;
+        aocs_event_t e;
+        aocs_fdir_config_default(&c);
+        c.gyro_bias_chi2 = (control != 0) ? AOCS_R(31.0) : AOCS_R(32.0);
+        assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+        bias_feed_rrw(&f, ++k, b0, p, 0u, AOCS_OK, rrw); /* the reference */
+        assert_int_equal(f.gyro.bias_armed, 1);
+        for (uint32_t i = 1u; i <= c.gyro_bias_persist; ++i) {
+            bias_feed_rrw(&f, ++k, b1, p, 0u, AOCS_OK, rrw);
+            assert_int_equal(f.gyro.bias_run, (control != 0) ? i : 0u);
+            assert_int_equal(f.reinflate_bias, ((control != 0) && (i == c.gyro_bias_persist)) ? 1 : 0);
+        }
+        if (control == 0) {
+            assert_int_equal(f.gyro.t_ref_ns, PERIOD_NS); /* tested against the first sample throughout */
+            assert_int_equal(aocs_evlog_count(&f.log), 0u);
+        } else {
+            assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, 0, &t), 1u);
+            assert_int_equal(t, k * PERIOD_NS);
+            assert_int_equal(aocs_evlog_next(&f.log, 0u, &e, NULL), AOCS_OK);
+            assert_close(e.value, 32.0, 0.0);
+            assert_close(e.threshold, 31.0, 0.0);
+        }
     }
 }
 
@@ -1798,10 +1911,12 @@ int main(void)
         cmocka_unit_test(test_st_excluded_after_persist_and_restored_after_restore),
         cmocka_unit_test(test_noisy_tracker_rescaled_and_readmitted),
         cmocka_unit_test(test_a_non_finite_innovation_restarts_the_noise_window),
+        cmocka_unit_test(test_a_small_innovation_rescales_the_tracker_noise_back_to_1_not_below),
         cmocka_unit_test(test_frozen_tracker_while_turning),
         cmocka_unit_test(test_frozen_tracker_in_a_hold_when_the_filter_models_its_noise),
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
         cmocka_unit_test(test_gyro_bias_bound_grows_with_the_rate_random_walk),
+        cmocka_unit_test(test_a_gyro_bias_change_exactly_at_the_bound_is_not_over),
         cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
         cmocka_unit_test(test_gyro_stuck_goes_gyroless),
