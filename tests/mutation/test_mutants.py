@@ -62,6 +62,26 @@ def test_python_strings_and_docstrings_are_never_mutated_and_terms_drop_whole():
     assert term.apply(src).splitlines()[3] == '    return z, "a < b"'
 
 
+def test_a_string_operand_at_the_end_of_a_line_gives_no_term():
+    """`x + "]"` then `return` on the next line: strings are no tokens, so the token after the `+` is the next
+    line's; no term is cut across lines (it was a mutant that changed nothing); `x + y` still gives its term."""
+    src = 'def f(x, y):\n    if x:\n        return x + "]"\n    return x + y\n'
+    ms = mut.mutants_of("x.py", src, "py")
+    assert [(m.line, m.old) for m in ms if m.op == "term"] == [(4, " + y")]
+    assert (3, "arith") in {(m.line, m.op) for m in ms}
+
+
+def test_every_mutant_of_the_sampled_areas_changes_its_file():
+    """Over every file make mutation draws from (its own pool, run.all_mutants), no mutant leaves its file as
+    it was."""
+    import run
+
+    for area in run.AREAS.values():
+        sources: dict[str, str] = {}
+        for m in run.all_mutants(area, sources):
+            assert m.apply(sources[m.path]) != sources[m.path], m.ident
+
+
 def test_a_mutant_applies_only_where_it_was_made():
     src = "a = b < c\n"
     m = mut.mutants_of("x.py", src, "py")[0]

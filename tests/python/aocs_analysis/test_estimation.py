@@ -177,6 +177,7 @@ def test_rms_per_axis_by_hand_and_of_no_sample():
     np.testing.assert_allclose(E.rms_per_axis(x, [True, True, False]), [math.sqrt(12.5), math.sqrt(2.0), 1.0])
     none = E.rms_per_axis(x, [False, False, False])
     assert none.shape == (3,) and np.all(np.isnan(none))
+    assert E.rms_per_axis(x, [False, True, False]).tolist() == [4.0, 2.0, 1.0]      # one row: |x_i|
 
 
 def test_three_sigma_fraction_by_hand_on_each_attitude_axis():
@@ -728,6 +729,25 @@ def test_the_clipped_note_only_when_a_sample_is_beyond_the_range_drawn(tmp_path,
     for ax in fig.axes:
         assert ax.get_ylim() == pytest.approx((-1.3, 1.3))
         assert any("clipped" in a.get_text() for a in ax.texts) is noted
+
+
+def test_the_bias_band_is_the_estimate_plus_and_minus_three_sigma(tmp_path, monkeypatch):
+    """gyro_bias.png: on each axis the shaded band runs from b_est - 3 sigma to b_est + 3 sigma (estimate 1, 2, 3
+    deg/h, sigma 0.1 deg/h: [0.7, 1.3], [1.7, 2.3], [2.7, 3.3])."""
+    t = np.arange(0.0, 10.0, 1.0)
+    n = t.size
+    series = {"t": t, "valid": np.ones(n, bool), "steady": t >= 5.0,
+              "bias_est_deg_h": np.tile([1.0, 2.0, 3.0], (n, 1)), "bias_true_deg_h": np.tile([1.0, 2.0, 3.0], (n, 1)),
+              "sigma_bias_deg_h": np.full((n, 3), 0.1)}
+    figs = []
+    real_save = estimation_plots.save
+    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    estimation_plots.bias_plot(series, tmp_path / "bias.png", "test")
+    (fig,) = figs
+    for i, ax in enumerate(fig.axes):
+        (band,) = [c for c in ax.collections if "3 sigma" in c.get_label()]
+        y = np.concatenate([p.vertices[:, 1] for p in band.get_paths()])
+        assert (y.min(), y.max()) == pytest.approx((i + 1 - 0.3, i + 1 + 0.3), rel=1e-12)
 
 
 def test_a_half_turn_keeps_the_axis_it_is_given():

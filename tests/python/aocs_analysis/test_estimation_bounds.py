@@ -50,6 +50,20 @@ def test_the_continuous_time_limit():
     assert f.bias_post ** 2 == pytest.approx(p22, rel=1e-3)
 
 
+def test_no_angle_random_walk_is_allowed_and_still_the_riccati_solution():
+    """sigma_v = 0 (a gyro with rate random walk only) is a filter too: the closed form is the Riccati
+    iteration's fixed point; a negative or non-finite figure, or no tracker noise, is refused."""
+    sn, su, dt = 3.0 / ARCSEC, 1e-9, 0.5
+    f, r = farrenkopf(sn, 0.0, su, dt), riccati(sn, 0.0, su, dt)
+    for name in ("attitude_pre", "attitude_post", "bias_pre", "bias_post"):
+        assert getattr(f, name) == pytest.approx(getattr(r, name), rel=1e-8), name
+    assert 0.0 < f.attitude_post < sn
+    for bad in ((0.0, 1e-6, su, dt), (sn, -1e-9, su, dt), (sn, 1e-6, -1e-12, dt), (sn, 1e-6, su, 0.0),
+                (sn, math.nan, su, dt)):
+        with pytest.raises(ValueError, match="need sigma_n > 0"):
+            farrenkopf(*bad)
+
+
 def test_no_rate_random_walk_is_the_one_state_filter():
     """sigma_u = 0: the bias is known in steady state, and the angle filter is scalar: the predicted variance
     p solves p^2 - q p - q R = 0 with q = sigma_v^2 dt (Farrenkopf's S_u = 0 case)."""

@@ -168,6 +168,24 @@ def test_a_recovery_is_judged_against_the_scenarios_recovery_figure_else_its_req
     assert F.entry(f, e, T, p, 0.3, 10.0)["recovered_s"] is None
 
 
+def test_the_events_of_a_log_once_each_in_seq_order_with_their_units():
+    """events(log): each seq once (a message heard twice is one event), in seq order, named from the registry;
+    a unit of 0 (the first wheel, the x axis) is a unit, only a negative one means none; non-finite figures
+    are None."""
+    import types
+
+    from aocs_analysis import events as E
+
+    tab = {"seq": np.array([2, 1, 2]), "id": np.array([3, 2, 3]), "unit": np.array([0, -1, 0]),
+           "t_s": np.array([60.5, 20.0, 60.5]), "severity": np.array([1, 1, 1]), "unit_kind": np.array([3, 2, 3]),
+           "value": np.array([0.4, np.nan, 0.4]), "threshold": np.array([0.2, 9.0, 0.2])}
+    evs = E.events(types.SimpleNamespace(fault_events=tab))
+    assert [(e["seq"], e["name"], e["unit"]) for e in evs] == [(1, "gyro_st_inconsistent", None),
+                                                              (2, "wheel_residual_high", 0)]
+    assert evs[0]["value"] is None and evs[1]["value"] == 0.4 and evs[1]["severity"] == "warning"
+    assert E.events(types.SimpleNamespace(fault_events=None)) == []
+
+
 def test_false_alarms_are_the_alarms_before_the_first_fault():
     from aocs_analysis import events as E
 

@@ -188,6 +188,22 @@ def test_only_sensor_frames_of_the_wire_contracts_version_await_an_answer():
     assert out["counters"]["longest_unanswered_run"] == 1
 
 
+def test_the_hinf_gain_is_measured_over_the_metric_window():
+    """metrics["hinf"] of an H-infinity run: ||d||_2 over the last window_s seconds only (a unit disturbance on x
+    from 0 to 5 s, a 1 s window: the central-difference samples at 4.0 .. 4.9 s, ||d||_2 = sqrt(10 dt)), with
+    the flown table and its designed gamma."""
+    from aocs_analysis.gain_tables import designed_gamma
+
+    sc = load("geo_hinf", {"metrics.window_s": 1.0})
+    log = make_log(51, cmd_ticks=[], sensor_ticks=[], status_steps=[])
+    log.truth["torque_dist"][:, 0] = 1.0
+    out = {"law": "hinf"}
+    results._hinf(out, log, sc, {"hinf.table": "hinf_regional"})
+    h = out["hinf"]
+    assert (h["table"], h["gamma"], h["window_s"]) == ("hinf_regional", designed_gamma("hinf_regional"), 1.0)
+    assert h["measured"]["d_l2"] == pytest.approx(math.sqrt(10 * sc.dt), rel=1e-12)
+
+
 def test_the_run_info_carries_what_the_plant_and_the_node_reported():
     """_run_info (the run JSON's log, lockstep, integration_error, udpm, fsw_node and wall_s parts): the
     plant's own figures pass through as it reported them (the verdict reads integration_error), the lockstep
@@ -437,6 +453,13 @@ def test_the_run_table_of_an_attitude_run_states_each_figure_with_its_unit():
     # a sub-second slew bound has its ratio too (12.34 s / 0.5 s)
     m["slew_bound_s"] = 0.5
     assert dict(results.table_rows(m))["slew bound (eigenaxis bang-bang)"] == "0.5 s (settle / bound 24.680)"
+    # the guidance line: the mode alone in step mode, the slew's profile, margin and planned end in slew mode
+    m["guidance"] = {"mode": "step", "profile": None, "margin": None, "profile_end_s": None}
+    assert dict(results.table_rows(m))["guidance"] == "step"
+    m["guidance"] = {"mode": "slew", "profile": "trapezoid", "margin": 0.9, "profile_end_s": 118.25}
+    assert dict(results.table_rows(m))["guidance"] == "slew, trapezoid, margin 0.9, profile end 118.2 s"
+    m["guidance"]["profile_end_s"] = None
+    assert dict(results.table_rows(m))["guidance"] == "slew, trapezoid, margin 0.9, profile end unknown"
     # the momentum section's lines are the table's too, after the wheels' and before the holds'
     m["momentum"] = {"max_nms": 9.0, "final_nms": 2.5, "capacity_nms": [48.0] * 4, "policy": "thrusters",
                      "unloading": {"events": 2, "time_s": 120.0}}

@@ -29,6 +29,16 @@ def test_torque_is_the_sinusoid_per_axis():
     assert p.truth()["effectors"]["sinusoidal_torque.torque_nm"] == pytest.approx((1e-3 * math.sin(0.3), 0.0, 0.0))
 
 
+def test_the_disturbance_is_the_sum_with_the_constant_torque_per_axis():
+    """plant.disturbance() (what the log's truth records as torque_dist) with a constant torque (1, 2, 3) mN m
+    as well: the sum axis by axis, the constant part first and the sinusoid added to it."""
+    p = Plant(_scenario(**{"disturbances.constant_torque.enabled": True,
+                           "disturbances.constant_torque.torque_nm": [1e-3, 2e-3, 3e-3],
+                           "disturbances.constant_torque.scale": 1.0}))
+    want = (1e-3 + 1e-3 * math.sin(0.3), 2e-3, 3e-3)
+    assert p.disturbance() == pytest.approx(want, rel=1e-15)
+
+
 def test_the_body_integrates_the_sinusoid_to_rk4_accuracy():
     """From rest with a tiny torque the body barely turns, so w(t) = J^-1 int u dt:
     int a sin(w t + p) dt = a (cos p - cos(w t + p)) / w, closed form here."""
