@@ -108,3 +108,36 @@ def test_the_wheel_speed_plot_draws_both_speed_limits(tmp_path, monkeypatch):
     assert labels[:3] == ["wheel 0", "wheel 1 (failed)", "wheel 2"]
     assert [ln.get_label() for ln in figs["momentum.png"].axes[0].lines] == [
         "|H| total, J w + sum Js g Omega", "|sum Js g Omega| (wheels)"]
+
+
+def _visible(line) -> bool:
+    """A Line2D that shows on the figure: a stroke of some width, or markers."""
+    stroke = line.get_linewidth() > 0.0 and line.get_linestyle() not in ("None", "", " ")
+    return stroke or line.get_marker() not in (None, "", " ", "None")
+
+
+def test_every_line_of_every_run_plot_is_visible(tmp_path, monkeypatch):
+    """A line of width 0 (or without a style and markers) is in the legend and nowhere else: every line of the
+    attitude, orbit and wheel plots shows."""
+    figs = {}
+    real_save = plots.save
+    monkeypatch.setattr(plots, "save", lambda fig, path: (figs.__setitem__(path.name, fig), real_save(fig, path))[1])
+    plots.run_plots(_attitude_series(), tmp_path / "a", "test", 0.3, 0.05, settle={"pointing_arcsec_max": 10.0},
+                    settle_time_s=12.3)
+    n = 50
+    t = np.arange(n) * 0.1
+    orbit = {"kind": "orbit", "t": t, "pos": np.ones((n, 3)), "vel": np.ones((n, 3)), "t_cmd": t[:-1],
+             "u_sat": np.full((n - 1, 3), 0.5), "u_unsat": np.ones((n - 1, 3)), "mode": np.ones(n - 1, int),
+             "step_ns": np.full(n - 1, 900.0), "budget_ns": np.full(n - 1, 2000.0), "axis_limit": 0.5,
+             "norm_limit": 1.0}
+    plots.run_plots(orbit, tmp_path / "o", "test", settle={"pos_abs_max_m": 0.1, "vel_abs_max_m_s": 0.01},
+                    settle_time_s=2.0)
+    plots.wheel_plots({"n": 2, "failed": (), "t": t, "speed": np.ones((n, 2)), "speed_limit": [600.0, 600.0],
+                       "H_norm": 1.0 + 0 * t, "h_wheels_norm": 0.5 + 0 * t}, tmp_path, "test")
+    assert {"attitude_error.png", "rates.png", "torques.png", "step_time.png", "position_error.png",
+            "velocity_error.png", "wheel_speeds.png", "momentum.png"} <= set(figs)
+    for name, fig in figs.items():
+        for ax in fig.axes:
+            assert ax.lines, name
+            for ln in ax.lines:
+                assert _visible(ln), (name, ln.get_label())
