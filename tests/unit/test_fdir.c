@@ -987,6 +987,32 @@ static void test_gyro_bias_bound_grows_with_the_rate_random_walk(void **state)
     }
 }
 
+/* A reference gone stale by the random walk alone is renewed (spec 5.15.4): with the filter's variance steady at
+ * sigma^2, the reference's sigma^2 plus the walk since, sigma_u^2 dt, passes 2 sigma^2 once dt > sigma^2 /
+ * sigma_u^2 (4225 s here); the first sample after 1.2 times that takes the estimate of the moment as the new
+ * reference, so an estimate 9.5 sigma off the old one (90 sigma^2, over 25 x 3.2 sigma^2 against the old
+ * reference) raises nothing, now or on the samples after it. */
+static void test_a_reference_the_walk_made_stale_is_renewed(void **state)
+{
+    (void)state;
+    const double p[3] = {BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA, BIAS_SIGMA * BIAS_SIGMA};
+    const aocs_vec3_t b0 = aocs_vec3_make(AOCS_R(4.8e-7), AOCS_R(-4.8e-7), AOCS_R(2.4e-7));
+    const aocs_vec3_t b1 = aocs_vec3_make(b0.v[0], b0.v[1] + (real_t)(9.5 * BIAS_SIGMA), b0.v[2]);
+    const uint64_t later = (uint64_t)(1.2 * BIAS_SIGMA * BIAS_SIGMA / (1.0e-9 * 1.0e-9) / 0.1) + 1u; /* periods */
+    aocs_fdir_t f;
+    aocs_fdir_config_t c;
+    aocs_fdir_config_default(&c);
+    assert_true((double)c.gyro_bias_chi2 * 3.2 < 9.5 * 9.5); /* against the old reference it would be over */
+    assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
+    bias_feed_rrw(&f, 1u, b0, p, 0u, AOCS_OK, 1.0e-9);
+    assert_int_equal(f.gyro.t_ref_ns, PERIOD_NS);
+    for (uint64_t k = later; k < (later + 2u * c.gyro_bias_persist); ++k) {
+        bias_feed_rrw(&f, k, b1, p, 0u, AOCS_OK, 1.0e-9);
+        assert_int_equal(f.gyro.t_ref_ns, later * PERIOD_NS); /* renewed at the first late sample */
+    }
+    assert_int_equal(count_id(&f.log, AOCS_EVT_GYRO_ST_INCONSISTENT, -1, NULL), 0u);
+}
+
 /* The bias-jump test is strict (spec 5.15.4: z = d^2 / var above fdir.gyro_bias_chi2): a change exactly at
  * the bound is not over. Everything here is a power of two, so that d^2 and chi2 var are the same number in
  * double and in float: the filter's and the reference's bias variances 2^-40 (rad/s)^2 per axis, var = 2^-39;
@@ -1917,6 +1943,7 @@ int main(void)
         cmocka_unit_test(test_gyro_bias_jump_is_detected_when_the_estimate_leaves_its_bound),
         cmocka_unit_test(test_gyro_bias_bound_grows_with_the_rate_random_walk),
         cmocka_unit_test(test_a_gyro_bias_change_exactly_at_the_bound_is_not_over),
+        cmocka_unit_test(test_a_reference_the_walk_made_stale_is_renewed),
         cmocka_unit_test(test_gyro_bias_monitor_tests_only_applied_samples_of_a_filter),
         cmocka_unit_test(test_stuck_gyro_axis_excludes_the_gyro_and_latches_safe),
         cmocka_unit_test(test_gyro_stuck_goes_gyroless),

@@ -665,6 +665,18 @@ def test_a_mean_at_either_edge_of_the_band_is_inside():
     assert E.nees_ensemble_test(np.full((2, 5), np.nextafter(lo, 0.0)), 3)["in_band_fraction"] == 0.0
 
 
+def test_the_fewest_samples_that_make_a_window():
+    """Windows of M = 10 samples spaced s = 2 samples apart: 19 tested samples (indices 0, 2, .., 18) hold one
+    window, on the first phase; 20 one on each phase; 18 none, and the test says so."""
+    t = np.arange(20) * 0.1
+    eps = np.full(t.size, 3.0)
+    for n, windows in ((20, 2), (19, 1)):
+        w = E.nees_window_test(t[:n], eps[:n], 3, samples_per_window=10, spacing_s=0.2)
+        assert (w.spacing_samples, w.windows, w.in_band_fraction) == (2, windows, 1.0), n
+    short = E.nees_window_test(t[:18], eps[:18], 3, samples_per_window=10, spacing_s=0.2)
+    assert short.windows == 0 and short.in_band_fraction is None and "fewer than 10 samples" in short.reason
+
+
 def test_the_ensemble_test_takes_runs_by_instants_only():
     """eps_runs is (runs, n): one run given as a flat series, no run at all, or a third axis is refused."""
     for bad in (np.ones(5), np.zeros((0, 5)), np.ones((2, 5, 3))):
@@ -729,6 +741,25 @@ def test_the_clipped_note_only_when_a_sample_is_beyond_the_range_drawn(tmp_path,
     for ax in fig.axes:
         assert ax.get_ylim() == pytest.approx((-1.3, 1.3))
         assert any("clipped" in a.get_text() for a in ax.texts) is noted
+
+
+def test_the_knowledge_band_is_plus_and_minus_three_sigma(tmp_path, monkeypatch):
+    """knowledge_error.png: on each axis the filter's band runs from -3 sigma to +3 sigma about zero (sigma 0.1,
+    0.2, 0.3 arcsec)."""
+    t = np.arange(0.0, 10.0, 1.0)
+    n = t.size
+    series = {"t": t, "steady": t >= 5.0, "valid": np.ones(n, bool), "knowledge_arcsec": np.zeros((n, 3)),
+              "sigma_arcsec": np.tile([0.1, 0.2, 0.3], (n, 1)), "bound_post_arcsec": None,
+              "convergence_time_s": None}
+    figs = []
+    real_save = estimation_plots.save
+    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    estimation_plots.knowledge_error_plot(series, tmp_path / "ke.png", "test")
+    (fig,) = figs
+    for i, ax in enumerate(fig.axes):
+        (band,) = [c for c in ax.collections if "3 sigma" in c.get_label()]
+        y = np.concatenate([p.vertices[:, 1] for p in band.get_paths()])
+        assert (y.min(), y.max()) == pytest.approx((-0.3 * (i + 1), 0.3 * (i + 1)), rel=1e-12)
 
 
 def test_the_bias_band_is_the_estimate_plus_and_minus_three_sigma(tmp_path, monkeypatch):

@@ -184,6 +184,8 @@ def test_the_events_of_a_log_once_each_in_seq_order_with_their_units():
                                                               (2, "wheel_residual_high", 0)]
     assert evs[0]["value"] is None and evs[1]["value"] == 0.4 and evs[1]["severity"] == "warning"
     assert E.events(types.SimpleNamespace(fault_events=None)) == []
+    one = {k: v[1:2] for k, v in tab.items()}                           # a log with a single event has it
+    assert [e["name"] for e in E.events(types.SimpleNamespace(fault_events=one))] == ["gyro_st_inconsistent"]
 
 
 def test_false_alarms_are_the_alarms_before_the_first_fault():

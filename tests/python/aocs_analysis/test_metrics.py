@@ -21,6 +21,9 @@ def test_true_angle_and_reference_figure_of_a_known_rotation():
     # the IRASSI report's |qe_i| is half the angle
     assert err["qe_arcsec"][0, 0] == pytest.approx(5.0, rel=1e-6)
     assert err["qe_arcsec"][0, 1] == 0.0
+    # one attitude given alone (4,) is measured the same, as a scalar angle and 3-vectors
+    one = metrics.pointing_errors_arcsec(q[0], np.array([0, 0, 0, 1.0]))
+    assert one["true_angle"] == pytest.approx(10.0, rel=1e-9) and one["per_axis"].shape == (3,)
 
 
 def test_error_quaternion_is_relative_to_the_target_and_sign_invariant():
@@ -68,6 +71,8 @@ def test_effort_integrates_the_held_command_one_norm():
 def test_window_and_timing_summary():
     t = np.linspace(0, 500, 5001)
     assert np.count_nonzero(metrics.window_mask(t, 100.0)) == 1001
+    assert metrics.window_mask(np.zeros(0), 100.0).shape == (0,)          # no sample: an empty mask
+    assert metrics.window_mask(np.array([7.0]), 100.0).tolist() == [True]
     summary = metrics.timing_summary(np.arange(1, 101), 50.0, np.arange(1, 101) > 50)
     assert summary.step_ns_median == 50.5
     assert summary.step_ns_max == 100

@@ -188,6 +188,21 @@ def test_only_sensor_frames_of_the_wire_contracts_version_await_an_answer():
     assert out["counters"]["longest_unanswered_run"] == 1
 
 
+def test_an_orbit_runs_position_error_initial_and_over_the_window():
+    """position_error_m of an orbit run: the initial figure is the first sample's largest |component|, the
+    final ones the window's (landsat8_q1, its window set to the last 0.25 s of five samples at 0.1 s: the
+    samples at 0.2, 0.3 and 0.4 s)."""
+    sc = load("landsat8_q1", {"metrics.window_s": 0.25})
+    log = make_log(5, cmd_ticks=[], sensor_ticks=[], status_steps=[])
+    log.truth["pos"][:] = [[1.0, -3.0, 2.0], [0.5, 0.0, 0.0], [0.2, 0.1, 0.0], [0.0, -0.05, 0.01], [0.02, 0.0, 0.0]]
+    log.truth["vel"][:] = [[0.1, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, -0.004], [0.0, 0.002, 0.0]]
+    out, series = {}, {}
+    results._accuracy(out, series, log, sc)
+    pe = out["position_error_m"]
+    assert (pe["initial"], pe["final_max"], pe["velocity_final_max_m_s"]) == (3.0, 0.2, 0.004)
+    assert pe["per_axis_final_max"] == [0.2, 0.1, 0.01]
+
+
 def test_the_hinf_gain_is_measured_over_the_metric_window():
     """metrics["hinf"] of an H-infinity run: ||d||_2 over the last window_s seconds only (a unit disturbance on x
     from 0 to 5 s, a 1 s window: the central-difference samples at 4.0 .. 4.9 s, ||d||_2 = sqrt(10 dt)), with
