@@ -152,9 +152,9 @@ def py_tokens(source: str) -> list[Tok]:
 
 def _simple_operand_end(toks: list[Tok], j: int, lang: str) -> int | None:
     """Index past a simple operand starting at toks[j] that is a whole term (not followed by * / % ( **), or None."""
+    # the operand starts on the operator's line: a string operand is no token, so the next one may be the next line's
     if j >= len(toks) or toks[j].kind not in ("name", "num") or toks[j].line != toks[j - 1].line:
-        return None   # (the operand starts on the operator's line: a string operand is no token, and the next
-        #              token may be the next line's first)
+        return None
     if toks[j].kind == "name" and toks[j].text in ("and", "or", "not", "if", "else", "in", "is", "lambda", "for"):
         return None
     k = j + 1

@@ -532,6 +532,12 @@ static void st_feed(aocs_fdir_t *f, uint64_t k, real_t d2, aocs_status_t st_stat
 }
 
 /* one tested tracker sample whose whitened innovation is z (d^2 = |z|^2), applied unless excluded */
+/* The i-th of an alternating sequence +z, -z, +z, ...: white (a window of an even count sums to zero). */
+static aocs_vec3_t alternating(aocs_vec3_t z, int i)
+{
+    return ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0));
+}
+
 static void st_feed_white(aocs_fdir_t *f, uint64_t k, aocs_vec3_t z)
 {
     aocs_fdir_input_t in = base_input(k, 1, AOCS_EXEC_MODE_NOMINAL);
@@ -642,12 +648,12 @@ static void test_a_non_finite_innovation_restarts_the_noise_window(void **state)
     assert_int_equal(c.st_restore, 20u);
     assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
     for (int i = 0; i < 14; ++i) {
-        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+        st_feed_white(&f, ++k, alternating(z, i));
         assert_int_equal(f.st.excluded, (i >= 4) ? 1 : 0);
     }
     st_feed_white(&f, ++k, aocs_vec3_make((real_t)NAN, (real_t)NAN, (real_t)NAN));
     for (int i = 0; i < 19; ++i) {
-        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+        st_feed_white(&f, ++k, alternating(z, i));
     }
     /* 19 samples of the new window: nothing yet */
     assert_int_equal(f.st.excluded, 1);
@@ -693,14 +699,14 @@ static void test_a_small_innovation_rescales_the_tracker_noise_back_to_1_not_bel
     assert_true((double)c.st_noise_scale_max >= m);
     assert_int_equal(aocs_fdir_init(&f, &c), AOCS_OK);
     for (int i = 0; i < 24; ++i) {
-        st_feed_white(&f, ++k, ((i % 2) == 0) ? z : aocs_vec3_scale(z, AOCS_R(-1.0)));
+        st_feed_white(&f, ++k, alternating(z, i));
         assert_int_equal(f.st.excluded, ((i >= 4) && (i < 23)) ? 1 : 0);
     }
     assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 1u);
     assert_close(f.st.noise_scale, m, 1.0e-6); /* relative */
     /* the small innovations: 19 samples, the window still open */
     for (int i = 0; i < 19; ++i) {
-        st_feed_white(&f, ++k, ((i % 2) == 0) ? zs : aocs_vec3_scale(zs, AOCS_R(-1.0)));
+        st_feed_white(&f, ++k, alternating(zs, i));
         assert_int_equal(f.st.excluded, 0);
     }
     assert_int_equal(count_id(&f.log, AOCS_EVT_ST_NOISE_RESCALED, -1, NULL), 1u);
@@ -720,7 +726,7 @@ static void test_a_small_innovation_rescales_the_tracker_noise_back_to_1_not_bel
     assert_close(e.threshold, sqrt((double)c.st_noise_scale_max), 1.0e-6);
     /* at 1 it is not watched: 40 more small samples change nothing */
     for (int i = 0; i < 40; ++i) {
-        st_feed_white(&f, ++k, ((i % 2) == 0) ? zs : aocs_vec3_scale(zs, AOCS_R(-1.0)));
+        st_feed_white(&f, ++k, alternating(zs, i));
     }
     assert_close(f.st.noise_scale, 1.0, 0.0);
     assert_int_equal(aocs_evlog_count(&f.log), 5u);
