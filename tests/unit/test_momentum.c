@@ -328,6 +328,81 @@ static void test_mtq_dh_along_field(void **state)
     assert_true(d_norm(mB) <= (1e-3 * (double)c.k_mtq_per_s * 1e6));
 }
 
+/* A magnetorquer stage of gain 0.005 1/s with identity rods of 100 A m^2 (continuous trigger, zero target). */
+static void mtq_stage(aocs_mom_t *m)
+{
+    aocs_mom_config_t c;
+    base_config(&c, AOCS_MOM_MAGNETORQUERS);
+    c.k_mtq_per_s = AOCS_R(0.005);
+    c.h_target_B_Nms = aocs_vec3_zero();
+    c.mtq_max_dipole_Am2 = aocs_vec3_make(AOCS_R(100.0), AOCS_R(100.0), AOCS_R(100.0));
+    c.mtq_axes = aocs_mat3_identity();
+    assert_int_equal(aocs_mom_init(m, &c), AOCS_OK);
+}
+
+/* The field the law divides by: [B_MIN, B_MAX] in every component's magnitude, else no dipole (the fuzz
+ * finding 58377915: a field of 1e80 T made the dipole subnormal, of no direction). */
+static void test_mtq_field_range(void **state)
+{
+    (void)state;
+    aocs_mom_t m;
+    mtq_stage(&m);
+    const aocs_vec3_t h = aocs_vec3_make(AOCS_R(0.5), AOCS_R(0.0), AOCS_R(0.0));
+    aocs_mom_input_t in = input(h, aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_MOM_B_MAX_T), 0.1);
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK); /* at the limit: used */
+    assert_true(m.out.dipole_Am2.v[1] < AOCS_R(0.0)); /* k (dh x B) / |B|^2 along -y */
+    const double beyond[3] = {(double)AOCS_MOM_B_MAX_T * 1.001, 1e80, -0.5};
+    for (int i = 0; i < 3; ++i) {
+        in.b_B_T = aocs_vec3_make(AOCS_R(1e-5), AOCS_R(beyond[i]), AOCS_R(0.0));
+        assert_int_equal(aocs_mom_step(&m, &in), AOCS_ERR_INPUT_MISSING);
+        assert_vec3_close(m.out.dipole_Am2, aocs_vec3_zero(), 0.0);
+        assert_vec3_close(m.out.u_unload_B_Nm, aocs_vec3_zero(), 0.0);
+    }
+    /* below B_MIN: noise only */
+    in.b_B_T = aocs_vec3_make(AOCS_R(5e-13), AOCS_R(5e-13), AOCS_R(0.0));
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_ERR_INPUT_MISSING);
+    in.b_B_T = aocs_vec3_make(AOCS_R(1e-12), AOCS_R(1e-12), AOCS_R(0.0));
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    assert_true(aocs_vec3_norm_inf(m.out.dipole_Am2) > AOCS_R(0.0));
+}
+
+/* A dipole below AOCS_MOM_DIPOLE_MIN_AM2 is commanded as zero (still unloading, status OK), and one above it
+ * is perpendicular to B: k |dh| / |B| = 0.005 * 1e-16 / 3e-5 = 1.7e-14 A m^2, then 1.7e-10. */
+static void test_mtq_tiny_dipole_is_zero(void **state)
+{
+    (void)state;
+    aocs_mom_t m;
+    mtq_stage(&m);
+    const aocs_vec3_t b = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(3e-5));
+    aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(1e-16), AOCS_R(0.0), AOCS_R(0.0)), b, 0.1);
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    assert_int_equal(m.out.unloading, 1);
+    assert_vec3_close(m.out.dipole_Am2, aocs_vec3_zero(), 0.0);
+    assert_vec3_close(m.out.u_unload_B_Nm, aocs_vec3_zero(), 0.0);
+    in.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(1e-12), AOCS_R(0.0), AOCS_R(0.0));
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    /* m = k (dh x B) / |B|^2 = (0, -k 1e-12 / 3e-5, 0) */
+    assert_close((double)m.out.dipole_Am2.v[1], -0.005 * 1e-12 / 3e-5, TOL_LOOSE * 0.005 * 1e-12 / 3e-5);
+    assert_true((fabs((double)m.out.dipole_Am2.v[0]) <= 0.0) && (fabs((double)m.out.dipole_Am2.v[2]) <= 0.0));
+}
+
+/* dh within AOCS_MOM_PARALLEL_SIN of the field: nothing to unload, zero dipole; at ten times that angle the
+ * torque is -k dh_perp (dh = (s, 0, 1) N m s, B along z: dh_perp = (s, 0, 0)). */
+static void test_mtq_parallel_deadband(void **state)
+{
+    (void)state;
+    aocs_mom_t m;
+    mtq_stage(&m);
+    const aocs_vec3_t b = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(3e-5));
+    aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(0.5e-6), AOCS_R(0.0), AOCS_R(1.0)), b, 0.1);
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    assert_vec3_close(m.out.dipole_Am2, aocs_vec3_zero(), 0.0);
+    in.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(1e-5), AOCS_R(0.0), AOCS_R(1.0));
+    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
+    assert_close((double)m.out.u_unload_B_Nm.v[0], -0.005 * 1e-5, TOL_LOOSE * 0.005 * 1e-5);
+    assert_true((fabs((double)m.out.u_unload_B_Nm.v[1]) <= 0.0) && (fabs((double)m.out.u_unload_B_Nm.v[2]) <= 0.0));
+}
+
 /* ---- thrusters ---- */
 
 #define N_THR 12
@@ -950,6 +1025,9 @@ int main(void)
         cmocka_unit_test(test_hysteresis),
         cmocka_unit_test(test_mtq_cross_product_law),
         cmocka_unit_test(test_mtq_dh_along_field),
+        cmocka_unit_test(test_mtq_field_range),
+        cmocka_unit_test(test_mtq_tiny_dipole_is_zero),
+        cmocka_unit_test(test_mtq_parallel_deadband),
         cmocka_unit_test(test_thr_pwm),
         cmocka_unit_test(test_thr_exclude_reallocates_over_the_rest),
         cmocka_unit_test(test_thr_exclude_moves_the_duty_to_a_twin),

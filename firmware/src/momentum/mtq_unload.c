@@ -43,23 +43,43 @@ aocs_status_t aocs_mom_mtq_init(aocs_mom_t *m)
     return st;
 }
 
+/* The field's normal-plane direction of dh x b, scaled so that no intermediate is subnormal: u = (dh /
+ * |dh|_inf) x b has components of order sin(dh, B) and is projected onto B's normal plane, u - (u . b) b (with
+ * dh nearly along B the cross product is rounding only, in no particular direction). Zero when dh and B are
+ * parallel within AOCS_MOM_PARALLEL_SIN. *scale_out = |dh|_inf. */
+static aocs_vec3_t mtq_normal_direction(aocs_vec3_t dh, aocs_vec3_t b_unit, real_t *scale_out)
+{
+    aocs_vec3_t u = aocs_vec3_zero();
+    const real_t dh_max = aocs_vec3_norm_inf(dh);
+    *scale_out = dh_max;
+    if (dh_max > AOCS_R(0.0)) {
+        const aocs_vec3_t cross = aocs_vec3_cross(aocs_vec3_scale(dh, AOCS_R(1.0) / dh_max), b_unit);
+        u = aocs_vec3_sub(cross, aocs_vec3_scale(b_unit, aocs_vec3_dot(cross, b_unit)));
+        if (aocs_vec3_norm_inf(u) < AOCS_MOM_PARALLEL_SIN) {
+            u = aocs_vec3_zero();
+        }
+    }
+    return u;
+}
+
 aocs_status_t aocs_mom_mtq_step(aocs_mom_t *m, const aocs_mom_input_t *in)
 {
     aocs_status_t st = AOCS_OK;
     aocs_mom_output_t *out = &m->out;
-    const real_t b2 = aocs_vec3_norm_sq(in->b_B_T);
-    if ((in->b_valid == 0) || (aocs_vec3_is_finite(in->b_B_T) == 0) || !(b2 > (AOCS_MOM_B_MIN_T * AOCS_MOM_B_MIN_T)) ||
-        !AOCS_IS_FINITE(b2)) {
+    /* a field within [B_MIN, B_MAX]: its norm neither underflows nor overflows in either precision */
+    real_t b_norm = AOCS_R(0.0);
+    if ((in->b_valid != 0) && (aocs_vec3_is_finite(in->b_B_T) != 0) &&
+        (aocs_vec3_norm_inf(in->b_B_T) <= AOCS_MOM_B_MAX_T)) {
+        b_norm = aocs_vec3_norm(in->b_B_T);
+    }
+    if (!(b_norm > AOCS_MOM_B_MIN_T)) {
         st = AOCS_ERR_INPUT_MISSING; /* no usable field: no dipole */
     } else {
-        /* dh x B / |B|^2 computed as (dh x b) / |B| with b the unit field: no overflow of |B|^2 */
-        const real_t b_norm = AOCS_SQRT(b2);
-        const aocs_vec3_t b_unit = aocs_vec3_scale(in->b_B_T, AOCS_R(1.0) / b_norm);
-        const aocs_vec3_t m_cross =
-            aocs_vec3_scale(aocs_vec3_cross(out->dh_B_Nms, b_unit), m->cfg.k_mtq_per_s / b_norm);
-        /* projected onto the field's normal plane, m_B = m - (m . b) b: with dh nearly along B the cross
-         * product is all rounding (of order eps |dh|), in no particular direction */
-        const aocs_vec3_t m_B = aocs_vec3_sub(m_cross, aocs_vec3_scale(b_unit, aocs_vec3_dot(m_cross, b_unit)));
+        /* m_B = k (dh x B) / |B|^2 = (k / |B|) |dh|_inf u, u of mtq_normal_direction */
+        real_t dh_max = AOCS_R(0.0);
+        const aocs_vec3_t u =
+            mtq_normal_direction(out->dh_B_Nms, aocs_vec3_scale(in->b_B_T, AOCS_R(1.0) / b_norm), &dh_max);
+        const aocs_vec3_t m_B = aocs_vec3_scale(u, (m->cfg.k_mtq_per_s / b_norm) * dh_max);
         aocs_vec3_t m_rod = aocs_mat3_mul_vec(m->mtq_inv, m_B);
         real_t scale = AOCS_R(1.0);
         for (uint32_t i = 0u; i < 3u; ++i) {
@@ -69,6 +89,9 @@ aocs_status_t aocs_mom_mtq_step(aocs_mom_t *m, const aocs_mom_input_t *in)
             }
         }
         m_rod = aocs_vec3_scale(m_rod, scale);
+        if (aocs_vec3_norm_inf(m_rod) < AOCS_MOM_DIPOLE_MIN_AM2) {
+            m_rod = aocs_vec3_zero(); /* below any rod's resolution */
+        }
         if (aocs_vec3_is_finite(m_rod) == 0) {
             st = AOCS_ERR_INPUT_NOT_FINITE;
         } else {

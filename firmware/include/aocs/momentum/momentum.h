@@ -43,6 +43,16 @@ typedef enum {
 /* Smallest field magnitude the magnetorquer law divides by, T (the geomagnetic field is >= 2e-5 T in LEO
  * and ~1e-8 T at L2; below 1e-12 T a magnetometer reads noise only). */
 #define AOCS_MOM_B_MIN_T AOCS_R(1.0e-12)
+/* Largest field magnitude taken as a geomagnetic field, T: 1 mT, fifteen times the strongest field at the
+ * Earth's surface (~6.7e-5 T); a magnetometer reading beyond it is no field to unload in. */
+#define AOCS_MOM_B_MAX_T AOCS_R(1.0e-3)
+/* Smallest sine of the angle between the momentum error and the field the magnetorquer law acts on: below
+ * it the part of dh perpendicular to B is under a millionth of |dh| (nothing to unload) and the cross
+ * product's direction is rounding (float's eps is 6e-8). */
+#define AOCS_MOM_PARALLEL_SIN AOCS_R(1.0e-6)
+/* Smallest rod dipole commanded, A m^2: below any rod's resolution (a 1 A m^2 rod on a 16-bit driver steps
+ * by 3e-5 A m^2); a smaller dipole is commanded as zero, never as a subnormal number of no direction. */
+#define AOCS_MOM_DIPOLE_MIN_AM2 AOCS_R(1.0e-12)
 
 /* The trigger (mom.trigger): the values of aocs_mom_config_t.trigger. */
 #define AOCS_MOM_TRIGGER_THRESHOLD 0u  /* hysteresis: start above h_start, stop below h_stop */
