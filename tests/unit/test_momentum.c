@@ -366,41 +366,46 @@ static void test_mtq_field_range(void **state)
     assert_true(aocs_vec3_norm_inf(m.out.dipole_Am2) > AOCS_R(0.0));
 }
 
-/* A dipole below AOCS_MOM_DIPOLE_MIN_AM2 is commanded as zero (still unloading, status OK), and one above it
- * is perpendicular to B: k |dh| / |B| = 0.005 * 1e-16 / 3e-5 = 1.7e-14 A m^2, then 1.7e-10. */
-static void test_mtq_tiny_dipole_is_zero(void **state)
+/* mtq_stage in a field of 3e-5 T along z: h_zero gives no dipole and no torque (status OK, still unloading);
+ * then h_axis gives a vector (the dipole, or with torque != 0 the torque fed forward) of `expected` along
+ * `axis` and exactly zero along the other two. */
+static void mtq_zero_then_axis(aocs_vec3_t h_zero, aocs_vec3_t h_axis, int torque, int axis, double expected)
 {
-    (void)state;
     aocs_mom_t m;
     mtq_stage(&m);
-    const aocs_vec3_t b = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(3e-5));
-    aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(1e-16), AOCS_R(0.0), AOCS_R(0.0)), b, 0.1);
+    aocs_mom_input_t in = input(h_zero, aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(3e-5)), 0.1);
     assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
     assert_int_equal(m.out.unloading, 1);
     assert_vec3_close(m.out.dipole_Am2, aocs_vec3_zero(), 0.0);
     assert_vec3_close(m.out.u_unload_B_Nm, aocs_vec3_zero(), 0.0);
-    in.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(1e-12), AOCS_R(0.0), AOCS_R(0.0));
+    in.h_wheels_B_Nms = h_axis;
     assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
-    /* m = k (dh x B) / |B|^2 = (0, -k 1e-12 / 3e-5, 0) */
-    assert_close((double)m.out.dipole_Am2.v[1], -0.005 * 1e-12 / 3e-5, TOL_LOOSE * 0.005 * 1e-12 / 3e-5);
-    assert_true((fabs((double)m.out.dipole_Am2.v[0]) <= 0.0) && (fabs((double)m.out.dipole_Am2.v[2]) <= 0.0));
+    const aocs_vec3_t v = (torque != 0) ? m.out.u_unload_B_Nm : m.out.dipole_Am2;
+    for (int i = 0; i < 3; ++i) {
+        if (i == axis) {
+            assert_close((double)v.v[i], expected, TOL_LOOSE * fabs(expected));
+        } else {
+            assert_true(fabs((double)v.v[i]) <= 0.0);
+        }
+    }
 }
 
-/* dh within AOCS_MOM_PARALLEL_SIN of the field: nothing to unload, zero dipole; at ten times that angle the
- * torque is -k dh_perp (dh = (s, 0, 1) N m s, B along z: dh_perp = (s, 0, 0)). */
+/* A dipole below AOCS_MOM_DIPOLE_MIN_AM2 is commanded as zero: k |dh| / |B| = 0.005 * 1e-16 / 3e-5 =
+ * 1.7e-14 A m^2; at dh = 1e-12 N m s the dipole is m = k (dh x B) / |B|^2 = (0, -k 1e-12 / 3e-5, 0). */
+static void test_mtq_tiny_dipole_is_zero(void **state)
+{
+    (void)state;
+    mtq_zero_then_axis(aocs_vec3_make(AOCS_R(1e-16), AOCS_R(0.0), AOCS_R(0.0)),
+                       aocs_vec3_make(AOCS_R(1e-12), AOCS_R(0.0), AOCS_R(0.0)), 0, 1, -0.005 * 1e-12 / 3e-5);
+}
+
+/* dh within AOCS_MOM_PARALLEL_SIN of the field (s = 0.5e-6 in dh = (s, 0, 1) N m s, B along z): nothing to
+ * unload, zero dipole; at s = 1e-5 the torque is -k dh_perp = (-k s, 0, 0). */
 static void test_mtq_parallel_deadband(void **state)
 {
     (void)state;
-    aocs_mom_t m;
-    mtq_stage(&m);
-    const aocs_vec3_t b = aocs_vec3_make(AOCS_R(0.0), AOCS_R(0.0), AOCS_R(3e-5));
-    aocs_mom_input_t in = input(aocs_vec3_make(AOCS_R(0.5e-6), AOCS_R(0.0), AOCS_R(1.0)), b, 0.1);
-    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
-    assert_vec3_close(m.out.dipole_Am2, aocs_vec3_zero(), 0.0);
-    in.h_wheels_B_Nms = aocs_vec3_make(AOCS_R(1e-5), AOCS_R(0.0), AOCS_R(1.0));
-    assert_int_equal(aocs_mom_step(&m, &in), AOCS_OK);
-    assert_close((double)m.out.u_unload_B_Nm.v[0], -0.005 * 1e-5, TOL_LOOSE * 0.005 * 1e-5);
-    assert_true((fabs((double)m.out.u_unload_B_Nm.v[1]) <= 0.0) && (fabs((double)m.out.u_unload_B_Nm.v[2]) <= 0.0));
+    mtq_zero_then_axis(aocs_vec3_make(AOCS_R(0.5e-6), AOCS_R(0.0), AOCS_R(1.0)),
+                       aocs_vec3_make(AOCS_R(1e-5), AOCS_R(0.0), AOCS_R(1.0)), 1, 0, -0.005 * 1e-5);
 }
 
 /* ---- thrusters ---- */
