@@ -301,6 +301,20 @@ static void test_time_rule_rows(void **state)
     assert_int_equal(aocs_accept_realtime_continues(&acc, T_NS, 900u * T_NS, 1u), 1);
 }
 
+/* A stage given a time rule out of the rows (aocs_exec_init never does: it checks the clock first) trusts no
+ * sample's time: every sample is stale, none becomes the reference. */
+static void test_a_time_rule_out_of_the_rows_accepts_no_sample(void **state)
+{
+    (void)state;
+    aocs_accept_t acc;
+    uint32_t missing = 0u;
+    aocs_accept_init(&acc, AOCS_EXEC_CLOCK_COUNT, T_NS, 2u * T_NS, 3u, PT_NEEDS);
+    for (uint32_t k = 1u; k <= 5u; ++k) {
+        assert_int_equal(feed(&acc, k, (uint64_t)k * T_NS, &missing), AOCS_ERR_INPUT_STALE);
+    }
+    assert_int_equal(acc.have_sample, 0);
+}
+
 static void test_null_arguments(void **state)
 {
     (void)state;
@@ -330,6 +344,7 @@ int main(void)
         cmocka_unit_test(test_validity_for_each_kind_of_law),
         cmocka_unit_test(test_needs_of_each_estimator),
         cmocka_unit_test(test_stage_applies_its_needs),
+        cmocka_unit_test(test_a_time_rule_out_of_the_rows_accepts_no_sample),
         cmocka_unit_test(test_null_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

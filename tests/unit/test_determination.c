@@ -479,6 +479,39 @@ static void test_null_arguments(void **state)
     assert_int_equal(aocs_det_reset(NULL), AOCS_ERR_NULL_ARG);
 }
 
+/* The fault-management entry points the header calls no-ops "on NULL and for an estimator without one": on
+ * NULL nothing is dereferenced (the answers 0 / AOCS_ERR_NULL_ARG), and the pass-through estimator is left
+ * byte for byte. */
+static void test_fault_management_hooks_on_null_and_on_a_filterless_estimator(void **state)
+{
+    (void)state;
+    const aocs_mat3_t j = aocs_mat3_identity();
+    const aocs_vec3_t tau = aocs_vec3_make(AOCS_R(0.1), AOCS_R(0.0), AOCS_R(0.0));
+    aocs_det_set_st_excluded(NULL, 1u);
+    aocs_det_set_st_noise_scale(NULL, AOCS_R(4.0));
+    aocs_det_reinflate_bias(NULL);
+    aocs_det_set_torque(NULL, tau, tau);
+    assert_true(aocs_det_gyro_rrw(NULL) <= AOCS_R(0.0));
+    assert_int_equal(aocs_det_gyroless_capable(NULL), 0u);
+    assert_int_equal(aocs_det_is_gyroless(NULL), 0u);
+    assert_int_equal(aocs_det_set_gyroless(NULL, &j), AOCS_ERR_NULL_ARG);
+
+    aocs_det_t det;
+    aocs_det_config_t cfg = default_config(0u);
+    (void)memset(&det, 0, sizeof(det));
+    assert_int_equal(aocs_det_init(&det, &cfg), AOCS_OK);
+    assert_int_not_equal(det.id, AOCS_DET_MEKF);
+    aocs_det_t before;
+    (void)memcpy(&before, &det, sizeof(det)); /* padding too: a struct assignment need not copy it */
+    aocs_det_set_st_excluded(&det, 1u);
+    aocs_det_set_st_noise_scale(&det, AOCS_R(4.0));
+    aocs_det_reinflate_bias(&det);
+    aocs_det_set_torque(&det, tau, tau);
+    assert_memory_equal(&det, &before, sizeof(det));
+    assert_int_equal(aocs_det_set_gyroless(&det, &j), AOCS_ERR_MEKF_NOISE_NOT_POSITIVE);
+    assert_int_equal(aocs_det_is_gyroless(&det), 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -491,6 +524,7 @@ int main(void)
         cmocka_unit_test(test_mekf_rejected_sample_does_not_move_the_filter),
         cmocka_unit_test(test_mekf_no_nan_out_for_any_input),
         cmocka_unit_test(test_null_arguments),
+        cmocka_unit_test(test_fault_management_hooks_on_null_and_on_a_filterless_estimator),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -180,6 +180,25 @@ static void test_mat3_inverse_scale_aware(void **state)
     assert_mat_close(aocs_mat3_mul(inv, mat_from(mixed)), id, 10.0 * TOL_TIGHT);
 }
 
+/* The singularity bound |det(As)| <= 1e3 eps |r1| |r2| |r3| at both sides, with rows whose only or dominant
+ * entry is in the middle column (each row norm takes all three columns): rows (0, 1, 0), (d, 1, 0),
+ * (0, 0, 1) have det -d and row norms ~1; d = 500 eps is singular, d = 2000 eps is not. */
+static void test_mat3_inverse_bound_uses_whole_rows(void **state)
+{
+    (void)state;
+    const real_t d_in[2] = {AOCS_R(500.0) * AOCS_REAL_EPS, AOCS_R(2000.0) * AOCS_REAL_EPS};
+    const aocs_status_t expect[2] = {AOCS_ERR_INERTIA_SINGULAR, AOCS_OK};
+    for (int k = 0; k < 2; ++k) {
+        aocs_mat3_t a = aocs_mat3_identity();
+        aocs_mat3_t inv = aocs_mat3_identity();
+        a.m[0][0] = AOCS_R(0.0);
+        a.m[0][1] = AOCS_R(1.0);
+        a.m[1][0] = d_in[k];
+        a.m[1][1] = AOCS_R(1.0);
+        assert_int_equal(aocs_mat3_inverse(a, &inv), expect[k]);
+    }
+}
+
 static void test_mat3_inverse_errors(void **state)
 {
     (void)state;
@@ -278,6 +297,7 @@ int main(void)
         cmocka_unit_test(test_mat3_inverse_exact_integer),
         cmocka_unit_test(test_mat3_inverse_gao_inertia),
         cmocka_unit_test(test_mat3_inverse_scale_aware),
+        cmocka_unit_test(test_mat3_inverse_bound_uses_whole_rows),
         cmocka_unit_test(test_mat3_inverse_errors),
         cmocka_unit_test(test_mat3_is_finite),
         cmocka_unit_test(test_inertia_accepts_valid),

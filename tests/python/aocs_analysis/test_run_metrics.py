@@ -151,6 +151,15 @@ def test_an_attitude_run_with_a_filter_has_the_estimation_section_and_one_withou
     assert results.compute(log, load("irassi_small"), {"law": "quat_pd"})[0]["estimation"] is None
 
 
+def test_the_passes_section_is_the_attitude_scenarios_with_targets():
+    """The run JSON's `passes`: a list for an attitude scenario with target passes (leo_day; none reached in the
+    3 s of a log built in memory, so empty), null for one without targets (irassi_small)."""
+    log = make_log(30, cmd_ticks=range(29), sensor_ticks=range(29), status_steps=[29])
+    sc = load("leo_day")
+    assert results.compute(log, sc, {"law": sc.control.law})[0]["passes"] == []
+    assert results.compute(log, load("irassi_small"), {"law": "quat_pd"})[0]["passes"] is None
+
+
 def test_the_configured_filter_start_is_truth_minus_estimate():
     """_filter_start (docs/spec.md 5.6.10): P0 as configured and the initial errors truth minus estimate, the
     true bias less the prior bias0, and for a q0_BN turned 1e-3 rad about x from the truth an attitude error of
