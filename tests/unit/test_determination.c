@@ -477,6 +477,11 @@ static void test_null_arguments(void **state)
     assert_int_equal(aocs_det_step(NULL, &in, AOCS_OK, AOCS_R(0.1), &out), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_det_step(&det, &in, AOCS_OK, AOCS_R(0.1), NULL), AOCS_ERR_NULL_ARG);
     assert_int_equal(aocs_det_reset(NULL), AOCS_ERR_NULL_ARG);
+    /* the rows' own init, called directly: either argument NULL is refused */
+    aocs_det_passthrough_state_t pt;
+    assert_int_equal(aocs_det_passthrough_init(NULL, &cfg), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_det_passthrough_init(&pt, NULL), AOCS_ERR_NULL_ARG);
+    assert_int_equal(aocs_det_passthrough_init(&pt, &cfg), AOCS_OK);
 }
 
 /* The fault-management entry points the header calls no-ops "on NULL and for an estimator without one": on

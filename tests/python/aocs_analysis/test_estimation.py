@@ -56,8 +56,9 @@ def test_the_covariance_is_the_row_major_upper_triangle():
     assert p[0, 0] == 0 and p[0, 5] == 5 and p[1, 1] == 6 and p[1, 5] == 10 and p[2, 2] == 11
     assert p[4, 5] == 19 and p[5, 5] == 20 and p[5, 0] == 5 and p[3, 1] == 8
     assert np.array_equal(p, p.T)
-    with pytest.raises(ValueError):
-        E.covariance_from_upper(np.zeros((1, 20)))
+    for wrong in (np.zeros((1, 20)), np.zeros(21), np.zeros((2, 6, 5))):   # refused by name, not by numpy
+        with pytest.raises(ValueError, match="est_p must be"):
+            E.covariance_from_upper(wrong)
 
 
 def test_a_known_rotation_about_x_shows_up_on_x_with_its_sign_in_b():
@@ -722,36 +723,52 @@ def test_the_measured_convergence_is_timed_from_the_logs_first_sample():
     assert got[1] == pytest.approx(got[0], abs=1e-6)
 
 
+def _drawn_axes(plot, series, tmp_path, monkeypatch):
+    """The panels of the figure `plot` (a function of estimation_plots) draws from series."""
+    figs = []
+    real_save = estimation_plots.save
+    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
+    plot(series, tmp_path / "plot.png", "test")
+    (fig,) = figs
+    return fig.axes
+
+
+def _knowledge_series(e, valid):
+    t = np.arange(0.0, 100.0, 1.0)
+    return {"t": t, "steady": t >= 50.0, "valid": valid, "knowledge_arcsec": e,
+            "sigma_arcsec": np.full((t.size, 3), 0.1), "bound_post_arcsec": None, "convergence_time_s": None}
+
+
 @pytest.mark.parametrize("peak,noted", [(1.3, False), (1.3000001, True)])
 def test_the_clipped_note_only_when_a_sample_is_beyond_the_range_drawn(tmp_path, monkeypatch, peak, noted):
     """knowledge_error.png's range is 1.3 times the tested window's largest figure (here an error of 1 arcsec):
     a transient before the window at exactly that range is drawn at its edge (no note), one beyond it is
     clipped and the panel says so."""
-    t = np.arange(0.0, 100.0, 1.0)
-    e = np.zeros((t.size, 3))
+    e = np.zeros((100, 3))
     e[5, :] = peak
     e[60:, :] = 1.0
-    series = {"t": t, "steady": t >= 50.0, "valid": np.ones(t.size, bool), "knowledge_arcsec": e,
-              "sigma_arcsec": np.full((t.size, 3), 0.1), "bound_post_arcsec": None, "convergence_time_s": None}
-    figs = []
-    real_save = estimation_plots.save
-    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
-    estimation_plots.knowledge_error_plot(series, tmp_path / "ke.png", "test")
-    (fig,) = figs
-    for ax in fig.axes:
+    for ax in _drawn_axes(estimation_plots.knowledge_error_plot, _knowledge_series(e, np.ones(100, bool)), tmp_path, monkeypatch):
         assert ax.get_ylim() == pytest.approx((-1.3, 1.3))
         assert any("clipped" in a.get_text() for a in ax.texts) is noted
 
 
+def test_an_invalid_sample_is_never_the_clipped_transient(tmp_path, monkeypatch):
+    """A sample without an estimate (valid false) is not drawn, so it clips nothing, whatever its stored error:
+    the window's 0.5 arcsec give a range of +-0.65 and the invalid 50 arcsec at 5 s no note."""
+    e = np.zeros((100, 3))
+    e[5, :] = 50.0
+    e[60:, :] = 0.5
+    valid = np.ones(100, bool)
+    valid[5] = False
+    for ax in _drawn_axes(estimation_plots.knowledge_error_plot, _knowledge_series(e, valid), tmp_path, monkeypatch):
+        assert ax.get_ylim() == pytest.approx((-0.65, 0.65))
+        assert not any("clipped" in a.get_text() for a in ax.texts)
+
+
 def _band_extents(plot, series, tmp_path, monkeypatch) -> list[tuple[float, float]]:
     """(lowest, highest) y of the "3 sigma" band on each panel of the figure `plot` draws from series."""
-    figs = []
-    real_save = estimation_plots.save
-    monkeypatch.setattr(estimation_plots, "save", lambda fig, path: (figs.append(fig), real_save(fig, path))[1])
-    plot(series, tmp_path / "band.png", "test")
-    (fig,) = figs
     out = []
-    for ax in fig.axes:
+    for ax in _drawn_axes(plot, series, tmp_path, monkeypatch):
         (band,) = [c for c in ax.collections if "3 sigma" in c.get_label()]
         y = np.concatenate([p.vertices[:, 1] for p in band.get_paths()])
         out.append((float(y.min()), float(y.max())))

@@ -47,8 +47,9 @@ def test_never_detected_is_not_handled_and_fails_the_verdict():
     assert verdict.judge({"faults": [e]}, [], realtime=False, allow=("fault-management",))["passed"]
 
 
-def test_an_event_of_another_wheel_is_not_this_faults_detection():
-    events = [ev(61.0, "wheel_residual_high", "wheel", 2), ev(61.2, "wheel_isolated", "wheel", 2)]
+@pytest.mark.parametrize("other", [2, 0])   # wheel 0 is a wheel like any other, not "no unit"
+def test_an_event_of_another_wheel_is_not_this_faults_detection(other):
+    events = [ev(61.0, "wheel_residual_high", "wheel", other), ev(61.2, "wheel_isolated", "wheel", other)]
     (e,) = F.entries([WHEEL], events, T, pointing(150.0), 0.3, 50.0)
     assert e["detected_s"] is None and e["isolated"] is False
 
