@@ -288,6 +288,16 @@ static void test_mtq_cross_product_law(void **state)
     }
 }
 
+/* Magnetorquers, continuous trigger, zero target, identity rods: gain k_per_s, rod limits max_Am2. */
+static void mtq_config(aocs_mom_config_t *c, double k_per_s, aocs_vec3_t max_Am2)
+{
+    base_config(c, AOCS_MOM_MAGNETORQUERS);
+    c->k_mtq_per_s = AOCS_R(k_per_s);
+    c->h_target_B_Nms = aocs_vec3_zero();
+    c->mtq_max_dipole_Am2 = max_Am2;
+    c->mtq_axes = aocs_mat3_identity();
+}
+
 /*
  * dh along B (the fuzz finding f9a15516: h = 1e6 B, canted rods): the cross product dh x b is rounding only,
  * of order eps |dh|, in no particular direction; the dipole must still be perpendicular to B (before the
@@ -298,11 +308,7 @@ static void test_mtq_dh_along_field(void **state)
     (void)state;
     aocs_mom_config_t c;
     aocs_mom_t m;
-    base_config(&c, AOCS_MOM_MAGNETORQUERS);
-    c.k_mtq_per_s = AOCS_R(0.001953125);
-    c.h_target_B_Nms = aocs_vec3_zero();
-    c.mtq_max_dipole_Am2 = aocs_vec3_make(AOCS_R(122.0703125), AOCS_R(122.0703125), AOCS_R(281.4453125));
-    c.mtq_axes = aocs_mat3_identity();
+    mtq_config(&c, 0.001953125, aocs_vec3_make(AOCS_R(122.0703125), AOCS_R(122.0703125), AOCS_R(281.4453125)));
     c.mtq_axes.m[1][0] = AOCS_R(0.00049609375);
     c.mtq_axes.m[1][1] = AOCS_R(1.0000001678466797);
     c.mtq_axes.m[2][1] = AOCS_R(-0.0005);
@@ -332,11 +338,7 @@ static void test_mtq_dh_along_field(void **state)
 static void mtq_stage(aocs_mom_t *m)
 {
     aocs_mom_config_t c;
-    base_config(&c, AOCS_MOM_MAGNETORQUERS);
-    c.k_mtq_per_s = AOCS_R(0.005);
-    c.h_target_B_Nms = aocs_vec3_zero();
-    c.mtq_max_dipole_Am2 = aocs_vec3_make(AOCS_R(100.0), AOCS_R(100.0), AOCS_R(100.0));
-    c.mtq_axes = aocs_mat3_identity();
+    mtq_config(&c, 0.005, aocs_vec3_make(AOCS_R(100.0), AOCS_R(100.0), AOCS_R(100.0)));
     assert_int_equal(aocs_mom_init(m, &c), AOCS_OK);
 }
 
