@@ -31,7 +31,7 @@ period start, ATTITUDE closures are summed into the rigid body's right-hand
 side, and GENERAL ones (state, or state-dependent) switch the period to one
 RK4 over the concatenated state [body; effector states] (integrator.rk4).
 Without a GENERAL effector the fast stepper of the body alone runs
-(rigid_body.rk4_stepper, or the orbit model's own propagate). DISCRETE
+(rigid_body.rk4_stepper, compiled when built: kernels.py; or the orbit model's own propagate). DISCRETE
 effectors split the period at their event times and jump the body state.
 """
 from __future__ import annotations
@@ -43,7 +43,7 @@ import numpy as np
 
 from aocs_core.conventions import pointing_error_arcsec, pointing_error_rad, qe_arcsec, quat_from_rotvec, quat_mul
 
-from . import effectors, faults, sensors
+from . import effectors, faults, kernels, sensors
 from .effectors import FORMS, BodyContext, Effector, Form, Mask
 from .environment import Environment
 from .integrator import rk4
@@ -99,6 +99,11 @@ class Plant:
             term = sum_terms(e.term() for e in self._terms)
             self._f = body_derivative(self.body.J, self.body.Ji, term)
             self._step = rk4_stepper(self._f)
+            # the same period compiled (kernels.py: the same doubles), when built and the terms allow it
+            self._period = None
+            if not self._general and not self._time_varying:
+                self._period = kernels.rigid_body_period(self.body.J, self.body.Ji,
+                                                         (e.compiled_term() for e in self._terms))
             self._coupled = None
             if self._general:
                 self._coupled = rk4_coupled_stepper(self._f, self._effector_rhs(self._general))
@@ -324,6 +329,9 @@ class Plant:
         elif self.kind == "attitude":
             if self._general:
                 self._segment_general(t0, self.dt, T)
+            elif self._period is not None:   # the fast path compiled
+                body = self.body
+                body.q, body.w = self._period(body.q, body.w, self.dt / self.substeps, self.substeps, T)
             else:  # the fast path: the rigid body alone, the torque held
                 n = self.substeps
                 h = self.dt / n

@@ -134,6 +134,12 @@ class Effector:
     def at_time(self, t: float) -> None:
         """ATTITUDE with time_varying: freeze the time dependence at t (the substep midpoint)."""
 
+    def compiled_term(self) -> tuple | None:
+        """ATTITUDE: the term as the compiled rigid-body kernel takes it, or None when it has no compiled form
+        (then the plant integrates with its Python stepper). Today one kind: a gravity gradient about a fixed
+        direction, ("gravity_gradient", c, (d1, d2, d3), J): the term() closure c (R x J R), R = A(q) d."""
+        return None
+
     def initial_state(self) -> tuple:
         return ()
 

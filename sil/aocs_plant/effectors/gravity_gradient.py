@@ -122,9 +122,14 @@ class GravityGradientL2(Effector):
     def __init__(self, config: GravityGradientL2Config, body):
         super().__init__(config, body)
         self._g, _ = gg_term(body.inertia, config.coefficient, (0.0, 0.0, 1.0))
+        self._compiled = ("gravity_gradient", config.coefficient, (0.0, 0.0, 1.0),
+                          tuple(float(v) for v in body.inertia))
 
     def term(self):
         return self._g
+
+    def compiled_term(self):
+        return self._compiled
 
 
 @dataclass(frozen=True)
