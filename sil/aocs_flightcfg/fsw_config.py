@@ -234,12 +234,14 @@ def momentum_keys(scenario) -> dict[str, str]:
 def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | None = None,
                 idle_timeout_s: float = 5.0, run_timeout_s: float = 0.0,
                 status_period_s: float | None = None, lcm_url: str | None = None,
-                gains: dict | None = None) -> dict[str, str]:
+                gains: dict | None = None, wait_spin_us: float = 0.0) -> dict[str, str]:
     """key -> value text of the fsw_node configuration for one run.
 
     law: a law of the scenario, or "none" (control disabled: STANDBY, zero command).
     limit: per-axis actuator limit override (N m or N), as `aocs run --limit`.
     gains: law -> explicit 3x6 gain flown instead of the law's compiled table (None: the tables).
+    wait_spin_us: lockstep over udpm, how long the node's wait for a sensors_t polls before it sleeps (0: not
+    written, the node's default 0).
     """
     sc = scenario
     if mode not in ("lockstep", "realtime"):
@@ -294,6 +296,8 @@ def node_config(scenario, law: str, *, mode: str = "lockstep", limit: float | No
     cfg["status_period_s"] = _num(status_period_s)
     if lcm_url:
         cfg["lcm_url"] = lcm_url
+    if wait_spin_us:
+        cfg["wait_spin_us"] = _num(wait_spin_us)
     return cfg
 
 

@@ -72,6 +72,8 @@ END_MARKER_TIMEOUT_S = 30.0
 LOG_FLUSH_EVENTS = 1024
 #: over LCM the lockstep loop writes the log every this many ticks (what a killed plant can lose at most)
 LOG_FLUSH_TICKS = 16
+#: the header whose AOCS_NODE_WAIT_SPIN_MAX_US bounds --wait-spin-us (fsw_node's wait_spin_us: one bound for both)
+SPIN_HEADER = "sil/fsw_node/node_checks.h"
 _TRUTH = b"AOCS_TRUTH"
 
 _stop = False
@@ -111,13 +113,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="--transport direct: the flight computer's configuration (fsw_node.cfg)")
     p.add_argument("--fsw-summary", default=None, metavar="PATH",
                    help="--transport direct: where the flight computer's exit summary goes (fsw_node.stdout)")
+    p.add_argument("--wait-spin-us", type=float, default=0.0, metavar="US",
+                   help="lockstep over udpm: each wait for the reply polls this long before it sleeps, us "
+                        "(default 0; the runner passes transport.LOCKSTEP_WAIT_SPIN_US, aocs_wire/udpm.py)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
 
 class _Link:
     """LCM handle, codecs and the publish counters of this node."""
 
-    def __init__(self, url, lcm_lib=False, bus=None):
+    def __init__(self, url, lcm_lib=False, bus=None, spin_us=0.0):
         self.t = paths.import_bindings()
         self.codecs = wire.Codecs(self.t)
         self.codec = LcmCodec(self.codecs, self.t)   # the loop's sensors_t packing, actuator_cmd_t reading
@@ -129,7 +134,7 @@ class _Link:
                 netns.require_netns()
                 url = netns.LCM_URL
             # udpm: the same packets, read in this thread (udpm.py)
-            self.lc = lcm.LCM(url) if lcm_lib or not url.startswith("udpm://") else Udpm(url)
+            self.lc = lcm.LCM(url) if lcm_lib or not url.startswith("udpm://") else Udpm(url, spin_us=spin_us)
         self.wire = wire
         self.frame_cmd = 0
         self.request = 0
@@ -259,6 +264,10 @@ def run(args) -> int:
         print("plant_node: --log records the udpm socket the plant reads itself: not with --lcm-lib or "
               "another transport", file=sys.stderr)
         return EXIT_ARGS
+    spin_max = paths.header_number(SPIN_HEADER, "AOCS_NODE_WAIT_SPIN_MAX_US")
+    if not 0.0 <= args.wait_spin_us <= spin_max:
+        print(f"plant_node: --wait-spin-us {args.wait_spin_us:g}: must be in [0, {spin_max:g}] us", file=sys.stderr)
+        return EXIT_ARGS
     node = None
     if args.transport == "direct":
         try:
@@ -268,7 +277,8 @@ def run(args) -> int:
             return EXIT_ARGS
     plant = Plant(sc)
     check = StepDoubling(sc)   # the run's integration error (SPEC 4.3)
-    link = _Link(args.lcm_url, args.lcm_lib, bus=None if node is None else DirectBus(node))
+    link = _Link(args.lcm_url, args.lcm_lib, bus=None if node is None else DirectBus(node),
+                 spin_us=args.wait_spin_us if args.mode == "lockstep" else 0.0)
     if args.log is not None:
         link.record(args.log, truth_on_bus=args.truth == "bus")
     try:

@@ -34,7 +34,7 @@ from aocs_wire import lcmlog, netns
 from . import events as evmod
 from . import orchestrate, scenario_gains, scenario_opts
 from .flight import Failure, Flight, RunFailed, fly
-from .transport import check_transport
+from .transport import LOCKSTEP_WAIT_SPIN_US, check_transport
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
@@ -296,10 +296,13 @@ FSW_CFG = "fsw_node.cfg"
 
 
 def node_config_of(opts: RunOptions, sc, law: str, mode: str, gains: dict) -> dict:
-    """The flight computer's configuration of a run (what write_fsw_config writes)."""
+    """The flight computer's configuration of a run (what write_fsw_config writes). A host node in lockstep
+    polls before it sleeps (transport.LOCKSTEP_WAIT_SPIN_US; the direct node never waits and ignores it)."""
+    spin = LOCKSTEP_WAIT_SPIN_US if (mode == "lockstep" and opts.target == "host") else 0.0
     return fsw_config.node_config(sc, law, mode=mode, limit=opts.limit,
                                   run_timeout_s=(sc.duration_s + 30.0) if opts.realtime else 0.0,
-                                  gains={n: c.k for n, c in gains.items() if c.k is not None})
+                                  gains={n: c.k for n, c in gains.items() if c.k is not None},
+                                  wait_spin_us=spin)
 
 
 def planned_record(opts: RunOptions) -> dict:
@@ -372,6 +375,8 @@ def plant_arguments(opts: RunOptions, plan: RunPlan) -> list[str]:
     reply_timeout = opts.reply_timeout or (2.0 if opts.target == "host" else 10.0)
     args = [plan.sc.path, *scenario_opts.to_args(plan.overrides),
             "--mode", plan.mode, "--reply-timeout", repr(reply_timeout)]
+    if plan.mode == "lockstep" and opts.transport == "lcm" and opts.target == "host" and not opts.plant_lcm_lib:
+        args += ["--wait-spin-us", repr(LOCKSTEP_WAIT_SPIN_US)]
     for e in opts.events:
         args += ["--event", e]
     if opts.quiet:

@@ -28,10 +28,16 @@ and every LCM tool keep using the library; none can tell the difference. handle_
 socket with a zero-timeout poll before each read instead of reading until a
 recv fails: a failed non-blocking recv (and its exception) costs several times
 an empty poll, and a lockstep tick ended three reads that way.
+
+spin_us (the plant's lockstep wait, like fsw_node's `wait_spin_us`): a wait polls the socket this long, giving
+the CPU up between tries (os.sched_yield), before it sleeps in poll: on a virtual machine a process asleep on
+an idle CPU takes some 20 us to wake, as long as the flight computer's whole answer (docs/benchmarks.md,
+"Waiting without sleeping").
 """
 from __future__ import annotations
 
 import functools
+import os
 import select
 import socket
 import struct
@@ -86,9 +92,10 @@ class Udpm:
     """Publish and receive LCM messages on one udpm group, in the caller's thread."""
 
     def __init__(self, url: str, recv_buf: int = 4 * 1024 * 1024, receive: bool = True,
-                 max_message: int | None = None):
+                 max_message: int | None = None, spin_us: float = 0.0):
         """receive=False: a publisher only (no socket joins the group, so no message is queued for it).
-        max_message: the largest fragmented message put back together, bytes (default max_message_size())."""
+        max_message: the largest fragmented message put back together, bytes (default max_message_size()).
+        spin_us: how long a wait polls before it sleeps (module docstring), us; 0 sleeps at once."""
         group, port, ttl = parse_url(url)
         self.dest = (group, port)
         rx = None
@@ -107,6 +114,9 @@ class Udpm:
         tx.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
         self._rx, self._tx = rx, tx
         self._seq = 0
+        if not (0.0 <= spin_us < float("inf")):
+            raise ValueError(f"spin_us {spin_us!r}: must be a finite number of us, at least 0")
+        self._spin_ns = int(spin_us * 1000.0)
         self._poll = select.poll()
         if rx is not None:
             self._poll.register(rx, select.POLLIN)
@@ -204,6 +214,17 @@ class Udpm:
             return part[0], bytes(part[1])
         return None
 
+    def _spin(self, poll) -> bool:
+        """Polls without sleeping for at most spin_us, yielding the CPU between tries; True when a datagram came."""
+        clock, yield_cpu = time.perf_counter_ns, os.sched_yield
+        end = clock() + self._spin_ns
+        while True:
+            yield_cpu()
+            if poll(0):
+                return True
+            if clock() >= end:
+                return False
+
     def handle_timeout(self, timeout_ms: int) -> int:
         """Dispatch every datagram already queued, waiting at most timeout_ms for the first.
 
@@ -219,7 +240,7 @@ class Udpm:
             if not poll(0):
                 if handled or waited:
                     return handled
-                if not poll(max(0, int(timeout_ms))):
+                if not (self._spin_ns and self._spin(poll)) and not poll(max(0, int(timeout_ms))):
                     return 0
                 waited = True
             try:

@@ -367,6 +367,9 @@ static int open_transport(node_t *n)
             return 1;
         }
         n->use_udpm = 1;
+        /* lockstep only: a real-time node sleeps between its periods */
+        n->udpm.spin_ns = (n->core.cfg.run_mode == AOCS_NODE_RUN_LOCKSTEP)
+                              ? (uint64_t)(n->core.cfg.wait_spin_us * 1000.0 + 0.5) : 0u;
         if ((node_udpm_subscribe(&n->udpm, CH_SENSORS, on_sensors, n) != 0) ||
             (node_udpm_subscribe(&n->udpm, CH_COMMAND, on_command, n) != 0)) {
             (void)fprintf(stderr, "fsw_node: udpm subscribe failed\n");

@@ -17,6 +17,7 @@ int aocs_node_timeouts_check(const aocs_node_config_t *cfg, char *err, size_t er
     double lo = 0.0;
     double hi = 0.0;
     const char *extra = "";
+    const char *unit = "s";
     if (cfg == NULL) {
         return 1;
     }
@@ -37,6 +38,12 @@ int aocs_node_timeouts_check(const aocs_node_config_t *cfg, char *err, size_t er
         value = cfg->status_period_s;
         lo = AOCS_NODE_STATUS_PERIOD_MIN_S;
         hi = AOCS_NODE_STATUS_PERIOD_MAX_S;
+    } else if (in_range(cfg->wait_spin_us, 0.0, AOCS_NODE_WAIT_SPIN_MAX_US) == 0) {
+        key = "wait_spin_us";
+        value = cfg->wait_spin_us;
+        lo = 0.0;
+        hi = AOCS_NODE_WAIT_SPIN_MAX_US;
+        unit = "us";
     } else {
         key = NULL;
     }
@@ -44,7 +51,8 @@ int aocs_node_timeouts_check(const aocs_node_config_t *cfg, char *err, size_t er
         return 0;
     }
     if ((err != NULL) && (err_size > 0u)) {
-        (void)snprintf(err, err_size, "key '%s': %g s is outside [%g, %g] s%s", key, value, lo, hi, extra);
+        (void)snprintf(err, err_size, "key '%s': %g %s is outside [%g, %g] %s%s", key, value, unit, lo, hi, unit,
+                       extra);
     }
     return 1;
 }

@@ -26,9 +26,11 @@
 #define AOCS_NODE_RUN_TIMEOUT_MAX_S 1.0e7
 #define AOCS_NODE_STATUS_PERIOD_MIN_S 0.001
 #define AOCS_NODE_STATUS_PERIOD_MAX_S 3600.0
+/* wait_spin_us: up to 10 ms of polling per wait (a lockstep reply comes in tens of us; more is a typo) */
+#define AOCS_NODE_WAIT_SPIN_MAX_US 10000.0
 
 /*
- * 0 when idle_timeout_s, run_timeout_s and status_period_s are in range;
+ * 0 when idle_timeout_s, run_timeout_s, status_period_s and wait_spin_us are in range;
  * otherwise 1 with one line in err naming the key, its value and the range.
  */
 int aocs_node_timeouts_check(const aocs_node_config_t *cfg, char *err, size_t err_size);

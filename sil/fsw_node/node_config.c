@@ -44,6 +44,8 @@ static const node_key_t NODE_KEYS[] = {
     {"run_timeout_s", NODE_DOUBLE, AOCS_CONFIG_RULE_NONNEG, NODE_OFF(run_timeout_s), "s, 0 = none"},
     {"status_period_s", NODE_DOUBLE, AOCS_CONFIG_RULE_POS, NODE_OFF(status_period_s), "s"},
     {"lcm_url", NODE_STRING, AOCS_CONFIG_RULE_ANY, NODE_OFF(lcm_url), "LCM provider URL"},
+    {"wait_spin_us", NODE_DOUBLE, AOCS_CONFIG_RULE_NONNEG, NODE_OFF(wait_spin_us),
+     "us a lockstep wait polls before it sleeps, 0 = sleeps at once"},
 };
 #define NODE_KEY_COUNT (sizeof(NODE_KEYS) / sizeof(NODE_KEYS[0]))
 typedef char node_own_keys_counted[(NODE_KEY_COUNT == AOCS_NODE_OWN_KEYS) ? 1 : -1];
@@ -259,6 +261,7 @@ static void config_defaults(aocs_node_config_t *cfg)
     cfg->idle_timeout_s = 5.0;
     cfg->run_timeout_s = 0.0;
     cfg->status_period_s = 1.0;
+    cfg->wait_spin_us = 0.0;
     cfg->lcm_url[0] = '\0';
 }
 

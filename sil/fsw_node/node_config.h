@@ -21,7 +21,7 @@ typedef enum {
 #define AOCS_NODE_URL_MAX 256u
 #define AOCS_NODE_ERR_MAX 512u
 /* The node's own keys (mode, timeouts, lcm_url): not flight software configuration. */
-#define AOCS_NODE_OWN_KEYS 5u
+#define AOCS_NODE_OWN_KEYS 6u
 /* Rows of the configuration registry the node can track (a static check in node_config.c). */
 #define AOCS_NODE_CONFIG_ROWS_MAX 128u
 /* One slot per key a file can give: the node's own, then one per registry row and wheel. */
@@ -33,6 +33,7 @@ typedef struct {
     double idle_timeout_s;        /* lockstep: exit after this long without sensor frames, > 0 */
     double run_timeout_s;         /* whole run limit, s; 0 = none */
     double status_period_s;       /* heartbeat period on AOCS_STATUS, > 0 */
+    double wait_spin_us;          /* lockstep over udpm: a wait polls this long before it sleeps, us (node_udpm.h) */
     char lcm_url[AOCS_NODE_URL_MAX]; /* empty = LCM default (udpm, ttl=0) */
     unsigned line_of[AOCS_NODE_KEY_SLOTS]; /* the file's line of each key given (0 = not given), by slot */
     aocs_gain_table_id_t table_of[AOCS_NODE_CONFIG_ROWS_MAX]; /* the gain table a TABLE row was given */

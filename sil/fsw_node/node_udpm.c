@@ -9,9 +9,11 @@
 #include <errno.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <sched.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 #define MAGIC_SHORT 0x4c433032u /* "LC02" */
@@ -211,6 +213,30 @@ static int dispatch(node_udpm_t *u, size_t len)
     return 0;
 }
 
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ((uint64_t)ts.tv_sec * 1000000000u) + (uint64_t)ts.tv_nsec;
+}
+
+/* polls without sleeping for at most u->spin_ns, yielding the CPU between tries: poll's result (0: nothing came) */
+static int spin(const node_udpm_t *u, struct pollfd *pfd)
+{
+    uint64_t t0;
+    int r = 0;
+    if (u->spin_ns == 0u) {
+        return 0;
+    }
+    t0 = now_ns();
+    do {
+        (void)sched_yield();
+        pfd->revents = 0;
+        r = poll(pfd, 1, 0);
+    } while ((r == 0) && ((now_ns() - t0) < u->spin_ns));
+    return r;
+}
+
 int node_udpm_handle_timeout(node_udpm_t *u, int timeout_ms)
 {
     struct pollfd pfd;
@@ -231,7 +257,10 @@ int node_udpm_handle_timeout(node_udpm_t *u, int timeout_ms)
             if ((handled > 0) || (waited != 0)) {
                 return handled;
             }
-            r = poll(&pfd, 1, (timeout_ms < 0) ? 0 : timeout_ms);
+            r = spin(u, &pfd);
+            if (r == 0) {
+                r = poll(&pfd, 1, (timeout_ms < 0) ? 0 : timeout_ms);
+            }
             if (r < 0) {
                 return -1;
             }

@@ -13,6 +13,11 @@
  * a pipe: two thread wake-ups per message where one does, in the lockstep round trip of every control period
  * (docs/benchmarks.md, "SIL loop speed"). fsw_node uses it for udpm:// URLs and the library for any other.
  *
+ * A wait may poll the socket for a while before it sleeps (spin_ns, the node's `wait_spin_us`): in lockstep the
+ * plant's next sensors_t comes some 20 us after the reply, and a sleeping process on an idle virtual CPU takes
+ * longer than that to wake (docs/benchmarks.md, "Waiting without sleeping"). The poll gives the CPU up between
+ * tries (sched_yield), so a process that has work takes the core at once.
+ *
  * Host code only (POSIX sockets); the firmware rules apply to firmware/.
  */
 #ifndef AOCS_NODE_UDPM_H
@@ -43,6 +48,7 @@ typedef struct {
     size_t n_subs;
     uint64_t fragments;                       /* LC03 datagrams received and dropped */
     uint64_t garbage;                         /* datagrams that are not LCM messages */
+    uint64_t spin_ns;                         /* a wait polls this long before it sleeps (0: sleeps at once) */
     uint8_t rx[NODE_UDPM_DATAGRAM_MAX];
     uint8_t tx[NODE_UDPM_DATAGRAM_MAX];
 } node_udpm_t;

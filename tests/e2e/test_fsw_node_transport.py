@@ -6,6 +6,8 @@ from __future__ import annotations
 import socket
 import struct
 
+import pytest
+
 from aocs_wire import netns
 from aocs_wire.udpm import MAGIC_LONG, MAGIC_SHORT, parse_url
 
@@ -17,11 +19,14 @@ def _raw_sender():
     return s, (group, port)
 
 
-def test_every_datagram_that_is_not_a_subscribed_message_is_skipped_and_the_node_answers_on(fsw_node, lcm_link):
+@pytest.mark.parametrize("spin", [None, "200", "10000"], ids=["sleeps", "spins_200us", "spins_10ms"])
+def test_every_datagram_that_is_not_a_subscribed_message_is_skipped_and_the_node_answers_on(fsw_node, lcm_link,
+                                                                                            spin):
     """Between lockstep frames: datagrams too short, of another magic, without the channel's NUL, a fragment
     (LC03, never an aocs message), a message on a channel the node does not read, an empty payload on
-    AOCS_SENSORS (malformed: counted) -- every frame is still answered, in order, and nothing else counted."""
-    node = fsw_node()
+    AOCS_SENSORS (malformed: counted) -- every frame is still answered, in order, and nothing else counted;
+    the same when the node's waits poll before they sleep (wait_spin_us, node_udpm.h)."""
+    node = fsw_node() if spin is None else fsw_node(wait_spin_us=spin)
     node.wait_ready(lcm_link)
     s, dest = _raw_sender()
     junk = [b"", b"LC02", struct.pack(">II", 0x12345678, 1) + b"AOCS_SENSORS\0xx",

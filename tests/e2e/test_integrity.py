@@ -269,6 +269,7 @@ def _run_config(exe: Path, tmp_path: Path, **overrides) -> subprocess.CompletedP
     ("idle_timeout_s", "2e10"), ("idle_timeout_s", "1e300"), ("idle_timeout_s", "1e-10"),
     ("run_timeout_s", "1e300"), ("run_timeout_s", "1e-10"),
     ("status_period_s", "2e10"), ("status_period_s", "1e-10"),
+    ("wait_spin_us", "10001"), ("wait_spin_us", "1e300"),
 ])
 def test_implausible_timeouts_refused_with_one_line(sanitized_fsw_node_bin, tmp_path, key, value):
     res = _run_config(sanitized_fsw_node_bin, tmp_path, **{key: value})

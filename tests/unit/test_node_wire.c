@@ -515,6 +515,19 @@ static void test_timeouts_check(void **state)
     cfg.status_period_s = 0.05;
     assert_int_equal(aocs_node_timeouts_check(&cfg, NULL, 0u), 0);
     assert_int_equal(aocs_node_timeouts_check(NULL, err, sizeof(err)), 1);
+    /* wait_spin_us: [0, AOCS_NODE_WAIT_SPIN_MAX_US] us, named with its unit */
+    const double bad_spin[] = {-1.0, (double)NAN, (double)INFINITY, AOCS_NODE_WAIT_SPIN_MAX_US * 1.000001, 1e300};
+    for (size_t i = 0; i < sizeof(bad_spin) / sizeof(bad_spin[0]); ++i) {
+        cfg.wait_spin_us = bad_spin[i];
+        err[0] = '\0';
+        assert_int_equal(aocs_node_timeouts_check(&cfg, err, sizeof(err)), 1);
+        assert_non_null(strstr(err, "key 'wait_spin_us'"));
+        assert_non_null(strstr(err, "us is outside [0, 10000] us"));
+    }
+    cfg.wait_spin_us = AOCS_NODE_WAIT_SPIN_MAX_US;
+    assert_int_equal(aocs_node_timeouts_check(&cfg, err, sizeof(err)), 0);
+    cfg.wait_spin_us = 0.0;
+    assert_int_equal(aocs_node_timeouts_check(&cfg, err, sizeof(err)), 0);
 }
 
 /* an event of the log into event_t: every field, t_s from ns, the unit clamped to int16, version 6 */

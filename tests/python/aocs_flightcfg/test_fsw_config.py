@@ -128,3 +128,10 @@ def test_every_scenario_and_law_gives_a_config_fsw_node_accepts(fsw_node_bin, pr
         _, err = proc.communicate(timeout=20)
         assert proc.returncode == 0, f"{sid}/{law}: {err}"
         assert f"law {law}," in err, err
+
+
+def test_the_lockstep_spin_is_written_only_when_asked():
+    """wait_spin_us (fsw_node's node_checks.h): absent by default (the node's 0), the value when given."""
+    sc = load("irassi_small")
+    assert "wait_spin_us" not in fsw_config.node_config(sc, "quat_pd")
+    assert float(fsw_config.node_config(sc, "quat_pd", wait_spin_us=200.0)["wait_spin_us"]) == 200.0

@@ -161,3 +161,34 @@ def test_a_real_fragmented_message_of_the_lcm_library_still_reassembles(private_
     assert link.fragments >= 2 and link.oversize == link.garbage == link.incomplete == link.expired == 0
     assert link.counters["partial"] == 0
     link.close()
+
+
+def test_a_spinning_wait_sees_a_message_that_comes_while_it_polls(private_netns):
+    """spin_us: a wait polls before it sleeps. With a zero timeout (no sleeping wait at all) only the spin can
+    see a message sent 20 ms later; without it the same call returns at once with nothing."""
+    import threading
+
+    from aocs_wire import netns
+    from aocs_wire.udpm import Udpm
+
+    tx = Udpm(netns.LCM_URL, receive=False)
+    for spin_us, want in ((0.0, []), (2e6, [b"spun"])):
+        rx = Udpm(netns.LCM_URL, spin_us=spin_us)
+        got = []
+        rx.subscribe("AOCS_SPIN", lambda c, d: got.append(d))   # noqa: B023 - used before the next loop
+        timer = threading.Timer(0.02, tx.publish, ("AOCS_SPIN", b"spun"))
+        timer.start()
+        n = rx.handle_timeout(0)
+        timer.join()
+        assert (n, got) == (len(want), want), spin_us
+    quiet = Udpm(netns.LCM_URL, spin_us=1000.0)
+    assert quiet.handle_timeout(0) == 0         # nothing comes: the spin ends, nothing is invented
+
+
+@pytest.mark.parametrize("spin_us", [-1.0, float("nan"), float("inf")])
+def test_a_spin_that_is_not_a_finite_duration_is_refused(private_netns, spin_us):
+    from aocs_wire import netns
+    from aocs_wire.udpm import Udpm
+
+    with pytest.raises(ValueError, match="spin_us"):
+        Udpm(netns.LCM_URL, spin_us=spin_us)
