@@ -121,6 +121,12 @@ class Plant:
         self.faults = tuple(getattr(sc, "faults", ()))   # injected faults (faults/, [[faults]], --fault)
         hooks = faults.attach(self, self.faults) if self.faults else None
         self._suite = sensors.SensorSuite(self.sensors, sc.sensors.latency_periods, sc.sensors.faults, self, hooks)
+        # the coupled period compiled (kernels.py: the same doubles), when built and the effectors allow it
+        self._coupled_kernel = None
+        if attitude and self._general and not self._time_varying:
+            self._coupled_kernel = kernels.coupled_period(self.body.J, self.body.Ji,
+                                                          (e.compiled_term() for e in self._terms),
+                                                          [e for e, _, _ in self._general])
         self._suite.record()
         self._sample = None
 
@@ -410,6 +416,12 @@ class Plant:
         h = length / n
         body = self.body
         q, w, x = body.q, body.w, self._x
+        k = self._coupled_kernel
+        if k is not None:
+            out = k.period(q, w, x, h, n, T)
+            if out is not None:
+                body.q, body.w, self._x = out
+                return
         step = self._coupled
         tv = self._time_varying
         for i in range(n):

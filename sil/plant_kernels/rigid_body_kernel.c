@@ -1,5 +1,5 @@
 /*
- * aocs_rigid_body_kernel: the plant's attitude fast path compiled (issue 24, docs/spec.md 3.8).
+ * aocs_rigid_body_kernel: the plant's attitude periods compiled (issue 24, docs/spec.md 3.8).
  *
  * One control period of the rigid body alone, n fixed RK4 substeps of length h with the torque T held:
  *
@@ -15,9 +15,22 @@
  * stepper over random states and inertias. The Python code stays the definition and the fallback (no build);
  * this file only removes the interpreter's cost from the loop (about 6 us of a period, docs/benchmarks.md).
  *
- * Python API (sil/aocs_plant/rigid_body.py, compiled_period):
+ * The coupled period (CoupledStepper) is rigid_body.rk4_coupled_stepper over the plant's GENERAL effectors in the
+ * same way: the body with the reaction wheels' axial momenta (effectors/reaction_wheels.py, derivative) and the
+ * thrusters' impulse and propellant (effectors/thrusters.py, derivative), one RK4 over [q, w, x]:
+ *
+ *     Omega_i = h_i / Js_i - g_i . w,   tau_i = u_i - (b Omega_i + c tanh(Omega_i / Omega_eps))
+ *                                       (u_i = 0 when u_i Omega_i > 0 and |Omega_i| >= Omega_max: the speed limit)
+ *     body torque += -(w x Gs h) - Gs tau,   hdot_i = tau_i               (docs/spec.md 5.3)
+ *     body torque += torque_b,   impulse' = A(q)^T force_b,   propellant' = mdot   (thrusters, held over the period)
+ *
+ * Python API (sil/aocs_plant/kernels.py):
  *     s = Stepper(J, Ji, gg)          J, Ji: row-major 9-sequences; gg: None or (c, (d1, d2, d3), Jg)
  *     q, w = s.period(q, w, h, n, T)  q: 4 floats, w and T: 3, h: float, n: substeps >= 1
+ *     c = CoupledStepper(J, Ji, gg, effectors)   effectors: ("wheels", rows (g0, g1, g2, Js, Omega_max), b, c,
+ *                                                Omega_eps) and/or ("thrusters",), in the plant's order
+ *     q, w, x, cut = c.period(q, w, x, h, n, T, inputs)   inputs: the period's wheel motor torques, the thrusters'
+ *                                                (mdot, force_b, torque_b); cut: bit i, wheel i cut at its limit
  * Bad arguments raise TypeError / ValueError naming the argument; non-finite values flow through as in Python.
  */
 #define PY_SSIZE_T_CLEAN
@@ -25,7 +38,6 @@
 #include <math.h>
 
 typedef struct {
-    PyObject_HEAD
     double j[9];      /* inertia J (kg m^2), row-major */
     double ji[9];     /* its inverse */
     int diag;         /* J and Ji diagonal: body_derivative's diagonal variant */
@@ -34,6 +46,11 @@ typedef struct {
     double d[3];      /* its direction in N */
     double jg[9];     /* the inertia it uses (the scenario's whole J) */
     int gg_diag;      /* Jg diagonal: gg_term's diagonal variant */
+} Body;
+
+typedef struct {
+    PyObject_HEAD
+    Body body;
 } Stepper;
 
 static int is_diagonal(const double m[9])
@@ -69,7 +86,7 @@ static int read_doubles(PyObject *seq, Py_ssize_t n, double *out, const char *wh
 }
 
 /* gg_term's g(q1, q2, q3, q4) */
-static void gg_torque(const Stepper *s, double q1, double q2, double q3, double q4, double g[3])
+static void gg_torque(const Body *s, double q1, double q2, double q3, double q4, double g[3])
 {
     const double *jg = s->jg;
     const double d1 = s->d[0], d2 = s->d[1], d3 = s->d[2], c = s->c;
@@ -95,7 +112,7 @@ static void gg_torque(const Stepper *s, double q1, double q2, double q3, double 
 }
 
 /* body_derivative's f: y = (q1..q4, w1..w3) -> ydot */
-static void derivative(const Stepper *s, const double y[7], const double t[3], double out[7])
+static void derivative(const Body *s, const double y[7], const double t[3], double out[7])
 {
     const double *j = s->j, *ji = s->ji;
     const double q1 = y[0], q2 = y[1], q3 = y[2], q4 = y[3], w1 = y[4], w2 = y[5], w3 = y[6];
@@ -135,7 +152,7 @@ static void derivative(const Stepper *s, const double y[7], const double t[3], d
 }
 
 /* rk4_stepper's step: y advanced by h, q renormalised */
-static void rk4_substep(const Stepper *s, double y[7], double h, const double t[3])
+static void rk4_substep(const Body *s, double y[7], double h, const double t[3])
 {
     double a[7], b[7], c[7], d[7], st[7];
     const double hh = 0.5 * h;
@@ -205,7 +222,7 @@ static PyObject *Stepper_period(Stepper *self, PyObject *const *args, Py_ssize_t
         return NULL;
     }
     for (long i = 0; i < n; i++) {
-        rk4_substep(self, y, h, t);
+        rk4_substep(&self->body, y, h, t);
     }
     PyObject *q = tuple_of(y, 4);
     PyObject *w = q == NULL ? NULL : tuple_of(y + 4, 3);
@@ -219,6 +236,34 @@ static PyObject *Stepper_period(Stepper *self, PyObject *const *args, Py_ssize_t
     return out;
 }
 
+/* Body from (J, Ji, gg): 0, or -1 with the exception set */
+static int read_body(Body *b, PyObject *j, PyObject *ji, PyObject *gg)
+{
+    if (read_doubles(j, 9, b->j, "J") < 0 || read_doubles(ji, 9, b->ji, "Ji") < 0) {
+        return -1;
+    }
+    b->diag = is_diagonal(b->j) && is_diagonal(b->ji);
+    b->has_gg = gg != Py_None;
+    if (b->has_gg) {
+        PyObject *c, *d, *jg;
+        if (!PyTuple_Check(gg) || !PyArg_ParseTuple(gg, "OOO", &c, &d, &jg)) {
+            PyErr_Clear();
+            PyErr_SetString(PyExc_TypeError, "gg: None or a tuple (c, (d1, d2, d3), Jg)");
+            return -1;
+        }
+        b->c = PyFloat_AsDouble(c);
+        if (b->c == -1.0 && PyErr_Occurred()) {
+            PyErr_SetString(PyExc_TypeError, "gg c: not a number");
+            return -1;
+        }
+        if (read_doubles(d, 3, b->d, "gg d") < 0 || read_doubles(jg, 9, b->jg, "gg Jg") < 0) {
+            return -1;
+        }
+        b->gg_diag = is_diagonal(b->jg);
+    }
+    return 0;
+}
+
 static int Stepper_init(Stepper *self, PyObject *args, PyObject *kwds)
 {
     static char *names[] = {"J", "Ji", "gg", NULL};
@@ -226,29 +271,7 @@ static int Stepper_init(Stepper *self, PyObject *args, PyObject *kwds)
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|O", names, &j, &ji, &gg)) {
         return -1;
     }
-    if (read_doubles(j, 9, self->j, "J") < 0 || read_doubles(ji, 9, self->ji, "Ji") < 0) {
-        return -1;
-    }
-    self->diag = is_diagonal(self->j) && is_diagonal(self->ji);
-    self->has_gg = gg != Py_None;
-    if (self->has_gg) {
-        PyObject *c, *d, *jg;
-        if (!PyTuple_Check(gg) || !PyArg_ParseTuple(gg, "OOO", &c, &d, &jg)) {
-            PyErr_Clear();
-            PyErr_SetString(PyExc_TypeError, "gg: None or a tuple (c, (d1, d2, d3), Jg)");
-            return -1;
-        }
-        self->c = PyFloat_AsDouble(c);
-        if (self->c == -1.0 && PyErr_Occurred()) {
-            PyErr_SetString(PyExc_TypeError, "gg c: not a number");
-            return -1;
-        }
-        if (read_doubles(d, 3, self->d, "gg d") < 0 || read_doubles(jg, 9, self->jg, "gg Jg") < 0) {
-            return -1;
-        }
-        self->gg_diag = is_diagonal(self->jg);
-    }
-    return 0;
+    return read_body(&self->body, j, ji, gg);
 }
 
 static PyMethodDef Stepper_methods[] = {
@@ -268,6 +291,342 @@ static PyTypeObject StepperType = {
     .tp_methods = Stepper_methods,
 };
 
+/* ---- the coupled period: the body with effector states (Plant._segment_general, rk4_coupled_stepper) ---- */
+
+#define MAX_GENERAL 4     /* GENERAL effectors compiled at once */
+#define MAX_WHEELS 6      /* reaction_wheels.MAX_WHEELS, the flight software's array */
+#define MAX_STATE (MAX_WHEELS + 4 * (MAX_GENERAL - 1))
+
+enum { EFF_WHEELS = 1, EFF_THRUSTERS = 2 };
+
+typedef struct {
+    int kind;                 /* EFF_WHEELS | EFF_THRUSTERS */
+    int lo, n;                /* its slice of the effector state x */
+    /* wheels (reaction_wheels.py derivative): rows g_i, Js_i, Omega_max_i; friction b, c, Omega_eps */
+    double g[MAX_WHEELS][3], js[MAX_WHEELS], wmax[MAX_WHEELS], b, c, eps;
+    /* the period's input: wheels, the motor torques held; thrusters, mdot, force_b, torque_b */
+    double u[MAX_WHEELS], mdot, force[3], torque[3];
+} General;
+
+typedef struct {
+    PyObject_HEAD
+    Body body;
+    int count;                /* GENERAL effectors, in the plant's order */
+    int size;                 /* the length of x */
+    General eff[MAX_GENERAL];
+} CoupledStepper;
+
+/* ReactionWheels.derivative: the body torque (-(w x Gs h) - Gs tau) and tau into xd; *cut gets the speed-limit bits */
+static void wheels_derivative(const General *e, const double body[7], const double *x, double torque[3],
+                              double *xd, unsigned *cut)
+{
+    const double w1 = body[4], w2 = body[5], w3 = body[6];
+    double hx = 0.0, hy = 0.0, hz = 0.0, gx = 0.0, gy = 0.0, gz = 0.0;
+    for (int i = 0; i < e->n; i++) {
+        const double g0 = e->g[i][0], g1 = e->g[i][1], g2 = e->g[i][2];
+        const double h = x[i];
+        const double o = h / e->js[i] - (g0 * w1 + g1 * w2 + g2 * w3);
+        double u = e->u[i];
+        if (u * o > 0.0 && fabs(o) >= e->wmax[i]) {
+            u = 0.0;
+            *cut |= 1u << i;
+        }
+        const double ti = u - (e->b * o + e->c * tanh(o / e->eps));
+        xd[i] = ti;
+        hx += g0 * h;
+        hy += g1 * h;
+        hz += g2 * h;
+        gx += g0 * ti;
+        gy += g1 * ti;
+        gz += g2 * ti;
+    }
+    torque[0] = -(w2 * hz - w3 * hy) - gx;
+    torque[1] = -(w3 * hx - w1 * hz) - gy;
+    torque[2] = -(w1 * hy - w2 * hx) - gz;
+}
+
+/* Thrusters.derivative: the held torque, and (A(q)^T f, mdot) */
+static void thrusters_derivative(const General *e, const double body[7], double torque[3], double *xd)
+{
+    if (e->mdot == 0.0) {
+        torque[0] = torque[1] = torque[2] = 0.0;
+        xd[0] = xd[1] = xd[2] = xd[3] = 0.0;
+        return;
+    }
+    const double q1 = body[0], q2 = body[1], q3 = body[2], q4 = body[3];
+    const double f1 = e->force[0], f2 = e->force[1], f3 = e->force[2];
+    const double sq = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3);
+    const double vd = 2.0 * (q1 * f1 + q2 * f2 + q3 * f3);
+    const double k = 2.0 * q4;
+    xd[0] = sq * f1 + vd * q1 + k * (q2 * f3 - q3 * f2);
+    xd[1] = sq * f2 + vd * q2 + k * (q3 * f1 - q1 * f3);
+    xd[2] = sq * f3 + vd * q3 + k * (q1 * f2 - q2 * f1);
+    xd[3] = e->mdot;
+    torque[0] = e->torque[0];
+    torque[1] = e->torque[1];
+    torque[2] = e->torque[2];
+}
+
+/* G of rk4_coupled_stepper: one effector's derivative as it is, several summed from 0.0 (Plant._effector_rhs) */
+static void general_rhs(const CoupledStepper *s, const double body[7], const double *x, double torque[3],
+                        double *xd, unsigned *cut)
+{
+    if (s->count == 1) {
+        const General *e = &s->eff[0];
+        if (e->kind == EFF_WHEELS) {
+            wheels_derivative(e, body, x, torque, xd, cut);
+        } else {
+            thrusters_derivative(e, body, torque, xd);
+        }
+        return;
+    }
+    torque[0] = torque[1] = torque[2] = 0.0;
+    for (int k = 0; k < s->count; k++) {
+        const General *e = &s->eff[k];
+        double a[3];
+        if (e->kind == EFF_WHEELS) {
+            wheels_derivative(e, body, x + e->lo, a, xd + e->lo, cut);
+        } else {
+            thrusters_derivative(e, body, a, xd + e->lo);
+        }
+        torque[0] += a[0];
+        torque[1] += a[1];
+        torque[2] += a[2];
+    }
+}
+
+/* rk4_coupled_stepper's step: y = (q, w) and x advanced by h, q renormalised */
+static void rk4_coupled_substep(const CoupledStepper *s, double y[7], double *x, double h, const double t[3],
+                                unsigned *cut)
+{
+    const Body *b = &s->body;
+    const int m = s->size;
+    double a[7], bb[7], c[7], d[7], st[7], tt[3], e[3];
+    double ka[MAX_STATE], kb[MAX_STATE], kc[MAX_STATE], kd[MAX_STATE], xs[MAX_STATE];
+    const double hh = 0.5 * h;
+    general_rhs(s, y, x, e, ka, cut);
+    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
+    derivative(b, y, tt, a);
+    for (int i = 0; i < 7; i++) {
+        st[i] = y[i] + hh * a[i];
+    }
+    for (int i = 0; i < m; i++) {
+        xs[i] = x[i] + hh * ka[i];
+    }
+    general_rhs(s, st, xs, e, kb, cut);
+    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
+    derivative(b, st, tt, bb);
+    for (int i = 0; i < 7; i++) {
+        st[i] = y[i] + hh * bb[i];
+    }
+    for (int i = 0; i < m; i++) {
+        xs[i] = x[i] + hh * kb[i];
+    }
+    general_rhs(s, st, xs, e, kc, cut);
+    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
+    derivative(b, st, tt, c);
+    for (int i = 0; i < 7; i++) {
+        st[i] = y[i] + h * c[i];
+    }
+    for (int i = 0; i < m; i++) {
+        xs[i] = x[i] + h * kc[i];
+    }
+    general_rhs(s, st, xs, e, kd, cut);
+    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
+    derivative(b, st, tt, d);
+    const double h6 = h / 6.0;
+    for (int i = 0; i < 7; i++) {
+        y[i] = y[i] + h6 * (a[i] + 2.0 * (bb[i] + c[i]) + d[i]);
+    }
+    for (int i = 0; i < m; i++) {
+        x[i] = x[i] + h6 * (ka[i] + 2.0 * (kb[i] + kc[i]) + kd[i]);
+    }
+    const double nrm = 1.0 / sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]);
+    for (int i = 0; i < 4; i++) {
+        y[i] = y[i] * nrm;
+    }
+}
+
+/* one static effector spec: ("wheels", ((g0, g1, g2, Js, Omega_max), ...), b, c, eps) or ("thrusters",) */
+static int read_general(General *e, PyObject *spec, int index)
+{
+    PyObject *kind;
+    if (!PyTuple_Check(spec) || PyTuple_GET_SIZE(spec) < 1 || !PyUnicode_Check(kind = PyTuple_GET_ITEM(spec, 0))) {
+        PyErr_Format(PyExc_TypeError, "effectors[%d]: a tuple whose first item is its kind", index);
+        return -1;
+    }
+    if (PyUnicode_CompareWithASCIIString(kind, "thrusters") == 0 && PyTuple_GET_SIZE(spec) == 1) {
+        e->kind = EFF_THRUSTERS;
+        e->n = 4;
+        return 0;
+    }
+    if (PyUnicode_CompareWithASCIIString(kind, "wheels") != 0 || PyTuple_GET_SIZE(spec) != 5) {
+        PyErr_Format(PyExc_ValueError, "effectors[%d]: (\"wheels\", rows, b, c, eps) or (\"thrusters\",)", index);
+        return -1;
+    }
+    e->kind = EFF_WHEELS;
+    PyObject *rows = PySequence_Fast(PyTuple_GET_ITEM(spec, 1), "wheel rows");
+    if (rows == NULL) {
+        return -1;
+    }
+    const Py_ssize_t n = PySequence_Fast_GET_SIZE(rows);
+    if (n < 1 || n > MAX_WHEELS) {
+        Py_DECREF(rows);
+        PyErr_Format(PyExc_ValueError, "effectors[%d]: %zd wheels, 1 to %d", index, n, MAX_WHEELS);
+        return -1;
+    }
+    e->n = (int)n;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        double r[5];
+        if (read_doubles(PySequence_Fast_GET_ITEM(rows, i), 5, r, "wheel row (g0, g1, g2, Js, Omega_max)") < 0) {
+            Py_DECREF(rows);
+            return -1;
+        }
+        e->g[i][0] = r[0];
+        e->g[i][1] = r[1];
+        e->g[i][2] = r[2];
+        e->js[i] = r[3];
+        e->wmax[i] = r[4];
+    }
+    Py_DECREF(rows);
+    double f[3];
+    PyObject *tail = PyTuple_GetSlice(spec, 2, 5);
+    const int rc = tail == NULL ? -1 : read_doubles(tail, 3, f, "wheel friction (b, c, eps)");
+    Py_XDECREF(tail);
+    if (rc < 0) {
+        return -1;
+    }
+    e->b = f[0];
+    e->c = f[1];
+    e->eps = f[2];
+    return 0;
+}
+
+static int CoupledStepper_init(CoupledStepper *self, PyObject *args, PyObject *kwds)
+{
+    static char *names[] = {"J", "Ji", "gg", "effectors", NULL};
+    PyObject *j, *ji, *gg, *effs;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO", names, &j, &ji, &gg, &effs)) {
+        return -1;
+    }
+    if (read_body(&self->body, j, ji, gg) < 0) {
+        return -1;
+    }
+    if (!PyTuple_Check(effs) || PyTuple_GET_SIZE(effs) < 1 || PyTuple_GET_SIZE(effs) > MAX_GENERAL) {
+        PyErr_Format(PyExc_ValueError, "effectors: a tuple of 1 to %d effector specs", MAX_GENERAL);
+        return -1;
+    }
+    int lo = 0, wheels = 0;
+    self->count = (int)PyTuple_GET_SIZE(effs);
+    for (int k = 0; k < self->count; k++) {
+        General *e = &self->eff[k];
+        if (read_general(e, PyTuple_GET_ITEM(effs, k), k) < 0) {
+            return -1;
+        }
+        wheels += e->kind == EFF_WHEELS;
+        e->lo = lo;
+        lo += e->n;
+    }
+    if (wheels > 1) {
+        PyErr_SetString(PyExc_ValueError, "effectors: one wheel array at most");
+        return -1;
+    }
+    self->size = lo;
+    return 0;
+}
+
+/* the period's inputs, one per effector: wheels, the n motor torques; thrusters, (mdot, f1, f2, f3, t1, t2, t3) */
+static int read_inputs(CoupledStepper *self, PyObject *inputs)
+{
+    PyObject *fast = PySequence_Fast(inputs, "inputs");
+    if (fast == NULL) {
+        return -1;
+    }
+    if (PySequence_Fast_GET_SIZE(fast) != self->count) {
+        PyErr_Format(PyExc_ValueError, "inputs: %zd, one per effector (%d)", PySequence_Fast_GET_SIZE(fast),
+                     self->count);
+        Py_DECREF(fast);
+        return -1;
+    }
+    int rc = 0;
+    for (int k = 0; k < self->count && rc == 0; k++) {
+        General *e = &self->eff[k];
+        PyObject *item = PySequence_Fast_GET_ITEM(fast, k);
+        if (e->kind == EFF_WHEELS) {
+            rc = read_doubles(item, e->n, e->u, "wheel motor torques");
+        } else {
+            double v[7];
+            rc = read_doubles(item, 7, v, "thrusters (mdot, force, torque)");
+            if (rc == 0) {
+                e->mdot = v[0];
+                e->force[0] = v[1]; e->force[1] = v[2]; e->force[2] = v[3];
+                e->torque[0] = v[4]; e->torque[1] = v[5]; e->torque[2] = v[6];
+            }
+        }
+    }
+    Py_DECREF(fast);
+    return rc;
+}
+
+static PyObject *CoupledStepper_period(CoupledStepper *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    double y[7], t[3], x[MAX_STATE];
+    unsigned cut = 0u;
+    if (nargs != 7) {
+        PyErr_Format(PyExc_TypeError, "period(q, w, x, h, n, torque, inputs): 7 arguments, got %zd", nargs);
+        return NULL;
+    }
+    if (read_doubles(args[0], 4, y, "q") < 0 || read_doubles(args[1], 3, y + 4, "w") < 0
+        || read_doubles(args[2], self->size, x, "x") < 0 || read_doubles(args[5], 3, t, "torque") < 0
+        || read_inputs(self, args[6]) < 0) {
+        return NULL;
+    }
+    const double h = PyFloat_AsDouble(args[3]);
+    if (h == -1.0 && PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "h: not a number");
+        return NULL;
+    }
+    const long n = PyLong_AsLong(args[4]);
+    if (n == -1 && PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "n: not an integer");
+        return NULL;
+    }
+    if (n < 1) {
+        PyErr_Format(PyExc_ValueError, "n: %ld substeps, at least 1", n);
+        return NULL;
+    }
+    for (long i = 0; i < n; i++) {
+        rk4_coupled_substep(self, y, x, h, t, &cut);
+    }
+    PyObject *q = tuple_of(y, 4);
+    PyObject *w = q == NULL ? NULL : tuple_of(y + 4, 3);
+    PyObject *xs = w == NULL ? NULL : tuple_of(x, self->size);
+    if (xs == NULL) {
+        Py_XDECREF(q);
+        Py_XDECREF(w);
+        return NULL;
+    }
+    return Py_BuildValue("(NNNI)", q, w, xs, cut);
+}
+
+static PyMethodDef CoupledStepper_methods[] = {
+    {"period", (PyCFunction)(void (*)(void))CoupledStepper_period, METH_FASTCALL,
+     "period(q, w, x, h, n, torque, inputs) -> (q, w, x, cut): n coupled RK4 substeps; cut: the wheels whose motor "
+     "a stage cut at the speed limit (bit i)"},
+    {NULL, NULL, 0, NULL}
+};
+
+static PyTypeObject CoupledStepperType = {
+    PyVarObject_HEAD_INIT(NULL, 0)
+    .tp_name = "aocs_rigid_body_kernel.CoupledStepper",
+    .tp_basicsize = sizeof(CoupledStepper),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "CoupledStepper(J, Ji, gg, effectors): the body with wheels and thrusters (rk4_coupled_stepper) compiled",
+    .tp_new = PyType_GenericNew,
+    .tp_init = (initproc)CoupledStepper_init,
+    .tp_methods = CoupledStepper_methods,
+};
+
 static struct PyModuleDef kernel_module = {
     PyModuleDef_HEAD_INIT, "aocs_rigid_body_kernel",
     "The plant's rigid-body RK4 period, compiled (sil/plant_kernels/rigid_body_kernel.c)", -1,
@@ -276,7 +635,7 @@ static struct PyModuleDef kernel_module = {
 
 PyMODINIT_FUNC PyInit_aocs_rigid_body_kernel(void)
 {
-    if (PyType_Ready(&StepperType) < 0) {
+    if (PyType_Ready(&StepperType) < 0 || PyType_Ready(&CoupledStepperType) < 0) {
         return NULL;
     }
     PyObject *m = PyModule_Create(&kernel_module);
@@ -286,6 +645,12 @@ PyMODINIT_FUNC PyInit_aocs_rigid_body_kernel(void)
     Py_INCREF(&StepperType);
     if (PyModule_AddObject(m, "Stepper", (PyObject *)&StepperType) < 0) {
         Py_DECREF(&StepperType);
+        Py_DECREF(m);
+        return NULL;
+    }
+    Py_INCREF(&CoupledStepperType);
+    if (PyModule_AddObject(m, "CoupledStepper", (PyObject *)&CoupledStepperType) < 0) {
+        Py_DECREF(&CoupledStepperType);
         Py_DECREF(m);
         return NULL;
     }

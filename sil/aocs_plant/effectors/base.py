@@ -140,6 +140,16 @@ class Effector:
         direction, ("gravity_gradient", c, (d1, d2, d3), J): the term() closure c (R x J R), R = A(q) d."""
         return None
 
+    def compiled_general(self) -> tuple | None:
+        """GENERAL: the effector as the compiled coupled kernel takes it (kernels.CoupledKernel), or None when it
+        has no compiled form (the plant then integrates with rk4_coupled_stepper)."""
+        return None
+
+    def compiled_input(self) -> tuple | None:
+        """GENERAL with a compiled form: what its derivative holds over this period (read after begin_period),
+        or None when this period cannot be compiled (the Python stepper runs it)."""
+        return None
+
     def initial_state(self) -> tuple:
         return ()
 

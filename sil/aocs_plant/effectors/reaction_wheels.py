@@ -337,6 +337,20 @@ class ReactionWheels(Effector):
             gz += g2 * ti
         return (-(w2 * hz - w3 * hy) - gx, -(w3 * hx - w1 * hz) - gy, -(w1 * hy - w2 * hx) - gz), tuple(tau)
 
+    def compiled_general(self):
+        """("wheels", rows (g0, g1, g2, Js, Omega_max), b, c, Omega_eps): derivative() compiled (kernels.py)."""
+        return ("wheels", self._wheel_rows, self.b, self.c, self.eps)
+
+    def compiled_input(self):
+        """The motor torques held over the period; None under an injected fault model (its own axial torques)."""
+        return self.u if self.fault_model is None else None
+
+    def speed_limit_cut(self, bits: int) -> None:
+        """The compiled kernel's report: wheel i's motor was cut at its speed limit in a stage (bit i)."""
+        for i in range(self.n):
+            if bits >> i & 1:
+                self.at_speed_limit[i] = True
+
     def _derivative_composed(self, body, x):
         """derivative() through speeds() and axial_torques() (which hands the torques to a fault model)."""
         tau = self.axial_torques(self.speeds(body, x))

@@ -288,6 +288,13 @@ class Thrusters(Effector):
               s * f3 + vd * q3 + k * (q1 * f2 - q2 * f1))
         return self.torque_b, (fn[0], fn[1], fn[2], self.mdot)
 
+    def compiled_general(self):
+        return ("thrusters",)
+
+    def compiled_input(self):
+        """(mdot, force_b, torque_b) of the period: derivative()'s held values (kernels.py)."""
+        return (self.mdot, *self.force_b, *self.torque_b)
+
     @property
     def applied(self) -> tuple:
         return self.torque_b

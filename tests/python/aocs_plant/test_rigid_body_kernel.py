@@ -133,3 +133,111 @@ def test_a_plant_flies_the_same_with_and_without_the_kernel(kernel, monkeypatch,
     assert compiled._period is not None and python._period is None
     assert compiled.body.q == python.body.q and compiled.body.w == python.body.w
     assert compiled.truth()["pointing_arcsec"] == python.truth()["pointing_arcsec"]
+
+
+# ---- the coupled period: the body with reaction wheels and thrusters (rk4_coupled_stepper) ------------------------
+def _coupled_pair(name, monkeypatch):
+    monkeypatch.setenv(kernels.ENV, "")
+    monkeypatch.setattr(kernels, "_loaded", {})
+    plant = Plant(load(name))
+    assert plant._coupled_kernel is not None, name
+    return plant
+
+
+@pytest.mark.parametrize("name", ["irassi_rw", "irassi_day"])   # wheels alone; wheels and thrusters
+def test_coupled_kernel_period_is_the_python_period_bit_for_bit(kernel, monkeypatch, name):  # noqa: ARG001
+    plant = _coupled_pair(name, monkeypatch)
+    wheels = plant.wheel_array
+    thr = next((e for e, _, _ in plant._general if e.kind == "thrusters"), None)
+    rng = np.random.default_rng(11)
+    cuts = 0
+    for case in range(200):
+        q, w = _unit(rng, 4), tuple(float(v) for v in rng.normal(scale=0.02, size=3))
+        # wheel momenta up to beyond their speed limit, motor torques up to twice their limit of either sign:
+        # the stages that cut a motor at the speed limit are exercised
+        x = list(plant._x)
+        for i, (g0, g1, g2, js, wmax) in enumerate(wheels._wheel_rows):
+            x[i] = float(js * wmax * rng.uniform(-1.2, 1.2))
+        wheels.u = tuple(float(v) for v in rng.uniform(-2.0, 2.0, wheels.n) * np.array(wheels.umax))
+        if thr is not None:
+            on = rng.random() < 0.5
+            thr.mdot = float(rng.uniform(1e-6, 1e-3)) if on else 0.0
+            thr.force_b = tuple(float(v) for v in rng.normal(scale=1.0, size=3)) if on else (0.0, 0.0, 0.0)
+            thr.torque_b = tuple(float(v) for v in rng.normal(scale=1.0, size=3)) if on else (0.0, 0.0, 0.0)
+        x = tuple(x)
+        torque = tuple(float(v) for v in rng.normal(scale=1e-3, size=3))
+        h, n = float(rng.uniform(0.01, 1.0)), int(rng.integers(1, 5))
+        wheels.at_speed_limit = [False] * wheels.n
+        pq, pw, px = q, w, x
+        for i in range(n):
+            pq, pw, px = plant._coupled(pq, pw, px, i * h, h, torque)
+        want_cut = list(wheels.at_speed_limit)
+        wheels.at_speed_limit = [False] * wheels.n
+        kq, kw, kx = plant._coupled_kernel.period(q, w, x, h, n, torque)
+        assert [v.hex() for v in kq + kw + kx] == [v.hex() for v in pq + pw + px], (name, case)
+        assert wheels.at_speed_limit == want_cut, (name, case)
+        cuts += any(want_cut)
+    assert cuts > 20   # the speed-limit branch was taken in many of the cases
+
+
+def _fly_wheels(name, monkeypatch, mode, periods=900):
+    monkeypatch.setenv(kernels.ENV, mode)
+    monkeypatch.setattr(kernels, "_loaded", {})
+    # the wheels start at 97 % of their speed limit: the pushes below reach it within seconds
+    top = min(Plant(load(name)).wheel_array.wmax)
+    plant = Plant(load(name, {"wheels.speed0_rad_s": 0.97 * top}))
+    rng = random.Random(9)
+    limits, cuts = [], 0
+    for k in range(periods):
+        cmd = {}
+        for f, n in plant.command_fields.items():
+            if f == "u_wheels":   # pushes of one sign for 100 periods, then the other: at and off the limit
+                cmd[f] = tuple((0.5 if (k // 100) % 2 == 0 else -0.5) * (1 + 0.1 * rng.random()) for _ in range(n))
+            elif f == "thruster_on_s":
+                cmd[f] = tuple(rng.choice((0.0, 0.0, 0.0, 0.05, 0.3)) for _ in range(n))
+            elif isinstance(n, int):
+                cmd[f] = tuple(rng.uniform(-0.1, 0.1) for _ in range(n))
+        assert plant.apply(cmd)
+        plant.advance()
+        limits.append(tuple(plant.wheel_array.at_speed_limit))
+        cuts += any(limits[-1])
+    return plant, limits, cuts
+
+
+@pytest.mark.parametrize("name", ["irassi_rw", "irassi_day", "irassi_rw_failed"])
+def test_a_wheel_plant_flies_the_same_with_and_without_the_coupled_kernel(kernel, monkeypatch, name):  # noqa: ARG001
+    compiled, c_limits, cuts = _fly_wheels(name, monkeypatch, "")
+    python, p_limits, _ = _fly_wheels(name, monkeypatch, "python")
+    assert compiled._coupled_kernel is not None and python._coupled_kernel is None
+    assert (compiled.body.q, compiled.body.w, compiled._x) == (python.body.q, python.body.w, python._x)
+    assert c_limits == p_limits and cuts > 0
+    assert compiled.effector_truth() == python.effector_truth()
+    assert compiled.applied == python.applied
+
+
+def test_a_wheel_fault_model_runs_the_python_period(kernel, monkeypatch):  # noqa: ARG001
+    """An injected wheel fault computes its own axial torques: that period is not compiled (compiled_input None)."""
+    plant = _coupled_pair("irassi_rw_wheel_dies", monkeypatch)
+    assert plant.wheel_array.fault_model is not None
+    assert plant._coupled_kernel.period(plant.body.q, plant.body.w, plant._x, 0.1, 1, (0.0, 0.0, 0.0)) is None
+
+
+def test_the_coupled_kernel_refuses_bad_specs_and_inputs(kernel):
+    J9 = (1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0)
+    row = (1.0, 0.0, 0.0, 0.01, 600.0)
+    with pytest.raises(ValueError, match="1 to 4 effector specs"):
+        kernel.CoupledStepper(J9, J9, None, ())
+    with pytest.raises(ValueError, match="7 wheels, 1 to 6"):
+        kernel.CoupledStepper(J9, J9, None, (("wheels", (row,) * 7, 0.0, 0.0, 0.1),))
+    with pytest.raises(ValueError, match="one wheel array at most"):
+        kernel.CoupledStepper(J9, J9, None, (("wheels", (row,) * 3, 0.0, 0.0, 0.1),) * 2)
+    with pytest.raises(ValueError, match=r'\("wheels", rows, b, c, eps\) or \("thrusters",\)'):
+        kernel.CoupledStepper(J9, J9, None, (("magnetorquers",),))
+    s = kernel.CoupledStepper(J9, J9, None, (("wheels", (row,) * 3, 0.0, 0.0, 0.1), ("thrusters",)))
+    q, w = (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="x: 6 values, expected 7"):
+        s.period(q, w, (0.0,) * 6, 0.1, 1, (0.0,) * 3, ((0.0,) * 3, (0.0,) * 7))
+    with pytest.raises(ValueError, match=r"inputs: 1, one per effector \(2\)"):
+        s.period(q, w, (0.0,) * 7, 0.1, 1, (0.0,) * 3, ((0.0,) * 3,))
+    with pytest.raises(ValueError, match="thrusters .* 6 values, expected 7"):
+        s.period(q, w, (0.0,) * 7, 0.1, 1, (0.0,) * 3, ((0.0,) * 3, (0.0,) * 6))
