@@ -50,6 +50,9 @@ class ObservationPlan:
     def index_at(self, t: float, dt: float) -> int:
         """The observation commanded at simulation time t (the command of T_i acts from the first tick with
         t_k >= T_i, as the events fire: k = ceil(T_i / dt - 1e-9))."""
-        ticks = [first_tick(T, dt) for T in self.command_times_s]
+        cache = self.__dict__.setdefault("_ticks_by_dt", {})   # once per dt: truth_t asks at every tick
+        ticks = cache.get(dt)
+        if ticks is None:
+            ticks = cache[dt] = [first_tick(T, dt) for T in self.command_times_s]
         k = int(round(t / dt))
         return max(0, bisect.bisect_right(ticks, k) - 1)

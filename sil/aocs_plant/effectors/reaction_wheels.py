@@ -233,6 +233,8 @@ class ReactionWheels(Effector):
         g = self.g
         #: per wheel (axis in B, spin inertia, speed limit): derivative()'s loop
         self._wheel_rows = tuple((gi[0], gi[1], gi[2], j, m) for gi, j, m in zip(g, self.js, self.wmax))
+        #: per wheel (torque limit, failed at t = 0): command_wheels()'s loop
+        self._limits = tuple((m, i in self.failed) for i, m in enumerate(self.umax))
         self.inertia_offset = tuple(sum(self.js[k] * g[k][i] * g[k][j] for k in range(n))
                                     for i in range(3) for j in range(3))
         self.J = tuple(float(v) for v in body.inertia)   # total inertia (with the wheels), row-major
@@ -272,24 +274,23 @@ class ReactionWheels(Effector):
         if len(u_s) != self.n:
             raise ValueError(f"{len(u_s)} wheel torques for {self.n} wheels")
         self.u_cmd = u_s
-        at, out = [], []
+        # v clipped to [-m, m] (min(m, max(-m, v)) for the finite values Plant.apply lets through), plus the noise;
+        # a failed wheel's motor gives nothing: per wheel (m, failed) built once (_limits)
         nz = self.noise.next() if self.noise is not None else None
-        for i, v in enumerate(u_s):
-            m = self.umax[i]
-            lim = min(m, max(-m, v))
-            at.append(abs(v) >= m)
+        out = []
+        for i, (v, (m, dead)) in enumerate(zip(u_s, self._limits)):
+            lim = m if v > m else (-m if v < -m else v)
             if nz is not None:
                 lim += nz[i]
-            out.append(0.0 if i in self.failed else lim)
+            out.append(0.0 if dead else lim)
         self.u = self.u_motor = tuple(out)
-        self.at_torque_limit = tuple(at)
+        self.at_torque_limit = tuple([abs(v) >= m for v, (m, _) in zip(u_s, self._limits)])
 
     # ---------------------------------------------------------------- dynamics
     def speeds(self, body, h) -> tuple:
         """Omega_i = h_i / Js_i - g_i . w (rad/s, relative to the body)."""
         w1, w2, w3 = body[4], body[5], body[6]
-        g, js = self.g, self.js
-        return tuple(h[i] / js[i] - (g[i][0] * w1 + g[i][1] * w2 + g[i][2] * w3) for i in range(self.n))
+        return tuple([hi / js - (g0 * w1 + g1 * w2 + g2 * w3) for hi, (g0, g1, g2, js, _) in zip(h, self._wheel_rows)])
 
     def axial_torques(self, om) -> tuple:
         """tau_i = u_i - f_i(Omega_i), the motor cut when it would drive |Omega_i| beyond the limit."""
@@ -387,17 +388,20 @@ class ReactionWheels(Effector):
         self._applied = (ax, ay, az)
 
     # ---------------------------------------------------------------- truth
-    def total_momentum(self, body, x) -> tuple:
-        """H = J w + sum Js_i g_i Omega_i = J_b w + Gs h, B components (N m s)."""
+    def total_momentum(self, body, x, speeds=None) -> tuple:
+        """H = J w + sum Js_i g_i Omega_i = J_b w + Gs h, B components (N m s); speeds: speeds(body, x) when the
+        caller has them."""
         J = self.J
         w1, w2, w3 = body[4], body[5], body[6]
-        om = self.speeds(body, x)
-        H = [J[0] * w1 + J[1] * w2 + J[2] * w3, J[3] * w1 + J[4] * w2 + J[5] * w3,
-             J[6] * w1 + J[7] * w2 + J[8] * w3]
-        for i in range(self.n):
-            for k in range(3):
-                H[k] += self.js[i] * self.g[i][k] * om[i]
-        return tuple(H)
+        om = self.speeds(body, x) if speeds is None else speeds
+        H0 = J[0] * w1 + J[1] * w2 + J[2] * w3
+        H1 = J[3] * w1 + J[4] * w2 + J[5] * w3
+        H2 = J[6] * w1 + J[7] * w2 + J[8] * w3
+        for (g0, g1, g2, js, _), o in zip(self._wheel_rows, om):
+            H0 += js * g0 * o
+            H1 += js * g1 * o
+            H2 += js * g2 * o
+        return (H0, H1, H2)
 
     @property
     def commanded(self) -> tuple:
@@ -408,7 +412,8 @@ class ReactionWheels(Effector):
         return self._applied
 
     def truth(self, t, body, x) -> dict:
-        return {"speed_rad_s": self.speeds(body, x), "momentum_nms": tuple(x),
+        om = self.speeds(body, x)
+        return {"speed_rad_s": om, "momentum_nms": tuple(x),
                 "motor_torque_nm": self.u, "torque_cmd_nm": self.u_cmd,
                 "at_torque_limit": self.at_torque_limit, "at_speed_limit": tuple(self.at_speed_limit),
-                "momentum_total_nms": self.total_momentum(body, x)}
+                "momentum_total_nms": self.total_momentum(body, x, om)}
