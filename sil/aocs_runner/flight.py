@@ -10,6 +10,7 @@ explains with the log's last ticks (run.py).
 from __future__ import annotations
 
 import json
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -46,6 +47,7 @@ class Flight:
     env: dict
     plant_launcher: object = None   # run.RunOptions.plant_launcher
     transport: str = "lcm"          # lcm | direct (transport.py): direct starts the plant only
+    cpus: tuple | None = None       # (plant CPU, flight computer CPU): each pinned to its own (transport.lockstep_cpus)
 
     @property
     def ready_file(self) -> Path:
@@ -91,6 +93,8 @@ def fly(f: Flight) -> Failure | None:
                 rec.link.publish("start", scenario=f.scenario_id, law=f.law, mode=f.mode)  # the plant listens
             fc = procs.start(f.fc_name, f.fc_cmd, stdout=f.out / "fsw_node.stdout",
                              stderr=f.out / "fsw_node.stderr", env=f.env)
+            if f.cpus is not None:
+                _pin(plant, fc, f.cpus)
             failure = _watch(plant, fc, f)
             rc_fc = fc.stop()  # SIGTERM: the node publishes its last status and reports
             if failure is None and rc_fc != 0:
@@ -100,6 +104,16 @@ def fly(f: Flight) -> Failure | None:
             if failure is None and rc_p not in (None, 0):
                 failure = Failure("plant_node", rc_p, plant)
     return failure
+
+
+def _pin(plant: orchestrate.Proc, fc: orchestrate.Proc, cpus: tuple) -> None:
+    """The plant and the flight computer each on a CPU of its own, before the first period (the plant waits for
+    the flight computer's first heartbeat). A process that has already ended is left alone: _watch reports it."""
+    for proc, cpu in ((plant, cpus[0]), (fc, cpus[1])):
+        try:
+            os.sched_setaffinity(proc.pid, {cpu})
+        except OSError:
+            pass
 
 
 def _fly_direct(f: Flight) -> Failure | None:

@@ -34,7 +34,7 @@ from aocs_wire import lcmlog, netns
 from . import events as evmod
 from . import orchestrate, scenario_gains, scenario_opts
 from .flight import Failure, Flight, RunFailed, fly
-from .transport import LOCKSTEP_WAIT_SPIN_US, check_transport
+from .transport import LOCKSTEP_WAIT_SPIN_US, check_transport, lockstep_cpus
 
 #: plant_node exit codes (plant_node.py)
 PLANT_EXITS = {2: "bad arguments or scenario", 3: "no heartbeat from the flight computer",
@@ -70,6 +70,9 @@ class RunOptions:
     # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
     # Popen-like child (aocs campaign forks it from a worker that has the plant's modules imported)
     plant_launcher: object = None
+    # lockstep over LCM on the host, not in a campaign: the plant and fsw_node each pinned to a CPU of its own
+    # (transport.lockstep_cpus; aocs run --no-pin-cpus leaves them to the scheduler)
+    pin_cpus: bool = True
 
 
 @dataclass
@@ -333,6 +336,7 @@ def run_record(opts: RunOptions, plan: RunPlan, cfg_path: Path) -> dict:
             "overrides": plan.overrides,
             "law": plan.law, "mode": plan.mode, "recorder": plan.recorder, "plant_lcm_lib": opts.plant_lcm_lib,
             "target": opts.target, "transport": opts.transport, "events": list(opts.events), "label": opts.label,
+            "pinned_cpus": dict(zip(("plant_node", "fsw_node"), cpus)) if (cpus := cpus_of(opts, plan)) else None,
             "faults": [f.to_json() for f in sc.faults],
             "fsw_config": plan.fsw_config, "fsw_config_file": cfg_path.name, "fc_command": plan.fc_cmd,
             "gains": {n: c.to_json() for n, c in plan.gains.items()},
@@ -361,6 +365,8 @@ def repeat_command(opts: RunOptions, plan: RunPlan) -> str:
         words += ["--recorder", opts.recorder]
     if opts.plant_lcm_lib:
         words.append("--plant-lcm-lib")
+    if not opts.pin_cpus:
+        words.append("--no-pin-cpus")
     for a in opts.allow:
         words += ["--allow", a]
     if opts.reply_timeout is not None:
@@ -408,7 +414,17 @@ def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
                f"{opts.target}; output in {plan.out}/")
     fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
     return Flight(sc.id, plan.law, plan.mode, sc.duration_s, plan.out, plan.log_path, plan.recorder,
-                  plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher, opts.transport)
+                  plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher, opts.transport,
+                  cpus_of(opts, plan))
+
+
+def cpus_of(opts: RunOptions, plan: RunPlan) -> tuple[int, int] | None:
+    """The CPUs the plant and fsw_node are pinned to (flight.Flight.cpus): a lockstep run over LCM on the host, by
+    itself (a campaign runs several at once: its runs are left to the scheduler), unless --no-pin-cpus."""
+    if not (opts.pin_cpus and plan.mode == "lockstep" and opts.transport == "lcm" and opts.target == "host"
+            and opts.plant_launcher is None):
+        return None
+    return lockstep_cpus()
 
 
 def failure_message(failure: Failure, plan: RunPlan) -> str:

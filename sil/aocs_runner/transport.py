@@ -17,6 +17,17 @@ TRANSPORTS = ("lcm", "direct")
 LOCKSTEP_WAIT_SPIN_US = 200.0
 
 
+def lockstep_cpus() -> tuple[int, int] | None:
+    """(the plant's CPU, the flight computer's CPU) for a lockstep run over LCM: two of the CPUs this process may
+    use, or None when it may use one only. Two processes that hand every period to each other run best each on
+    its own CPU; left to the scheduler they often share one, each waking the other (docs/benchmarks.md,
+    "Waiting without sleeping": irassi_large's lockstep then falls from about 3000x to about 1800x)."""
+    import os  # deferred: only a lockstep run over LCM asks
+
+    cpus = sorted(os.sched_getaffinity(0))
+    return (cpus[0], cpus[1]) if len(cpus) >= 2 else None
+
+
 def check_transport(transport) -> None:
     """ValueError naming --transport unless it is one of TRANSPORTS."""
     if transport not in TRANSPORTS:

@@ -57,6 +57,9 @@ def add_arguments(p) -> None:
     p.add_argument("--plant-lcm-lib", action="store_true",
                    help="plant_node receives through the LCM library's thread instead of reading udpm "
                         "directly (for comparison; docs/sil.md)")
+    p.add_argument("--no-pin-cpus", action="store_true",
+                   help="lockstep over LCM: leave plant_node and fsw_node to the scheduler instead of pinning each "
+                        "to a CPU of its own (docs/sil.md)")
     p.add_argument("--allow", action="append", default=[], choices=verdict.CHECKS, metavar="CHECK",
                    help="let the run pass although this check fails, to study the case on purpose: "
                         + ", ".join(verdict.CHECKS) + " (docs/sil.md, Verdict; repeatable)")
@@ -76,7 +79,7 @@ def options_from_args(args) -> RunOptions:
                       guidance=args.guidance,
                       sets=args.set, events=args.event, faults=args.fault, reply_timeout=args.reply_timeout, label=args.label,
                       plots=not args.no_plots, quiet=args.quiet, recorder=args.recorder,
-                      plant_lcm_lib=args.plant_lcm_lib, allow=tuple(args.allow),
+                      plant_lcm_lib=args.plant_lcm_lib, pin_cpus=not args.no_pin_cpus, allow=tuple(args.allow),
                       telemetry_decimate=args.telemetry_decimate, command=command_line.typed("run"))
 
 
