@@ -100,10 +100,10 @@ class Plant:
             self._f = body_derivative(self.body.J, self.body.Ji, term)
             self._step = rk4_stepper(self._f)
             # the same period compiled (kernels.py: the same doubles), when built and the terms allow it
-            self._period = None
+            self._compiled_period = None
             if not self._general and not self._time_varying:
-                self._period = kernels.rigid_body_period(self.body.J, self.body.Ji,
-                                                         (e.compiled_term() for e in self._terms))
+                self._compiled_period = kernels.rigid_body_period(self.body.J, self.body.Ji,
+                                                                  (e.compiled_term() for e in self._terms))
             self._coupled = None
             if self._general:
                 self._coupled = rk4_coupled_stepper(self._f, self._effector_rhs(self._general))
@@ -335,9 +335,9 @@ class Plant:
         elif self.kind == "attitude":
             if self._general:
                 self._segment_general(t0, self.dt, T)
-            elif self._period is not None:   # the fast path compiled
+            elif self._compiled_period is not None:   # the fast path compiled
                 body = self.body
-                body.q, body.w = self._period(body.q, body.w, self.dt / self.substeps, self.substeps, T)
+                body.q, body.w = self._compiled_period(body.q, body.w, self.dt / self.substeps, self.substeps, T)
             else:  # the fast path: the rigid body alone, the torque held
                 n = self.substeps
                 h = self.dt / n

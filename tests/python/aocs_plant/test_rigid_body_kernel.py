@@ -130,7 +130,7 @@ def _fly(name, monkeypatch, mode, periods=1500):
 def test_a_plant_flies_the_same_with_and_without_the_kernel(kernel, monkeypatch, name):  # noqa: ARG001
     compiled = _fly(name, monkeypatch, "")
     python = _fly(name, monkeypatch, "python")
-    assert compiled._period is not None and python._period is None
+    assert compiled._compiled_period is not None and python._compiled_period is None
     assert compiled.body.q == python.body.q and compiled.body.w == python.body.w
     assert compiled.truth()["pointing_arcsec"] == python.truth()["pointing_arcsec"]
 
