@@ -151,32 +151,71 @@ static void derivative(const Body *s, const double y[7], const double t[3], doub
     }
 }
 
+/* the state of an RK4 stage: yst = y + step ky (the body), xst = x + step kx (the m effector states) */
+static void stage_state(const double y[7], const double *x, int m, double step, const double ky[7], const double *kx,
+                        double yst[7], double *xst)
+{
+    for (int i = 0; i < 7; i++) {
+        yst[i] = y[i] + step * ky[i];
+    }
+    for (int i = 0; i < m; i++) {
+        xst[i] = x[i] + step * kx[i];
+    }
+}
+
+/* the RK4 update of n values, v += h/6 (ka + 2 (kb + kc) + kd) */
+static void rk4_update(double *v, int n, double h, const double *ka, const double *kb, const double *kc,
+                       const double *kd)
+{
+    const double h6 = h / 6.0;
+    for (int i = 0; i < n; i++) {
+        v[i] = v[i] + h6 * (ka[i] + 2.0 * (kb[i] + kc[i]) + kd[i]);
+    }
+}
+
+/* q (y[0..3]) renormalised: q / sqrt(q . q) as 1 / sqrt times each component */
+static void renormalise(double y[7])
+{
+    const double nrm = 1.0 / sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]);
+    for (int i = 0; i < 4; i++) {
+        y[i] = y[i] * nrm;
+    }
+}
+
 /* rk4_stepper's step: y advanced by h, q renormalised */
 static void rk4_substep(const Body *s, double y[7], double h, const double t[3])
 {
     double a[7], b[7], c[7], d[7], st[7];
     const double hh = 0.5 * h;
     derivative(s, y, t, a);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + hh * a[i];
-    }
+    stage_state(y, NULL, 0, hh, a, NULL, st, NULL);
     derivative(s, st, t, b);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + hh * b[i];
-    }
+    stage_state(y, NULL, 0, hh, b, NULL, st, NULL);
     derivative(s, st, t, c);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + h * c[i];
-    }
+    stage_state(y, NULL, 0, h, c, NULL, st, NULL);
     derivative(s, st, t, d);
-    const double h6 = h / 6.0;
-    for (int i = 0; i < 7; i++) {
-        y[i] = y[i] + h6 * (a[i] + 2.0 * (b[i] + c[i]) + d[i]);
+    rk4_update(y, 7, h, a, b, c, d);
+    renormalise(y);
+}
+
+/* the substep length h (a number) and count n (an integer, at least 1): 0, or -1 with the exception set */
+static int read_h_n(PyObject *h_obj, PyObject *n_obj, double *h, long *n)
+{
+    *h = PyFloat_AsDouble(h_obj);
+    if (*h == -1.0 && PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "h: not a number");
+        return -1;
     }
-    const double nrm = 1.0 / sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]);
-    for (int i = 0; i < 4; i++) {
-        y[i] = y[i] * nrm;
+    *n = PyLong_AsLong(n_obj);
+    if (*n == -1 && PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "n: not an integer");
+        return -1;
     }
+    if (*n < 1) {
+        PyErr_Format(PyExc_ValueError, "n: %ld substeps, at least 1", *n);
+        return -1;
+    }
+    return 0;
 }
 
 static PyObject *tuple_of(const double *v, Py_ssize_t n)
@@ -207,18 +246,9 @@ static PyObject *Stepper_period(Stepper *self, PyObject *const *args, Py_ssize_t
         || read_doubles(args[4], 3, t, "torque") < 0) {
         return NULL;
     }
-    const double h = PyFloat_AsDouble(args[2]);
-    if (h == -1.0 && PyErr_Occurred()) {
-        PyErr_SetString(PyExc_TypeError, "h: not a number");
-        return NULL;
-    }
-    const long n = PyLong_AsLong(args[3]);
-    if (n == -1 && PyErr_Occurred()) {
-        PyErr_SetString(PyExc_TypeError, "n: not an integer");
-        return NULL;
-    }
-    if (n < 1) {
-        PyErr_Format(PyExc_ValueError, "n: %ld substeps, at least 1", n);
+    double h;
+    long n;
+    if (read_h_n(args[2], args[3], &h, &n) < 0) {
         return NULL;
     }
     for (long i = 0; i < n; i++) {
@@ -395,56 +425,37 @@ static void general_rhs(const CoupledStepper *s, const double body[7], const dou
     }
 }
 
+/* one stage of rk4_coupled_stepper: the effectors' derivative kx and torque, then the body's ky with the held torque
+ * t plus theirs, at (yst, xst) */
+static void coupled_stage(const CoupledStepper *s, const double yst[7], const double *xst, const double t[3],
+                          double ky[7], double *kx, unsigned *cut)
+{
+    double e[3], tt[3];
+    general_rhs(s, yst, xst, e, kx, cut);
+    tt[0] = t[0] + e[0];
+    tt[1] = t[1] + e[1];
+    tt[2] = t[2] + e[2];
+    derivative(&s->body, yst, tt, ky);
+}
+
 /* rk4_coupled_stepper's step: y = (q, w) and x advanced by h, q renormalised */
 static void rk4_coupled_substep(const CoupledStepper *s, double y[7], double *x, double h, const double t[3],
                                 unsigned *cut)
 {
-    const Body *b = &s->body;
     const int m = s->size;
-    double a[7], bb[7], c[7], d[7], st[7], tt[3], e[3];
+    double a[7], bb[7], c[7], d[7], st[7];
     double ka[MAX_STATE], kb[MAX_STATE], kc[MAX_STATE], kd[MAX_STATE], xs[MAX_STATE];
     const double hh = 0.5 * h;
-    general_rhs(s, y, x, e, ka, cut);
-    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
-    derivative(b, y, tt, a);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + hh * a[i];
-    }
-    for (int i = 0; i < m; i++) {
-        xs[i] = x[i] + hh * ka[i];
-    }
-    general_rhs(s, st, xs, e, kb, cut);
-    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
-    derivative(b, st, tt, bb);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + hh * bb[i];
-    }
-    for (int i = 0; i < m; i++) {
-        xs[i] = x[i] + hh * kb[i];
-    }
-    general_rhs(s, st, xs, e, kc, cut);
-    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
-    derivative(b, st, tt, c);
-    for (int i = 0; i < 7; i++) {
-        st[i] = y[i] + h * c[i];
-    }
-    for (int i = 0; i < m; i++) {
-        xs[i] = x[i] + h * kc[i];
-    }
-    general_rhs(s, st, xs, e, kd, cut);
-    tt[0] = t[0] + e[0]; tt[1] = t[1] + e[1]; tt[2] = t[2] + e[2];
-    derivative(b, st, tt, d);
-    const double h6 = h / 6.0;
-    for (int i = 0; i < 7; i++) {
-        y[i] = y[i] + h6 * (a[i] + 2.0 * (bb[i] + c[i]) + d[i]);
-    }
-    for (int i = 0; i < m; i++) {
-        x[i] = x[i] + h6 * (ka[i] + 2.0 * (kb[i] + kc[i]) + kd[i]);
-    }
-    const double nrm = 1.0 / sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]);
-    for (int i = 0; i < 4; i++) {
-        y[i] = y[i] * nrm;
-    }
+    coupled_stage(s, y, x, t, a, ka, cut);
+    stage_state(y, x, m, hh, a, ka, st, xs);
+    coupled_stage(s, st, xs, t, bb, kb, cut);
+    stage_state(y, x, m, hh, bb, kb, st, xs);
+    coupled_stage(s, st, xs, t, c, kc, cut);
+    stage_state(y, x, m, h, c, kc, st, xs);
+    coupled_stage(s, st, xs, t, d, kd, cut);
+    rk4_update(y, 7, h, a, bb, c, d);
+    rk4_update(x, m, h, ka, kb, kc, kd);
+    renormalise(y);
 }
 
 /* one static effector spec: ("wheels", ((g0, g1, g2, Js, Omega_max), ...), b, c, eps) or ("thrusters",) */
@@ -581,18 +592,9 @@ static PyObject *CoupledStepper_period(CoupledStepper *self, PyObject *const *ar
         || read_inputs(self, args[6]) < 0) {
         return NULL;
     }
-    const double h = PyFloat_AsDouble(args[3]);
-    if (h == -1.0 && PyErr_Occurred()) {
-        PyErr_SetString(PyExc_TypeError, "h: not a number");
-        return NULL;
-    }
-    const long n = PyLong_AsLong(args[4]);
-    if (n == -1 && PyErr_Occurred()) {
-        PyErr_SetString(PyExc_TypeError, "n: not an integer");
-        return NULL;
-    }
-    if (n < 1) {
-        PyErr_Format(PyExc_ValueError, "n: %ld substeps, at least 1", n);
+    double h;
+    long n;
+    if (read_h_n(args[3], args[4], &h, &n) < 0) {
         return NULL;
     }
     for (long i = 0; i < n; i++) {
