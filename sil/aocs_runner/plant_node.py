@@ -59,6 +59,7 @@ T_PROCESS = time.perf_counter()  # before the heavy imports: startup cost is mea
 import argparse  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
+import os  # noqa: E402
 import signal  # noqa: E402
 import sys  # noqa: E402
 from array import array  # noqa: E402
@@ -339,6 +340,7 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         # what the direct udpm reader dropped (fragments beyond its bounds, garbage): udpm.Udpm.counters
         "udpm": getattr(link.lc, "counters", None),
         "transport": "direct" if link.direct else "lcm",
+        "cpus": sorted(os.sched_getaffinity(0)),   # where the loop ran (aocs run may pin it: flight._pin)
     }
     print(json.dumps({"plant_node": summary}), flush=True)
     if link.direct:
