@@ -180,26 +180,41 @@ def _record_dtype(codec: wire.Codec) -> np.dtype:
     return dt
 
 
+#: records converted at once by _table_fast: a block of them (~1 MB) stays in the cache while every column of it
+#: is converted, instead of one pass over the whole table per column (163 columns of a day's 864,000 records)
+_BLOCK_RECORDS = 1024
+
+
+def _convert(col: np.ndarray, typ: str, k) -> np.ndarray:
+    """One column of records as _table gives it: int fields through float64, int64 scalars exactly, the rest
+    float64."""
+    if typ == "int64_t" and k is None:
+        return col.astype(np.int64)
+    if typ in _INT_TYPES:
+        return col.astype(np.float64).astype(np.int64)
+    return col.astype(np.float64)
+
+
 def _table_fast(codec: wire.Codec, buf: np.ndarray, offsets: list, utimes: list) -> dict:
-    """_table's columns from the payloads at offsets, decoded in bulk: the same dtypes and values (int
-    fields through float64 as _table does, int64 scalars exactly)."""
+    """_table's columns from the payloads at offsets, decoded in bulk (_convert: the same dtypes and values),
+    block by block of _BLOCK_RECORDS records."""
     dt = _record_dtype(codec)
     n = len(offsets)
-    if n:
-        rec = _rows(buf, np.asarray(offsets, dtype=np.int64), dt.itemsize).reshape(-1).view(dt)
+    fields = list(zip(codec.fields, codec.cls.__typenames__))
     out: dict = {}
-    for (name, k), typ in zip(codec.fields, codec.cls.__typenames__):
-        if not n:
+    if not n:
+        for (name, k), typ in fields:
             col = np.zeros((0,) if k is None else (0, k))
             out[name] = col.astype(np.int64) if typ in _INT_TYPES else col
-            continue
-        col = rec[name]
-        if typ == "int64_t" and k is None:
-            out[name] = col.astype(np.int64)
-        elif typ in _INT_TYPES:
-            out[name] = col.astype(np.float64).astype(np.int64)
-        else:
-            out[name] = col.astype(np.float64)
+    else:
+        at = np.asarray(offsets, dtype=np.int64)
+        for (name, k), typ in fields:
+            out[name] = np.empty((n,) if k is None else (n, k),
+                                 dtype=np.int64 if typ in _INT_TYPES else np.float64)
+        for lo in range(0, n, _BLOCK_RECORDS):
+            rec = _rows(buf, at[lo:lo + _BLOCK_RECORDS], dt.itemsize).reshape(-1).view(dt)
+            for (name, k), typ in fields:
+                out[name][lo:lo + rec.size] = _convert(rec[name], typ, k)
     out["log_utime"] = np.array(utimes, dtype=np.int64)
     return out
 
