@@ -480,7 +480,8 @@ def log_completeness(opts: RunOptions, plan: RunPlan, log) -> list[str]:
     sc = plan.sc
     dropped = evmod.dropped_ticks(opts.events, sc.dt, sc.n_steps, sc.faults)
     try:
-        lcmlog.scan(plan.log_path)
+        if log.scan is None:   # the bulk reader found the file clean (Log.scan): no second walk of it
+            lcmlog.scan(plan.log_path)
         problems = lcmlog.completeness_problems(
             log, sc.n_steps, replies_expected=None if opts.realtime else sc.n_steps - len(dropped),
             dropped_ticks=dropped)

@@ -117,6 +117,9 @@ class Log:
     counts: dict = field(default_factory=dict)
     events: list | None = None    # raw (channel, data, utime) when keep_raw
     fault_events: dict = field(default_factory=dict)   # AOCS_EVENTS (event_t): fault management's events
+    #: scan(path) of the file, when the bulk decoder found it clean (its events chained, numbered in order): the
+    #: caller need not walk the file again; None otherwise (scan() then names the damage)
+    scan: LogScan | None = None
 
 
 def _table(codec: wire.Codec, rows: list, utimes: list) -> dict:
@@ -291,6 +294,9 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
     by_channel = _by_channel()
     n_ev = starts.size
     hdr = _headers(buf, starts)
+    num = hdr["num"].astype(np.int64)
+    clean = LogScan(int(n_ev), len(data), int(num[0]) if n_ev else None, int(num[-1]) if n_ev else None) \
+        if not np.any(np.diff(num) != 1) else None
     utime = hdr["utime"].astype(np.int64)
     ch_len = hdr["ch_len"].astype(np.int64)
     data_len = hdr["data_len"].astype(np.int64)
@@ -348,7 +354,7 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
                zip(chan_id.tolist(), payload.tolist(), data_len.tolist(), utime.tolist())]
     t = tables
     return Log(path, t[wire.TRUTH], t[wire.ACTUATOR], t[wire.SENSORS], t[wire.STATUS], t[wire.COMMAND],
-               markers, counts, raw, t[wire.EVENTS])
+               markers, counts, raw, t[wire.EVENTS], clean)
 
 
 def _events(log, path: Path):

@@ -41,6 +41,19 @@ def test_scan_names_the_byte_of_damage_and_truncation(tmp_path):
         lcmlog.scan(tmp_path / "c.lcmlog")
 
 
+def test_read_carries_the_scan_of_a_clean_file_and_none_of_a_damaged_one(aocs_lcm, tmp_path):  # noqa: ARG001
+    """Log.scan is scan()'s answer when the bulk reader found the file clean; for an event removed whole (every
+    header valid, the numbering broken) it is None, and scan() names the byte."""
+    p = _write(tmp_path / "a.lcmlog", [_marker("start"), ("X", b"abc"), ("Y", b""), _marker("end")])
+    assert lcmlog.read(p).scan == lcmlog.scan(p)
+    data = p.read_bytes()
+    one = len(encode_event(0, 0, "AOCS_RUNNER", json.dumps({"marker": "start"}).encode()))
+    (tmp_path / "c.lcmlog").write_bytes(data[:one] + data[one + len(encode_event(1, 1000, "X", b"abc")):])
+    assert lcmlog.read(tmp_path / "c.lcmlog").scan is None
+    with pytest.raises(lcmlog.LogIntegrityError, match="event 2 follows event 0"):
+        lcmlog.scan(tmp_path / "c.lcmlog")
+
+
 def test_tick_gaps_are_described():
     import numpy as np
     assert lcmlog._tick_gap(np.arange(5), 0, 4) is None
