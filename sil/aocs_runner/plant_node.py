@@ -448,15 +448,13 @@ class _Loop:
         if e is None:
             return self._zero_wheel_truth
         plant = self.plant
-        tr = e.truth(plant.t, plant.body_state(), plant.effector_state(e))
+        speed, momentum, motor, _, at_torque, at_speed, H = e.truth_fields(plant.body_state(), plant.effector_state(e))
         bits = 0
-        for i, (a, b) in enumerate(zip(tr["at_torque_limit"], tr["at_speed_limit"])):
+        for i, (a, b) in enumerate(zip(at_torque, at_speed)):
             bits |= (1 << i if a else 0) | (1 << (8 + i) if b else 0)
-        H = tr["momentum_total_nms"]
         A = quat_to_dcm(plant.body.q)
         HN = tuple(A[0][r] * H[0] + A[1][r] * H[1] + A[2][r] * H[2] for r in range(3))
-        return (self.nw, *self._pad(tr["speed_rad_s"]), *self._pad(tr["momentum_nms"]),
-                *self._pad(tr["motor_torque_nm"]), bits, *H, *HN)
+        return (self.nw, *self._pad(speed), *self._pad(momentum), *self._pad(motor), bits, *H, *HN)
 
     def truth_estimation(self):
         """truth_t's fields an attitude estimate is judged against: the gyro's true bias in B at the end of its

@@ -1,5 +1,5 @@
 /*
- * aocs_rigid_body_kernel: the plant's attitude periods compiled (issue 24, docs/spec.md 3.8).
+ * aocs_rigid_body_kernel: the plant's attitude periods compiled (issue 24, docs/spec.md 5.13.1).
  *
  * One control period of the rigid body alone, n fixed RK4 substeps of length h with the torque T held:
  *

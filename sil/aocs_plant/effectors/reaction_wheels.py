@@ -411,9 +411,15 @@ class ReactionWheels(Effector):
     def applied(self) -> tuple:
         return self._applied
 
-    def truth(self, t, body, x) -> dict:
+    #: the fields of truth_fields(), in order
+    TRUTH_FIELDS = ("speed_rad_s", "momentum_nms", "motor_torque_nm", "torque_cmd_nm", "at_torque_limit",
+                    "at_speed_limit", "momentum_total_nms")
+
+    def truth_fields(self, body, x) -> tuple:
+        """The values of TRUTH_FIELDS now, as a tuple (truth_t's wheel fields are packed from it at every tick)."""
         om = self.speeds(body, x)
-        return {"speed_rad_s": om, "momentum_nms": tuple(x),
-                "motor_torque_nm": self.u, "torque_cmd_nm": self.u_cmd,
-                "at_torque_limit": self.at_torque_limit, "at_speed_limit": tuple(self.at_speed_limit),
-                "momentum_total_nms": self.total_momentum(body, x, om)}
+        return (om, tuple(x), self.u, self.u_cmd, self.at_torque_limit, tuple(self.at_speed_limit),
+                self.total_momentum(body, x, om))
+
+    def truth(self, t, body, x) -> dict:
+        return dict(zip(self.TRUTH_FIELDS, self.truth_fields(body, x)))
