@@ -241,3 +241,17 @@ def test_the_coupled_kernel_refuses_bad_specs_and_inputs(kernel):
         s.period(q, w, (0.0,) * 7, 0.1, 1, (0.0,) * 3, ((0.0,) * 3,))
     with pytest.raises(ValueError, match="thrusters .* 6 values, expected 7"):
         s.period(q, w, (0.0,) * 7, 0.1, 1, (0.0,) * 3, ((0.0,) * 3, (0.0,) * 6))
+
+
+def test_a_time_varying_term_is_never_compiled(kernel, monkeypatch):  # noqa: ARG001
+    """The kernel freezes its terms; geo_hinf's Earth gravity gradient moves with time (at_time before every
+    substep). Even were it to offer a compiled form, the plant keeps such a period in Python."""
+    from aocs_plant.effectors.gravity_gradient import GravityGradientEarth
+
+    monkeypatch.setattr(GravityGradientEarth, "compiled_term",
+                        lambda self: ("gravity_gradient", 1e-6, (0.0, 0.0, 1.0), (1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0)))
+    monkeypatch.setenv(kernels.ENV, "")
+    monkeypatch.setattr(kernels, "_loaded", {})
+    plant = Plant(load("geo_hinf"))
+    assert plant._time_varying and not plant._general
+    assert plant._compiled_period is None and plant._coupled_kernel is None
