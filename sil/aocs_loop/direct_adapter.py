@@ -87,10 +87,13 @@ class DirectNode:
         self.handle = h
         self._out = ctypes.create_string_buffer(REPLY_CAP)
         self._string_at = ctypes.string_at
-        # the hot call, once per control period: the same function without argtypes (ctypes converts a bytes,
+        # the hot calls, once per control period: the same functions without argtypes (ctypes converts a bytes,
         # an int and the buffer natively; the typed call's conversions cost ~1.5 us of ~4 per period)
-        self._sensors = ctypes.CDLL(str(library_path())).aocs_direct_sensors
+        untyped = ctypes.CDLL(str(library_path()))
+        self._sensors = untyped.aocs_direct_sensors
         self._sensors.restype = ctypes.c_int32
+        self._event = untyped.aocs_direct_event
+        self._event.restype = ctypes.c_int32
 
     @classmethod
     def from_file(cls, path) -> "DirectNode":
@@ -120,7 +123,7 @@ class DirectNode:
         messages fsw_node publishes on AOCS_EVENTS."""
         out = []
         while True:
-            n = self.lib.aocs_direct_event(self.handle, self._out, REPLY_CAP)
+            n = self._event(self.handle, self._out, REPLY_CAP)   # untyped: the hot call (see __init__)
             if n < 0:
                 raise DirectError(f"aocs_direct_event failed ({n})")
             if n == 0:
