@@ -69,13 +69,13 @@ class CoupledKernel:
     """The coupled period compiled: period(q, w, x, h, n, torque) -> (q, w, x), or None when an effector cannot be
     compiled this period (compiled_input() None: an injected wheel fault), then the caller runs Python."""
 
-    def __init__(self, stepper, effectors):
+    def __init__(self, stepper, effectors, specs):
         self._period = stepper.period
         self._effectors = effectors
-        self._wheels = next((e for e in effectors if e.compiled_general()[0] == "wheels"), None)
+        self._wheels = next((e for e, spec in zip(effectors, specs) if spec[0] == "wheels"), None)
 
     def period(self, q, w, x, h, n, torque):
-        inputs = tuple(e.compiled_input() for e in self._effectors)
+        inputs = tuple([e.compiled_input() for e in self._effectors])
         if None in inputs:
             return None
         q, w, x, cut = self._period(q, w, x, h, n, torque, inputs)
@@ -95,4 +95,4 @@ def coupled_period(J: tuple, Ji: tuple, compiled_terms, general) -> CoupledKerne
     mod = module(RIGID_BODY)
     if mod is None:
         return None
-    return CoupledKernel(mod.CoupledStepper(J, Ji, gg, specs), tuple(general))
+    return CoupledKernel(mod.CoupledStepper(J, Ji, gg, specs), tuple(general), specs)

@@ -99,11 +99,6 @@ class Plant:
             term = sum_terms(e.term() for e in self._terms)
             self._f = body_derivative(self.body.J, self.body.Ji, term)
             self._step = rk4_stepper(self._f)
-            # the same period compiled (kernels.py: the same doubles), when built and the terms allow it
-            self._compiled_period = None
-            if not self._general and not self._time_varying:
-                self._compiled_period = kernels.rigid_body_period(self.body.J, self.body.Ji,
-                                                                  (e.compiled_term() for e in self._terms))
             self._coupled = None
             if self._general:
                 self._coupled = rk4_coupled_stepper(self._f, self._effector_rhs(self._general))
@@ -121,12 +116,17 @@ class Plant:
         self.faults = tuple(getattr(sc, "faults", ()))   # injected faults (faults/, [[faults]], --fault)
         hooks = faults.attach(self, self.faults) if self.faults else None
         self._suite = sensors.SensorSuite(self.sensors, sc.sensors.latency_periods, sc.sensors.faults, self, hooks)
-        # the coupled period compiled (kernels.py: the same doubles), when built and the effectors allow it
-        self._coupled_kernel = None
-        if attitude and self._general and not self._time_varying:
-            self._coupled_kernel = kernels.coupled_period(self.body.J, self.body.Ji,
-                                                          (e.compiled_term() for e in self._terms),
-                                                          [e for e, _, _ in self._general])
+        # the attitude period compiled (kernels.py: the same doubles), when built and the terms and effectors allow
+        # it; after faults.attach, which may give the wheels a fault model. A kernel freezes its terms: never with a
+        # time-varying one
+        self._compiled_period = self._coupled_kernel = None
+        if attitude and not self._time_varying:
+            terms = [e.compiled_term() for e in self._terms]
+            if self._general:
+                self._coupled_kernel = kernels.coupled_period(self.body.J, self.body.Ji, terms,
+                                                              [e for e, _, _ in self._general])
+            else:
+                self._compiled_period = kernels.rigid_body_period(self.body.J, self.body.Ji, terms)
         self._suite.record()
         self._sample = None
 
@@ -335,26 +335,8 @@ class Plant:
         elif self.kind == "attitude":
             if self._general:
                 self._segment_general(t0, self.dt, T)
-            elif self._compiled_period is not None:   # the fast path compiled
-                body = self.body
-                body.q, body.w = self._compiled_period(body.q, body.w, self.dt / self.substeps, self.substeps, T)
-            else:  # the fast path: the rigid body alone, the torque held
-                n = self.substeps
-                h = self.dt / n
-                body = self.body
-                q, w = body.q, body.w
-                step = self._step
-                tv = self._time_varying
-                if tv:
-                    for i in range(n):
-                        tm = t0 + (i + 0.5) * h
-                        for e in tv:
-                            e.at_time(tm)
-                        q, w = step(q, w, h, T)
-                else:
-                    for _ in range(n):
-                        q, w = step(q, w, h, T)
-                body.q, body.w = q, w
+            else:
+                self._segment_body(t0, self.dt, T)
         else:
             self._segment_orbit(t0, self.dt, T)
         x = self._x
@@ -374,15 +356,24 @@ class Plant:
         elif self._general:
             self._segment_general(t, length, T)
         else:
-            n = self.substeps
-            h = length / n
-            q, w = self.body.q, self.body.w
-            for i in range(n):
-                tm = t + (i + 0.5) * h
-                for e in self._time_varying:
-                    e.at_time(tm)
-                q, w = self._step(q, w, h, T)
-            self.body.q, self.body.w = q, w
+            self._segment_body(t, length, T)
+
+    def _segment_body(self, t: float, length: float, T) -> None:
+        """The rigid body alone over [t, t + length], the torque held: the compiled period when there is one, else
+        the substeps in Python, the time-varying terms frozen at each substep's midpoint."""
+        n = self.substeps
+        h = length / n
+        body = self.body
+        if self._compiled_period is not None:
+            body.q, body.w = self._compiled_period(body.q, body.w, h, n, T)
+            return
+        q, w = body.q, body.w
+        step, tv = self._step, self._time_varying
+        for i in range(n):
+            for e in tv:
+                e.at_time(t + (i + 0.5) * h)
+            q, w = step(q, w, h, T)
+        body.q, body.w = q, w
 
     def _segment_orbit(self, t: float, length: float, T) -> None:
         n = self.substeps

@@ -415,7 +415,12 @@ def flight_of(opts: RunOptions, plan: RunPlan) -> Flight:
     fc_name = "fsw_node" if opts.target == "host" else f"pil bridge ({opts.target})"
     return Flight(sc.id, plan.law, plan.mode, sc.duration_s, plan.out, plan.log_path, plan.recorder,
                   plant_arguments(opts, plan), fc_name, plan.fc_cmd, env, opts.plant_launcher, opts.transport,
-                  cpus_of(opts, plan))
+                  _pinned(plan.meta.get("pinned_cpus")))
+
+
+def _pinned(record: dict | None) -> tuple[int, int] | None:
+    """Flight.cpus from run.json's pinned_cpus (what the plan chose, cpus_of, recorded once)."""
+    return (record["plant_node"], record["fsw_node"]) if record else None
 
 
 def cpus_of(opts: RunOptions, plan: RunPlan) -> tuple[int, int] | None:

@@ -94,15 +94,24 @@ def _scan_fast(path: Path, data: bytes) -> LogScan | None:
     starts = _event_starts(buf)
     if starts is None:
         return None
-    if starts.size == 0:
-        return LogScan(0, len(data), None, None)
     num = _headers(buf, starts)["num"].astype(np.int64)
+    found = _chain_scan(len(data), starts, num)
+    if isinstance(found, LogScan):
+        return found
+    i = found
+    raise LogIntegrityError(f"{path}: log corrupt at byte {int(starts[i])} (event {int(num[i])} follows "
+                            f"event {int(num[i - 1])})")
+
+
+def _chain_scan(size: int, starts: np.ndarray, num: np.ndarray) -> LogScan | int:
+    """The LogScan of a file of `size` bytes whose events start at `starts` (chained cleanly, _event_starts) with the
+    event numbers `num`, or the index of the first event whose number does not follow its predecessor's."""
     bad = np.flatnonzero(np.diff(num) != 1)
     if bad.size:
-        i = int(bad[0]) + 1
-        raise LogIntegrityError(f"{path}: log corrupt at byte {int(starts[i])} (event {int(num[i])} follows "
-                                f"event {int(num[i - 1])})")
-    return LogScan(int(starts.size), len(data), int(num[0]), int(num[-1]))
+        return int(bad[0]) + 1
+    if starts.size == 0:
+        return LogScan(0, size, None, None)
+    return LogScan(int(starts.size), size, int(num[0]), int(num[-1]))
 
 
 @dataclass
@@ -294,9 +303,8 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
     by_channel = _by_channel()
     n_ev = starts.size
     hdr = _headers(buf, starts)
-    num = hdr["num"].astype(np.int64)
-    clean = LogScan(int(n_ev), len(data), int(num[0]) if n_ev else None, int(num[-1]) if n_ev else None) \
-        if not np.any(np.diff(num) != 1) else None
+    found = _chain_scan(len(data), starts, hdr["num"].astype(np.int64))
+    clean = found if isinstance(found, LogScan) else None
     utime = hdr["utime"].astype(np.int64)
     ch_len = hdr["ch_len"].astype(np.int64)
     data_len = hdr["data_len"].astype(np.int64)

@@ -85,17 +85,28 @@ static int read_doubles(PyObject *seq, Py_ssize_t n, double *out, const char *wh
     return 0;
 }
 
-/* gg_term's g(q1, q2, q3, q4) */
-static void gg_torque(const Body *s, double q1, double q2, double q3, double q4, double g[3])
+/* v rotated by the quaternion q, as gg_term and Thrusters.derivative write it: sign -1 gives A(q) v (N to B), +1
+ * A(q)^T v (B to N). (q4^2 - |e|^2) v + 2 (e . v) e + sign 2 q4 (e x v); with sign -1 the product (-2 q4) x is
+ * exactly -(2 q4 x) and a + (-y) exactly a - y, so both are the Python expressions' doubles */
+static void quat_rotate(const double q[4], const double v[3], double sign, double out[3])
+{
+    const double q1 = q[0], q2 = q[1], q3 = q[2], q4 = q[3], v1 = v[0], v2 = v[1], v3 = v[2];
+    const double sq = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3);
+    const double vd = 2.0 * (q1 * v1 + q2 * v2 + q3 * v3);
+    const double k = sign * (2.0 * q4);
+    out[0] = sq * v1 + vd * q1 + k * (q2 * v3 - q3 * v2);
+    out[1] = sq * v2 + vd * q2 + k * (q3 * v1 - q1 * v3);
+    out[2] = sq * v3 + vd * q3 + k * (q1 * v2 - q2 * v1);
+}
+
+/* gg_term's g(q): c (R x Jg R), R = A(q) d */
+static void gg_torque(const Body *s, const double q[4], double g[3])
 {
     const double *jg = s->jg;
-    const double d1 = s->d[0], d2 = s->d[1], d3 = s->d[2], c = s->c;
-    double sq = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3);
-    double vd = 2.0 * (q1 * d1 + q2 * d2 + q3 * d3);
-    double k = 2.0 * q4;
-    double r1 = sq * d1 + vd * q1 - k * (q2 * d3 - q3 * d2);
-    double r2 = sq * d2 + vd * q2 - k * (q3 * d1 - q1 * d3);
-    double r3 = sq * d3 + vd * q3 - k * (q1 * d2 - q2 * d1);
+    const double c = s->c;
+    double r[3];
+    quat_rotate(q, s->d, -1.0, r);
+    const double r1 = r[0], r2 = r[1], r3 = r[2];
     double g1, g2, g3;
     if (s->gg_diag) {
         g1 = jg[0] * r1;
@@ -131,7 +142,7 @@ static void derivative(const Body *s, const double y[7], const double t[3], doub
     mz = t[2] - (w1 * hy - w2 * hx);
     if (s->has_gg) {
         double g[3];
-        gg_torque(s, q1, q2, q3, q4, g);
+        gg_torque(s, y, g);
         mx = mx + g[0];
         my = my + g[1];
         mz = mz + g[2];
@@ -260,10 +271,7 @@ static PyObject *Stepper_period(Stepper *self, PyObject *const *args, Py_ssize_t
         Py_XDECREF(q);
         return NULL;
     }
-    PyObject *out = PyTuple_Pack(2, q, w);
-    Py_DECREF(q);
-    Py_DECREF(w);
-    return out;
+    return Py_BuildValue("(NN)", q, w);
 }
 
 /* Body from (J, Ji, gg): 0, or -1 with the exception set */
@@ -383,14 +391,7 @@ static void thrusters_derivative(const General *e, const double body[7], double 
         xd[0] = xd[1] = xd[2] = xd[3] = 0.0;
         return;
     }
-    const double q1 = body[0], q2 = body[1], q3 = body[2], q4 = body[3];
-    const double f1 = e->force[0], f2 = e->force[1], f3 = e->force[2];
-    const double sq = q4 * q4 - (q1 * q1 + q2 * q2 + q3 * q3);
-    const double vd = 2.0 * (q1 * f1 + q2 * f2 + q3 * f3);
-    const double k = 2.0 * q4;
-    xd[0] = sq * f1 + vd * q1 + k * (q2 * f3 - q3 * f2);
-    xd[1] = sq * f2 + vd * q2 + k * (q3 * f1 - q1 * f3);
-    xd[2] = sq * f3 + vd * q3 + k * (q1 * f2 - q2 * f1);
+    quat_rotate(body, e->force, 1.0, xd);   /* A(q)^T f: the force in N */
     xd[3] = e->mdot;
     torque[0] = e->torque[0];
     torque[1] = e->torque[1];

@@ -121,9 +121,9 @@ class GravityGradientL2(Effector):
 
     def __init__(self, config: GravityGradientL2Config, body):
         super().__init__(config, body)
-        self._g, _ = gg_term(body.inertia, config.coefficient, (0.0, 0.0, 1.0))
-        self._compiled = ("gravity_gradient", config.coefficient, (0.0, 0.0, 1.0),
-                          tuple(float(v) for v in body.inertia))
+        J, c, d = tuple(float(v) for v in body.inertia), config.coefficient, (0.0, 0.0, 1.0)
+        self._g, _ = gg_term(J, c, d)
+        self._compiled = ("gravity_gradient", c, d, J)   # the same term, as the compiled kernel takes it
 
     def term(self):
         return self._g
