@@ -1,11 +1,13 @@
 """The plant's compiled kernels (sil/plant_kernels/*.c), found in the build tree and loaded once per process.
 
-Today one module, aocs_rigid_body_kernel, with the two attitude periods of Plant.advance in C: the rigid body
+aocs_rigid_body_kernel has the two attitude periods of Plant.advance in C: the rigid body
 alone (Stepper: n RK4 substeps with the torque held, an optional fixed-direction gravity gradient) and the body
 with effector states (CoupledStepper: rk4_coupled_stepper over the reaction wheels and the thrusters). They
 compute the same doubles as the Python steppers, bit for bit (tests/python/aocs_plant/test_rigid_body_kernel.py),
 so whether it runs changes the speed of a run, never its numbers. The plant runs the Python stepper when the
 module is not built (`cmake --build --preset host` builds it into <build>/lib) or when AOCS_PLANT_KERNELS=python.
+aocs_direct_loop_kernel flies whole lockstep periods of the in-process transport (aocs_runner.compiled_loop), with
+the same doubles and the same log as plant_node's Python loop; AOCS_PLANT_KERNELS=periods turns it off alone.
 """
 from __future__ import annotations
 
@@ -16,9 +18,12 @@ import sysconfig
 
 from aocs_core import paths
 
-#: environment variable: "python" runs the plant's Python steppers even when the kernels are built
+#: environment variable: "python" runs the plant's Python steppers and loop even when the kernels are built;
+#: "periods" the compiled periods in plant_node's Python loop (no compiled loop, aocs_runner.compiled_loop)
 ENV = "AOCS_PLANT_KERNELS"
 RIGID_BODY = "aocs_rigid_body_kernel"
+#: whole lockstep periods of the in-process transport (sil/plant_kernels/direct_loop_kernel.c)
+DIRECT_LOOP = "aocs_direct_loop_kernel"
 
 _loaded: dict = {}
 
@@ -29,7 +34,7 @@ def enabled() -> bool:
 
 def module(name: str = RIGID_BODY):
     """The kernel module `name` from <build>/lib, or None (not built, or turned off by AOCS_PLANT_KERNELS)."""
-    if not enabled():
+    if not enabled() or (name == DIRECT_LOOP and os.environ.get(ENV, "").strip().lower() == "periods"):
         return None
     if name not in _loaded:
         path = paths.build_dir() / "lib" / (name + sysconfig.get_config_var("EXT_SUFFIX"))
@@ -48,7 +53,7 @@ def rigid_body_period(J: tuple, Ji: tuple, compiled_terms):
     its inverse) and its attitude terms in compiled form (Effector.compiled_term of each), or None when the kernel
     is not there or a term has no compiled form (at most one gravity gradient is compiled: with two, Python's
     sum_terms adds them from 0.0, another rounding)."""
-    gg = _gg(compiled_terms)
+    gg = gg_argument(compiled_terms)
     if gg is False:
         return None
     mod = module(RIGID_BODY)
@@ -57,7 +62,7 @@ def rigid_body_period(J: tuple, Ji: tuple, compiled_terms):
     return mod.Stepper(J, Ji, gg).period
 
 
-def _gg(compiled_terms):
+def gg_argument(compiled_terms):
     """The kernel's gg argument of the attitude terms (None: none), or False when they cannot be compiled."""
     terms = tuple(compiled_terms)
     if len(terms) > 1 or any(t is None or t[0] != "gravity_gradient" for t in terms):
@@ -88,7 +93,7 @@ def coupled_period(J: tuple, Ji: tuple, compiled_terms, general) -> CoupledKerne
     """The compiled coupled period for a body of inertia J (Ji its inverse), its attitude terms in compiled form and
     its GENERAL effectors (in the plant's order), or None when the kernel is not there or one of them has no
     compiled form."""
-    gg = _gg(compiled_terms)
+    gg = gg_argument(compiled_terms)
     specs = tuple(e.compiled_general() for e in general)
     if gg is False or not specs or None in specs or len(specs) > 4:
         return None

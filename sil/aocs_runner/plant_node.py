@@ -50,6 +50,7 @@ from aocs_wire import netns, wire
 from aocs_wire.recorder import RUNNER_CHANNEL, EventLogWriter, marker_message, marker_of
 from aocs_wire.udpm import Udpm
 
+from . import compiled_loop
 from . import events as evmod
 from .scenario_opts import parse_sets
 from .transport import TRANSPORTS
@@ -57,6 +58,7 @@ from .transport import TRANSPORTS
 T_PROCESS = time.perf_counter()  # before the heavy imports: startup cost is measured from here
 
 import argparse  # noqa: E402
+import bisect  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
 import os  # noqa: E402
@@ -341,6 +343,8 @@ def _fly(args, sc, plant, check, link, evs) -> int:
         "udpm": getattr(link.lc, "counters", None),
         "transport": "direct" if link.direct else "lcm",
         "cpus": sorted(os.sched_getaffinity(0)),   # where the loop ran (aocs run may pin it: flight._pin)
+        # in process: the periods the compiled loop flew (compiled_loop), or why it did not
+        "compiled_loop": {"periods": loop.compiled_periods, "why_not": loop.compiled_why_not},
     }
     print(json.dumps({"plant_node": summary}), flush=True)
     if link.direct:
@@ -375,6 +379,8 @@ class _Loop:
         self.jitter_max_ns = 0
         self.handle_calls = 0
         self.frame_truth = 0
+        self.compiled_periods = 0
+        self.compiled_why_not = "not in lockstep"
         c = link.codecs
         self.v = link.t.sensors_t.PROTOCOL_VERSION
         self.pack_t = c.truth.packer(self.v)   # truth_t after its protocol version, one call per tick
@@ -551,11 +557,31 @@ class _Loop:
         # again at twice the substeps, the difference) needs the plant at t_k only: it runs while the flight
         # computer computes tick k, off the path from its reply to the next sensors_t: (its command,) or None
         checking = None
-        for k in range(n):
+        # in process, the periods between events run compiled when the plant allows it (compiled_loop: the same
+        # messages and state as this loop's statements)
+        compiled = compiled_loop.build(self)
+        self.compiled_why_not = compiled_loop.why_not(self) if compiled is None else None
+        event_ticks = sorted(t for t in evs if t >= k0)
+        k = -1
+        while k + 1 < n:
+            k += 1
             if _stop:
                 self._check_end(checking)
                 return "signal", EXIT_SIGNAL
             tick = k0 + k
+            if compiled is not None and tick not in evs:
+                checking = self._check_end(checking)
+                end = min(n, (k // progress_every + 1) * progress_every, k + compiled_loop.MAX_PERIODS)
+                i = bisect.bisect_left(event_ticks, tick)
+                if i < len(event_ticks):
+                    end = min(end, event_ticks[i] - k0)
+                status, done, extra = compiled.run(tick, end - k)
+                if status != compiled_loop.DONE:
+                    return self._compiled_stop(status, tick + done, extra)
+                k = end - 1
+                if end % progress_every == 0:
+                    self.progress(k, flush_log)
+                continue
             drop = dup = stale = False
             if tick in evs:
                 drop, dup, stale = self.fire(tick, evs[tick])
@@ -610,6 +636,24 @@ class _Loop:
         self.truth(k0 + n)
         self.handle_calls = waits
         return "done", EXIT_OK
+
+    def _compiled_stop(self, status, tick, extra):
+        """The end of a run the compiled loop stopped at tick (compiled_loop.CompiledLoop.run): as the Python loop
+        ends it."""
+        if status == compiled_loop.NODE_ERROR:
+            raise DirectError(extra)
+        if status == compiled_loop.MISMATCH:
+            self.last_answered = tick
+            try:
+                self.port.apply(self.codec.command(self.codec.unpack_command(extra)))
+            except WheelMismatch as exc:
+                return self.wheels_disagree(exc)
+            except ActuatorMismatch as exc:
+                return self.actuators_disagree(exc)
+            raise AssertionError(f"tick {tick}: the compiled loop refused a command the plant takes")
+        print(f"plant_node: no actuator_cmd_t for tick {tick}: the in-process flight computer gave no answer "
+              f"(last answered tick {self.last_answered})", file=sys.stderr, flush=True)
+        return "no_reply", EXIT_NO_REPLY
 
     def _check_end(self, checking):
         """The integration check of the period just flown, if one is pending (checking: (the command the plant

@@ -80,6 +80,13 @@ class EventLogWriter:
                       data)
         self.count += 1
 
+    def add_block(self, block: bytes, count: int) -> None:
+        """count events already encoded as this file's records, numbered from self.count on (the compiled loop's
+        block, aocs_runner.compiled_loop): written after the pending ones."""
+        self.flush()
+        self._f.write(block)
+        self.count += count
+
     @property
     def pending(self) -> int:
         """Events not yet written."""

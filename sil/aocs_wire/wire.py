@@ -81,6 +81,12 @@ class Codec:
         """Position of a field in the flattened tuple (first element for arrays)."""
         return self._index[field][0]
 
+    def layout(self, field: str) -> tuple[int, str]:
+        """(byte offset in the payload, struct code) of a field (its first element for arrays): where a compiled
+        loop reads or writes it (aocs_runner.compiled_loop)."""
+        i = [name for name, _ in self.fields].index(field)
+        return struct.calcsize(">8s" + "".join(self._formats[:i])), self._formats[i][-1]
+
     def to_dict(self, values) -> dict:
         out = {}
         for name, n in self.fields:

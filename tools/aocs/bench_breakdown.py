@@ -7,6 +7,10 @@ log), the flight computer as fsw_node over LCM or in process (`--transport direc
 is timed with perf_counter_ns around its call from the loop (a call made inside another timed part counts in that
 part); each part's time per period is summarised by its median and its mean over the run, and the period itself
 (from one sensors_t to the next) likewise. The timers cost about 0.1 us per call. A figure, never a verdict.
+
+In process the periods normally run compiled (aocs_runner.compiled_loop: no Python part to time, its cost per period
+is the direct factor of `make bench`); the breakdown times the Python loop the compiled one replaces
+(AOCS_PLANT_KERNELS=periods), which is also the loop of the plants it does not fly.
 """
 from __future__ import annotations
 
@@ -14,12 +18,14 @@ import contextlib
 import importlib
 import io
 import json
+import os
 import statistics
 import subprocess
 import tempfile
 import time
 from pathlib import Path
 
+from aocs_plant import kernels
 from aocs_runner import plant_node
 from aocs_runner.run import RunOptions, plan_run, plant_arguments
 
@@ -105,11 +111,16 @@ def breakdown(scenario: str, duration: float | None, transport: str, law: str | 
         end_wait = plant_node.END_MARKER_TIMEOUT_S
         plant_node.END_MARKER_TIMEOUT_S = 0.0   # no runner here to send the end marker the recording plant waits for
         timers.install()
+        saved = os.environ.get(kernels.ENV)
+        if saved is None:
+            os.environ[kernels.ENV] = "periods"   # the Python loop, part by part (module docstring)
         try:
             with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
                 plant_node.main(args)
         finally:
             timers.remove()
+            if saved is None:
+                del os.environ[kernels.ENV]
             plant_node.END_MARKER_TIMEOUT_S = end_wait
             if node is not None:
                 node.terminate()
@@ -144,7 +155,8 @@ def _fsw_step_ns(path: Path):
 
 def print_breakdown(res: dict) -> None:
     med, mean = res["period"]
-    print(f"{res['transport']} loop, {res['steps']} periods: period median {med:.1f} us, mean {mean:.1f} us "
+    print(f"{res['transport']} loop{' (the Python loop the compiled one replaces)' if res['transport'] == 'direct' else ''}"
+          f", {res['steps']} periods: period median {med:.1f} us, mean {mean:.1f} us "
           f"({res['dt'] * 1e6 / mean:.0f}x real time at the mean)")
     print(f"  {'median us':>9} {'mean us':>8} {'share':>6}  part")
     for name, what, m, a in res["parts"]:
