@@ -27,7 +27,13 @@ BUILD_HINT = "build it first: cmake --preset host && cmake --build --preset host
 
 
 def build_dir() -> Path:
-    return Path(os.environ.get("AOCS_BUILD_DIR", REPO / "build" / "host")).resolve()
+    """$AOCS_BUILD_DIR, default <repo>/build/host, resolved (once per value: a run asks dozens of times)."""
+    return _resolved(os.environ.get("AOCS_BUILD_DIR") or str(REPO / "build" / "host"))
+
+
+@lru_cache(maxsize=16)
+def _resolved(path: str) -> Path:
+    return Path(path).resolve()
 
 
 def pil_build_roots() -> list[Path]:

@@ -15,7 +15,6 @@ lcm-logger`); the default recorder is recorder.py.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 import signal
 import subprocess
@@ -23,6 +22,7 @@ import threading
 import time
 from pathlib import Path
 
+from aocs_core import libc as clib
 from aocs_wire import netns, wire
 from aocs_wire.recorder import marker_message
 from aocs_wire.udpm import Udpm
@@ -44,7 +44,7 @@ _PR_SET_NAME = 15
 def set_process_name(name: str) -> None:
     """The calling process's name (/proc/PID/comm, what ps and top show; 15 bytes at most); best effort."""
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc = clib.libc()
         libc.prctl(_PR_SET_NAME, ctypes.c_char_p(name.encode()[:15]), 0, 0, 0)
     except OSError:
         pass
@@ -52,7 +52,7 @@ def set_process_name(name: str) -> None:
 
 def set_pdeathsig():  # runs in the child between fork and exec (or in a forked plant, plant_fork.py)
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc = clib.libc()
         libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
     except OSError:
         pass

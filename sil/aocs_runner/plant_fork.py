@@ -17,6 +17,9 @@ import threading
 import time
 import traceback
 
+from aocs_core import libc, paths, registry
+from aocs_loop import direct_adapter
+from aocs_plant import kernels
 from aocs_wire import netns
 
 from . import orchestrate, plant_node
@@ -25,6 +28,18 @@ from . import orchestrate, plant_node
 def can_fork() -> bool:
     """True when this process has no other Python thread (the condition for a safe fork)."""
     return threading.active_count() == 1 and hasattr(os, "fork")
+
+
+def preload() -> None:
+    """What every plant loads at its start, loaded once in a process that forks many (a campaign's plant server):
+    its forks inherit it. The compiled kernels, the in-process node library, the wire bindings, the law registry,
+    the C library. What cannot be loaded is left for the plant to report."""
+    for load in (lambda: kernels.module(kernels.RIGID_BODY), lambda: kernels.module(kernels.DIRECT_LOOP),
+                 direct_adapter.library, paths.import_bindings, registry.load, libc.libc):
+        try:
+            load()
+        except Exception:  # noqa: BLE001, S112 - the plant reports it when it needs it
+            continue
 
 
 def child_main(args: list, stdout_path, netns_path: str | None = None) -> None:

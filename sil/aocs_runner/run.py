@@ -66,6 +66,9 @@ class RunOptions:
     plant_lcm_lib: bool = False
     allow: tuple = ()             # verdict checks allowed to fail (aocs_analysis.verdict.CHECKS)
     telemetry_decimate: int = 1   # OUT/telemetry.parquet keeps every N-th tick (and the last)
+    #: "always", or "failed": OUT/telemetry.parquet only when the verdict failed (a campaign deletes a passed run's
+    #: folder: its table would be written to be thrown away)
+    telemetry: str = "always"
     command: str | None = None    # the command line that started the run (run.json "command")
     # starts plant_node from its arguments instead of a new interpreter: (args, stdout_path, env) -> a
     # Popen-like child (aocs campaign forks it from a worker that has the plant's modules imported)
@@ -188,6 +191,8 @@ def check_options(opts: RunOptions) -> None:
     td = opts.telemetry_decimate
     if isinstance(td, bool) or not isinstance(td, int) or td < 1:
         raise ValueError(f"--telemetry-decimate {td}: must be a whole number >= 1")
+    if opts.telemetry not in ("always", "failed"):
+        raise ValueError(f"telemetry {opts.telemetry!r}: 'always' or 'failed'")
     if opts.json_path is not None:
         jp = Path(opts.json_path)
         if jp.is_dir():
@@ -463,7 +468,7 @@ def judge(opts: RunOptions, plan: RunPlan, wall: float, plant_sum: dict | None, 
     (plan.out / "metrics.json").write_text(text)
     if opts.json_path:
         Path(opts.json_path).write_text(text)  # its folder was checked before the run (check_options)
-    tel = write_telemetry(opts, plan, log)
+    tel = write_telemetry(opts, plan, log) if opts.telemetry == "always" or not metrics["verdict"]["passed"] else None
     return RunResult(metrics, plan.out, plots, results.table(metrics), series, tel)
 
 

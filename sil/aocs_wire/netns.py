@@ -24,13 +24,14 @@ isolation.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 import shutil
 import subprocess
 import sys
 import threading
 from typing import Sequence
+
+from aocs_core import libc as clib
 
 ENV_VAR = "AOCS_NETNS"
 
@@ -128,7 +129,7 @@ def enter_netns(fresh: bool = False) -> str:
         return current_netns_id()
     _require_tools()
     before = current_netns_id()
-    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    libc = clib.libc()
     if libc.unshare(_CLONE_NEWNET) != 0:
         err = ctypes.get_errno()
         raise NetnsError(f"unshare(CLONE_NEWNET) failed: {os.strerror(err)} "
@@ -153,7 +154,7 @@ def join_netns(path: str) -> str:
     """Move the calling thread into the namespace at path (/proc/PID/task/TID/ns/net of a thread that
     entered one with enter_netns): setns(2), CAP_SYS_ADMIN in the namespace's user namespace. A campaign's
     plant server forks the plant into the run's namespace this way. Returns the namespace id."""
-    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    libc = clib.libc()
     fd = os.open(path, os.O_RDONLY)
     try:
         if libc.setns(fd, _CLONE_NEWNET) != 0:

@@ -413,3 +413,32 @@ def test_a_re_flight_that_differs_makes_the_run_an_error(private_netns, fsw_node
     assert row["status"] == W.STATUS_ERROR and not row["refly"]["identical"]
     assert row["error"].startswith("the LCM re-flight differs from the direct run: ")
     assert "actuator_cmd_t.u_sat" in row["error"] and "sensors_t.q" in row["error"]
+
+
+def test_a_direct_run_stays_in_its_thread_s_namespace_and_an_lcm_run_gets_its_own(private_netns, fsw_node_bin,
+                                                                                   tmp_path, monkeypatch):
+    """In process no socket is opened: a direct run makes no namespace (its cost per run saved); an LCM run (and a
+    direct one with its LCM re-flight) still moves its thread into a fresh one."""
+    from aocs_campaign import worker as W
+    from aocs_wire import netns
+
+    monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
+    seen = {}
+
+    def fly(name, **kw):
+        def body():
+            before = netns.current_netns_id()
+            seen[name] = (before, W.run_task(spec, str(tmp_path / name), fork=False, **kw), netns.current_netns_id())
+        t = threading.Thread(target=body)
+        t.start()
+        t.join(300)
+        return seen[name]
+
+    before, row, after = fly("direct", transport="direct")
+    assert row["status"] == W.STATUS_PASSED and after == before
+    before, row, after = fly("lcm")
+    assert row["status"] == W.STATUS_PASSED and after != before
+    before, row, after = fly("refly", transport="direct", refly=True)
+    assert row["status"] == W.STATUS_PASSED and row["refly"]["identical"] and after != before

@@ -34,16 +34,25 @@ def _child(req: dict) -> None:
     """In the forked child: never returns."""
     from aocs_runner import plant_fork  # deferred: imported by the server before any fork
 
+    signal.set_wakeup_fd(-1)   # the server's wake-up pipe is the server's
     plant_fork.child_main(req["args"], req["stdout"], req["netns"])
 
 
 def serve(sock: socket.socket) -> int:
     """The server loop (single thread): requests in, forks, exit statuses out."""
-    from aocs_runner import plant_fork  # noqa: F401 - deferred: imported once (the plant too), inherited by every fork
+    from aocs_runner import plant_fork  # deferred: imported once (the plant too), inherited by every fork
 
     # no PDEATHSIG here: it follows the thread that started us (a Dask worker thread), not the worker; the
     # end of file on the socket says the worker is gone
     signal.signal(signal.SIGINT, signal.SIG_IGN)   # the worker's Ctrl-C is the worker's: it ends us
+    # a child's exit wakes the loop at once (SIGCHLD through a wake-up pipe): its status reaches the waiting run
+    # without a polling delay
+    wake_r, wake_w = os.pipe()
+    os.set_blocking(wake_r, False)
+    os.set_blocking(wake_w, False)
+    signal.set_wakeup_fd(wake_w)
+    signal.signal(signal.SIGCHLD, lambda signum, frame: None)
+    plant_fork.preload()   # the kernels, the node library, the bindings, libc: loaded once, inherited by every fork
     children: set[int] = set()
     buf = b""
     out = sock.makefile("wb", buffering=0)
@@ -53,8 +62,13 @@ def serve(sock: socket.socket) -> int:
 
     sock.sendall(b'{"ready": true}\n')
     while True:
-        r, _, _ = select.select([sock], [], [], 0.005 if children else 0.5)
-        if r:
+        r, _, _ = select.select([sock, wake_r], [], [], 0.05 if children else 0.5)
+        if wake_r in r:
+            try:
+                os.read(wake_r, 4096)
+            except BlockingIOError:
+                pass
+        if sock in r:
             chunk = sock.recv(65536)
             if not chunk:   # the worker is gone
                 return 0

@@ -159,7 +159,8 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
     try:
         if fork:
             PLANT_SERVER.ensure_running()
-        netns.enter_netns(fresh=True)
+        if transport != "direct" or refly:   # in process no socket is opened: no namespace to make
+            netns.enter_netns(fresh=True)
         # the same --set text as the repeat command (plan.repeat_command): the run reads its values back
         # from that text, as `aocs run` does, so the two are the same run bit for bit
         sets = [f"{k}={scenario_opts.toml_value(v)}" for k, v in spec["overrides"].items()]
@@ -167,7 +168,8 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
         # thread in this worker, ~0.3 s less CPU per 500 s run
         opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
                           quiet=True, reply_timeout=REPLY_TIMEOUT_S, recorder="plant", transport=transport,
-                          plant_launcher=PLANT_SERVER.launch if fork else None)
+                          plant_launcher=PLANT_SERVER.launch if fork else None,
+                          telemetry="always" if keep_logs else "failed")   # a passed run's folder is deleted
         with _Watchdog(timeout_s) as wd:
             try:
                 res = execute(opts)
