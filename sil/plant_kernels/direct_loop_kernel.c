@@ -96,7 +96,7 @@ typedef struct {
     Channel ch_sensors, ch_actuator, ch_truth, ch_events;
 } DirectLoop;
 
-/* the run's state, what the Python objects hold between runs (compiled_loop.py, STATE) */
+/* the run's state, what the Python objects hold between runs (compiled_loop.CompiledLoop._state: its order) */
 typedef struct {
     double y[7];                      /* q, w */
     long long k;                      /* Plant.k */
