@@ -172,8 +172,8 @@ def _corruptions(codecs):
     }
 
 
-def _install(monkeypatch, codecs, corrupt):
-    """Both paths' node calls wrapped: the reply of BAD_TICK's sensors_t goes through corrupt (bytes, None: no
+def _install(monkeypatch, codecs, corrupt, bad_tick=BAD_TICK):
+    """Both paths' node calls wrapped: the reply of bad_tick's sensors_t goes through corrupt (bytes, None: no
     reply, an int: the call's failure code)."""
     s_codec = codecs.sensors
     i_tick = s_codec.index("tick")
@@ -186,7 +186,7 @@ def _install(monkeypatch, codecs, corrupt):
 
     def py_sensors(self, data):
         reply = real_sensors(self, data)
-        if tick_of(data) != BAD_TICK or reply is None:
+        if tick_of(data) != bad_tick or reply is None:
             return reply
         r = corrupt(reply)
         if isinstance(r, int):
@@ -201,7 +201,7 @@ def _install(monkeypatch, codecs, corrupt):
 
     def c_sensors(h, data, n, out, cap):
         m = real(h, data, n, out, cap)
-        if m <= 0 or tick_of(ctypes.string_at(data, n)) != BAD_TICK:
+        if m <= 0 or tick_of(ctypes.string_at(data, n)) != bad_tick:
             return m
         r = corrupt(ctypes.string_at(out, m))
         if r is None:
@@ -248,7 +248,8 @@ def test_plants_it_does_not_fly_are_named(aocs_build_dir, private_netns, tmp_pat
     """A plant with wheels, a noisy sensor or an actuator lag stays in the Python loop, and plant_node says why."""
     for scenario, sets, why in (("irassi_rw", (), "effectors with state"),
                                 ("irassi_large_mekf", (), "sensors other than ideal"),
-                                ("irassi_large", ("actuator.slew_rate_limit_per_s=0.5",), "slew-rate limit")):
+                                ("irassi_large", ("actuator.slew_rate_limit_per_s=0.5",), "slew-rate limit"),
+                                ("irassi_large", ("sensors.attitude_noise_rad=1e-6",), "sensors other than ideal")):
         out = tmp_path / scenario
         execute(RunOptions(scenario=scenario, law=None, duration=2.0, out=str(out), plots=False, quiet=True,
                            transport="direct", sets=list(sets)))
@@ -287,6 +288,21 @@ def test_the_objects_after_a_compiled_run_are_the_python_loops(fsw_cfg, monkeypa
             out.append(_objects(loop))
             assert loop.compiled_periods == (0 if mode == "periods" else loop.steps)
     assert out[0][8] > 0   # the limits clipped
+    assert out[0] == out[1]
+
+
+def test_a_command_refused_in_the_last_period_leaves_the_objects_as_python_does(fsw_cfg, codecs):
+    """A NaN torque in the last period: Plant.taken None, the refusal counted, the held torque kept."""
+    out = []
+    for mode in ("periods", "all"):
+        with pytest.MonkeyPatch.context() as m:
+            m.setenv("AOCS_PLANT_KERNELS", mode)
+            keep = _install(m, codecs, _corruptions(codecs)["nan_torque"], bad_tick=1199)  # noqa: F841
+            loop, node = _loop(fsw_cfg)
+            with node:
+                assert loop.run_lockstep() == ("done", 0)
+                out.append(_objects(loop))
+    assert out[0][4] is None and out[0][3]["bad_commands"] == 1
     assert out[0] == out[1]
 
 
