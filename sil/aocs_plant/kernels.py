@@ -25,16 +25,20 @@ RIGID_BODY = "aocs_rigid_body_kernel"
 #: whole lockstep periods of the in-process transport (sil/plant_kernels/direct_loop_kernel.c)
 DIRECT_LOOP = "aocs_direct_loop_kernel"
 
+#: the modules each value of ENV turns off (any other value, or none: every module built runs)
+_OFF = {"python": {RIGID_BODY, DIRECT_LOOP}, "periods": {DIRECT_LOOP}}
+
 _loaded: dict = {}
 
 
-def enabled() -> bool:
-    return os.environ.get(ENV, "").strip().lower() != "python"
+def enabled(name: str = RIGID_BODY) -> bool:
+    """Whether AOCS_PLANT_KERNELS leaves the kernel module `name` on."""
+    return name not in _OFF.get(os.environ.get(ENV, "").strip().lower(), ())
 
 
 def module(name: str = RIGID_BODY):
     """The kernel module `name` from <build>/lib, or None (not built, or turned off by AOCS_PLANT_KERNELS)."""
-    if not enabled() or (name == DIRECT_LOOP and os.environ.get(ENV, "").strip().lower() == "periods"):
+    if not enabled(name):
         return None
     if name not in _loaded:
         path = paths.build_dir() / "lib" / (name + sysconfig.get_config_var("EXT_SUFFIX"))

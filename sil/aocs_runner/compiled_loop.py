@@ -10,7 +10,7 @@ the Python loop: the same sensors_t, actuator_cmd_t, event_t and truth_t bytes i
 the same integration check. The ticks with events stay in Python, and so does whatever ends a run (no reply, a
 command the plant cannot take, a node error): the kernel stops there and the loop reports it as its own.
 
-    seg = build(loop)            # None: this run stays in Python (why_not(loop) says why)
+    seg, why = build(loop)       # seg None: this run stays in Python, for the reason `why`
     status, done, extra = seg.run(tick0, count)
 
 The Python loop stays the definition and the fallback: no kernel built, AOCS_PLANT_KERNELS=python or =periods.
@@ -73,11 +73,10 @@ def why_not(loop) -> str | None:
     return None
 
 
-def build(loop) -> "CompiledLoop | None":
-    """The compiled loop of plant_node's lockstep loop `loop`, or None when it stays in Python (why_not)."""
-    if why_not(loop) is not None:
-        return None
-    return CompiledLoop(loop)
+def build(loop) -> tuple["CompiledLoop | None", str | None]:
+    """(the compiled loop of plant_node's lockstep loop `loop`, None) or (None, why it stays in Python)."""
+    why = why_not(loop)
+    return (CompiledLoop(loop) if why is None else None), why
 
 
 def _fn_address(lib, name: str) -> int:

@@ -559,8 +559,7 @@ class _Loop:
         checking = None
         # in process, the periods between events run compiled when the plant allows it (compiled_loop: the same
         # messages and state as this loop's statements)
-        compiled = compiled_loop.build(self)
-        self.compiled_why_not = compiled_loop.why_not(self) if compiled is None else None
+        compiled, self.compiled_why_not = compiled_loop.build(self)
         event_ticks = sorted(t for t in evs if t >= k0)
         k = -1
         while k + 1 < n:

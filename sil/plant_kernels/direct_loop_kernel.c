@@ -102,7 +102,7 @@ typedef struct {
     long long k;                      /* Plant.k */
     double held[3], limited[3];       /* Actuator.held, _limited */
     long long saturated, commands, bad_commands;
-    int taken_valid;                  /* Plant.taken is not None */
+    long long taken_valid;            /* Plant.taken is not None (0 / 1) */
     double taken[3];
     double applied[3];                /* Plant._applied */
     double last[2], local_max[2], local_sum[2], worst_t;   /* StepDoubling */
@@ -136,6 +136,15 @@ static void put_double(unsigned char *msg, const Field *f, double v)
     uint64_t bits;
     memcpy(&bits, &v, sizeof bits);
     put_u64(msg + f->off, bits);
+}
+
+/* n doubles from an array field's first element on */
+static void put_doubles(unsigned char *msg, const Field *f, const double *v, int n)
+{
+    for (int i = 0; i < n; i++) {
+        const Field e = {f->off + 8 * i, 'd'};
+        put_double(msg, &e, v[i]);
+    }
 }
 
 static double get_double(const unsigned char *msg, Py_ssize_t off)
@@ -325,10 +334,9 @@ static int record_truth(const DirectLoop *d, State *s, Block *log, long long tic
     put_int(msg, &d->t_f[T_UTIME], (long long)nearbyint(t_s * 1e6));
     put_int(msg, &d->t_f[T_TICK], tick);
     put_double(msg, &d->t_f[T_T], t_s);
-    for (int i = 0; i < 4; i++) {
-        Field f = {d->t_f[T_Q].off + 8 * i, 'd'};
-        put_double(msg, &f, s->y[i]);
-    }
+    put_doubles(msg, &d->t_f[T_Q], s->y, 4);
+    put_doubles(msg, &d->t_f[T_W], s->y + 4, 3);
+    put_doubles(msg, &d->t_f[T_APPLIED], s->applied, 3);
     double dist[3] = {d->const_dist[0], d->const_dist[1], d->const_dist[2]};
     if (d->dist_gg) {
         double g[3];
@@ -337,20 +345,13 @@ static int record_truth(const DirectLoop *d, State *s, Block *log, long long tic
             dist[i] = dist[i] + g[i];
         }
     }
-    for (int i = 0; i < 3; i++) {
-        Field w = {d->t_f[T_W].off + 8 * i, 'd'}, ap = {d->t_f[T_APPLIED].off + 8 * i, 'd'},
-              di = {d->t_f[T_DIST].off + 8 * i, 'd'};
-        put_double(msg, &w, s->y[4 + i]);
-        put_double(msg, &ap, s->applied[i]);
-        put_double(msg, &di, dist[i]);
-    }
+    put_doubles(msg, &d->t_f[T_DIST], dist, 3);
     double e[4];
     quat_mul(s->y, d->qd_inv, e);
     put_double(msg, &d->t_f[T_ANGLE], angle_of(e) * d->arcsec_per_rad);
-    for (int i = 0; i < 3; i++) {
-        Field f = {d->t_f[T_QE].off + 8 * i, 'd'};
-        put_double(msg, &f, fabs(e[i]) * d->arcsec_per_rad);
-    }
+    const double qe[3] = {fabs(e[0]) * d->arcsec_per_rad, fabs(e[1]) * d->arcsec_per_rad,
+                          fabs(e[2]) * d->arcsec_per_rad};
+    put_doubles(msg, &d->t_f[T_QE], qe, 3);
     s->frame_truth++;
     return block_add(log, &d->ch_truth, msg, (size_t)d->t_len);
 }
@@ -365,14 +366,9 @@ static void pack_sensors(const DirectLoop *d, const State *s, long long tick, un
     put_int(msg, &d->s_f[S_TICK], tick);
     put_double(msg, &d->s_f[S_T], t_s);
     put_int(msg, &d->s_f[S_VALID], d->valid_bits);
-    for (int i = 0; i < 4; i++) {
-        Field f = {d->s_f[S_Q].off + 8 * i, 'd'};
-        put_double(msg, &f, s->y[i]);
-    }
-    for (int i = 0; i < 3; i++) {
-        Field f = {d->s_f[S_W].off + 8 * i, 'd'};
-        put_double(msg, &f, s->y[4 + i] + 0.0);
-    }
+    const double w[3] = {s->y[4] + 0.0, s->y[5] + 0.0, s->y[6] + 0.0};   /* the rate sensor's y = w + 0.0 */
+    put_doubles(msg, &d->s_f[S_Q], s->y, 4);
+    put_doubles(msg, &d->s_f[S_W], w, 3);
 }
 
 /* LcmCodec.command + PlantPort.apply's checks: 0 and the torque, or 1 when the command names wheels, thrusters or
@@ -392,6 +388,55 @@ static int read_command(const DirectLoop *d, const unsigned char *reply, double 
 
 /* ---- state in and out ---- */
 
+/* one value of the state tuple: a double or an integer member of State */
+typedef struct {
+    double *d;
+    long long *i;
+} Slot;
+
+/* the state tuple's order (compiled_loop.CompiledLoop._state), the one place it is written in C */
+static void state_slots(State *s, Slot sl[STATE_SIZE])
+{
+    int n = 0;
+#define D(x) (sl[n++] = (Slot){&(x), NULL})
+#define I(x) (sl[n++] = (Slot){NULL, &(x)})
+    for (int i = 0; i < 7; i++) {
+        D(s->y[i]);
+    }
+    I(s->k);
+    for (int i = 0; i < 3; i++) {
+        D(s->held[i]);
+    }
+    for (int i = 0; i < 3; i++) {
+        D(s->limited[i]);
+    }
+    I(s->saturated);
+    I(s->commands);
+    I(s->bad_commands);
+    I(s->taken_valid);
+    for (int i = 0; i < 3; i++) {
+        D(s->taken[i]);
+    }
+    for (int i = 0; i < 3; i++) {
+        D(s->applied[i]);
+    }
+    D(s->last[0]);
+    D(s->last[1]);
+    D(s->local_max[0]);
+    D(s->local_max[1]);
+    D(s->local_sum[0]);
+    D(s->local_sum[1]);
+    D(s->worst_t);
+    I(s->periods);
+    I(s->checked);
+    I(s->log_count);
+    I(s->frame_truth);
+    I(s->bad_replies);
+    I(s->stale_replies);
+#undef D
+#undef I
+}
+
 static int read_state(PyObject *obj, State *s)
 {
     PyObject *fast = PySequence_Fast(obj, "state");
@@ -404,49 +449,38 @@ static int read_state(PyObject *obj, State *s)
         return -1;
     }
     PyObject **it = PySequence_Fast_ITEMS(fast);
-    double *dv[] = {&s->y[0], &s->y[1], &s->y[2], &s->y[3], &s->y[4], &s->y[5], &s->y[6], NULL,
-                    &s->held[0], &s->held[1], &s->held[2], &s->limited[0], &s->limited[1], &s->limited[2],
-                    NULL, NULL, NULL, NULL, &s->taken[0], &s->taken[1], &s->taken[2],
-                    &s->applied[0], &s->applied[1], &s->applied[2], &s->last[0], &s->last[1],
-                    &s->local_max[0], &s->local_max[1], &s->local_sum[0], &s->local_sum[1], &s->worst_t,
-                    NULL, NULL, NULL, NULL, NULL, NULL};
-    long long *iv[] = {NULL, NULL, NULL, NULL, NULL, NULL, NULL, &s->k, NULL, NULL, NULL, NULL, NULL, NULL,
-                       &s->saturated, &s->commands, &s->bad_commands, NULL, NULL, NULL, NULL, NULL, NULL, NULL,
-                       NULL, NULL, NULL, NULL, NULL, NULL, NULL, &s->periods, &s->checked, &s->log_count,
-                       &s->frame_truth, &s->bad_replies, &s->stale_replies};
+    Slot sl[STATE_SIZE];
+    state_slots(s, sl);
     for (int i = 0; i < STATE_SIZE; i++) {
-        if (dv[i] != NULL) {
-            *dv[i] = PyFloat_AsDouble(it[i]);
-            if (*dv[i] == -1.0 && PyErr_Occurred()) {
-                PyErr_Format(PyExc_TypeError, "state[%d]: not a number", i);
-                Py_DECREF(fast);
-                return -1;
-            }
-        } else if (iv[i] != NULL) {
-            *iv[i] = PyLong_AsLongLong(it[i]);
-            if (*iv[i] == -1 && PyErr_Occurred()) {
-                PyErr_Format(PyExc_TypeError, "state[%d]: not an integer", i);
-                Py_DECREF(fast);
-                return -1;
-            }
-        } else if (i == 17) {
-            s->taken_valid = PyObject_IsTrue(it[i]);
+        if (sl[i].d != NULL) {
+            *sl[i].d = PyFloat_AsDouble(it[i]);
+        } else {
+            *sl[i].i = PyLong_AsLongLong(it[i]);   /* True / False are 1 / 0 */
+        }
+        if (PyErr_Occurred()) {
+            PyErr_Format(PyExc_TypeError, "state[%d]: not %s", i, sl[i].d != NULL ? "a number" : "an integer");
+            Py_DECREF(fast);
+            return -1;
         }
     }
     Py_DECREF(fast);
     return 0;
 }
 
-static PyObject *state_tuple(const State *s)
+static PyObject *state_tuple(State *s)
 {
-    return Py_BuildValue("(dddddddLddddddLLLOdddddddddddddLLLLLL)",
-                         s->y[0], s->y[1], s->y[2], s->y[3], s->y[4], s->y[5], s->y[6], s->k,
-                         s->held[0], s->held[1], s->held[2], s->limited[0], s->limited[1], s->limited[2],
-                         s->saturated, s->commands, s->bad_commands, s->taken_valid ? Py_True : Py_False,
-                         s->taken[0], s->taken[1], s->taken[2], s->applied[0], s->applied[1], s->applied[2],
-                         s->last[0], s->last[1], s->local_max[0], s->local_max[1], s->local_sum[0],
-                         s->local_sum[1], s->worst_t, s->periods, s->checked, s->log_count, s->frame_truth,
-                         s->bad_replies, s->stale_replies);
+    Slot sl[STATE_SIZE];
+    state_slots(s, sl);
+    PyObject *t = PyTuple_New(STATE_SIZE);
+    for (int i = 0; t != NULL && i < STATE_SIZE; i++) {
+        PyObject *v = sl[i].d != NULL ? PyFloat_FromDouble(*sl[i].d) : PyLong_FromLongLong(*sl[i].i);
+        if (v == NULL) {
+            Py_CLEAR(t);
+        } else {
+            PyTuple_SET_ITEM(t, i, v);
+        }
+    }
+    return t;
 }
 
 /* ---- run ---- */

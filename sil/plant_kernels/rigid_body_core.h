@@ -70,24 +70,29 @@ static inline void quat_rotate(const double q[4], const double v[3], double sign
     out[2] = sq * v3 + vd * q3 + k * (q1 * v2 - q2 * v1);
 }
 
+/* out = m v, m row-major; a diagonal m as Python's diagonal variants write it (m_ii v_i, no zero terms added) */
+static inline void mat_vec(const double m[9], int diag, double v1, double v2, double v3, double out[3])
+{
+    if (diag) {
+        out[0] = m[0] * v1;
+        out[1] = m[4] * v2;
+        out[2] = m[8] * v3;
+    } else {
+        out[0] = m[0] * v1 + m[1] * v2 + m[2] * v3;
+        out[1] = m[3] * v1 + m[4] * v2 + m[5] * v3;
+        out[2] = m[6] * v1 + m[7] * v2 + m[8] * v3;
+    }
+}
+
 /* gg_term's g(q): c (R x Jg R), R = A(q) d */
 static inline void gg_torque(const Body *s, const double q[4], double g[3])
 {
-    const double *jg = s->jg;
     const double c = s->c;
-    double r[3];
+    double r[3], jr[3];
     quat_rotate(q, s->d, -1.0, r);
     const double r1 = r[0], r2 = r[1], r3 = r[2];
-    double g1, g2, g3;
-    if (s->gg_diag) {
-        g1 = jg[0] * r1;
-        g2 = jg[4] * r2;
-        g3 = jg[8] * r3;
-    } else {
-        g1 = jg[0] * r1 + jg[1] * r2 + jg[2] * r3;
-        g2 = jg[3] * r1 + jg[4] * r2 + jg[5] * r3;
-        g3 = jg[6] * r1 + jg[7] * r2 + jg[8] * r3;
-    }
+    mat_vec(s->jg, s->gg_diag, r1, r2, r3, jr);
+    const double g1 = jr[0], g2 = jr[1], g3 = jr[2];
     g[0] = c * (r2 * g3 - r3 * g2);
     g[1] = c * (r3 * g1 - r1 * g3);
     g[2] = c * (r1 * g2 - r2 * g1);
@@ -96,18 +101,10 @@ static inline void gg_torque(const Body *s, const double q[4], double g[3])
 /* body_derivative's f: y = (q1..q4, w1..w3) -> ydot */
 static inline void derivative(const Body *s, const double y[7], const double t[3], double out[7])
 {
-    const double *j = s->j, *ji = s->ji;
     const double q1 = y[0], q2 = y[1], q3 = y[2], q4 = y[3], w1 = y[4], w2 = y[5], w3 = y[6];
-    double hx, hy, hz, mx, my, mz;
-    if (s->diag) {
-        hx = j[0] * w1;
-        hy = j[4] * w2;
-        hz = j[8] * w3;
-    } else {
-        hx = j[0] * w1 + j[1] * w2 + j[2] * w3;
-        hy = j[3] * w1 + j[4] * w2 + j[5] * w3;
-        hz = j[6] * w1 + j[7] * w2 + j[8] * w3;
-    }
+    double h[3], mx, my, mz;
+    mat_vec(s->j, s->diag, w1, w2, w3, h);
+    const double hx = h[0], hy = h[1], hz = h[2];
     mx = t[0] - (w2 * hz - w3 * hy);
     my = t[1] - (w3 * hx - w1 * hz);
     mz = t[2] - (w1 * hy - w2 * hx);
@@ -122,15 +119,7 @@ static inline void derivative(const Body *s, const double y[7], const double t[3
     out[1] = 0.5 * (q3 * w1 + q4 * w2 - q1 * w3);
     out[2] = 0.5 * (-q2 * w1 + q1 * w2 + q4 * w3);
     out[3] = -0.5 * (q1 * w1 + q2 * w2 + q3 * w3);
-    if (s->diag) {
-        out[4] = ji[0] * mx;
-        out[5] = ji[4] * my;
-        out[6] = ji[8] * mz;
-    } else {
-        out[4] = ji[0] * mx + ji[1] * my + ji[2] * mz;
-        out[5] = ji[3] * mx + ji[4] * my + ji[5] * mz;
-        out[6] = ji[6] * mx + ji[7] * my + ji[8] * mz;
-    }
+    mat_vec(s->ji, s->diag, mx, my, mz, out + 4);
 }
 
 /* the state of an RK4 stage: yst = y + step ky (the body), xst = x + step kx (the m effector states) */

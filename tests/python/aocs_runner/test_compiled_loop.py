@@ -215,9 +215,9 @@ def _install(monkeypatch, codecs, corrupt, bad_tick=BAD_TICK):
     orig_build = compiled_loop.build
 
     def build(loop):
-        seg = orig_build(loop)
-        return None if seg is None else compiled_loop.CompiledLoop(
-            loop, (ctypes.cast(fn, ctypes.c_void_p).value, event))
+        seg, why = orig_build(loop)
+        return (None if seg is None else compiled_loop.CompiledLoop(
+            loop, (ctypes.cast(fn, ctypes.c_void_p).value, event))), why
     monkeypatch.setattr(compiled_loop, "build", build)
     return fn   # kept alive by the caller
 
@@ -322,5 +322,10 @@ def test_bad_arguments_are_named(fsw_cfg):
         k = mod.DirectLoop(J, Ji, None, good)
         with pytest.raises(ValueError, match="37"):
             k.run((0.0,) * 5, 0, 1)
+        state = compiled_loop.CompiledLoop(loop)._state()
         with pytest.raises(ValueError, match=">= 0"):
-            k.run(compiled_loop.CompiledLoop(loop)._state(), 0, -1)
+            k.run(state, 0, -1)
+        with pytest.raises(TypeError, match=r"state\[0\]: not a number"):
+            k.run(("x",) + state[1:], 0, 1)
+        with pytest.raises(TypeError, match=r"state\[7\]: not an integer"):
+            k.run(state[:7] + (0.5,) + state[8:], 0, 1)
