@@ -5,51 +5,22 @@ alone (Stepper: n RK4 substeps with the torque held, an optional fixed-direction
 with effector states (CoupledStepper: rk4_coupled_stepper over the reaction wheels and the thrusters). They
 compute the same doubles as the Python steppers, bit for bit (tests/python/aocs_plant/test_rigid_body_kernel.py),
 so whether it runs changes the speed of a run, never its numbers. The plant runs the Python stepper when the
-module is not built (`cmake --build --preset host` builds it into <build>/lib) or when AOCS_PLANT_KERNELS=python.
+module is not built (`cmake --build --preset host` builds it into <build>/lib) or when AOCS_PLANT_KERNELS=python
+(aocs_core.compiled loads every kernel module).
 aocs_direct_loop_kernel flies whole lockstep periods of the in-process transport (aocs_runner.compiled_loop), with
 the same doubles and the same log as plant_node's Python loop; AOCS_PLANT_KERNELS=periods turns it off alone.
 """
 from __future__ import annotations
 
-import importlib.machinery
-import importlib.util
-import os
-import sysconfig
+from aocs_core import compiled
+from aocs_core.compiled import DIRECT_LOOP, ENV, RIGID_BODY, enabled
 
-from aocs_core import paths
-
-#: environment variable: "python" runs the plant's Python steppers and loop even when the kernels are built;
-#: "periods" the compiled periods in plant_node's Python loop (no compiled loop, aocs_runner.compiled_loop)
-ENV = "AOCS_PLANT_KERNELS"
-RIGID_BODY = "aocs_rigid_body_kernel"
-#: whole lockstep periods of the in-process transport (sil/plant_kernels/direct_loop_kernel.c)
-DIRECT_LOOP = "aocs_direct_loop_kernel"
-
-#: the modules each value of ENV turns off (any other value, or none: every module built runs)
-_OFF = {"python": {RIGID_BODY, DIRECT_LOOP}, "periods": {DIRECT_LOOP}}
-
-_loaded: dict = {}
-
-
-def enabled(name: str = RIGID_BODY) -> bool:
-    """Whether AOCS_PLANT_KERNELS leaves the kernel module `name` on."""
-    return name not in _OFF.get(os.environ.get(ENV, "").strip().lower(), ())
+__all__ = ["DIRECT_LOOP", "ENV", "RIGID_BODY", "enabled", "module", "rigid_body_period", "coupled_period"]
 
 
 def module(name: str = RIGID_BODY):
-    """The kernel module `name` from <build>/lib, or None (not built, or turned off by AOCS_PLANT_KERNELS)."""
-    if not enabled(name):
-        return None
-    if name not in _loaded:
-        path = paths.build_dir() / "lib" / (name + sysconfig.get_config_var("EXT_SUFFIX"))
-        mod = None
-        if path.is_file():
-            loader = importlib.machinery.ExtensionFileLoader(name, str(path))
-            spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
-            mod = importlib.util.module_from_spec(spec)
-            loader.exec_module(mod)
-        _loaded[name] = mod
-    return _loaded[name]
+    """The kernel module `name` from <build>/lib, or None (aocs_core.compiled.module)."""
+    return compiled.module(name)
 
 
 def rigid_body_period(J: tuple, Ji: tuple, compiled_terms):

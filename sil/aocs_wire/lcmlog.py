@@ -31,7 +31,7 @@ from pathlib import Path
 import lcm
 import numpy as np
 
-from aocs_core import paths
+from aocs_core import compiled, paths
 
 from . import wire
 
@@ -90,11 +90,10 @@ def scan(path: str | Path) -> LogScan:
 def _scan_fast(path: Path, data: bytes) -> LogScan | None:
     """scan() of a file whose events chain cleanly (_event_starts), in bulk: the event numbers are checked
     there; None for any other file (scan's walk then names the byte)."""
-    buf = np.frombuffer(data, dtype=np.uint8)
-    starts = _event_starts(buf)
-    if starts is None:
+    ix = _index(np.frombuffer(data, dtype=np.uint8))
+    if ix is None:
         return None
-    num = _headers(buf, starts)["num"].astype(np.int64)
+    starts, num = ix.starts, ix.num
     found = _chain_scan(len(data), starts, num)
     if isinstance(found, LogScan):
         return found
@@ -207,6 +206,12 @@ def _convert(col: np.ndarray, typ: str, k) -> np.ndarray:
     return col.astype(np.float64)
 
 
+#: the compiled decoder's kind of a (type, scalar) field, the conversion _convert makes: 0 float64, 1 int64 exactly,
+#: 2 int64 through float64
+_KIND = {(typ, scalar): (1 if (typ == "int64_t" and scalar) else 2) if typ in _INT_TYPES else 0
+         for typ in wire._FMT for scalar in (True, False)}
+
+
 def _table_fast(codec: wire.Codec, buf: np.ndarray, offsets: list, utimes: list) -> dict:
     """_table's columns from the payloads at offsets, decoded in bulk (_convert: the same dtypes and values),
     block by block of _BLOCK_RECORDS records."""
@@ -219,10 +224,16 @@ def _table_fast(codec: wire.Codec, buf: np.ndarray, offsets: list, utimes: list)
             col = np.zeros((0,) if k is None else (0, k))
             out[name] = col.astype(np.int64) if typ in _INT_TYPES else col
     else:
-        at = np.asarray(offsets, dtype=np.int64)
+        at = np.ascontiguousarray(offsets, dtype=np.int64)
         for (name, k), typ in fields:
             out[name] = np.empty((n,) if k is None else (n, k),
                                  dtype=np.int64 if typ in _INT_TYPES else np.float64)
+        kernel = compiled.module(compiled.LCMLOG)
+        if kernel is not None:   # every column in one pass over the records (sil/wire_kernels/lcmlog_kernel.c)
+            kernel.decode(buf, at, [(*codec.layout(name), k or 1, _KIND[typ, k is None], out[name])
+                                    for (name, k), typ in fields])
+            out["log_utime"] = np.array(utimes, dtype=np.int64)
+            return out
         for lo in range(0, n, _BLOCK_RECORDS):
             rec = _rows(buf, at[lo:lo + _BLOCK_RECORDS], dt.itemsize).reshape(-1).view(dt)
             for (name, k), typ in fields:
@@ -241,6 +252,10 @@ def _rows(buf: np.ndarray, at: np.ndarray, width: int) -> np.ndarray:
     times the rows' bytes (3 GB per channel for the 864,000 ticks of a day's log)."""
     if at.size == 0:
         return np.zeros((0, width), dtype=np.uint8)
+    k = compiled.module(compiled.LCMLOG)
+    if k is not None:   # one memcpy per row (sil/wire_kernels/lcmlog_kernel.c)
+        return np.frombuffer(k.gather(buf, np.ascontiguousarray(at, dtype=np.int64), width),
+                             dtype=np.uint8).reshape(-1, width)
     return np.lib.stride_tricks.sliding_window_view(buf, width)[at]
 
 
@@ -293,22 +308,35 @@ def _event_starts(buf: np.ndarray) -> np.ndarray | None:
     return pos[on[:n]]
 
 
-def _read_fast(path: Path, keep_raw: bool) -> Log | None:
-    """None when the file is not a clean sequence of events (the caller reads it with lcm.EventLog)."""
-    data = path.read_bytes()
-    buf = np.frombuffer(data, dtype=np.uint8)
+@dataclass
+class _Index:
+    """The events of a clean file, one entry each in file order: where it starts, its number, receive time (us),
+    where its payload starts and its length, and its channel (an index into names)."""
+    starts: np.ndarray
+    num: np.ndarray
+    utime: np.ndarray
+    payload: np.ndarray
+    data_len: np.ndarray
+    chan_id: np.ndarray
+    names: list
+
+
+def _index(buf: np.ndarray) -> _Index | None:
+    """The events of a clean file (_event_starts), or None when it is not one or a channel name is not UTF-8 text.
+    The compiled walk (aocs_lcmlog_kernel.index: one pass over the headers) when it is built, else numpy's."""
+    k = compiled.module(compiled.LCMLOG)
+    if k is not None:
+        found = k.index(buf)
+        if found is None:
+            return None
+        *arrays, names = found
+        return _Index(*(np.frombuffer(a, dtype=np.int64) for a in arrays), names)
     starts = _event_starts(buf)
     if starts is None:
         return None
-    by_channel = _by_channel()
     n_ev = starts.size
     hdr = _headers(buf, starts)
-    found = _chain_scan(len(data), starts, hdr["num"].astype(np.int64))
-    clean = found if isinstance(found, LogScan) else None
-    utime = hdr["utime"].astype(np.int64)
     ch_len = hdr["ch_len"].astype(np.int64)
-    data_len = hdr["data_len"].astype(np.int64)
-    payload = starts + _HEAD.size + ch_len
     # the channel of every event: one name table per channel length
     chan_id = np.empty(n_ev, dtype=np.int64)
     names: list[str] = []
@@ -324,6 +352,21 @@ def _read_fast(path: Path, keep_raw: bool) -> Log | None:
             except UnicodeDecodeError:
                 return None
         chan_id[sel] = base + inv.reshape(-1)
+    return _Index(starts, hdr["num"].astype(np.int64), hdr["utime"].astype(np.int64), starts + _HEAD.size + ch_len,
+                  hdr["data_len"].astype(np.int64), chan_id, names)
+
+
+def _read_fast(path: Path, keep_raw: bool) -> Log | None:
+    """None when the file is not a clean sequence of events (the caller reads it with lcm.EventLog)."""
+    data = path.read_bytes()
+    buf = np.frombuffer(data, dtype=np.uint8)
+    ix = _index(buf)
+    if ix is None:
+        return None
+    by_channel = _by_channel()
+    starts, utime, payload, data_len, chan_id, names = ix.starts, ix.utime, ix.payload, ix.data_len, ix.chan_id, ix.names
+    found = _chain_scan(len(data), starts, ix.num)
+    clean = found if isinstance(found, LogScan) else None
     if len(set(names)) != len(names):           # never with names of different lengths; kept honest
         return None
     # counts, in the order the reference reader inserts its keys (first event of each key)

@@ -417,8 +417,9 @@ def test_a_re_flight_that_differs_makes_the_run_an_error(private_netns, fsw_node
 
 def test_a_direct_run_stays_in_its_thread_s_namespace_and_an_lcm_run_gets_its_own(private_netns, fsw_node_bin,
                                                                                    tmp_path, monkeypatch):
-    """In process no socket is opened: a direct run makes no namespace (its cost per run saved); an LCM run (and a
-    direct one with its LCM re-flight) still moves its thread into a fresh one."""
+    """In process no socket is opened: a direct run whose plant the plant server starts makes no namespace (its cost
+    per run saved); an LCM run (and a direct one with its LCM re-flight, or without the server) still moves its
+    thread into a fresh one."""
     from aocs_campaign import worker as W
     from aocs_wire import netns
 
@@ -430,15 +431,58 @@ def test_a_direct_run_stays_in_its_thread_s_namespace_and_an_lcm_run_gets_its_ow
     def fly(name, **kw):
         def body():
             before = netns.current_netns_id()
-            seen[name] = (before, W.run_task(spec, str(tmp_path / name), fork=False, **kw), netns.current_netns_id())
+            seen[name] = (before, W.run_task(spec, str(tmp_path / name), **kw), netns.current_netns_id())
         t = threading.Thread(target=body)
         t.start()
         t.join(300)
         return seen[name]
 
-    before, row, after = fly("direct", transport="direct")
-    assert row["status"] == W.STATUS_PASSED and after == before
-    before, row, after = fly("lcm")
-    assert row["status"] == W.STATUS_PASSED and after != before
-    before, row, after = fly("refly", transport="direct", refly=True)
-    assert row["status"] == W.STATUS_PASSED and row["refly"]["identical"] and after != before
+    try:
+        before, row, after = fly("direct", transport="direct")
+        assert row["status"] == W.STATUS_PASSED and after == before
+        before, row, after = fly("direct-no-server", transport="direct", fork=False)
+        assert row["status"] == W.STATUS_PASSED and after != before
+        before, row, after = fly("lcm")
+        assert row["status"] == W.STATUS_PASSED and after != before
+        before, row, after = fly("refly", transport="direct", refly=True)
+        assert row["status"] == W.STATUS_PASSED and row["refly"]["identical"] and after != before
+    finally:
+        _stop_plant_server(W)
+
+
+def _stop_plant_server(W) -> None:
+    if W.PLANT_SERVER._proc is not None:
+        W.PLANT_SERVER._proc.kill()
+        W.PLANT_SERVER._proc.wait(10)
+
+
+def test_a_direct_run_s_timeout_kills_its_plant_and_nothing_else_of_the_worker(private_netns, fsw_node_bin, tmp_path,
+                                                                              monkeypatch):
+    """A direct run has no namespace of its own: its watchdog kills the plants it launched, not every process of the
+    worker's namespace (the plant server, the plants of the worker's other runs). A long run timed out at 0.3 s is an
+    error and the server that forked its plant lives on."""
+    from aocs_campaign import worker as W
+    from aocs_wire import netns
+
+    monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
+    spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
+            "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
+    rows = []
+
+    def fly(s, **kw):
+        t = threading.Thread(target=lambda: rows.append(W.run_task(s, str(tmp_path / str(len(rows))),
+                                                                   transport="direct", **kw)))
+        t.start()
+        t.join(300)
+        return rows[-1]
+
+    try:
+        assert fly(spec)["status"] == W.STATUS_PASSED
+        server = W.PLANT_SERVER.pid
+        for timeout_s in (1e-9, 0.3):    # before the plant is started; while it flies 50,000 s (~1 s or more)
+            r = fly(dict(spec, overrides={"duration_s": 50000.0}), timeout_s=timeout_s)
+            assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
+            assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
+        assert fly(spec)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid == server
+    finally:
+        _stop_plant_server(W)

@@ -19,6 +19,8 @@ Prints, for irassi_large (500 s at 10 Hz = 5000 control steps):
    through the LCM library, without plant or recorder (median / p99 round trip);
 3. the same plant integrated in process without LCM
    (aocs_plant.integrate_open_loop): time per step and real-time factor;
+4. reading a direct run's log back (lcmlog.read, the judgement's first step), with the compiled walk and decoder
+   (sil/wire_kernels/lcmlog_kernel.c) and with numpy's, alternated;
 and the ratio of 1 (LCM and direct) to 3 per step, i.e. what the transport and the process
 boundary cost. Targets (issue 24): lockstep over LCM >= 2000x, direct >= 20,000x. A
 benchmark, not a test: it prints figures and never fails on them.
@@ -38,14 +40,14 @@ from pathlib import Path
 
 import lcm
 
-from aocs_core import paths
+from aocs_core import compiled, paths
 from aocs_flightcfg import fsw_config
 from aocs_loop.frames import SensorFrame, valid_bits
 from aocs_loop.lcm_adapter import LcmCodec
 from aocs_plant import integrate_open_loop
 from aocs_plant.scenario import load
 from aocs_runner.run import RunOptions, execute
-from aocs_wire import netns, wire
+from aocs_wire import lcmlog, netns, wire
 
 from .bench_breakdown import breakdown, print_breakdown
 
@@ -137,8 +139,30 @@ def bench_lockstep(scenario: str, runs: int, variants=tuple(VARIANTS), duration:
                                "roundtrip_us_median": rt["median"] / 1e3, "roundtrip_us_p99": rt["p99"] / 1e3,
                                "startup_s": ls["startup_s"], "wall_s": m["wall_s"],
                                "log_complete": m["log_complete"], "fsw_step_ns_median": m["timing"]["step_ns_median"]})
+                if v == "direct":
+                    out[v][-1].update(log_read_ms(run_dir / "run.lcmlog"))
                 shutil.rmtree(run_dir, ignore_errors=True)
     return out
+
+
+def log_read_ms(path: Path, repeats: int = 7) -> dict:
+    """lcmlog.read of a run's log (the judgement's first step), with the compiled walk and decoder and with numpy's
+    (AOCS_PLANT_KERNELS=python), alternated: the median of each, ms."""
+    times: dict = {"log_read_ms_compiled": [], "log_read_ms_numpy": []}
+    saved = os.environ.get(compiled.ENV)
+    try:
+        for _ in range(repeats):
+            for key, env in (("log_read_ms_compiled", ""), ("log_read_ms_numpy", "python")):
+                os.environ[compiled.ENV] = env
+                t0 = time.perf_counter()
+                lcmlog.read(path)
+                times[key].append(1e3 * (time.perf_counter() - t0))
+    finally:
+        if saved is None:
+            os.environ.pop(compiled.ENV, None)
+        else:
+            os.environ[compiled.ENV] = saved
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
 #: the direct loop's parts (plant_node._Loop.run_lockstep's callees) -> what they are, for the breakdown
@@ -253,6 +277,8 @@ def main(argv=None) -> int:
         ("  control loop", f"{med_dir['loop_s']:.3f} s, {med_dir['step_us']:.1f} us per step, process CPU "
          f"{med_dir['plant_cpu_step_us']:.1f} us per step (flight software included)"),
         ("  log complete", ", ".join(str(r["log_complete"]) for r in runs_dir)),
+        ("  reading its log back (lcmlog.read)", f"{med_dir['log_read_ms_compiled']:.1f} ms compiled, "
+         f"{med_dir['log_read_ms_numpy']:.1f} ms numpy (medians)"),
         ("plant in process, no LCM", f"{plant['step_us']:.1f} us per step, {plant['realtime_factor']:.0f}x real time"),
         ("ratio lockstep / in-process per step", f"{med['step_us'] / plant['step_us']:.1f}"),
         ("ratio direct / in-process per step", f"{med_dir['step_us'] / plant['step_us']:.1f}"),

@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import shutil
+import signal
 import threading
 import time
 import traceback
@@ -98,26 +99,47 @@ def _in_namespace(ns: str) -> list:
 
 
 class _Watchdog:
-    """Kills the run's processes after timeout_s: those in the run's own network namespace (a worker flies
-    RUNS_PER_WORKER runs at once, each in its own namespace); the run then fails with "timed out"."""
+    """Kills the run's processes after timeout_s; the run then fails with "timed out". A run with a network
+    namespace of its own (an LCM run: a worker flies RUNS_PER_WORKER runs at once, each in its own namespace) is
+    every process in it; a run without one (--transport direct: the plant alone, the flight computer in it) is the
+    plants it launched through `launcher`, never the other processes of the worker's namespace (its plant server,
+    the plants of the worker's other runs)."""
 
-    def __init__(self, timeout_s: float | None):
+    def __init__(self, timeout_s: float | None, own_namespace: bool):
         self.fired = False
         self._t = None
-        self._ns = netns.current_netns_id()   # the run thread's namespace, entered before this
+        self._ns = netns.current_netns_id() if own_namespace else None   # the run thread's, entered before this
+        self._plants: list[int] = []
+        self._lock = threading.Lock()
         if timeout_s:
             self._t = threading.Timer(timeout_s, self._fire)
             self._t.daemon = True
 
+    def launcher(self, launch):
+        """launch (the plant server's), recording the pid of each plant it starts for this run."""
+        def launch_recorded(*args, **kwargs):
+            with self._lock:
+                child = launch(*args, **kwargs)
+                self._plants.append(child.pid)
+                if self.fired:        # fired while the plant was being started: it is over time too
+                    _kill(child.pid)
+                return child
+        return launch_recorded
+
     def _fire(self):
-        self.fired = True
         import psutil  # deferred: see _in_namespace
 
-        for c in _in_namespace(self._ns):
-            try:
-                c.kill()
-            except psutil.Error:
-                pass
+        with self._lock:
+            self.fired = True
+            if self._ns is None:
+                for pid in self._plants:
+                    _kill(pid)
+                return
+            for c in _in_namespace(self._ns):
+                try:
+                    c.kill()
+                except psutil.Error:
+                    pass
 
     def __enter__(self):
         if self._t:
@@ -128,6 +150,13 @@ class _Watchdog:
         if self._t:
             self._t.cancel()
         return False
+
+
+def _kill(pid: int) -> None:
+    try:
+        os.kill(pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
 
 
 #: this worker's plant server (plant_server.py): started at the first run, before the run's namespace and
@@ -159,8 +188,12 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
     try:
         if fork:
             PLANT_SERVER.ensure_running()
-        if transport != "direct" or refly:   # in process no socket is opened: no namespace to make
+        # in process no socket is opened: a direct run whose plant the server starts (the watchdog knows its pid) makes
+        # no namespace
+        own_namespace = transport != "direct" or refly or not fork
+        if own_namespace:
             netns.enter_netns(fresh=True)
+        wd = _Watchdog(timeout_s, own_namespace)
         # the same --set text as the repeat command (plan.repeat_command): the run reads its values back
         # from that text, as `aocs run` does, so the two are the same run bit for bit
         sets = [f"{k}={scenario_opts.toml_value(v)}" for k, v in spec["overrides"].items()]
@@ -168,9 +201,9 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
         # thread in this worker, ~0.3 s less CPU per 500 s run
         opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
                           quiet=True, reply_timeout=REPLY_TIMEOUT_S, recorder="plant", transport=transport,
-                          plant_launcher=PLANT_SERVER.launch if fork else None,
+                          plant_launcher=wd.launcher(PLANT_SERVER.launch) if fork else None,
                           telemetry="always" if keep_logs else "failed")   # a passed run's folder is deleted
-        with _Watchdog(timeout_s) as wd:
+        with wd:
             try:
                 res = execute(opts)
             except RunFailed as exc:

@@ -12,6 +12,7 @@ import random
 import numpy as np
 import pytest
 
+from aocs_core import compiled
 from aocs_plant import kernels
 from aocs_plant.effectors.gravity_gradient import gg_term, l2_gg_coefficient
 from aocs_plant.plant import Plant
@@ -115,7 +116,7 @@ def test_only_what_the_kernel_computes_the_same_is_compiled(kernel):  # noqa: AR
 
 def _fly(name, monkeypatch, mode, periods=1500):
     monkeypatch.setenv(kernels.ENV, mode)
-    monkeypatch.setattr(kernels, "_loaded", {})
+    monkeypatch.setattr(compiled, "_loaded", {})
     plant = Plant(load(name))
     rng = random.Random(5)
     fields = {f: n for f, n in plant.command_fields.items() if isinstance(n, int)}
@@ -138,7 +139,7 @@ def test_a_plant_flies_the_same_with_and_without_the_kernel(kernel, monkeypatch,
 # ---- the coupled period: the body with reaction wheels and thrusters (rk4_coupled_stepper) ------------------------
 def _coupled_pair(name, monkeypatch):
     monkeypatch.setenv(kernels.ENV, "")
-    monkeypatch.setattr(kernels, "_loaded", {})
+    monkeypatch.setattr(compiled, "_loaded", {})
     plant = Plant(load(name))
     assert plant._coupled_kernel is not None, name
     return plant
@@ -182,7 +183,7 @@ def test_coupled_kernel_period_is_the_python_period_bit_for_bit(kernel, monkeypa
 
 def _fly_wheels(name, monkeypatch, mode, periods=900):
     monkeypatch.setenv(kernels.ENV, mode)
-    monkeypatch.setattr(kernels, "_loaded", {})
+    monkeypatch.setattr(compiled, "_loaded", {})
     # the wheels start at 97 % of their speed limit: the pushes below reach it within seconds
     top = min(Plant(load(name)).wheel_array.wmax)
     plant = Plant(load(name, {"wheels.speed0_rad_s": 0.97 * top}))
@@ -251,7 +252,7 @@ def test_a_time_varying_term_is_never_compiled(kernel, monkeypatch):  # noqa: AR
     monkeypatch.setattr(GravityGradientEarth, "compiled_term",
                         lambda self: ("gravity_gradient", 1e-6, (0.0, 0.0, 1.0), (1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0)))
     monkeypatch.setenv(kernels.ENV, "")
-    monkeypatch.setattr(kernels, "_loaded", {})
+    monkeypatch.setattr(compiled, "_loaded", {})
     plant = Plant(load("geo_hinf"))
     assert plant._time_varying and not plant._general
     assert plant._compiled_period is None and plant._coupled_kernel is None

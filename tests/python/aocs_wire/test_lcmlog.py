@@ -5,8 +5,21 @@ import json
 
 import pytest
 
+from aocs_core import compiled
 from aocs_wire import lcmlog
 from aocs_wire.recorder import encode_event
+
+
+@pytest.fixture(autouse=True, params=["compiled", "numpy"])
+def walk(request, monkeypatch):
+    """Every test twice: with the compiled walk and decoder (aocs_lcmlog_kernel, sil/wire_kernels/lcmlog_kernel.c)
+    and with numpy's (AOCS_PLANT_KERNELS=python)."""
+    if request.param == "numpy":
+        monkeypatch.setenv(compiled.ENV, "python")
+    else:
+        monkeypatch.delenv(compiled.ENV, raising=False)
+        assert compiled.module(compiled.LCMLOG) is not None, f"{compiled.LCMLOG} not built (cmake --build --preset host)"
+    return request.param
 
 
 def _write(path, events):
@@ -73,6 +86,10 @@ def assert_same_log(a, b):
         for k in ta:
             assert (ta[k].dtype, ta[k].shape) == (tb[k].dtype, tb[k].shape), (name, k)
             assert ta[k].tobytes() == tb[k].tobytes(), (name, k)
+    ea, eb = a.fault_events, b.fault_events
+    assert list(ea) == list(eb)
+    for k in ea:
+        assert (ea[k].dtype, ea[k].shape, ea[k].tobytes()) == (eb[k].dtype, eb[k].shape, eb[k].tobytes()), k
     assert a.markers == b.markers
     assert list(a.counts.items()) == list(b.counts.items())
     assert a.events == b.events
@@ -91,7 +108,7 @@ def _mixed_events(aocs_lcm):
     for k in range(300):
         for ch, codec in ((wire.SENSORS, codecs.sensors), (wire.TRUTH, codecs.truth),
                           (wire.ACTUATOR, codecs.actuator), (wire.STATUS, codecs.status),
-                          (wire.COMMAND, codecs.command)):
+                          (wire.COMMAND, codecs.command), (wire.EVENTS, codecs.event)):
             vals = []
             for (name, n), typ in zip(codec.fields, codec.cls.__typenames__):
                 for _ in range(1 if n is None else n):
