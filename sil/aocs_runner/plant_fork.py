@@ -76,6 +76,36 @@ def child_main(args: list, stdout_path, netns_path: str | None = None) -> None:
             os._exit(code)
 
 
+def run_here(args: list, stdout_path) -> int:
+    """plant_node.main(args) in this process, in its main thread, its stdout to stdout_path; plant_node's exit code.
+    The process's stdout and its SIGINT and SIGTERM handlers are as they were afterwards, so that a process can fly
+    one run after another (a campaign's in-process plant runner, aocs_campaign.plant_server)."""
+    sys.stdout.flush()
+    saved_fd = os.dup(1)
+    saved = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    code = 1
+    try:
+        fd = os.open(str(stdout_path), os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        os.dup2(fd, 1)
+        os.close(fd)
+        plant_node.T_PROCESS = time.perf_counter()
+        code = plant_node.main([str(a) for a in args])
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else 1
+    except Exception:  # noqa: BLE001 - a run that broke is its exit code; the process flies the next
+        traceback.print_exc()
+        code = 1
+    finally:
+        try:
+            sys.stdout.flush()
+        finally:
+            os.dup2(saved_fd, 1)
+            os.close(saved_fd)
+            for sig, handler in saved.items():
+                signal.signal(sig, handler)
+    return code
+
+
 class ForkedChild:
     """A forked plant with the part of subprocess.Popen that orchestrate.Proc uses."""
 

@@ -247,6 +247,8 @@ def _pctl(sorted_vals, p):
 
 
 def run(args) -> int:
+    global _stop
+    _stop = False   # a process that flies one run after another (plant_fork.run_here) starts each afresh
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
     try:

@@ -450,39 +450,53 @@ def test_a_direct_run_stays_in_its_thread_s_namespace_and_an_lcm_run_gets_its_ow
         _stop_plant_server(W)
 
 
-def _stop_plant_server(W) -> None:
-    if W.PLANT_SERVER._proc is not None:
-        W.PLANT_SERVER._proc.kill()
-        W.PLANT_SERVER._proc.wait(10)
+def _stop_plant_server(W, runner=None) -> None:
+    """The worker's plant server (or, given runner, the calling thread's plant runner) killed: no process left."""
+    server = W.PLANT_SERVER if runner is None else W.plant_runner()
+    if server._proc is not None:
+        server._proc.kill()
+        server._proc.wait(10)
 
 
-def test_a_direct_run_s_timeout_kills_its_plant_and_nothing_else_of_the_worker(private_netns, fsw_node_bin, tmp_path,
-                                                                              monkeypatch):
-    """A direct run has no namespace of its own: its watchdog kills the plants it launched, not every process of the
-    worker's namespace (the plant server, the plants of the worker's other runs). A long run timed out at 0.3 s is an
-    error and the server that forked its plant lives on."""
+def test_a_direct_run_is_flown_by_its_thread_s_plant_runner_and_a_timeout_kills_that_alone(private_netns, fsw_node_bin,
+                                                                                          tmp_path, monkeypatch):
+    """--transport direct: the worker thread's plant runner (a plant server that flies the runs itself, no fork per
+    run) flies one run after another, each run's plant_node output its own. A direct run has no namespace of its own:
+    its timeout (before its plant started; while it flies 50,000 s) kills that runner, never the worker's plant server
+    nor anything else of the worker's namespace; the next direct run starts a new runner and passes."""
+    from concurrent.futures import ThreadPoolExecutor
+
     from aocs_campaign import worker as W
     from aocs_wire import netns
 
     monkeypatch.setenv(netns.ENV_VAR, os.environ[netns.ENV_VAR])
     spec = {"index": 0, "scenario": "irassi_large", "law": "quat_pd",
             "overrides": {"duration_s": 20.0, "metrics.window_s": 10.0}}
-    rows = []
+    n = iter(range(100))
+    with ThreadPoolExecutor(1) as pool:      # one thread, as a Dask worker's
+        def fly(s=spec, **kw):
+            return pool.submit(W.run_task, s, str(tmp_path / str(next(n))), keep_logs=True, **kw).result(300)
 
-    def fly(s, **kw):
-        t = threading.Thread(target=lambda: rows.append(W.run_task(s, str(tmp_path / str(len(rows))),
-                                                                   transport="direct", **kw)))
-        t.start()
-        t.join(300)
-        return rows[-1]
-
-    try:
-        assert fly(spec)["status"] == W.STATUS_PASSED
-        server = W.PLANT_SERVER.pid
-        for timeout_s in (1e-9, 0.3):    # before the plant is started; while it flies 50,000 s (~1 s or more)
-            r = fly(dict(spec, overrides={"duration_s": 50000.0}), timeout_s=timeout_s)
-            assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
-            assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
-        assert fly(spec)["status"] == W.STATUS_PASSED and W.PLANT_SERVER.pid == server
-    finally:
-        _stop_plant_server(W)
+        try:
+            assert fly()["status"] == W.STATUS_PASSED            # over LCM: the plant server forks its plant
+            server = W.PLANT_SERVER.pid
+            first = fly(transport="direct")
+            runner = pool.submit(W.plant_runner).result()
+            pid = runner.pid
+            second = fly(transport="direct")
+            assert first["status"] == second["status"] == W.STATUS_PASSED
+            assert runner.pid == pid and pid not in (None, server)     # the same process flew both
+            for r in (first, second):    # one summary each, flown by the same runner process
+                lines = [json.loads(x) for x in (Path(r["run_dir"]) / "plant_node.stdout").read_text().splitlines()
+                         if x.startswith('{"plant_node"')]
+                assert len(lines) == 1 and lines[0]["plant_node"]["reason"] == "done"
+            assert runner._proc.poll() is None
+            for timeout_s in (1e-9, 0.3):    # before the plant is started; while it flies 50,000 s (~1 s or more)
+                r = fly(dict(spec, overrides={"duration_s": 50000.0}), timeout_s=timeout_s, transport="direct")
+                assert r["status"] == W.STATUS_ERROR and "timed out" in r["error"], r["error"]
+                assert W.PLANT_SERVER.pid == server and W.PLANT_SERVER._proc.poll() is None
+            assert runner._proc.poll() == -9
+            assert fly(transport="direct")["status"] == W.STATUS_PASSED and runner._proc.poll() is None
+        finally:
+            _stop_plant_server(W)
+            pool.submit(_stop_plant_server, W, "runner").result()

@@ -9,10 +9,13 @@ threads) before the worker's first run and never starts a thread, so its childre
 single-threaded process.
 
 Protocol (one JSON object per line over a socketpair): the worker sends {"id", "args", "stdout",
-"netns"}; the server forks a child that joins the network namespace at "netns" (the run thread's
+"netns", "here"}; the server forks a child that joins the network namespace at "netns" (the run thread's
 /proc/PID/task/TID/ns/net, netns.join_netns), writes its stdout to "stdout", runs plant_node.main(args)
 and leaves with os._exit; it answers {"id", "pid"} (or {"id", "error"}), and {"pid", "exit"} (the exit
-code as subprocess gives it: negative for a signal) when it has reaped the child. The server ends when the
+code as subprocess gives it: negative for a signal) when it has reaped the child. With "here" (a
+--transport direct run: no socket, so no namespace) the server flies the run itself, without a fork
+(plant_fork.run_here: a fork, its copy-on-write faults and its exit cost more kernel time than the run's loop);
+it answers {"id", "pid"} with its own pid, then {"id", "exit"}, and reads no request meanwhile. The server ends when the
 worker does (end of file on the socket); its children end with it (PR_SET_PDEATHSIG).
 """
 from __future__ import annotations
@@ -76,6 +79,10 @@ def serve(sock: socket.socket) -> int:
             while b"\n" in buf:
                 line, buf = buf.split(b"\n", 1)
                 req = json.loads(line)
+                if req.get("here"):   # a direct run flown by this process itself: no fork, nothing to reap
+                    send({"id": req["id"], "pid": os.getpid()})
+                    send({"id": req["id"], "exit": plant_fork.run_here(req["args"], req["stdout"])})
+                    continue
                 try:
                     pid = os.fork()
                 except OSError as exc:
@@ -98,15 +105,17 @@ class ServerEnded(RuntimeError):
 
 
 class ServedChild(plant_fork.ForkedChild):
-    """A plant forked by the server (not a child of this process): its exit status comes from the server."""
+    """A plant forked by the server (not a child of this process), or the server itself flying a run: its exit status
+    comes from the server, under `key` (the fork's pid; ("run", request id) for a run the server flies)."""
 
-    def __init__(self, server: "PlantServer", pid: int):
+    def __init__(self, server: "PlantServer", pid: int, key):
         super().__init__(pid)
         self._server = server
+        self._key = key
 
     def poll(self):
         if self.returncode is None:
-            self.returncode = self._server.exit_code(self.pid)
+            self.returncode = self._server.exit_code(self._key)
         return self.returncode
 
 
@@ -147,7 +156,7 @@ class PlantServer:
             line, self._buf = self._buf.split(b"\n", 1)
             msg = json.loads(line)
             if "exit" in msg:
-                self._exits[msg["pid"]] = msg["exit"]
+                self._exits[msg["pid"] if "pid" in msg else ("run", msg["id"])] = msg["exit"]
             msgs.append(msg)
         return msgs
 
@@ -160,28 +169,30 @@ class PlantServer:
             if time.monotonic() > end:
                 raise RuntimeError(f"the plant server did not answer ({what}) within {timeout:g} s")
 
-    def launch(self, args: list, stdout_path, env: dict) -> ServedChild:  # noqa: ARG002 - env: the server's
-        """plant_node.main(args) in a child of the server, in the calling thread's network namespace."""
+    def launch(self, args: list, stdout_path, env: dict, here: bool = False) -> ServedChild:  # noqa: ARG002 - env
+        """plant_node.main(args) in a child of the server, in the calling thread's network namespace; with here, in
+        the server itself (plant_fork.run_here: a --transport direct run, which opens no socket), whose pid the
+        returned child then has: a server flies one such run at a time (aocs_campaign.worker keeps one per thread)."""
         self.ensure_running()
         with self._lock:
             self._n += 1
             rid = self._n
             req = {"id": rid, "args": [str(a) for a in args], "stdout": str(stdout_path),
-                   "netns": f"/proc/{os.getpid()}/task/{threading.get_native_id()}/ns/net"}
+                   "netns": f"/proc/{os.getpid()}/task/{threading.get_native_id()}/ns/net", "here": here}
             self._sock.sendall((json.dumps(req) + "\n").encode())
-            msg = self._read_until(lambda m: m.get("id") == rid, 30.0, "fork")
+            msg = self._read_until(lambda m: m.get("id") == rid and "exit" not in m, 30.0, "fork")
         if "error" in msg:
             raise RuntimeError(f"the plant server could not start plant_node: {msg['error']}")
-        return ServedChild(self, msg["pid"])
+        return ServedChild(self, msg["pid"], ("run", rid) if here else msg["pid"])
 
-    def exit_code(self, pid: int) -> int | None:
+    def exit_code(self, key) -> int | None:
         with self._lock:
-            if pid not in self._exits:
+            if key not in self._exits:
                 try:
                     self._pump(0.0, "poll")
                 except ServerEnded:   # the server died: its children died with it (PDEATHSIG)
-                    self._exits[pid] = -signal.SIGKILL
-            return self._exits.pop(pid, None)
+                    self._exits[key] = -signal.SIGKILL
+            return self._exits.pop(key, None)
 
     @property
     def pid(self) -> int | None:

@@ -19,6 +19,7 @@ root, or a worker started under `unshare --user --map-root-user`
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import shutil
 import signal
@@ -99,11 +100,10 @@ def _in_namespace(ns: str) -> list:
 
 
 class _Watchdog:
-    """Kills the run's processes after timeout_s; the run then fails with "timed out". A run with a network
-    namespace of its own (an LCM run: a worker flies RUNS_PER_WORKER runs at once, each in its own namespace) is
-    every process in it; a run without one (--transport direct: the plant alone, the flight computer in it) is the
-    plants it launched through `launcher`, never the other processes of the worker's namespace (its plant server,
-    the plants of the worker's other runs)."""
+    """Kills the run's processes after timeout_s; the run then fails with "timed out": the plants it launched
+    through `launcher` (a --transport direct run's is the thread's plant runner, which flies it), and with a network
+    namespace of its own (an LCM run: a worker flies RUNS_PER_WORKER runs at once, each in its own namespace) every
+    process in that namespace; never the other processes of the worker (its plant server, its other runs')."""
 
     def __init__(self, timeout_s: float | None, own_namespace: bool):
         self.fired = False
@@ -131,11 +131,9 @@ class _Watchdog:
 
         with self._lock:
             self.fired = True
-            if self._ns is None:
-                for pid in self._plants:
-                    _kill(pid)
-                return
-            for c in _in_namespace(self._ns):
+            for pid in self._plants:
+                _kill(pid)
+            for c in _in_namespace(self._ns) if self._ns is not None else ():
                 try:
                     c.kill()
                 except psutil.Error:
@@ -162,16 +160,28 @@ def _kill(pid: int) -> None:
 #: this worker's plant server (plant_server.py): started at the first run, before the run's namespace and
 #: watchdog, so it is neither in a run's namespace nor one of the run's children the watchdog kills
 PLANT_SERVER = PlantServer()
+#: each worker thread's plant runner for --transport direct: a plant server that flies the thread's direct runs
+#: itself, one after the other (PlantServer.launch with here=True), instead of forking a plant per run
+_RUNNERS = threading.local()
 
 
-def _refly_lcm(opts: RunOptions, out: Path) -> dict:
+def plant_runner() -> PlantServer:
+    """The calling thread's plant runner (started at its first direct run; it ends with the thread)."""
+    runner = getattr(_RUNNERS, "server", None)
+    if runner is None:
+        runner = _RUNNERS.server = PlantServer()
+    return runner
+
+
+def _refly_lcm(opts: RunOptions, out: Path, plant_launcher) -> dict:
     """--transport direct, a sampled run: the same run again over LCM (plant_node + fsw_node) in out/lcm, its
-    command history compared bit for bit with the direct run's (aocs_loop.history.differences)."""
+    command history compared bit for bit with the direct run's (aocs_loop.history.differences); its plant started
+    by plant_launcher (the worker's plant server's fork)."""
     from aocs_loop import history  # deferred: only a sampled run compares logs
     from aocs_wire import lcmlog  # deferred: see above
 
     lcm_out = out / "lcm"
-    execute(dataclasses.replace(opts, out=str(lcm_out), transport="lcm"))
+    execute(dataclasses.replace(opts, out=str(lcm_out), transport="lcm", plant_launcher=plant_launcher))
     diff = history.differences(lcmlog.read(out / "run.lcmlog"), lcmlog.read(lcm_out / "run.lcmlog"))
     return {"transport": "lcm", "identical": not diff, "differences": diff[:10]}
 
@@ -186,10 +196,14 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
            "worker_pid": os.getpid(), "run_dir": run_dir}
     out = Path(run_dir)
     try:
+        # a direct run opens no socket: flown by the thread's plant runner (the watchdog knows its pid), it makes no
+        # namespace
+        here = fork and transport == "direct"
+        server = plant_runner() if here else PLANT_SERVER
         if fork:
-            PLANT_SERVER.ensure_running()
-        # in process no socket is opened: a direct run whose plant the server starts (the watchdog knows its pid) makes
-        # no namespace
+            server.ensure_running()
+            if refly:
+                PLANT_SERVER.ensure_running()   # before the namespace: see PLANT_SERVER
         own_namespace = transport != "direct" or refly or not fork
         if own_namespace:
             netns.enter_netns(fresh=True)
@@ -201,7 +215,7 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
         # thread in this worker, ~0.3 s less CPU per 500 s run
         opts = RunOptions(scenario=spec["scenario"], law=spec["law"], out=str(out), sets=sets, plots=False,
                           quiet=True, reply_timeout=REPLY_TIMEOUT_S, recorder="plant", transport=transport,
-                          plant_launcher=wd.launcher(PLANT_SERVER.launch) if fork else None,
+                          plant_launcher=wd.launcher(functools.partial(server.launch, here=here)) if fork else None,
                           telemetry="always" if keep_logs else "failed")   # a passed run's folder is deleted
         with wd:
             try:
@@ -213,7 +227,7 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
             if wd.fired:   # fired before the run had a process to kill (a tiny --timeout): still over time
                 raise RunFailed(f"timed out after {timeout_s:g} s (the run took {time.monotonic() - t0:.3g} s)")
             if refly:
-                row["refly"] = _refly_lcm(opts, out)
+                row["refly"] = _refly_lcm(opts, out, wd.launcher(PLANT_SERVER.launch) if fork else None)
         m = res.metrics
         row["metrics"] = m
         row["series"] = _decimate(res.series)

@@ -24,3 +24,16 @@ def test_preload_leaves_what_it_cannot_load_to_the_plant(monkeypatch, tmp_path):
     monkeypatch.setattr(direct_adapter, "_lib", None)
     plant_fork.preload()
     assert compiled._loaded.get(kernels.DIRECT_LOOP) is None and direct_adapter._lib is None
+
+
+def test_run_here_gives_the_exit_code_and_leaves_the_process_as_it_was(tmp_path):
+    """plant_fork.run_here flies plant_node in this process (a campaign's plant runner flies one run after another):
+    its exit code, its output in the file, and this process's stdout and signal handlers as they were."""
+    import os
+    import signal
+
+    before = (os.fstat(1).st_ino, signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM))
+    assert plant_fork.run_here(["no_such_scenario", "--mode", "lockstep"], tmp_path / "a.stdout") == 2
+    assert plant_fork.run_here(["--no-such-option"], tmp_path / "b.stdout") == 2          # argparse's SystemExit
+    assert (tmp_path / "a.stdout").is_file() and (tmp_path / "b.stdout").is_file()
+    assert (os.fstat(1).st_ino, signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
