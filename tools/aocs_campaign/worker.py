@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aocs_core import paths
+from aocs_core import libc, paths
 from aocs_flightcfg import fsw_config
 from aocs_plant.scenario import ScenarioError
 from aocs_runner import events as evmod
@@ -186,6 +186,12 @@ def _refly_lcm(opts: RunOptions, out: Path, plant_launcher) -> dict:
     return {"transport": "lcm", "identical": not diff, "differences": diff[:10]}
 
 
+@functools.cache
+def _keep_freed_memory() -> bool:
+    """Once per worker process: malloc keeps what a run frees for the next (aocs_core.libc.keep_freed_memory)."""
+    return libc.keep_freed_memory()
+
+
 def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float | None = None,
              fork: bool = True, transport: str = "lcm", refly: bool = False) -> dict:
     """Fly one run (spec: plan.RunSpec.to_dict()); the result row (never raises for the run itself).
@@ -195,6 +201,7 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
     row = {"index": spec["index"], "status": STATUS_ERROR, "error": None, "metrics": None, "series": None,
            "worker_pid": os.getpid(), "run_dir": run_dir}
     out = Path(run_dir)
+    _keep_freed_memory()
     try:
         # a direct run opens no socket: flown by the thread's plant runner (the watchdog knows its pid), it makes no
         # namespace

@@ -32,3 +32,27 @@ def test_a_missing_library_is_an_oserror(monkeypatch):
         monkeypatch.undo()
         libc.libc.cache_clear()
         libc.libc()
+
+
+def test_keep_freed_memory_sets_both_thresholds_and_says_when_it_could_not(monkeypatch):
+    """mallopt(M_MMAP_THRESHOLD, 32 MiB) and mallopt(M_TRIM_THRESHOLD, 256 MiB), the values glibc accepts (the real
+    library answers True); False when mallopt refuses or there is none."""
+    assert libc.keep_freed_memory() is True     # glibc here: both accepted
+
+    class Fake:
+        def __init__(self, answer):
+            self.answer, self.calls = answer, []
+            self.mallopt = self._mallopt
+
+        def _mallopt(self, param, value):
+            self.calls.append((param, value))
+            return self.answer
+
+    fake = Fake(1)
+    monkeypatch.setattr(libc, "libc", lambda: fake)
+    assert libc.keep_freed_memory() is True
+    assert fake.calls == [(-3, 32 * 2**20), (-1, 256 * 2**20)]
+    monkeypatch.setattr(libc, "libc", lambda: Fake(0))
+    assert libc.keep_freed_memory() is False
+    monkeypatch.setattr(libc, "libc", lambda: object())          # no mallopt: not glibc
+    assert libc.keep_freed_memory() is False
