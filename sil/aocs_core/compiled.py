@@ -15,7 +15,7 @@ from __future__ import annotations
 import importlib.machinery
 import importlib.util
 import os
-import sysconfig
+import threading
 
 from . import paths
 
@@ -38,17 +38,26 @@ def enabled(name: str) -> bool:
     return name not in _OFF.get(os.environ.get(ENV, "").strip().lower(), ())
 
 
+#: the file name ending CMake's WITH_SOABI gives (".cpython-311-x86_64-linux-gnu.so"): importlib's constant, not
+#: sysconfig.get_config_var("EXT_SUFFIX"), whose first call fills a dict that another thread may read half-filled (a
+#: campaign worker's two runs loading the log kernel at once got None)
+EXT_SUFFIX = importlib.machinery.EXTENSION_SUFFIXES[0]
+_lock = threading.Lock()
+
+
 def module(name: str):
-    """The kernel module `name` from <build>/lib, or None (not built, or turned off by AOCS_PLANT_KERNELS)."""
+    """The kernel module `name` from <build>/lib, or None (not built, or turned off by AOCS_PLANT_KERNELS). Loaded once
+    per process, whichever thread asks first."""
     if not enabled(name):
         return None
-    if name not in _loaded:
-        path = paths.build_dir() / "lib" / (name + sysconfig.get_config_var("EXT_SUFFIX"))
-        mod = None
-        if path.is_file():
-            loader = importlib.machinery.ExtensionFileLoader(name, str(path))
-            spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
-            mod = importlib.util.module_from_spec(spec)
-            loader.exec_module(mod)
-        _loaded[name] = mod
-    return _loaded[name]
+    with _lock:
+        if name not in _loaded:
+            path = paths.build_dir() / "lib" / (name + EXT_SUFFIX)
+            mod = None
+            if path.is_file():
+                loader = importlib.machinery.ExtensionFileLoader(name, str(path))
+                spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
+                mod = importlib.util.module_from_spec(spec)
+                loader.exec_module(mod)
+            _loaded[name] = mod
+        return _loaded[name]
