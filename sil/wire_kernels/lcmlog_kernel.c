@@ -27,15 +27,24 @@
 #define HEADER_BYTES 28u
 #define CHANNEL_MAX 63u /* lcm.h LCM_MAX_CHANNEL_NAME_LENGTH */
 
-static uint32_t be32(const unsigned char *p)
+static inline uint32_t be32(const unsigned char *p)
 {
-    return ((uint32_t)p[0] << 24) | ((uint32_t)p[1] << 16) | ((uint32_t)p[2] << 8) | (uint32_t)p[3];
+    uint32_t v;
+    memcpy(&v, p, sizeof(v));
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    v = __builtin_bswap32(v);
+#endif
+    return v;
 }
 
-static int64_t be64(const unsigned char *p)
+static inline int64_t be64(const unsigned char *p)
 {
-    uint64_t v = ((uint64_t)be32(p) << 32) | (uint64_t)be32(p + 4);
+    uint64_t v;
     int64_t out;
+    memcpy(&v, p, sizeof(v));
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    v = __builtin_bswap64(v);
+#endif
     memcpy(&out, &v, sizeof(out));
     return out;
 }
@@ -338,32 +347,69 @@ static Py_ssize_t code_size(char code)
     }
 }
 
-/* the element at p as a double (AS_FLOAT64) or an int64 (the others) into *dst */
-static void decode_one(const unsigned char *p, char code, int kind, void *dst)
+/* an integer element into its column: as float64, as int64, or through float64 to int64 */
+static inline void put_int(int64_t i, int kind, unsigned char *dst)
 {
-    int64_t i = 0;
-    double d = 0.0;
-    int is_float = 0;
-    switch (code) {
-    case 'b': i = (int8_t)p[0]; break;
-    case 'B': i = p[0]; break;
-    case 'h': i = (int16_t)(uint16_t)(((uint16_t)p[0] << 8) | p[1]); break;
-    case 'i': i = (int32_t)be32(p); break;
-    case 'q': i = be64(p); break;
-    case 'f': { uint32_t u = be32(p); float f; memcpy(&f, &u, sizeof(f)); d = (double)f; is_float = 1; break; }
-    default: { int64_t v = be64(p); memcpy(&d, &v, sizeof(d)); is_float = 1; break; }   /* 'd' */
-    }
     if (kind == AS_FLOAT64) {
-        double v = is_float ? d : (double)i;
-        memcpy(dst, &v, sizeof(v));
-    } else if (kind == AS_INT64 || is_float == 0) {
-        int64_t v = i;
-        if (kind == AS_INT64_VIA_FLOAT64) {
-            /* numpy's float64 -> int64 cast: 2^63 (INT64_MAX rounded) is out of range and becomes INT64_MIN */
-            double via = (double)i;
-            v = (via >= 9223372036854775808.0) ? INT64_MIN : (int64_t)via;
+        double d = (double)i;
+        memcpy(dst, &d, sizeof(d));
+        return;
+    }
+    int64_t v = i;
+    if (kind == AS_INT64_VIA_FLOAT64) {
+        /* numpy's float64 -> int64 cast: 2^63 (INT64_MAX rounded) is out of range and becomes INT64_MIN */
+        double via = (double)i;
+        v = (via >= 9223372036854775808.0) ? INT64_MIN : (int64_t)via;
+    }
+    memcpy(dst, &v, sizeof(v));
+}
+
+/* the sp->count elements of a field at src into dst, 8 bytes each (the code's switch once per field) */
+static void decode_field(const unsigned char *src, const field_spec *sp, unsigned char *dst)
+{
+    const Py_ssize_t n = sp->count;
+    const int kind = sp->kind;
+    switch (sp->code) {
+    case 'd':   /* kind AS_FLOAT64 (read_specs): the double's bits */
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            int64_t v = be64(src + 8 * k);
+            memcpy(dst + 8 * k, &v, sizeof(v));
         }
-        memcpy(dst, &v, sizeof(v));
+        break;
+    case 'f':
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            uint32_t u = be32(src + 4 * k);
+            float f;
+            memcpy(&f, &u, sizeof(f));
+            double d = (double)f;
+            memcpy(dst + 8 * k, &d, sizeof(d));
+        }
+        break;
+    case 'q':
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            put_int(be64(src + 8 * k), kind, dst + 8 * k);
+        }
+        break;
+    case 'i':
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            put_int((int32_t)be32(src + 4 * k), kind, dst + 8 * k);
+        }
+        break;
+    case 'h':
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            put_int((int16_t)(uint16_t)(((uint16_t)src[2 * k] << 8) | src[2 * k + 1]), kind, dst + 8 * k);
+        }
+        break;
+    case 'b':
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            put_int((int8_t)src[k], kind, dst + 8 * k);
+        }
+        break;
+    default:    /* 'B' (read_specs admits no other code) */
+        for (Py_ssize_t k = 0; k < n; ++k) {
+            put_int(src[k], kind, dst + 8 * k);
+        }
+        break;
     }
 }
 
@@ -456,11 +502,7 @@ static PyObject *kernel_decode(PyObject *self, PyObject *const *args, Py_ssize_t
             const unsigned char *rec = (const unsigned char *)data.buf + off[i];
             for (Py_ssize_t f = 0; f < n_fields; ++f) {
                 const field_spec *sp = &specs[f];
-                Py_ssize_t size = code_size(sp->code);
-                unsigned char *dst = (unsigned char *)sp->out.buf + i * sp->count * 8;
-                for (Py_ssize_t k = 0; k < sp->count; ++k) {
-                    decode_one(rec + sp->offset + k * size, sp->code, sp->kind, dst + k * 8);
-                }
+                decode_field(rec + sp->offset, sp, (unsigned char *)sp->out.buf + i * sp->count * 8);
             }
         }
     }

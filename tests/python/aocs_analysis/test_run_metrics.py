@@ -600,3 +600,21 @@ def test_the_settle_over_bound_ratio_for_any_positive_bound(bound_s, settle_s, r
          "pointing_error_arcsec": {}, "max_torque_norm_nm": 1.0, "effort": 1.0, "timing": {"step_ns_p99": 1.0},
          "counters": {"time_in_safe_mode_s": 0.0}}
     assert results.comparison_table([m], bound=True).splitlines()[2].split()[4] == ratio   # settle/bound
+
+
+def test_distinct_pairs_index_every_row():
+    """run_metrics._distinct_pairs (the step budgets' (law, mode) pairs) against a dict of the rows: each pair once,
+    in order of first appearance, each row's index to its own pair; long runs, single rows, values beyond 2^32."""
+    rng = np.random.default_rng(4)
+    for trial in range(100):
+        n = int(rng.integers(1, 400))
+        a = rng.integers(-3, 3, n) * (2**40 if trial % 2 else 1)
+        b = rng.integers(0, 4, n)
+        if trial % 3 == 0:     # runs of equal rows, as a flight's law and mode hold
+            a, b = np.repeat(a[:6], n // 6 + 1)[:n], np.repeat(b[:6], n // 6 + 1)[:n]
+        rows = list(zip(a.tolist(), b.tolist()))
+        pairs, inverse = results._distinct_pairs(a, b)
+        assert pairs == list(dict.fromkeys(rows))
+        assert [pairs[i] for i in inverse] == rows
+    pairs, inverse = results._distinct_pairs(np.zeros(0, int), np.zeros(0, int))
+    assert pairs == [] and inverse.size == 0
