@@ -368,18 +368,23 @@ def test_a_timeout_that_fires_before_the_run_has_processes_never_passes(private_
 
 
 def test_a_direct_campaign_re_flies_its_sample_over_lcm_bit_for_bit(private_netns, fsw_node_bin, tmp_path):
-    """--transport direct: runs 0 and 2 of 3 (--refly-every 2) flown again over LCM, both identical; the rows
-    and campaign.json name the transport; the repeat command flies the run in process."""
+    """--transport direct: runs 0, 4 and 8 of 9 (--refly-every 4) flown again over LCM, all identical, in tasks of
+    2 runs (1 worker of 2 threads: runs_per_task); the rows and campaign.json name the transport; the repeat command
+    flies the run in process."""
+    from aocs_campaign import execute as E
+
+    assert E.runs_per_task("direct", 9, 2) == 2
     out = tmp_path / "c"
-    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", "3", "--seed", str(SEED), *SHORT,
-             "--disperse", "plant.w0=normal:0:1e-4", "--transport", "direct", "--refly-every", "2", "--workers", "1",
+    p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", "9", "--seed", str(SEED), *SHORT,
+             "--disperse", "plant.w0=normal:0:1e-4", "--transport", "direct", "--refly-every", "4", "--workers", "1",
              "--out", str(out), "--no-plots", "-q", check_rc=0)
     doc = json.loads((out / "campaign.json").read_text())
-    assert doc["transport"] == "direct" and doc["status"]["passed"] == 3
-    assert doc["refly"] == {"sampled": 2, "identical": 2, "differ": []}
-    assert "2 of 2 LCM re-flights bit-identical" in p.stdout
-    rows = [json.loads((out / "runs" / f"{i:06d}.json").read_text()) for i in range(3)]
-    assert [bool(r.get("refly")) for r in rows] == [True, False, True]
+    assert doc["transport"] == "direct" and doc["status"]["passed"] == 9
+    assert doc["refly"] == {"sampled": 3, "identical": 3, "differ": []}
+    assert "3 of 3 LCM re-flights bit-identical" in p.stdout
+    rows = [json.loads((out / "runs" / f"{i:06d}.json").read_text()) for i in range(9)]
+    assert [r["index"] for r in rows] == list(range(9))
+    assert [bool(r.get("refly")) for r in rows] == [i % 4 == 0 for i in range(9)]
     assert all(r["transport"] == "direct" and "--transport direct" in r["repeat_command"] for r in rows)
 
 

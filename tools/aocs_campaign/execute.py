@@ -5,25 +5,29 @@
 - cluster: a LocalCluster of K worker processes (default K = the machine's
   cores) flying worker.RUNS_PER_WORKER runs each at once (threads), on
   loopback, or the existing cluster at --scheduler;
-- each run is worker.run_task (the real SIL path in a private network
-  namespace of its own); its row is written to OUT/runs/NNNNNN.json (atomic
-  rename) as soon as it comes back, so a campaign interrupted or killed keeps
-  every run that finished, and a rerun into the same OUT skips them (the
-  folder must hold the same campaign: OUT/campaign-plan.json);
+- each run is worker.run_task (the real SIL path; an LCM run in a private
+  network namespace of its own); a task flies runs_per_task of them one after
+  another (worker.run_tasks: 4 direct runs, one LCM run); each run's row is
+  written to OUT/runs/NNNNNN.json (atomic rename) as soon as its task comes
+  back, so a campaign interrupted or killed keeps every run that finished,
+  and a rerun into the same OUT skips them (the folder must hold the same
+  campaign: OUT/campaign-plan.json);
 - a run that crashes, is refused or times out comes back as a row with its
   error (worker.py); a worker process that dies is replaced by its nanny and
-  Dask retries the run elsewhere, and a run that kills workers
-  ALLOWED_FAILURES times is recorded with Dask's error;
-- bounded submission: at most in_flight_bound runs submitted and not yet
+  Dask retries the task elsewhere, and a task that kills workers
+  ALLOWED_FAILURES times is recorded, each of its runs, with Dask's error;
+- bounded submission: at most in_flight_bound tasks submitted and not yet
   recorded (IN_FLIGHT_PER_THREAD per worker thread); the next is submitted as
-  a row is written, so a campaign of a million runs writes its first row as
-  soon as a run completes and the client's memory does not grow with --runs;
-- Ctrl-C (SIGINT) or SIGTERM records every run the scheduler holds as
+  a task's rows are written, so a campaign of a million runs writes its first
+  row as soon as a task completes and the client's memory does not grow with
+  --runs;
+- Ctrl-C (SIGINT) or SIGTERM records every task the scheduler holds as
   finished, cancels the rest, closes the cluster and returns with
   interrupted=True.
 """
 from __future__ import annotations
 
+import itertools
 import json
 import logging
 import os
@@ -38,9 +42,13 @@ from . import worker as W
 
 #: how often Dask retries a run whose worker process died, before the run is recorded as failed
 ALLOWED_FAILURES = 2
-#: runs submitted and not yet recorded, per worker thread (in_flight_bound): 2 keeps every thread busy
-#: while the client records a row and submits the next, and bounds the client's and scheduler's memory
+#: tasks submitted and not yet recorded, per worker thread (in_flight_bound): 2 keeps every thread busy
+#: while the client records a task's rows and submits the next, and bounds the client's and scheduler's memory
 IN_FLIGHT_PER_THREAD = 2
+#: runs flown one after another by one Dask task (worker.run_tasks), per transport (1 when not named): a direct run
+#: takes ~25 ms of a worker, of the order of what the scheduler, the client and the worker's event loop spend on a
+#: task; an LCM run takes ~0.5 s
+RUNS_PER_TASK = {"direct": 4}
 
 
 @dataclass
@@ -161,10 +169,19 @@ def check_workers(client) -> list[str]:
     return [f"worker {addr}: {why}" for addr, why in sorted(res.items()) if why]
 
 
+def _threads(client) -> int:
+    return sum(w.get("nthreads", 1) for w in client.scheduler_info(n_workers=-1)["workers"].values())
+
+
 def in_flight_bound(client) -> int:
-    """Most runs submitted and not yet recorded: IN_FLIGHT_PER_THREAD per worker thread of the cluster."""
-    threads = sum(w.get("nthreads", 1) for w in client.scheduler_info(n_workers=-1)["workers"].values())
-    return max(2, IN_FLIGHT_PER_THREAD * threads)
+    """Most tasks submitted and not yet recorded: IN_FLIGHT_PER_THREAD per worker thread of the cluster."""
+    return max(2, IN_FLIGHT_PER_THREAD * _threads(client))
+
+
+def runs_per_task(transport: str, todo: int, threads: int) -> int:
+    """Runs per task: RUNS_PER_TASK of the transport, fewer when the campaign is too small to give every worker
+    thread IN_FLIGHT_PER_THREAD tasks of that many."""
+    return max(1, min(RUNS_PER_TASK.get(transport, 1), todo // max(1, threads * IN_FLIGHT_PER_THREAD)))
 
 
 def _scheduler_finished(client, futures) -> set:
@@ -218,32 +235,35 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
     t0 = time.monotonic()
 
     def submit_next(ac) -> bool:
-        s = next(specs, None)
-        if s is None:
+        batch = [s for s in itertools.islice(specs, per_task)]
+        if not batch:
             return False
-        f = client.submit(W.run_task, s.to_dict(), str(runs_dir(out) / f"{s.index:06d}"), keep_logs,
-                          timeout_s, transport=c.transport, refly=c.refly(s.index),
-                          key=f"aocs-run-{fingerprint}-{s.index}", pure=False)
-        inflight[f] = s
+        f = client.submit(W.run_tasks, [s.to_dict() for s in batch],
+                          [str(runs_dir(out) / f"{s.index:06d}") for s in batch], keep_logs, timeout_s,
+                          transport=c.transport, refly=[c.refly(s.index) for s in batch],
+                          key=f"aocs-run-{fingerprint}-{batch[0].index}", pure=False)
+        inflight[f] = batch
         ac.add(f)
         return True
 
     def take(fut) -> None:
         nonlocal finished
-        s = inflight.pop(fut)
+        batch = inflight.pop(fut)
         try:
-            row = fut.result(timeout=60)
-        except Exception as exc:  # noqa: BLE001 - a run that killed its workers (KilledWorker) or lost
-            row = {"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
-                   "error": f"crashed: the run ended its worker process {ALLOWED_FAILURES + 1} times "
-                            f"({type(exc).__name__}: {exc})", "wall_s": None, "worker_pid": None}
-        record(out, s, row, c.transport)
-        finished += 1
-        if bar is not None:
-            bar.update(1)
-            if row["status"] != W.STATUS_PASSED:
-                bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
-                          file=sys.stderr)
+            rows = fut.result(timeout=60)
+        except Exception as exc:  # noqa: BLE001 - a task that killed its workers (KilledWorker) or lost
+            rows = [{"index": s.index, "status": W.STATUS_ERROR, "metrics": None, "series": None,
+                     "error": f"crashed: the run{'s' if len(batch) > 1 else ''} of its task ended the worker "
+                              f"process {ALLOWED_FAILURES + 1} times ({type(exc).__name__}: {exc})",
+                     "wall_s": None, "worker_pid": None} for s in batch]
+        for s, row in zip(batch, rows):
+            record(out, s, row, c.transport)
+            finished += 1
+            if bar is not None:
+                bar.update(1)
+                if row["status"] != W.STATUS_PASSED:
+                    bar.write(f"aocs campaign: run {s.index} {row['status']}: {str(row['error']).splitlines()[0]}",
+                              file=sys.stderr)
 
     try:
         client, cluster = _cluster(workers, scheduler)
@@ -254,8 +274,10 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
                                   "docs/campaigns.md)")
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
         bound = in_flight_bound(client)
+        per_task = runs_per_task(c.transport, len(todo), _threads(client))
         say(f"aocs campaign: {len(todo)} runs of {c.runs} ({len(done0)} already done) on {n_workers} Dask "
-            f"workers ({scheduler or 'local cluster'}), at most {bound} in flight; results in {out}/")
+            f"workers ({scheduler or 'local cluster'}), at most {bound} in flight"
+            + (f" ({per_task} runs per task)" if per_task > 1 else "") + f"; results in {out}/")
         if progress:
             from tqdm import tqdm  # deferred: only with a progress bar
 

@@ -1,7 +1,7 @@
 """One campaign run on a Dask worker: the real SIL path (aocs_runner.run.execute: plant_node,
 fsw_node; the plant records the bus) in a private network namespace of its own.
 
-`run_task` is what the client submits. It runs in a worker thread (a worker
+`run_tasks` (a few `run_task` one after another) is what the client submits. It runs in a worker thread (a worker
 flies RUNS_PER_WORKER at once): the thread moves into a fresh network
 namespace (aocs_wire.netns.enter_netns with fresh=True; Linux namespaces are
 per thread, and the run's flight computer inherits it; the plant is forked by
@@ -261,3 +261,13 @@ def run_task(spec: dict, run_dir: str, keep_logs: bool = False, timeout_s: float
         (out / "error.txt").write_text(row["error"] + "\n")
     return row
 
+
+def run_tasks(specs: list, run_dirs: list, keep_logs: bool = False, timeout_s: float | None = None,
+              fork: bool = True, transport: str = "lcm", refly=None) -> list[dict]:
+    """Several runs one after another (run_task each, refly[i] for run i): one Dask task for a few short runs, whose
+    scheduler, client and event-loop costs per task would otherwise be of the order of a direct run's own."""
+    refly = [False] * len(specs) if refly is None else list(refly)
+    if not (len(specs) == len(run_dirs) == len(refly)):
+        raise ValueError(f"run_tasks: {len(specs)} specs, {len(run_dirs)} folders and {len(refly)} re-flight flags")
+    return [run_task(s, d, keep_logs, timeout_s, fork=fork, transport=transport, refly=r)
+            for s, d, r in zip(specs, run_dirs, refly)]
