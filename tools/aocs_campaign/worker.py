@@ -1,16 +1,14 @@
 """One campaign run on a Dask worker: the real SIL path (aocs_runner.run.execute: plant_node,
-fsw_node; the plant records the bus) in a private network namespace of its own.
+fsw_node; the plant records the bus), an LCM run in a private network namespace of its own.
 
-`run_tasks` (a few `run_task` one after another) is what the client submits. It runs in a worker thread (a worker
-flies RUNS_PER_WORKER at once): the thread moves into a fresh network
-namespace (aocs_wire.netns.enter_netns with fresh=True; Linux namespaces are
-per thread, and the run's flight computer inherits it; the plant is forked by
-the worker's plant server, plant_server.py, into it), then flies the run and
-returns one row: status,
-error text, the run's metrics JSON and its pointing error decimated for the
-campaign's overlay plot. It never raises for a run that went wrong: a crash,
-a refused value or a timeout is a row with status "error" and the text that
-`aocs run` would have printed.
+`run_tasks` (a few `run_task` one after another) is what the client submits. It runs in a worker thread (a
+worker flies RUNS_PER_WORKER at once). For an LCM run the thread moves into a fresh network namespace
+(aocs_wire.netns.enter_netns with fresh=True; Linux namespaces are per thread, and the run's flight computer
+inherits it; the plant is forked by the worker's plant server, plant_server.py, into it); a --transport direct run
+opens no socket and is flown by the thread's plant runner (plant_runner), in no namespace of its own. Each run
+returns one row: status, error text, the run's metrics JSON and its pointing error decimated for the campaign's
+overlay plot. It never raises for a run that went wrong: a crash, a refused value or a timeout is a row with status
+"error" and the text that `aocs run` would have printed.
 
 A worker needs CAP_SYS_ADMIN in its user namespace to make the namespaces:
 root, or a worker started under `unshare --user --map-root-user`
