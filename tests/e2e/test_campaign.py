@@ -369,15 +369,13 @@ def test_a_timeout_that_fires_before_the_run_has_processes_never_passes(private_
 
 def test_a_direct_campaign_re_flies_its_sample_over_lcm_bit_for_bit(private_netns, fsw_node_bin, tmp_path):
     """--transport direct: runs 0, 4 and 8 of 9 (--refly-every 4) flown again over LCM, all identical, in tasks of
-    2 runs (1 worker of 2 threads: runs_per_task); the rows and campaign.json name the transport; the repeat command
-    flies the run in process."""
-    from aocs_campaign import execute as E
-
-    assert E.runs_per_task("direct", 9, 2) == 2
+    4 runs (1 worker of one thread, RUNS_PER_WORKER_DIRECT: 2 tasks in flight, runs_per_task); the rows and
+    campaign.json name the transport; the repeat command flies the run in process."""
     out = tmp_path / "c"
     p = aocs("campaign", "irassi_large", "--law", "quat_pd", "--runs", "9", "--seed", str(SEED), *SHORT,
              "--disperse", "plant.w0=normal:0:1e-4", "--transport", "direct", "--refly-every", "4", "--workers", "1",
              "--out", str(out), "--no-plots", "-q", check_rc=0)
+    assert "at most 2 in flight (4 runs per task)" in p.stderr, p.stderr
     doc = json.loads((out / "campaign.json").read_text())
     assert doc["transport"] == "direct" and doc["status"]["passed"] == 9
     assert doc["refly"] == {"sampled": 3, "identical": 3, "differ": []}

@@ -3,7 +3,7 @@
     execute.run(campaign, out, workers=K, scheduler=None | "tcp://HOST:PORT", ...)
 
 - cluster: a LocalCluster of K worker processes (default K = the machine's
-  cores) flying worker.RUNS_PER_WORKER runs each at once (threads), on
+  cores) flying worker.runs_per_worker(transport) runs each at once (threads), on
   loopback, or the existing cluster at --scheduler;
 - each run is worker.run_task (the real SIL path; an LCM run in a private
   network namespace of its own); a task flies runs_per_task of them one after
@@ -143,7 +143,7 @@ def prepare_dir(c: P.Campaign, out: Path) -> None:
     _write_atomic(out / "campaign-plan.json", json.dumps(meta, indent=1) + "\n")
 
 
-def _cluster(workers: int | None, scheduler: str | None):
+def _cluster(workers: int | None, scheduler: str | None, transport: str = "lcm"):
     from dask.distributed import Client, LocalCluster  # deferred: ~1 s, only a campaign needs Dask
 
     if scheduler:
@@ -158,8 +158,8 @@ def _cluster(workers: int | None, scheduler: str | None):
     n = workers or os.cpu_count() or 1
     # CRITICAL: a worker's heartbeat that finds the scheduler gone while the cluster closes logs an ERROR with a
     # traceback; a run that broke is in its row (worker.run_task), not in Dask's log
-    cluster = LocalCluster(n_workers=n, threads_per_worker=W.RUNS_PER_WORKER, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=logging.CRITICAL)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=W.runs_per_worker(transport), processes=True,
+                           host="127.0.0.1", dashboard_address=None, silence_logs=logging.CRITICAL)
     return Client(cluster), cluster
 
 
@@ -266,7 +266,7 @@ def run(c: P.Campaign, disps, out: Path, *, workers: int | None = None, schedule
                               file=sys.stderr)
 
     try:
-        client, cluster = _cluster(workers, scheduler)
+        client, cluster = _cluster(workers, scheduler, c.transport)
         problems = check_workers(client)
         if problems:
             raise P.CampaignError("no private network namespace per run on " + "; ".join(problems)

@@ -24,3 +24,10 @@ def test_run_tasks_refuses_lists_of_different_lengths():
     with pytest.raises(ValueError, match="2 specs, 1 folders and 2 re-flight flags"):
         W.run_tasks([{}, {}], ["a"], refly=[False, True])
     assert W.run_tasks([], []) == []
+
+
+def test_a_direct_campaign_s_workers_fly_one_run_at_a_time_an_lcm_one_s_two():
+    """A direct run's plant is its thread's plant runner (a process of its own): one thread per local worker; an LCM
+    run is a ping-pong of two processes, each waiting on the other: two."""
+    assert W.runs_per_worker("direct") == W.RUNS_PER_WORKER_DIRECT == 1
+    assert W.runs_per_worker("lcm") == W.RUNS_PER_WORKER == 2
