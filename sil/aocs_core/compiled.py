@@ -50,6 +50,8 @@ def module(name: str):
     per process, whichever thread asks first."""
     if not enabled(name):
         return None
+    if name in _loaded:   # loaded (or found missing) already: no lock on the readers' every call
+        return _loaded[name]
     with _lock:
         if name not in _loaded:
             path = paths.build_dir() / "lib" / (name + EXT_SUFFIX)

@@ -215,7 +215,6 @@ _KIND = {(typ, scalar): (1 if (typ == "int64_t" and scalar) else 2) if typ in _I
 def _table_fast(codec: wire.Codec, buf: np.ndarray, offsets: list, utimes: list) -> dict:
     """_table's columns from the payloads at offsets, decoded in bulk (_convert: the same dtypes and values),
     block by block of _BLOCK_RECORDS records."""
-    dt = _record_dtype(codec)
     n = len(offsets)
     fields = list(zip(codec.fields, codec.cls.__typenames__))
     out: dict = {}
@@ -234,6 +233,7 @@ def _table_fast(codec: wire.Codec, buf: np.ndarray, offsets: list, utimes: list)
                                     for (name, k), typ in fields])
             out["log_utime"] = np.array(utimes, dtype=np.int64)
             return out
+        dt = _record_dtype(codec)   # numpy's path: a structured view of each block's gathered rows
         for lo in range(0, n, _BLOCK_RECORDS):
             rec = _rows(buf, at[lo:lo + _BLOCK_RECORDS], dt.itemsize).reshape(-1).view(dt)
             for (name, k), typ in fields:
